@@ -1,0 +1,1 @@
+"""ShroudedBlade harness: drive the FMU with fmpy, sweep, reproduce the paper, validate."""
