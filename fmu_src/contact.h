@@ -26,22 +26,38 @@ typedef struct {
     double CeqOmega;/* C_eq * omega [N/m] (eq. 13, projection applied) */
 } DescribingFunction;
 
-/* Regime for amplitude B [m] (MODEL.md s.3). */
+/* 1 if every field is finite and kn >= 0, kdRatio >= 0, mu >= 0, d >= 0, 0 <= gamma <= pi/2;
+ * else 0. contactDescribe refuses (nonzero return) what this refuses. */
+int contactParamsValid(const ContactParams *p);
+
+/* Regime of the macroslip loop for amplitude B [m] (MODEL.md s.3): open if B <= d, stick-slip if
+ * k_d tan(gamma) >= mu k_n, else full stick. Invalid p or non-finite B give RegimeOpen. */
 Regime contactRegime(const ContactParams *p, double B);
 
+/* Regime for a given friction model: as contactRegime, except that the Coulomb DF (model 2) is
+ * never in full stick (docs/model-notes.md s.5). This is what contactDescribe reports. */
+Regime contactModelRegime(const ContactParams *p, FrictionModel model, double B);
+
 /* Describing function of the macroslip (model 1) or Coulomb (model 2) loop for amplitude B [m],
- * closed forms. Returns 0 on success, nonzero for an invalid model/projection/B. */
+ * closed forms. Model 3 (time-domain element) is accepted and gives the macroslip DF values
+ * (information outputs, docs/model-notes.md s.4). B <= d: regime open, everything 0.
+ * Returns 0 on success; nonzero (out zeroed) for: 1 out NULL, 2 invalid params, 3 invalid model,
+ * 4 invalid projection, 5 B negative or non-finite, 6 non-finite result (overflow). */
 int contactDescribe(const ContactParams *p, FrictionModel model, Projection projection, double B,
                     DescribingFunction *out);
 
-/* Normal force F_n(v) [N], eq. 3. */
+/* Normal force F_n(v) [N], eq. 3. NaN for invalid params or non-finite v. */
 double contactNormalForce(const ContactParams *p, double v);
 
 /* Friction force of the loop F_f(theta) [N] at phase theta in [0, 2 pi), eq. 4 (model 1) or its
- * Coulomb limit (model 2), for amplitude B > d. Used by the quadrature tests. */
+ * Coulomb limit (model 2), for amplitude B > d. Used by the quadrature tests. theta is reduced
+ * modulo 2 pi; B <= d gives 0; in full stick F_f = (k_d tan g / k_n) F_n(B cos theta) (model 1
+ * and 3); NaN for invalid params/model, negative or non-finite B or theta. */
 double contactLoopFriction(const ContactParams *p, FrictionModel model, double B, double theta);
 
-/* Loop state (ContactState) at phase theta for amplitude B (docs/model-notes.md s.4). */
+/* Loop state (ContactState) at phase theta for amplitude B (docs/model-notes.md s.4): stick on
+ * intervals 1, 4, 6, 9 of eq. 4, slip on 2, 5, 7, 10, open on 3, 8; always stick in full stick;
+ * open for B <= d or invalid input. */
 ContactState contactLoopState(const ContactParams *p, FrictionModel model, double B, double theta);
 
 #endif
