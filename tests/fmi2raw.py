@@ -1,0 +1,673 @@
+"""Raw ctypes binding of the FMI 2.0 co-simulation C API, for black-box robustness tests.
+
+fmpy's FMU2Slave raises on every non-OK status and cannot pass NULL pointers, mismatched sizes or
+garbage, so the error, state, fuzz, thread and leak tests drive the FMU binary through this thin
+layer instead: every call returns the raw fmi2Status (an int), pointers may be None (NULL), and
+each instance records every logger call (instance name, status, category, formatted message).
+The variadic FMI logger is formatted by a tiny C proxy (tests/c/sb_logproxy.c, compiled on first
+use into build-sbtests/) exactly as a conforming importer would. The FMU binary is the one
+packaged in build/ShroudedBlade.fmu (extracted once per process), unless the environment variable
+SB_FMU_BINARY names another build of it (the AddressSanitizer build, see
+tests/test_fmu_sanitizers.py).
+"""
+from __future__ import annotations
+
+import ctypes
+import fcntl
+import itertools
+import math
+import os
+import re
+import subprocess
+import tempfile
+import threading
+import xml.etree.ElementTree as ET
+import zipfile
+from ctypes import (CFUNCTYPE, POINTER, Structure, byref, c_char_p, c_double, c_int, c_size_t,
+                    c_uint, c_void_p)
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Iterable, Sequence
+
+import numpy as np
+
+REPO_ROOT = Path(__file__).resolve().parent.parent
+MODEL_DESCRIPTION = REPO_ROOT / "modelDescription.xml"
+FMU_FILE = REPO_ROOT / "build" / "ShroudedBlade.fmu"
+PROXY_SOURCE = REPO_ROOT / "tests" / "c" / "sb_logproxy.c"
+TEST_BUILD_DIR = REPO_ROOT / "build-sbtests"
+
+OK, WARNING, DISCARD, ERROR, FATAL, PENDING = 0, 1, 2, 3, 4, 5
+STATUS_NAMES = {OK: "OK", WARNING: "Warning", DISCARD: "Discard", ERROR: "Error", FATAL: "Fatal",
+                PENDING: "Pending"}
+VALID_STATUSES = frozenset(STATUS_NAMES)
+MODEL_EXCHANGE, CO_SIMULATION = 0, 1
+DO_STEP_STATUS, PENDING_STATUS, LAST_SUCCESSFUL_TIME, TERMINATED = 0, 1, 2, 3
+
+# The FMI 2.0 functions every FMU exports (common + co-simulation), and the model-exchange ones
+# a co-simulation-only FMU may export (then they must refuse with fmi2Error).
+CS_FUNCTIONS = (
+    "fmi2GetTypesPlatform", "fmi2GetVersion", "fmi2SetDebugLogging", "fmi2Instantiate",
+    "fmi2FreeInstance", "fmi2SetupExperiment", "fmi2EnterInitializationMode",
+    "fmi2ExitInitializationMode", "fmi2Terminate", "fmi2Reset", "fmi2GetReal", "fmi2GetInteger",
+    "fmi2GetBoolean", "fmi2GetString", "fmi2SetReal", "fmi2SetInteger", "fmi2SetBoolean",
+    "fmi2SetString", "fmi2GetFMUstate", "fmi2SetFMUstate", "fmi2FreeFMUstate",
+    "fmi2SerializedFMUstateSize", "fmi2SerializeFMUstate", "fmi2DeSerializeFMUstate",
+    "fmi2GetDirectionalDerivative", "fmi2SetRealInputDerivatives", "fmi2GetRealOutputDerivatives",
+    "fmi2DoStep", "fmi2CancelStep", "fmi2GetStatus", "fmi2GetRealStatus", "fmi2GetIntegerStatus",
+    "fmi2GetBooleanStatus", "fmi2GetStringStatus")
+ME_FUNCTIONS = (
+    "fmi2EnterEventMode", "fmi2NewDiscreteStates", "fmi2EnterContinuousTimeMode",
+    "fmi2CompletedIntegratorStep", "fmi2SetTime", "fmi2SetContinuousStates", "fmi2GetDerivatives",
+    "fmi2GetEventIndicators", "fmi2GetContinuousStates", "fmi2GetNominalsOfContinuousStates")
+
+PlainLogger = CFUNCTYPE(None, c_void_p, c_char_p, c_int, c_char_p, c_char_p)
+
+
+class SbLogEnv(Structure):
+    _fields_ = [("magic", c_uint), ("callback", PlainLogger), ("cookie", c_void_p)]
+
+
+SB_LOG_MAGIC = 0x5B10C0DE
+
+
+class CallbackFunctions(Structure):
+    # fmi2CallbackFunctions with plain pointers, so any member can be NULL.
+    _fields_ = [("logger", c_void_p), ("allocateMemory", c_void_p), ("freeMemory", c_void_p),
+                ("stepFinished", c_void_p), ("componentEnvironment", c_void_p)]
+
+
+# ---------------------------------------------------------------------------------------------
+# model description
+
+
+@dataclass(frozen=True)
+class Variable:
+    name: str
+    vr: int
+    type: str  # Real, Integer, Boolean, String
+    causality: str
+    variability: str
+    start: Any
+    low: float | None
+    high: float | None
+
+
+def _load_md() -> tuple[str, dict[str, Variable], list[str]]:
+    root = ET.parse(MODEL_DESCRIPTION).getroot()
+    variables: dict[str, Variable] = {}
+    for sv in root.iter("ScalarVariable"):
+        (typ,) = list(sv)
+        start: Any = typ.get("start")
+        if start is not None:
+            start = {"Real": float, "Integer": int, "Boolean": lambda s: s == "true",
+                     "String": str}[typ.tag](start)
+        lo, hi = typ.get("min"), typ.get("max")
+        variables[sv.get("name")] = Variable(
+            sv.get("name"), int(sv.get("valueReference")), typ.tag, sv.get("causality", "local"),
+            sv.get("variability", "continuous"), start, None if lo is None else float(lo),
+            None if hi is None else float(hi))
+    cats = [c.get("name") for c in root.iter("Category")]
+    return root.get("guid"), variables, cats
+
+
+GUID, VARIABLES, LOG_CATEGORIES = _load_md()
+VR = {v.name: v.vr for v in VARIABLES.values()}
+REAL_OUTPUTS = [v.name for v in VARIABLES.values() if v.causality == "output" and v.type == "Real"]
+INT_OUTPUTS = [v.name for v in VARIABLES.values() if v.causality == "output" and v.type == "Integer"]
+REAL_PARAMS = [v.name for v in VARIABLES.values() if v.causality == "parameter" and v.type == "Real"]
+INT_PARAMS = [v.name for v in VARIABLES.values() if v.causality == "parameter" and v.type == "Integer"]
+BOOL_PARAMS = [v.name for v in VARIABLES.values() if v.causality == "parameter" and v.type == "Boolean"]
+INPUTS = [v.name for v in VARIABLES.values() if v.causality == "input"]
+ALL_VRS = sorted({v.vr for v in VARIABLES.values()})
+
+
+# ---------------------------------------------------------------------------------------------
+# locating / building the binaries
+
+
+def _locked(path: Path):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    f = open(path, "w")
+    fcntl.flock(f, fcntl.LOCK_EX)
+    return f
+
+
+def proxy_library() -> Path:
+    """build-sbtests/libsb_logproxy.so, compiled from tests/c/sb_logproxy.c when out of date."""
+    out = TEST_BUILD_DIR / "libsb_logproxy.so"
+    with _locked(TEST_BUILD_DIR / ".proxy.lock"):
+        if not out.exists() or out.stat().st_mtime < PROXY_SOURCE.stat().st_mtime:
+            tmp = out.with_suffix(f".{os.getpid()}.tmp")
+            subprocess.run(["cc", "-std=c99", "-O2", "-g", "-fPIC", "-shared", "-Wall", "-Wextra",
+                            "-Werror", "-o", str(tmp), str(PROXY_SOURCE)], check=True)
+            os.replace(tmp, out)
+    return out
+
+
+_extract_lock = threading.Lock()
+_extracted: dict[str, Path] = {}
+
+
+def extract_fmu(fmu: Path = FMU_FILE) -> Path:
+    """Unzip the FMU once per process into a temporary directory (with a space in its name, so
+    every test also exercises resource URIs with spaces); returns the unzip directory."""
+    key = f"{fmu}:{fmu.stat().st_mtime_ns}"
+    with _extract_lock:
+        if key not in _extracted:
+            d = Path(tempfile.mkdtemp(prefix="sb fmu "))
+            with zipfile.ZipFile(fmu) as z:
+                z.extractall(d)
+            (d / "resources").mkdir(exist_ok=True)
+            _extracted[key] = d
+        return _extracted[key]
+
+
+_spare: list[Path] = []
+
+
+def _spare_resources() -> Path:
+    with _extract_lock:
+        if not _spare:
+            _spare.append(Path(tempfile.mkdtemp(prefix="sb resources ")))
+        return _spare[0]
+
+
+def fmu_binary() -> Path:
+    """The FMU shared library under test: $SB_FMU_BINARY or the one inside build/ShroudedBlade.fmu."""
+    env = os.environ.get("SB_FMU_BINARY")
+    if env:
+        return Path(env)
+    return extract_fmu() / "binaries" / "linux64" / "ShroudedBlade.so"
+
+
+def resource_uri(binary: Path | None = None, form: str = "file:///") -> str:
+    """The resources/ URI of the unzipped FMU, in the form `file:///` (RFC 8089) or `file:/`."""
+    binary = (binary or fmu_binary()).resolve()
+    root = binary.parent.parent.parent
+    if binary.parent.parent.name == "binaries" and (root / "modelDescription.xml").exists():
+        path = str(root / "resources")
+    else:  # a bare build of the binary (e.g. the sanitizer build): any existing directory will do
+        path = str(_spare_resources())
+    if form == "file:///":
+        return "file://" + path
+    if form == "file:/":
+        return "file:" + path
+    if form == "percent":
+        return "file://" + path.replace("%", "%25").replace(" ", "%20")
+    raise ValueError(form)
+
+
+# ---------------------------------------------------------------------------------------------
+# the library
+
+
+_LOG_REGISTRY: dict[int, list["LogRecord"]] = {}
+_LOG_REGISTRY_LOCK = threading.Lock()
+_COOKIES = itertools.count(1)
+
+
+def _dec(b: bytes | None) -> str | None:
+    return None if b is None else b.decode("utf-8", "replace")
+
+
+@PlainLogger
+def _plain_logger(cookie, instance_name, status, category, message):  # noqa: ANN001
+    with _LOG_REGISTRY_LOCK:
+        target = _LOG_REGISTRY.get(cookie or 0)
+    rec = LogRecord(_dec(instance_name), int(status), _dec(category), _dec(message))
+    if target is not None:
+        target.append(rec)
+    else:
+        _ORPHANS.append(rec)
+
+
+_ORPHANS: list["LogRecord"] = []
+
+
+@dataclass(frozen=True)
+class LogRecord:
+    instance: str | None
+    status: int
+    category: str | None
+    message: str | None
+
+    def __str__(self) -> str:
+        return f"[{STATUS_NAMES.get(self.status, self.status)}|{self.category}] {self.message}"
+
+
+_P = c_void_p  # every pointer argument is passed as a plain address (None = NULL)
+
+
+class Fmi2Library:
+    """The FMU binary loaded with ctypes, with prototypes for every FMI 2.0 function it exports."""
+
+    _cache: dict[str, "Fmi2Library"] = {}
+    _cache_lock = threading.Lock()
+
+    @classmethod
+    def get(cls, binary: Path | None = None) -> "Fmi2Library":
+        binary = Path(binary or fmu_binary())
+        with cls._cache_lock:
+            key = str(binary.resolve())
+            if key not in cls._cache:
+                cls._cache[key] = cls(binary)
+            return cls._cache[key]
+
+    def __init__(self, binary: Path) -> None:
+        self.path = binary
+        self.dll = ctypes.CDLL(str(binary), mode=os.RTLD_NOW | os.RTLD_LOCAL)
+        self.proxy = ctypes.CDLL(str(proxy_library()))
+        for name in ("sbOrphanLogs", "sbAllocs", "sbFrees"):
+            getattr(self.proxy, name).restype = ctypes.c_long
+        self.logger_address = ctypes.cast(self.proxy.sbLogProxy, c_void_p).value
+        self.calloc_address = ctypes.cast(self.proxy.sbCalloc, c_void_p).value
+        self.free_address = ctypes.cast(self.proxy.sbFree, c_void_p).value
+        self.missing = [n for n in CS_FUNCTIONS if not hasattr(self.dll, n)]
+        self.me_exported = [n for n in ME_FUNCTIONS if hasattr(self.dll, n)]
+        sig: dict[str, tuple[Any, list[Any]]] = {
+            "fmi2GetTypesPlatform": (c_char_p, []),
+            "fmi2GetVersion": (c_char_p, []),
+            "fmi2SetDebugLogging": (c_int, [_P, c_int, c_size_t, _P]),
+            "fmi2Instantiate": (c_void_p, [c_char_p, c_int, c_char_p, c_char_p, _P, c_int, c_int]),
+            "fmi2FreeInstance": (None, [_P]),
+            "fmi2SetupExperiment": (c_int, [_P, c_int, c_double, c_double, c_int, c_double]),
+            "fmi2EnterInitializationMode": (c_int, [_P]),
+            "fmi2ExitInitializationMode": (c_int, [_P]),
+            "fmi2Terminate": (c_int, [_P]),
+            "fmi2Reset": (c_int, [_P]),
+            "fmi2GetReal": (c_int, [_P, _P, c_size_t, _P]),
+            "fmi2GetInteger": (c_int, [_P, _P, c_size_t, _P]),
+            "fmi2GetBoolean": (c_int, [_P, _P, c_size_t, _P]),
+            "fmi2GetString": (c_int, [_P, _P, c_size_t, _P]),
+            "fmi2SetReal": (c_int, [_P, _P, c_size_t, _P]),
+            "fmi2SetInteger": (c_int, [_P, _P, c_size_t, _P]),
+            "fmi2SetBoolean": (c_int, [_P, _P, c_size_t, _P]),
+            "fmi2SetString": (c_int, [_P, _P, c_size_t, _P]),
+            "fmi2GetFMUstate": (c_int, [_P, _P]),
+            "fmi2SetFMUstate": (c_int, [_P, _P]),
+            "fmi2FreeFMUstate": (c_int, [_P, _P]),
+            "fmi2SerializedFMUstateSize": (c_int, [_P, _P, _P]),
+            "fmi2SerializeFMUstate": (c_int, [_P, _P, _P, c_size_t]),
+            "fmi2DeSerializeFMUstate": (c_int, [_P, _P, c_size_t, _P]),
+            "fmi2GetDirectionalDerivative": (c_int, [_P, _P, c_size_t, _P, c_size_t, _P, _P]),
+            "fmi2SetRealInputDerivatives": (c_int, [_P, _P, c_size_t, _P, _P]),
+            "fmi2GetRealOutputDerivatives": (c_int, [_P, _P, c_size_t, _P, _P]),
+            "fmi2DoStep": (c_int, [_P, c_double, c_double, c_int]),
+            "fmi2CancelStep": (c_int, [_P]),
+            "fmi2GetStatus": (c_int, [_P, c_int, _P]),
+            "fmi2GetRealStatus": (c_int, [_P, c_int, _P]),
+            "fmi2GetIntegerStatus": (c_int, [_P, c_int, _P]),
+            "fmi2GetBooleanStatus": (c_int, [_P, c_int, _P]),
+            "fmi2GetStringStatus": (c_int, [_P, c_int, _P]),
+        }
+        for name, (res, args) in sig.items():
+            if hasattr(self.dll, name):
+                f = getattr(self.dll, name)
+                f.restype = res
+                f.argtypes = args
+        for name in self.me_exported:  # only ever called with a component argument
+            f = getattr(self.dll, name)
+            f.restype = c_int
+            f.argtypes = [_P]
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("fmi2"):
+            return getattr(self.dll, name)
+        raise AttributeError(name)
+
+    def orphan_logs(self) -> int:
+        return int(self.proxy.sbOrphanLogs())
+
+    def memory_callback_calls(self) -> int:
+        return int(self.proxy.sbAllocs()) + int(self.proxy.sbFrees())
+
+
+# ---------------------------------------------------------------------------------------------
+# array helpers
+
+
+def _vrs(vrs: Iterable[int] | None) -> np.ndarray | None:
+    return None if vrs is None else np.ascontiguousarray(list(vrs), dtype=np.uint32)
+
+
+def vr_of(names_or_vrs: Sequence[str | int]) -> list[int]:
+    return [VR[x] if isinstance(x, str) else int(x) for x in names_or_vrs]
+
+
+# ---------------------------------------------------------------------------------------------
+# one instance
+
+
+class Instance:
+    """One fmi2Component with a recording logger. Every method returns the raw fmi2Status."""
+
+    def __init__(self, lib: Fmi2Library | None = None, name: str | bytes | None = "sb",
+                 guid: str | bytes | None = GUID, fmu_type: int = CO_SIMULATION,
+                 resources: str | bytes | None = "default", logging_on: bool = True,
+                 visible: bool = False, logger: bool = True, memory: bool = True,
+                 callbacks: bool = True, environment: bool = True) -> None:
+        self.lib = lib or Fmi2Library.get()
+        self.log: list[LogRecord] = []
+        self.cookie = next(_COOKIES)
+        with _LOG_REGISTRY_LOCK:
+            _LOG_REGISTRY[self.cookie] = self.log
+        self.env = SbLogEnv(SB_LOG_MAGIC, _plain_logger, self.cookie)
+        self.callbacks = CallbackFunctions(
+            self.lib.logger_address if logger else None,
+            self.lib.calloc_address if memory else None,
+            self.lib.free_address if memory else None,
+            None,
+            ctypes.addressof(self.env) if environment else None)
+        if resources == "default":
+            resources = resource_uri(self.lib.path)
+        enc = lambda s: s.encode() if isinstance(s, str) else s  # noqa: E731
+        self.name = name
+        self._name_buf = enc(name)
+        self.c: int | None = self.lib.fmi2Instantiate(
+            self._name_buf, fmu_type, enc(guid), enc(resources),
+            ctypes.addressof(self.callbacks) if callbacks else None, int(visible), int(logging_on))
+
+    # --- lifecycle -----------------------------------------------------------------------------
+    @property
+    def ok(self) -> bool:
+        return bool(self.c)
+
+    def free(self) -> None:
+        if self.c:
+            self.lib.fmi2FreeInstance(self.c)
+            self.c = None
+        with _LOG_REGISTRY_LOCK:
+            _LOG_REGISTRY.pop(self.cookie, None)
+
+    def __enter__(self) -> "Instance":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.free()
+
+    def __del__(self) -> None:
+        try:
+            self.free()
+        except Exception:
+            pass
+
+    def set_debug_logging(self, on: bool, categories: Sequence[str | None] | None = None,
+                          n: int | None = None) -> int:
+        if categories is None:
+            return self.lib.fmi2SetDebugLogging(self.c, int(on), n or 0, None)
+        bufs = [None if s is None else s.encode() for s in categories]
+        arr = (c_char_p * max(1, len(bufs)))(*bufs)
+        return self.lib.fmi2SetDebugLogging(self.c, int(on), len(bufs) if n is None else n,
+                                            ctypes.addressof(arr))
+
+    def setup(self, start: float = 0.0, stop: float | None = None,
+              tolerance: float | None = None) -> int:
+        return self.lib.fmi2SetupExperiment(self.c, int(tolerance is not None), tolerance or 0.0,
+                                            start, int(stop is not None),
+                                            0.0 if stop is None else stop)
+
+    def enter_init(self) -> int:
+        return self.lib.fmi2EnterInitializationMode(self.c)
+
+    def exit_init(self) -> int:
+        return self.lib.fmi2ExitInitializationMode(self.c)
+
+    def terminate(self) -> int:
+        return self.lib.fmi2Terminate(self.c)
+
+    def reset(self) -> int:
+        return self.lib.fmi2Reset(self.c)
+
+    # --- get/set -------------------------------------------------------------------------------
+    def set_real(self, vrs: Sequence[str | int], values: Sequence[float]) -> int:
+        v = _vrs(vr_of(vrs))
+        x = np.ascontiguousarray(values, dtype=np.float64)
+        return self.lib.fmi2SetReal(self.c, v.ctypes.data, len(v), x.ctypes.data)
+
+    def set_integer(self, vrs: Sequence[str | int], values: Sequence[int]) -> int:
+        v = _vrs(vr_of(vrs))
+        x = np.ascontiguousarray(values, dtype=np.int32)
+        return self.lib.fmi2SetInteger(self.c, v.ctypes.data, len(v), x.ctypes.data)
+
+    def set_boolean(self, vrs: Sequence[str | int], values: Sequence[int]) -> int:
+        v = _vrs(vr_of(vrs))
+        x = np.ascontiguousarray(values, dtype=np.int32)
+        return self.lib.fmi2SetBoolean(self.c, v.ctypes.data, len(v), x.ctypes.data)
+
+    def set_string(self, vrs: Sequence[str | int], values: Sequence[str | None]) -> int:
+        v = _vrs(vr_of(vrs))
+        arr = (c_char_p * max(1, len(values)))(*[None if s is None else s.encode() for s in values])
+        return self.lib.fmi2SetString(self.c, v.ctypes.data, len(v), ctypes.addressof(arr))
+
+    def get_real(self, vrs: Sequence[str | int]) -> tuple[int, np.ndarray]:
+        v = _vrs(vr_of(vrs))
+        out = np.full(len(v), np.nan)
+        st = self.lib.fmi2GetReal(self.c, v.ctypes.data, len(v), out.ctypes.data)
+        return st, out
+
+    def get_integer(self, vrs: Sequence[str | int]) -> tuple[int, np.ndarray]:
+        v = _vrs(vr_of(vrs))
+        out = np.full(len(v), -987654, dtype=np.int32)
+        st = self.lib.fmi2GetInteger(self.c, v.ctypes.data, len(v), out.ctypes.data)
+        return st, out
+
+    def get_boolean(self, vrs: Sequence[str | int]) -> tuple[int, np.ndarray]:
+        v = _vrs(vr_of(vrs))
+        out = np.full(len(v), -987654, dtype=np.int32)
+        st = self.lib.fmi2GetBoolean(self.c, v.ctypes.data, len(v), out.ctypes.data)
+        return st, out
+
+    def get_string(self, vrs: Sequence[str | int]) -> tuple[int, list[str | None]]:
+        v = _vrs(vr_of(vrs))
+        arr = (c_char_p * max(1, len(v)))()
+        st = self.lib.fmi2GetString(self.c, v.ctypes.data, len(v), ctypes.addressof(arr))
+        return st, [_dec(arr[i]) for i in range(len(v))]
+
+    def set_input_derivatives(self, vrs: Sequence[str | int], orders: Sequence[int],
+                              values: Sequence[float]) -> int:
+        v = _vrs(vr_of(vrs))
+        o = np.ascontiguousarray(orders, dtype=np.int32)
+        x = np.ascontiguousarray(values, dtype=np.float64)
+        return self.lib.fmi2SetRealInputDerivatives(self.c, v.ctypes.data, len(v), o.ctypes.data,
+                                                    x.ctypes.data)
+
+    def get_output_derivatives(self, vrs: Sequence[str | int], orders: Sequence[int]
+                               ) -> tuple[int, np.ndarray]:
+        v = _vrs(vr_of(vrs))
+        o = np.ascontiguousarray(orders, dtype=np.int32)
+        out = np.full(len(v), np.nan)
+        st = self.lib.fmi2GetRealOutputDerivatives(self.c, v.ctypes.data, len(v), o.ctypes.data,
+                                                   out.ctypes.data)
+        return st, out
+
+    # --- stepping ------------------------------------------------------------------------------
+    def do_step(self, t: float, h: float, no_prior: bool = True) -> int:
+        return self.lib.fmi2DoStep(self.c, t, h, int(no_prior))
+
+    def cancel_step(self) -> int:
+        return self.lib.fmi2CancelStep(self.c)
+
+    def get_status(self, kind: int) -> tuple[int, int]:
+        x = c_int(-1)
+        return self.lib.fmi2GetStatus(self.c, kind, ctypes.addressof(x)), x.value
+
+    def get_real_status(self, kind: int) -> tuple[int, float]:
+        x = c_double(math.nan)
+        return self.lib.fmi2GetRealStatus(self.c, kind, ctypes.addressof(x)), x.value
+
+    def get_integer_status(self, kind: int) -> tuple[int, int]:
+        x = c_int(-1)
+        return self.lib.fmi2GetIntegerStatus(self.c, kind, ctypes.addressof(x)), x.value
+
+    def get_boolean_status(self, kind: int) -> tuple[int, int]:
+        x = c_int(-1)
+        return self.lib.fmi2GetBooleanStatus(self.c, kind, ctypes.addressof(x)), x.value
+
+    def get_string_status(self, kind: int) -> tuple[int, str | None]:
+        x = c_char_p()
+        return self.lib.fmi2GetStringStatus(self.c, kind, ctypes.addressof(x)), _dec(x.value)
+
+    # --- FMU state -----------------------------------------------------------------------------
+    def get_state(self, handle: int | None = None) -> tuple[int, int | None]:
+        """fmi2GetFMUstate: new handle (handle=None) or update an existing one."""
+        s = c_void_p(handle)
+        st = self.lib.fmi2GetFMUstate(self.c, ctypes.addressof(s))
+        return st, s.value
+
+    def set_state(self, handle: int | None) -> int:
+        return self.lib.fmi2SetFMUstate(self.c, handle)
+
+    def free_state(self, handle: int | None) -> int:
+        s = c_void_p(handle)
+        return self.lib.fmi2FreeFMUstate(self.c, ctypes.addressof(s))
+
+    def state_size(self, handle: int | None) -> tuple[int, int]:
+        n = c_size_t(0)
+        return self.lib.fmi2SerializedFMUstateSize(self.c, handle, ctypes.addressof(n)), n.value
+
+    def serialize(self, handle: int | None) -> tuple[int, bytes]:
+        st, n = self.state_size(handle)
+        if st != OK:
+            return st, b""
+        buf = ctypes.create_string_buffer(n)
+        st = self.lib.fmi2SerializeFMUstate(self.c, handle, ctypes.addressof(buf), n)
+        return st, buf.raw[:n]
+
+    def deserialize(self, blob: bytes | None, size: int | None = None,
+                    handle: int | None = None) -> tuple[int, int | None]:
+        s = c_void_p(handle)
+        if blob is None:
+            st = self.lib.fmi2DeSerializeFMUstate(self.c, None, size or 0, ctypes.addressof(s))
+        else:
+            buf = ctypes.create_string_buffer(blob, max(1, len(blob)))
+            st = self.lib.fmi2DeSerializeFMUstate(self.c, ctypes.addressof(buf),
+                                                  len(blob) if size is None else size,
+                                                  ctypes.addressof(s))
+        return st, s.value
+
+    # --- conveniences --------------------------------------------------------------------------
+    def messages(self, min_status: int = OK) -> list[LogRecord]:
+        return [r for r in self.log if r.status >= min_status]
+
+    def log_text(self) -> str:
+        return "\n".join(str(r) for r in self.log)
+
+    def clear_log(self) -> None:
+        del self.log[:]
+
+    def initialize(self, params: dict[str, Any] | None = None, start: float = 0.0,
+                   stop: float | None = None, inputs: dict[str, float] | None = None) -> int:
+        """setup + start values + enter/exit initialization; returns the worst status."""
+        worst = self.setup(start, stop)
+        worst = max(worst, self.set_params(params or {}))
+        worst = max(worst, self.enter_init())
+        if inputs:
+            worst = max(worst, self.set_real(list(inputs), list(inputs.values())))
+        worst = max(worst, self.exit_init())
+        return worst
+
+    def set_params(self, params: dict[str, Any]) -> int:
+        worst = OK
+        for k, v in params.items():
+            t = VARIABLES[k].type
+            if t == "Real":
+                worst = max(worst, self.set_real([k], [v]))
+            elif t == "Integer":
+                worst = max(worst, self.set_integer([k], [v]))
+            else:
+                worst = max(worst, self.set_boolean([k], [int(bool(v))]))
+        return worst
+
+    def outputs(self) -> tuple[int, np.ndarray]:
+        """All Real outputs then all Integer outputs (as float64), one status."""
+        st1, r = self.get_real(REAL_OUTPUTS)
+        st2, i = self.get_integer(INT_OUTPUTS)
+        return max(st1, st2), np.concatenate([r, i.astype(np.float64)])
+
+
+# ---------------------------------------------------------------------------------------------
+# a standard drive: sine aerodynamic load with its Taylor derivatives (docs/model-notes.md s.1)
+
+
+def aero_derivatives(t: float, Fw0: float, omega: float, order: int = 8) -> list[float]:
+    """Value and derivatives 1..order of Fw0 sin(omega t) (exact)."""
+    return [Fw0 * omega ** j * math.sin(omega * t + j * math.pi / 2) for j in range(order + 1)]
+
+
+def run_steps(inst: Instance, t0: float, h: float, n: int, Fw0: float = 100.0,
+              speed: float = 5000.0, engine_order: int = 3, order: int = 8,
+              speed_slope: float = 0.0) -> tuple[int, np.ndarray]:
+    """n communication steps from t0 with inputs and derivatives set before each; returns the
+    worst status and the (n, n_outputs) array of outputs after each step (stops at non-OK)."""
+    omega = engine_order * 2 * math.pi * speed / 60.0
+    rows = []
+    worst = OK
+    for k in range(n):
+        t = t0 + k * h
+        d = aero_derivatives(t, Fw0, omega, order)
+        st = inst.set_real(["aeroLoad", "rotorSpeed"], [d[0], speed + speed_slope * (t - t0)])
+        if order:
+            st = max(st, inst.set_input_derivatives(["aeroLoad"] * order, list(range(1, order + 1)),
+                                                    d[1:]))
+            if speed_slope:
+                st = max(st, inst.set_input_derivatives(["rotorSpeed"], [1], [speed_slope]))
+        st = max(st, inst.do_step(t, h))
+        worst = max(worst, st)
+        if st != OK:
+            break
+        so, out = inst.outputs()
+        worst = max(worst, so)
+        rows.append(out)
+    return worst, np.array(rows).reshape(len(rows), len(REAL_OUTPUTS) + len(INT_OUTPUTS))
+
+
+# ---------------------------------------------------------------------------------------------
+# checking log messages
+
+
+_TOKEN = re.compile(r"(?P<num>[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)|(?P<id>[A-Za-z_]\w*)")
+
+
+def numbers_in(text: str) -> list[float]:
+    """The numbers written in a message; digits inside identifiers (fmi2SetReal) do not count,
+    inf/nan words do."""
+    out = []
+    for m in _TOKEN.finditer(text):
+        if m.group("num") is not None:
+            out.append(float(m.group("num")))
+        elif m.group("id").lower() in ("inf", "infinity", "nan"):
+            neg = m.start() > 0 and text[m.start() - 1] == "-"
+            out.append(-float(m.group("id")) if neg else float(m.group("id")))
+    return out
+
+
+def _same(a: float, b: float) -> bool:
+    if math.isnan(a) or math.isnan(b):
+        return math.isnan(a) and math.isnan(b)
+    if math.isinf(a) or math.isinf(b):
+        return a == b
+    # %g prints 6 significant digits: accept a relative difference of 1e-5.
+    return abs(a - b) <= 1e-5 * max(abs(a), abs(b)) or abs(a - b) < 1e-300
+
+
+def message_names_value_and_range(text: str, name: str, value: float,
+                                  low: float | None, high: float | None) -> list[str]:
+    """What a parameter/input error message lacks: [] when it names the variable, shows the
+    rejected value and both finite bounds of the accepted range (pi/2 may be written 'pi/2')."""
+    problems = []
+    if not re.search(rf"(?<![A-Za-z0-9_]){re.escape(name)}(?![A-Za-z0-9_])", text):
+        problems.append(f"name {name!r} missing")
+    nums = numbers_in(text)
+    needed = [value] + [b for b in (low, high) if b is not None and math.isfinite(b)]
+    pool = list(nums)
+    for want in needed:
+        if low is not None and high is not None and want == high and abs(want - math.pi / 2) < 1e-12 \
+                and re.search(r"pi\s*/\s*2", text, re.IGNORECASE):
+            continue
+        hit = next((i for i, x in enumerate(pool) if _same(x, want)), None)
+        if hit is None:
+            problems.append(f"number {want!r} missing")
+        else:
+            pool.pop(hit)
+    return problems
