@@ -1,0 +1,376 @@
+"""Independent Python reference, part 3: time simulation of eq. 27 (docs/model-notes.md s.1-4).
+
+A hybrid simulation with scipy's solve_ivp (DOP853, tight tolerances): continuous states
+(q, q', psi, E, w), a discrete state (amplitude B in use, gating flag g, Jenkins mode/side/slip
+direction, period counter, running max |q|), integration segment by segment with terminal events
+at every switching instant (|q| = d, stick/slip, period end psi = 2 pi k) and a restart with the
+updated discrete state; extrema q' = 0 are non-terminal events that feed the tracked amplitude.
+Inputs may be non-smooth at caller-given `breakpoints` (e.g. the FMU's communication points when
+it is fed piecewise Taylor polynomials): integration restarts there. Output: a numpy structured
+array, `time` first, fields named like the FMU outputs. `jenkins_prescribed` drives the Jenkins
+element alone with a prescribed harmonic motion (loop and cycle dissipation checks).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping, Sequence
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from harness.params import validate
+from harness.reference_blade import Galerkin, galerkin
+from harness.reference_contact import (COULOMB_DF, MACROSLIP_DF, MACROSLIP_TD, ContactConsts, contact_consts,
+                                       describing_function, loop_state)
+
+OUTPUT_DTYPE = np.dtype([
+    ("time", "f8"), ("tipDisplacement", "f8"), ("tipVelocity", "f8"), ("normalForce", "f8"),
+    ("frictionForce", "f8"), ("Keq", "f8"), ("Ceq", "f8"), ("amplitude", "f8"), ("dissipatedEnergy", "f8"),
+    ("naturalFrequency", "f8"), ("regime", "i4"), ("contactState", "i4"),
+])
+
+OPEN, STICK, SLIP = 0, 1, 2  # Jenkins element mode = contactState
+TWO_PI = 2.0 * math.pi
+
+
+class SimulationError(RuntimeError):
+    """The run cannot continue (omega = 0 while a describing function is needed, chattering)."""
+
+
+def _event(fun: Callable, direction: float, terminal: bool = True) -> Callable:
+    fun.direction = direction  # type: ignore[attr-defined]
+    fun.terminal = terminal  # type: ignore[attr-defined]
+    return fun
+
+
+class Jenkins:
+    """Spring k_d in series with a Coulomb slider limited by mu |F_n(q)| (model-notes s.2); the slider
+    position w [m] lives in the Delta_u = q sin(g) coordinate. Mode OPEN / STICK / SLIP, `side` the
+    sign of q while in contact, `s` the slip direction."""
+
+    def __init__(self, cc: ContactConsts):
+        self.cc = cc
+        self.sg, self.cg = math.sin(cc.gamma), math.cos(cc.gamma)
+        self.b = cc.mu * cc.kn * self.cg  # dL/d|q| [N/m]
+        self.slips_on_contact = cc.kd * self.sg > self.b  # k_d tan g > mu k_n
+        self.mode, self.side, self.s = OPEN, 0, 0
+
+    def limit(self, q: float) -> float:
+        """L = mu |F_n| [N]."""
+        return self.b * max(abs(q) - self.cc.d, 0.0)
+
+    def forces(self, q: float, v: float, w: float) -> tuple[float, float, float, float]:
+        """(F_n [N], F_f [N], w' [m/s], friction power F_f w' [W])."""
+        cc = self.cc
+        if self.mode == OPEN:
+            return 0.0, 0.0, self.sg * v, 0.0
+        Fn = cc.kn * (q - self.side * cc.d) * self.cg  # eq. 3 on this side
+        if self.mode == STICK:
+            return Fn, cc.kd * (self.sg * q - w), 0.0, 0.0
+        L = self.b * (self.side * q - cc.d)
+        Ldot = self.b * self.side * v
+        wdot = self.sg * v - self.s * Ldot / cc.kd
+        Ff = self.s * L
+        return Fn, Ff, wdot, Ff * wdot
+
+    def events(self, qi: int, vi: int, wi: int) -> list[tuple[Callable, Callable]]:
+        """Terminal events for the current mode as (function of (t, y), transition) pairs; y[qi] = q,
+        y[vi] = q' (vi < 0: q' supplied by the caller through y[-1]), y[wi] = w."""
+        cc, d = self.cc, self.cc.d
+        out: list[tuple[Callable, Callable]] = []
+        if self.mode == OPEN:
+            out.append((_event(lambda t, y: y[qi] - d, 1.0), lambda y: self._enter(+1, y[vi])))
+            out.append((_event(lambda t, y: y[qi] + d, -1.0), lambda y: self._enter(-1, y[vi])))
+            return out
+        side = self.side
+        out.append((_event(lambda t, y: side * (y[qi] - side * d), -1.0), lambda y: self._set(OPEN, 0, 0)))
+        if self.mode == STICK:
+            sg, kd, b = self.sg, cc.kd, self.b
+            out.append((_event(lambda t, y: kd * (sg * y[qi] - y[wi]) - b * (side * y[qi] - d), 1.0),
+                        lambda y: self._set(SLIP, side, +1)))
+            out.append((_event(lambda t, y: -kd * (sg * y[qi] - y[wi]) - b * (side * y[qi] - d), 1.0),
+                        lambda y: self._set(SLIP, side, -1)))
+        else:
+            coef = self.s * cc.kd * self.sg - self.b * side  # s k_d sin g q' - L'
+            out.append((_event(lambda t, y: coef * y[vi], -1.0), lambda y: self._set(STICK, side, 0)))
+        return out
+
+    def _enter(self, side: int, v: float) -> None:
+        if self.slips_on_contact:
+            s = int(math.copysign(1.0, v)) if v != 0.0 else side
+            self._set(SLIP, side, s)
+        else:
+            self._set(STICK, side, 0)
+
+    def _set(self, mode: int, side: int, s: int) -> None:
+        self.mode, self.side, self.s = mode, side, s
+
+    def consistent_w(self, q: float, w: float) -> float:
+        """Slider position right after a transition: unloaded spring when open, on the cone in slip."""
+        if self.mode == OPEN:
+            return self.sg * q
+        if self.mode == SLIP:
+            return self.sg * q - self.s * self.limit(q) / self.cc.kd
+        return w
+
+
+@dataclass
+class _Discrete:
+    B: float
+    g: int = 0  # gating flag of the DF models (1: K_eq, C_eq act)
+    k: int = 1  # the current excitation period ends at psi = 2 pi k
+    qmax: float = 0.0  # running max |q| over the current period [m]
+    df: Any = None  # describing function at B (omega-free parts)
+    extra: dict = field(default_factory=dict)
+
+
+def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[[float], float],
+             speed: Callable[[float], float], t_eval: Sequence[float] | np.ndarray, rtol: float = 1e-11,
+             atol: Sequence[float] | float | None = None, start_time: float = 0.0,
+             breakpoints: Sequence[float] | None = None, max_step: float = np.inf) -> np.ndarray:
+    """Simulate the FMU's model (model-notes s.1-4) from rest at `start_time` to `stop_time`.
+
+    aero(t) -> f_w [N/m], speed(t) -> n [rpm]; `t_eval` output times in [start_time, stop_time];
+    `breakpoints` times where the inputs may be non-smooth (integration restarts there). At an event
+    instant that is also an output time the post-event discrete state is reported.
+    """
+    p = validate(params or {})
+    gal: Galerkin = galerkin(p)
+    cc = contact_consts(p)
+    model, proj, gating = int(p["frictionModel"]), int(p["projection"]), bool(p["gating"])
+    tracked = int(p["amplitudeMode"]) == 2
+    EO = int(p["engineOrder"])
+    sg, d = math.sin(cc.gamma), cc.d
+    M, C0, K0s, K0w, G = gal.M, gal.C0, gal.K0static, gal.K0omega2, gal.loadGain
+    jen = Jenkins(cc) if model == MACROSLIP_TD else None
+    dfmodel = COULOMB_DF if model == COULOMB_DF else MACROSLIP_DF
+
+    def describe(B: float) -> Any:
+        return describing_function(cc, B, 1.0, dfmodel, proj)  # omega = 1: fc holds fc * omega
+
+    ds = _Discrete(B=float(p["B"]))
+    ds.df = describe(ds.B)
+    ds.g = 1 if not gating else 0  # q = 0 at the start: |q| > d is false (d >= 0)
+
+    def omega_of(t: float) -> float:
+        return EO * TWO_PI * speed(t) / 60.0
+
+    def rhs(t: float, y: np.ndarray) -> list[float]:
+        q, v = y[0], y[1]
+        n = speed(t)
+        Om = TWO_PI * n / 60.0
+        om = EO * Om
+        K0 = K0s + K0w * Om * Om
+        if jen is None:
+            if ds.g:
+                df = ds.df
+                if df.CeqOmega != 0.0:
+                    if om == 0.0:
+                        raise SimulationError(f"omega = 0 at t = {t:g} s while C_eq is needed (B = {ds.B:g} m > d)")
+                    Ceq = df.CeqOmega / om
+                else:
+                    Ceq = 0.0
+                Fc = df.Keq * q + Ceq * v
+                P = Ceq * v * v
+            else:
+                Fc = P = 0.0
+            wdot = 0.0
+        else:
+            Fn, Ff, wdot, P = jen.forces(q, v, y[4])
+            Fc = Fn * jen.cg + Ff * jen.sg  # eq. 14
+        acc = (G * aero(t) - C0 * v - K0 * q - Fc) / M
+        return [v, acc, om, C0 * v * v + P, wdot]
+
+    if atol is None:
+        atol = rtol * np.array([max(d, 1e-6), max(d, 1e-6) * 1e3, 1.0, 1e-4, max(d, 1e-6)])
+    t_eval = np.asarray(t_eval, dtype=float)
+    if np.any(np.diff(t_eval) < 0) or (t_eval.size and (t_eval[0] < start_time or t_eval[-1] > stop_time)):
+        raise ValueError("t_eval must be sorted and inside [start_time, stop_time]")
+    out = np.zeros(t_eval.size, dtype=OUTPUT_DTYPE)
+    out["time"] = t_eval
+    bps = sorted({float(b) for b in (breakpoints if breakpoints is not None else []) if start_time < b < stop_time})
+    edges = [float(start_time)] + bps + [float(stop_time)]
+
+    def outputs(idx: np.ndarray, ts: np.ndarray, Y: np.ndarray) -> None:
+        for j, t, y in zip(idx, ts, Y.T):
+            q, v, E, w = y[0], y[1], y[3], y[4]
+            n = speed(t)
+            Om = TWO_PI * n / 60.0
+            om = EO * Om
+            df = ds.df
+            row = out[j]
+            row["tipDisplacement"], row["tipVelocity"], row["dissipatedEnergy"] = q, v, E
+            row["amplitude"], row["regime"] = ds.B, df.regime
+            row["naturalFrequency"] = math.sqrt((K0s + K0w * Om * Om) / M) / TWO_PI
+            Ceq_full = (df.CeqOmega / om if om > 0 else (0.0 if df.CeqOmega == 0 else math.nan))
+            if jen is None:
+                fc = (df.fcOmega / om if om > 0 else (0.0 if df.fcOmega == 0 else math.nan))
+                g = ds.g
+                row["normalForce"] = g * df.pk * q
+                row["frictionForce"] = g * (df.fk * q + fc * v) if g else 0.0
+                row["Keq"] = g * df.Keq
+                row["Ceq"] = g * Ceq_full if g else 0.0
+                if not g:
+                    row["contactState"] = 0
+                else:
+                    theta = math.atan2(-v / om, q) if om > 0 else math.atan2(-v, q)
+                    row["contactState"] = loop_state(cc, ds.B, theta % TWO_PI, dfmodel)
+            else:
+                Fn, Ff, _, _ = jen.forces(q, v, w)
+                row["normalForce"], row["frictionForce"] = Fn, Ff
+                row["Keq"], row["Ceq"] = df.Keq, Ceq_full
+                row["contactState"] = jen.mode
+
+    y = np.array([0.0, 0.0, 0.0, 0.0, 0.0])
+    t = float(start_time)
+    n_eval_done = 0
+    zero_len = 0
+    for seg_i in range(len(edges) - 1):
+        t_end = edges[seg_i + 1]
+        last_edge = seg_i == len(edges) - 2
+        while True:
+            evs: list[Callable] = []
+            acts: list[Callable] = []
+            if jen is None and gating:
+                if ds.g == 0:
+                    evs += [_event(lambda t, y: y[0] - d, 1.0), _event(lambda t, y: y[0] + d, -1.0)]
+                    acts += [lambda y: setattr(ds, "g", 1)] * 2
+                else:
+                    side = 1.0 if y[0] > 0 else -1.0
+                    evs.append(_event(lambda t, y, side=side: side * (y[0] - side * d), -1.0))
+                    acts.append(lambda y: setattr(ds, "g", 0))
+            if jen is not None:
+                for f, a in jen.events(0, 1, 4):
+                    evs.append(f)
+                    acts.append(a)
+            n_term = len(evs)
+            if tracked:
+                k = ds.k
+                evs.append(_event(lambda t, y, k=k: y[2] - TWO_PI * k, 1.0))
+                acts.append(None)  # period end, handled below
+                evs.append(_event(lambda t, y: y[1], 0.0, terminal=False))
+            sel = np.nonzero((t_eval >= t) & ((t_eval < t_end) | (last_edge & (t_eval <= t_end))))[0]
+            if t_end <= t:
+                break
+            sol = solve_ivp(rhs, (t, t_end), y, method="DOP853", rtol=rtol, atol=atol, events=evs or None,
+                            dense_output=True, max_step=max_step)
+            if sol.status < 0:
+                raise SimulationError(f"solve_ivp failed at t = {sol.t[-1]:g}: {sol.message}")
+            t_stop = float(sol.t[-1])
+            fired = None
+            if sol.status == 1:
+                for i in range(len(evs)):
+                    if getattr(evs[i], "terminal", False) and sol.t_events[i].size:
+                        fired = i
+                        break
+            # outputs strictly before the stop (or up to t_end if the segment ran through)
+            if fired is None:
+                mask = sel
+            else:
+                mask = sel[t_eval[sel] < t_stop]
+            if mask.size:
+                outputs(mask, t_eval[mask], sol.sol(t_eval[mask]))
+                n_eval_done = max(n_eval_done, int(mask[-1]) + 1)
+            y = sol.y[:, -1].copy()
+            if tracked:
+                ext = sol.y_events[-1]
+                if ext.size:
+                    ds.qmax = max(ds.qmax, float(np.max(np.abs(ext[:, 0]))))
+                ds.qmax = max(ds.qmax, abs(y[0]))
+            if fired is None:
+                t = t_end
+                break
+            zero_len = zero_len + 1 if t_stop - t <= 1e-14 * max(1.0, abs(t)) else 0
+            if zero_len > 1000:
+                raise SimulationError(f"chattering: more than 1000 events at t = {t_stop:g} s")
+            t = t_stop
+            act = acts[fired]
+            if act is None:  # period end: B <- max |q| over the period just ended (model-notes s.3)
+                ds.B = ds.qmax
+                ds.df = describe(ds.B)
+                ds.k += 1
+                ds.qmax = abs(y[0])
+            else:
+                act(y)
+                if jen is not None:
+                    y[4] = jen.consistent_w(y[0], y[4])
+    # the last output (t == stop_time) if not produced by the loop (e.g. stop at an event)
+    rest = np.nonzero(t_eval >= t)[0]
+    rest = rest[rest >= n_eval_done]
+    if rest.size:
+        outputs(rest, t_eval[rest], np.repeat(y[:, None], rest.size, axis=1))
+    return out
+
+
+def jenkins_prescribed(params: Mapping[str, Any] | None, B: float, omega: float, n_cycles: int = 2,
+                       rtol: float = 1e-12, samples_per_cycle: int = 0) -> dict[str, Any]:
+    """Drive the Jenkins element alone with q(t) = B cos(omega t), t in [0, n_cycles 2 pi/omega],
+    starting from rest at q = B with an unloaded spring (mode per contact entry rules at the first
+    crossing is not needed: q starts in contact, so the element starts in stick with w = B sin g).
+
+    Returns dict with 'cycle_work' (friction work F_f dw over each cycle [J], list), 'switch_theta'
+    (phases of the mode changes, list of (theta, new_mode)) and optional samples 'theta', 'Ff', 'Fn',
+    'mode' of the last cycle (samples_per_cycle > 0)."""
+    p = validate(params or {})
+    cc = contact_consts(p)
+    jen = Jenkins(cc)
+    T = TWO_PI / omega
+    if B > cc.d:
+        jen._set(STICK, 1, 0)
+    w0 = jen.sg * B
+    y = np.array([0.0, w0])  # [E_f, w]
+
+    def qv(t: float) -> tuple[float, float]:
+        return B * math.cos(omega * t), -B * omega * math.sin(omega * t)
+
+    def rhs(t: float, y: np.ndarray) -> list[float]:
+        q, v = qv(t)
+        _, _, wdot, P = jen.forces(q, v, y[1])
+        return [P, wdot]
+
+    def wrap(f: Callable) -> Callable:  # events written for y = (q, v, w): rebuild that vector
+        g = lambda t, y: f(t, np.array([*qv(t), y[1]]))  # noqa: E731
+        return _event(g, f.direction)
+
+    t, t_stop_all = 0.0, n_cycles * T
+    cycle_ends = [T * (i + 1) for i in range(n_cycles)]
+    E_at: list[float] = []
+    switches: list[tuple[float, int]] = []
+    samples = []
+    for c_end in cycle_ends:
+        while t < c_end:
+            pairs = jen.events(0, 1, 2)
+            evs = [wrap(f) for f, _ in pairs]
+            sol = solve_ivp(rhs, (t, c_end), y, method="DOP853", rtol=rtol, atol=rtol * np.array([1e-6, B]),
+                            events=evs or None, dense_output=True)
+            fired = None
+            if sol.status == 1:
+                for i, te in enumerate(sol.t_events):
+                    if te.size:
+                        fired = i
+                        break
+            if samples_per_cycle and c_end == cycle_ends[-1]:
+                ts = np.linspace(c_end - T, c_end, samples_per_cycle, endpoint=False)
+                ts = ts[(ts >= t) & (ts < sol.t[-1])]
+                for ti in ts:
+                    q, v = qv(ti)
+                    Fn, Ff, _, _ = jen.forces(q, v, float(sol.sol(ti)[1]))
+                    samples.append((omega * ti % TWO_PI, Ff, Fn, jen.mode))
+            y = sol.y[:, -1].copy()
+            t = float(sol.t[-1])
+            if fired is None:
+                t = c_end
+                break
+            pairs[fired][1](np.array([*qv(t), y[1]]))
+            q, _ = qv(t)
+            y[1] = jen.consistent_w(q, y[1])
+            switches.append(((omega * t) % TWO_PI, jen.mode))
+        E_at.append(float(y[0]))
+    work = [E_at[0]] + [E_at[i] - E_at[i - 1] for i in range(1, len(E_at))]
+    res: dict[str, Any] = {"cycle_work": work, "switch_theta": switches}
+    if samples:
+        arr = np.array(samples)
+        res.update(theta=arr[:, 0], Ff=arr[:, 1], Fn=arr[:, 2], mode=arr[:, 3].astype(int))
+    del t_stop_all
+    return res
