@@ -1,0 +1,403 @@
+"""Locate/build the ShroudedBlade FMU and drive it fast: a context-managed wrapper over fmpy's FMU2Slave.
+
+`BladeFMU` extracts the FMU once, instantiates it once, and for every `run()` calls fmi2Reset,
+sets the (validated) parameters, initializes and steps over a fixed communication grid. The step
+loop is built for sweeps with millions of doSteps: input values and all input derivatives for the
+whole grid are computed with numpy before the loop; per step it makes only raw ctypes calls with
+prebuilt arrays: fmi2SetReal (both inputs), one fmi2SetRealInputDerivatives (all orders of both
+inputs), fmi2DoStep, and fmi2GetReal into a preallocated array on sampled steps. An FMU status
+Discard/Error becomes `FMUError` carrying the FMU's log messages, the time reached and the partial
+result. The instance is always terminated and freed, and the extracted directory removed.
+"""
+from __future__ import annotations
+
+import collections
+import ctypes
+import math
+import shutil
+import sys
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+
+from harness import build as _build
+from harness.excitation import MAX_ORDER, AeroLoad, ExcitationError, Signal, as_speed
+from harness.params import ParameterError, fmu_parameters, validate
+
+VR_AERO, VR_SPEED = 40, 41  # modelDescription.xml: aeroLoad, rotorSpeed
+SPEED_RANGE = (0.0, 30000.0)  # rotorSpeed min/max [rpm] (modelDescription.xml)
+STATUS = ("OK", "Warning", "Discard", "Error", "Fatal", "Pending")
+_ERROR_CATEGORIES = ["logStatusWarning", "logStatusDiscard", "logStatusError", "logStatusFatal"]
+
+
+class FMUNotFoundError(FileNotFoundError):
+    """No FMU file where expected; the message says how to build or point to one."""
+
+
+class FMUError(RuntimeError):
+    """The FMU returned Discard/Error/Fatal. Carries `time` (last communication point reached),
+    `partial` (results up to it), `messages` (the FMU's log) and `status`."""
+
+    def __init__(self, message: str, *, time: float = math.nan, partial: np.ndarray | None = None,
+                 messages: Sequence[str] = (), status: int = 3, function: str = ""):
+        super().__init__(message)
+        self.time, self.partial, self.messages = time, partial, list(messages)
+        self.status, self.function = status, function
+
+
+class FMUState(bytes):
+    """A serialized FMU state (the bytes of fmi2SerializeFMUstate) that remembers its time."""
+    time: float | None = None
+    params: dict[str, Any] | None = None
+
+
+def fmu_path(build: bool = True) -> Path:
+    """build/ShroudedBlade.fmu, built (if out of date) when `build` and the C sources are present."""
+    sources = list((_build.REPO_ROOT / "fmu_src").glob("*.c"))
+    if build and sources and shutil.which("cmake"):
+        return _build.build(("fmu",))
+    if not _build.FMU_PATH.is_file():
+        raise FMUNotFoundError(f"{_build.FMU_PATH} not found: build it with `make fmu`"
+                               " (needs cmake and a C compiler) or pass the path of an FMU")
+    return _build.FMU_PATH
+
+
+def _proto(restype, *argtypes):
+    return ctypes.CFUNCTYPE(restype, *argtypes)
+
+
+_SET = _proto(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p)
+_SETDER = _proto(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p,
+                 ctypes.c_void_p)
+_DOSTEP = _proto(ctypes.c_int, ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int)
+
+
+class BladeFMU:
+    """The ShroudedBlade FMU, extracted and instantiated once; use as a context manager.
+
+    log=True: enable all FMU log categories and echo messages to stderr (errors and warnings are
+    always captured). fmi_logging=True: print every FMI call of the step loop to stderr (slow).
+    """
+
+    def __init__(self, path: str | Path | None = None, log: bool = False, fmi_logging: bool = False):
+        self.path = Path(path) if path is not None else fmu_path(build=True)
+        if not self.path.is_file():
+            raise FMUNotFoundError(f"FMU file {self.path} not found: check the path or build it with `make fmu`")
+        self.log, self.fmi_logging = log, fmi_logging
+        self.messages: collections.deque[str] = collections.deque(maxlen=1000)
+        self._run_messages: list[str] = []
+        self.md = read_model_description(str(self.path))
+        self.variables = {v.name: v for v in self.md.modelVariables}
+        self.output_names = [v.name for v in self.md.modelVariables if v.causality == "output"]
+        self._unzip: str | None = extract(str(self.path))
+        self._slave: FMU2Slave | None = None
+        self._phase = "closed"  # instantiated | stepping | failed | closed
+        self._time = math.nan
+        self._params: dict[str, Any] | None = None
+        try:
+            self._instantiate()
+        except BaseException:
+            self.close()
+            raise
+
+    # ---- lifecycle ----
+    def _instantiate(self) -> None:
+        self._slave = FMU2Slave(guid=self.md.guid, unzipDirectory=self._unzip,
+                                modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName="blade")
+        cb = fmi2CallbackFunctions()
+        cb.logger = fmi2CallbackLoggerTYPE(self._on_log)
+        from fmpy import calloc, free
+        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        from fmpy.logging import addLoggerProxy  # formats the variadic C message
+        addLoggerProxy(ctypes.byref(cb))
+        self._callbacks = cb  # keep alive as long as the instance
+        self._slave.instantiate(callbacks=cb, loggingOn=True)
+        self._phase = "instantiated"
+        self._slave.setDebugLogging(True, [] if self.log else _ERROR_CATEGORIES)
+        dll = self._slave.dll
+        self._c = self._slave.component
+        self._setReal = _SET(("fmi2SetReal", dll))
+        self._getReal = _SET(("fmi2GetReal", dll))
+        self._getInteger = _SET(("fmi2GetInteger", dll))
+        self._setDer = _SETDER(("fmi2SetRealInputDerivatives", dll))
+        self._doStep = _DOSTEP(("fmi2DoStep", dll))
+        if self.fmi_logging:
+            for name in ("_setReal", "_getReal", "_getInteger", "_setDer", "_doStep"):
+                setattr(self, name, self._logged(name[1:], getattr(self, name)))
+
+    def _logged(self, name: str, f):
+        def call(*args):
+            st = f(*args)
+            shown = ", ".join(f"{a:.17g}" if isinstance(a, float) else str(a) for a in args[1:])
+            print(f"fmi2{name[0].upper()}{name[1:]}({shown}) -> {STATUS[st] if 0 <= st < 6 else st}",
+                  file=sys.stderr)
+            return st
+        return call
+
+    def _on_log(self, env, instance, status, category, message) -> None:
+        text = (f"[{STATUS[status] if 0 <= status < 6 else status}] "
+                f"{(category or b'').decode(errors='replace')}: {(message or b'').decode(errors='replace')}")
+        self.messages.append(text)
+        if len(self._run_messages) < 200:
+            self._run_messages.append(text)
+        if self.log:
+            print(text, file=sys.stderr)
+
+    def close(self) -> None:
+        """Terminate (if initialized), free the instance, unload the library, remove the extract."""
+        try:
+            if self._slave is not None and self._phase != "closed":
+                if self._phase == "stepping":
+                    try:
+                        self._slave.terminate()
+                    except FMICallException:
+                        pass
+                if self._phase != "fatal":
+                    self._slave.freeInstance()
+        finally:
+            self._slave, self._phase = None, "closed"
+            if self._unzip is not None:
+                shutil.rmtree(self._unzip, ignore_errors=True)
+                self._unzip = None
+
+    def __enter__(self) -> "BladeFMU":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def __del__(self) -> None:
+        try:
+            self.close()
+        except Exception:
+            pass
+
+    # ---- errors ----
+    def _fail(self, what: str, status: int, t: float, partial: np.ndarray | None) -> FMUError:
+        self._phase = "fatal" if status >= 4 else "failed"
+        msgs = list(self._run_messages)
+        detail = ("; FMU log: " + " | ".join(msgs[-5:])) if msgs else " (the FMU logged nothing)"
+        return FMUError(f"{what} returned {STATUS[status] if 0 <= status < 6 else status} at t = {t:.9g} s{detail}",
+                        time=t, partial=partial, messages=msgs, status=status, function=what)
+
+    def _guard(self, what: str, t: float, fn, *args):
+        try:
+            return fn(*args)
+        except FMICallException as exc:
+            raise self._fail(what, exc.status, t, None) from None
+
+    # ---- parameters and setup ----
+    def _set_parameters(self, p: Mapping[str, Any], start: float, u0: tuple[float, float]) -> None:
+        s = self._slave
+        if self._phase != "instantiated":
+            self._guard("fmi2Reset", start, s.reset)
+            self._phase = "instantiated"
+        by_type: dict[str, tuple[list[int], list[Any]]] = {"Real": ([], []), "Integer": ([], []), "Boolean": ([], [])}
+        for name, value in fmu_parameters(p).items():
+            v = self.variables[name]
+            by_type[v.type][0].append(v.valueReference)
+            by_type[v.type][1].append(value)
+        self._guard("fmi2SetReal (parameters)", start, s.setReal, *by_type["Real"])
+        self._guard("fmi2SetInteger (parameters)", start, s.setInteger, *by_type["Integer"])
+        self._guard("fmi2SetBoolean (parameters)", start, s.setBoolean, *by_type["Boolean"])
+        self._guard("fmi2SetupExperiment", start, s.setupExperiment, None, start, None)
+        self._guard("fmi2EnterInitializationMode", start, s.enterInitializationMode)
+        self._guard("fmi2SetReal (inputs)", start, s.setReal, [VR_AERO, VR_SPEED], list(u0))
+        self._guard("fmi2ExitInitializationMode", start, s.exitInitializationMode)
+        self._phase = "stepping"
+
+    @staticmethod
+    def _grid(start: float, stop: float, step: float) -> np.ndarray:
+        for name, v in (("start_time", start), ("stop_time", stop), ("step", step)):
+            if not math.isfinite(v):
+                raise ParameterError(f"{name} = {v!r} is not a finite number")
+        if not step > 0:
+            raise ParameterError(f"communication step = {step!r} s must be > 0")
+        if not stop > start:
+            raise ParameterError(f"stop time {stop!r} s must be after the start time {start!r} s")
+        n = (stop - start) / step
+        N = int(round(n))
+        if N < 1 or abs(n - N) > 1e-9 * max(1.0, n):
+            N = int(math.ceil(n))  # the last step is shorter (canHandleVariableCommunicationStepSize)
+        grid = start + step * np.arange(N + 1, dtype=float)
+        grid[-1] = stop
+        return grid
+
+    def _select(self, outputs: Sequence[str] | None) -> tuple[list[str], list[str]]:
+        names = list(self.output_names if outputs is None else outputs)
+        unknown = [n for n in names if n not in self.variables or self.variables[n].type not in ("Real", "Integer")]
+        if unknown:
+            raise ParameterError(f"unknown output(s) {unknown}; available: {', '.join(self.output_names)}")
+        real = [n for n in names if self.variables[n].type == "Real"]
+        ints = [n for n in names if self.variables[n].type == "Integer"]
+        return real, ints
+
+    # ---- the run ----
+    def run(self, params: Mapping[str, Any] | None, stop_time: float, step: float, *,
+            aero: Signal | None = None, speed: float | Signal = 5000.0,
+            outputs: Sequence[str] | None = None, derivative_order: int = MAX_ORDER,
+            start_time: float | None = None, reset: bool = True, sample_every: int = 1) -> np.ndarray:
+        """Simulate from start_time (default 0, or the current FMU time when reset=False) to
+        stop_time with communication step `step`; returns a structured array ('time' + outputs)
+        sampled every `sample_every` steps (plus the start and the end)."""
+        if self._phase == "closed":
+            raise RuntimeError("BladeFMU is closed")
+        if reset:
+            p = validate(params or {}, source="BladeFMU.run")
+            start = 0.0 if start_time is None else float(start_time)
+        else:
+            if self._phase != "stepping":
+                raise RuntimeError("reset=False needs an FMU in stepping mode (run once with reset=True or"
+                                   " set_state first; after an FMU error, reset)")
+            p = dict(self._params or validate({}))
+            if params is not None and validate(params, source="BladeFMU.run") != p:
+                raise ValueError("parameters cannot change without a reset (they are fixed during a run)")
+            if start_time is None:
+                if not math.isfinite(self._time):
+                    raise ValueError("the FMU time is unknown after set_state: pass start_time")
+                start = self._time
+            else:
+                start = float(start_time)
+                if math.isfinite(self._time) and abs(start - self._time) > 1e-9 * max(1.0, abs(start)):
+                    raise ValueError(f"start_time {start} differs from the FMU time {self._time}")
+        if not (isinstance(sample_every, (int, np.integer)) and sample_every >= 1):
+            raise ParameterError(f"sample_every = {sample_every!r} must be an integer >= 1")
+        K = int(derivative_order)
+        if not 0 <= K <= MAX_ORDER:
+            raise ParameterError(f"derivative_order = {derivative_order!r} outside [0, {MAX_ORDER}]")
+        grid = self._grid(start, float(stop_time), float(step))
+        real, ints = self._select(outputs)
+        speed_sig = as_speed(speed)
+        aero_sig = aero if aero is not None else AeroLoad(p["Fw0"], p["engineOrder"], speed_sig)
+
+        # inputs and their derivatives for the whole grid, before the loop
+        N = len(grid) - 1
+        ua = np.asarray(aero_sig.derivatives(grid[:-1], K), dtype=float)
+        us = np.asarray(speed_sig.derivatives(grid, K), dtype=float)
+        self._check_inputs(grid, ua, us)
+        us = us[:, :-1]
+        values = np.ascontiguousarray(np.stack([ua[0], us[0]], axis=1))
+        derivs = np.ascontiguousarray(np.concatenate([ua[1:].T, us[1:].T], axis=1))
+        u0 = (float(aero_sig(grid[0])), float(us[0, 0]))
+
+        if reset:
+            self._run_messages = []
+            self._params = None
+            self._set_parameters(p, start, u0)
+            self._params = p
+            self._time = start
+        else:
+            self._run_messages = []
+
+        # preallocated results; sampled steps
+        rec = np.zeros(N + 1, dtype=bool)
+        rec[::sample_every] = True
+        rec[0] = rec[N] = True
+        S = int(rec.sum())
+        nr, ni = len(real), len(ints)
+        out_r = np.zeros((S, max(nr, 1)))
+        out_i = np.zeros((S, max(ni, 1)), dtype=np.int32)
+        times = grid[rec]
+
+        def result(n_done: int) -> np.ndarray:
+            dt = np.dtype([("time", float)] + [(n, float) for n in real] + [(n, np.int32) for n in ints])
+            res = np.zeros(n_done, dtype=dt)
+            res["time"] = times[:n_done]
+            for j, n in enumerate(real):
+                res[n] = out_r[:n_done, j]
+            for j, n in enumerate(ints):
+                res[n] = out_i[:n_done, j]
+            return res
+
+        vr_out = (ctypes.c_uint * max(nr, 1))(*[self.variables[n].valueReference for n in real])
+        vr_int = (ctypes.c_uint * max(ni, 1))(*[self.variables[n].valueReference for n in ints])
+        vr_in = (ctypes.c_uint * 2)(VR_AERO, VR_SPEED)
+        vr_der = (ctypes.c_uint * (2 * K + 1))(*([VR_AERO] * K + [VR_SPEED] * K))
+        order = (ctypes.c_int * (2 * K + 1))(*(list(range(1, K + 1)) * 2))
+        a_vr_out, a_vr_int, a_vr_in = ctypes.addressof(vr_out), ctypes.addressof(vr_int), ctypes.addressof(vr_in)
+        a_vr_der, a_order = ctypes.addressof(vr_der), ctypes.addressof(order)
+        a_val, a_der = values.ctypes.data, derivs.ctypes.data
+        a_or, a_oi = out_r.ctypes.data, out_i.ctypes.data
+        sr, si = 8 * out_r.shape[1], 4 * out_i.shape[1]
+        setReal, setDer, doStep, getReal, getInt = (self._setReal, self._setDer, self._doStep,
+                                                    self._getReal, self._getInteger)
+        c = self._c
+
+        def sample(j: int, t: float) -> None:
+            st = getReal(c, a_vr_out, nr, a_or + sr * j) if nr else 0
+            st2 = getInt(c, a_vr_int, ni, a_oi + si * j) if ni else 0
+            if (st | st2) > 1:
+                raise self._fail("fmi2GetReal/fmi2GetInteger", max(st, st2), t, result(j))
+
+        sample(0, grid[0])
+        j = 1
+        tl, hl, recl = grid[:-1].tolist(), np.diff(grid).tolist(), rec[1:].tolist()
+        nd, stride_v, stride_d = 2 * K, 16, 16 * K
+        for k in range(N):
+            st = setReal(c, a_vr_in, 2, a_val + stride_v * k)
+            if nd:
+                st |= setDer(c, a_vr_der, nd, a_order, a_der + stride_d * k)
+            if st > 1:
+                raise self._fail("fmi2SetReal/fmi2SetRealInputDerivatives (inputs)", st, tl[k], result(j))
+            st = doStep(c, tl[k], hl[k], 1)
+            if st > 1:
+                self._time = tl[k]
+                raise self._fail("fmi2DoStep", st, tl[k], result(j))
+            if recl[k]:
+                sample(j, tl[k] + hl[k])
+                j += 1
+        self._time = float(grid[-1])
+        return result(j)
+
+    def _check_inputs(self, grid: np.ndarray, ua: np.ndarray, us: np.ndarray) -> None:
+        if not np.all(np.isfinite(ua)):
+            k = int(np.argwhere(~np.isfinite(ua))[0, 1])
+            raise ExcitationError(f"aeroLoad (or a derivative) is not finite at t = {grid[k]:.9g} s")
+        if not np.all(np.isfinite(us)):
+            k = int(np.argwhere(~np.isfinite(us))[0, 1])
+            raise ExcitationError(f"rotorSpeed (or a derivative) is not finite at t = {grid[k]:.9g} s")
+        lo, hi = SPEED_RANGE
+        bad = np.nonzero((us[0] < lo) | (us[0] > hi))[0]
+        if len(bad):
+            k = int(bad[0])
+            raise ExcitationError(f"rotorSpeed = {us[0, k]:g} rpm at t = {grid[k]:.9g} s is outside"
+                                  f" [{lo:g}, {hi:g}] rpm")
+
+    # ---- FMU state ----
+    def get_state(self) -> FMUState:
+        """The current FMU state, serialized (fmi2SerializeFMUstate), with its time attached."""
+        if self._phase not in ("stepping", "instantiated"):
+            raise RuntimeError(f"cannot get the FMU state in phase {self._phase}")
+        s = self._slave
+        st = self._guard("fmi2GetFMUstate", self._time, s.getFMUstate)
+        try:
+            raw = self._guard("fmi2SerializeFMUstate", self._time, s.serializeFMUstate, st)
+        finally:
+            s.freeFMUstate(st)
+        out = FMUState(raw)
+        out.time, out.params = self._time, dict(self._params) if self._params else None
+        return out
+
+    def set_state(self, state: bytes) -> None:
+        """Restore a serialized state (from this or another instance/process); continue with
+        run(..., reset=False)."""
+        if self._phase in ("closed", "fatal"):
+            raise RuntimeError(f"cannot set the FMU state in phase {self._phase}")
+        s = self._slave
+        if self._phase == "failed":
+            self._guard("fmi2Reset", self._time, s.reset)
+            self._phase = "instantiated"
+        st = self._guard("fmi2DeSerializeFMUstate", self._time, s.deSerializeFMUstate, bytes(state))
+        try:
+            self._guard("fmi2SetFMUstate", self._time, s.setFMUstate, st)
+        finally:
+            s.freeFMUstate(st)
+        self._phase = "stepping"
+        self._time = getattr(state, "time", None) if getattr(state, "time", None) is not None else math.nan
+        self._params = getattr(state, "params", None)
