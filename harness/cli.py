@@ -21,6 +21,10 @@ from typing import Sequence
 COMMANDS: dict[str, str] = {
     "simulate": "harness.simulate_cmd",
     "validate": "harness.validate",
+    "run": "harness.run_cmd",
+    "sweep": "harness.sweep_cmd",
+    "reproduce": "harness.reproduce_cmd",
+    "bench": "harness.bench",
 }
 
 EXIT_USAGE = 2

@@ -1,0 +1,166 @@
+"""Figures of the reproduced studies, drawn with matplotlib's Agg backend straight to PNG files.
+
+One function per figure kind: response curves of a parameter study (time-domain up/down sweeps,
+fixed-point roots, harmonic-balance branches with stability), the time response and spectrum
+(paper Fig. 4/5), the hysteresis loop (Fig. 2), the Coulomb comparison (section 4) and the
+Campbell diagram. Nothing is ever shown on screen; every function returns the path it wrote.
+"""
+from __future__ import annotations
+
+import io
+from pathlib import Path
+from typing import Any, Sequence
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from harness.executor import atomic_write_bytes  # noqa: E402
+
+MM = 1e3  # m -> mm
+
+
+def _save(fig: Any, path: Path | str) -> Path:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=110, bbox_inches="tight")
+    plt.close(fig)
+    atomic_write_bytes(path, buf.getvalue())
+    return Path(path)
+
+
+def _colors(n: int) -> list:
+    cmap = plt.get_cmap("viridis")
+    return [cmap(x) for x in np.linspace(0.0, 0.9, max(n, 1))]
+
+
+def study_curves(path: Path | str, title: str, curves: Sequence[dict], gap: Sequence[float] | None = None) -> Path:
+    """Amplitude vs speed, one colour per parameter value. Each curve dict: label, time (structured
+    array: speed, direction, amplitude, reached), fixed (speed, B, reached), hb (speed, B, stable)."""
+    fig, axes = plt.subplots(1, 2, figsize=(13, 4.8), sharey=True)
+    cols = _colors(len(curves))
+    for c, col in zip(curves, cols):
+        t = c.get("time")
+        if t is not None and len(t):
+            for direction, ls in (("up", "-"), ("down", "--")):
+                b = t[t["direction"] == direction]
+                b = b[np.argsort(b["speed"])]
+                if len(b):
+                    axes[0].plot(b["speed"], b["amplitude"] * MM, ls, color=col, lw=1.3,
+                                 label=f"{c['label']} ({direction})" if direction == "up" else None)
+                    nr = b[~b["reached"]]
+                    if len(nr):
+                        axes[0].plot(nr["speed"], nr["amplitude"] * MM, "o", mfc="none", color=col, ms=5)
+        f = c.get("fixed")
+        if f is not None and len(f):
+            ok = f[f["reached"]]
+            bad = f[~f["reached"]]
+            axes[0].plot(ok["speed"], ok["B"] * MM, "x", color=col, ms=5)
+            if len(bad):
+                axes[0].plot(bad["speed"], bad["B"] * MM, "+", color="red", ms=6)
+        h = c.get("hb")
+        if h is not None and len(h):
+            st = h[h["stable"]]
+            un = h[~h["stable"]]
+            axes[1].plot(st["speed"], st["B"] * MM, ".", color=col, ms=2.5, label=c["label"])
+            axes[1].plot(un["speed"], un["B"] * MM, ".", color=col, ms=1.0, alpha=0.35)
+    if gap:
+        for g in sorted(set(gap)):
+            for ax in axes:
+                ax.axhline(g * MM, color="0.6", lw=0.6, ls=":")
+    axes[0].set_title("FMU time domain: up (solid), down (dashed); x fixed-point roots; o not steady")
+    axes[1].set_title("harmonic balance (reference): stable (bold), unstable (faint)")
+    for ax in axes:
+        ax.set_xlabel("rotor speed n [rpm]")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("tip amplitude [mm]")
+    axes[0].legend(fontsize=7, loc="upper left")
+    axes[1].legend(fontsize=7, loc="upper left", markerscale=4)
+    fig.suptitle(title)
+    return _save(fig, path)
+
+
+def time_response(path: Path | str, title: str, t: np.ndarray, q: np.ndarray, freq: np.ndarray,
+                  amp: np.ndarray, d: float, t_settle: float, f_line: float) -> Path:
+    """Fig. 4 (q(t)) and Fig. 5 (single-sided amplitude spectrum of the steady part)."""
+    fig, (a, b) = plt.subplots(1, 2, figsize=(13, 4.2))
+    a.plot(t, q * MM, lw=0.6)
+    a.axhline(d * MM, color="0.5", ls=":", lw=0.8, label="gap d")
+    a.axhline(-d * MM, color="0.5", ls=":", lw=0.8)
+    if np.isfinite(t_settle):
+        a.axvline(t_settle, color="red", lw=0.8, label=f"settled (2 %) at {t_settle:.3f} s")
+    a.set_xlabel("time [s]")
+    a.set_ylabel("tip displacement q [mm]")
+    a.legend(fontsize=8)
+    a.grid(alpha=0.3)
+    b.plot(freq, amp * MM, lw=0.9)
+    b.axvline(f_line, color="red", lw=0.6, ls="--", label=f"EO x n/60 = {f_line:.1f} Hz")
+    b.set_xlim(0, min(float(freq[-1]) if len(freq) else 1000.0, 1500.0))
+    b.set_xlabel("frequency [Hz]")
+    b.set_ylabel("amplitude [mm]")
+    b.legend(fontsize=8)
+    b.grid(alpha=0.3)
+    fig.suptitle(title)
+    return _save(fig, path)
+
+
+def hysteresis(path: Path | str, panels: Sequence[dict]) -> Path:
+    """Fig. 2: friction force vs tangential displacement; each panel: title, eq4 (du, F), fmu (du, F)."""
+    fig, axes = plt.subplots(1, len(panels), figsize=(6.2 * len(panels), 4.6))
+    axes = np.atleast_1d(axes)
+    for ax, p in zip(axes, panels):
+        du, F = p["eq4"]
+        ax.plot(du * 1e6, F, "-", lw=1.6, label="eq. 4 closed form (harmonic v = B cos theta)")
+        if p.get("fmu") is not None:
+            du2, F2 = p["fmu"]
+            ax.plot(du2 * 1e6, F2, "--", lw=1.1, label="FMU time-domain element (frictionModel 3)")
+        ax.set_xlabel("tangential displacement du [um]")
+        ax.set_ylabel("friction force F_f [N]")
+        ax.set_title(p["title"], fontsize=9)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    return _save(fig, path)
+
+
+def coulomb(path: Path | str, rows: dict[str, dict]) -> Path:
+    """Section 4: peak amplitude and resonant speed vs a parameter, macroslip vs Coulomb."""
+    fig, axes = plt.subplots(2, len(rows), figsize=(6 * len(rows), 7.5), squeeze=False)
+    for j, (name, r) in enumerate(rows.items()):
+        x = np.asarray(r["x"])
+        for key, style, lab in (("macroslip", "o-", "macroslip (paper)"), ("coulomb", "s--", "Coulomb")):
+            axes[0, j].plot(x, np.asarray(r[key]["peak"]) * MM, style, label=f"{lab}, time domain")
+            axes[1, j].plot(x, r[key]["speed"], style, label=f"{lab}, time domain")
+            if "hb_peak" in r[key]:
+                axes[0, j].plot(x, np.asarray(r[key]["hb_peak"]) * MM, style[0] + ":", alpha=0.6, label=f"{lab}, HB")
+                axes[1, j].plot(x, r[key]["hb_speed"], style[0] + ":", alpha=0.6, label=f"{lab}, HB")
+        for i in range(2):
+            axes[i, j].set_xlabel(r["xlabel"])
+            axes[i, j].grid(alpha=0.3)
+            if r.get("log"):
+                axes[i, j].set_xscale("log")
+        axes[0, j].set_ylabel("peak amplitude [mm]")
+        axes[1, j].set_ylabel("resonant speed [rpm]")
+        axes[0, j].legend(fontsize=7)
+    fig.suptitle("Section 4: macroslip (eq. 4) vs traditional Coulomb model")
+    return _save(fig, path)
+
+
+def campbell(path: Path | str, speed: np.ndarray, fnat: np.ndarray, orders: Sequence[int], eo: int,
+             crossing: float, peaks: Sequence[tuple[float, float, str]] = ()) -> Path:
+    """Campbell diagram: first bending frequency vs speed with engine-order lines."""
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    ax.plot(speed, fnat, "k-", lw=1.6, label="first bending (contact-free), FMU naturalFrequency")
+    for k in orders:
+        ax.plot(speed, k * speed / 60.0, "-" if k == eo else ":", lw=1.2 if k == eo else 0.8,
+                label=f"EO {k}")
+    if np.isfinite(crossing):
+        ax.plot([crossing], [eo * crossing / 60.0], "ro", label=f"EO {eo} crossing {crossing:.0f} rpm")
+    for sp, f, lab in peaks:
+        ax.plot([sp], [f], "v", ms=6, label=lab)
+    ax.set_xlabel("rotor speed n [rpm]")
+    ax.set_ylabel("frequency [Hz]")
+    ax.set_ylim(0, max(float(np.max(fnat)) * 1.6, 1.0))
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    return _save(fig, path)

@@ -1,0 +1,56 @@
+"""Reproduce the paper's figures and claims into results/ (figures 2 and 4-9, section 4, Campbell diagram).
+
+`python -m harness reproduce [--size quick|default|full] [--studies gap mass angle kn]
+[--output-dir results] [--workers N | --scheduler ADDRESS]`. Writes one PNG and CSV files per
+figure, summary.json and claims.md (paper claim | ours | settings | verdict). Points are cached,
+so an interrupted run resumes; files are replaced atomically.
+"""
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+from harness.executor import RESULTS_DIR
+from harness.sweep_cmd import add_execution_options, make_runner
+
+
+def configure_parser(p: argparse.ArgumentParser) -> None:
+    from harness.studies import SIZES, STUDIES
+
+    p.add_argument("--size", default="default", choices=list(SIZES),
+                   help="quick (a test run: extremes only, coarse grid), default (make run), full (fine grids)")
+    p.add_argument("--studies", nargs="+", choices=list(STUDIES), metavar="STUDY",
+                   help=f"parameter studies to run (default all: {' '.join(STUDIES)})")
+    p.add_argument("--no-extras", action="store_true",
+                   help="only the parameter studies (skip Fig. 2, 4/5, Campbell, Coulomb, paper iteration)")
+    p.add_argument("--output-dir", default=str(RESULTS_DIR), metavar="DIR", help=f"where to write (default {RESULTS_DIR})")
+    add_execution_options(p)
+
+
+def reproduce_and_report(args: argparse.Namespace, size: str, studies, extras: bool) -> int:
+    from harness.claims import verdict_counts, write_claims
+    from harness.studies import reproduce, validate_request
+
+    validate_request(size, studies)
+    out = Path(args.output_dir)
+    t0 = time.perf_counter()
+    with make_runner(args) as runner:
+        rep = reproduce(out, size, studies, runner=runner, cache_dir=None if args.no_cache else args.cache_dir,
+                        fmu_path=args.fmu, extras=extras)
+    wall = time.perf_counter() - t0
+    rows = write_claims(out / "claims.md", rep.summary)
+    for name, st in rep.summary["studies"].items():
+        print(f"{st['figure']} ({name}):")
+        for r in st["rows"]:
+            print(f"  {st['param']} = {r['value']:<10.4g} peak {r['time_peak'] * 1e3:8.5f} mm at {r['time_speed']:6.0f} rpm"
+                  f" (time), {r['fixed_peak'] * 1e3:8.5f} mm at {r['fixed_speed']:6.0f} rpm (fixed),"
+                  f" {r['hb_peak'] * 1e3:8.5f} mm at {r['hb_speed']:6.0f} rpm (HB)")
+    counts = ", ".join(f"{v} {k}" for k, v in verdict_counts(rows).items())
+    print(f"claims: {counts} -> {out / 'claims.md'}")
+    print(f"wall time {wall:.1f} s; results in {out}/")
+    return 0
+
+
+def run(args: argparse.Namespace) -> int:
+    return reproduce_and_report(args, args.size, args.studies, not args.no_extras)

@@ -1,0 +1,461 @@
+"""The paper's studies, reproduced with the FMU (and the reference), written to results/.
+
+`reproduce()` runs, for a chosen size ("quick" for tests, "default" for `make run`, "full"):
+Fig. 4/5 (time response and spectrum at 5000 rpm), the four parameter studies of Fig. 6-9 (gap,
+shroud mass, contact angle, normal stiffness) each as time-domain up/down sweeps of the FMU,
+fixed points of the paper's procedure and harmonic-balance branches of the reference, the
+hysteresis loop of Fig. 2 (eq. 4 closed form against the FMU's time-domain macroslip element and
+the reference Jenkins element driven harmonically), the section-4 comparison with the Coulomb
+model, the paper's own iteration B <- A(B) at 5000 rpm (it 2-cycles, MODEL.md s.4) and a Campbell
+diagram. Each figure is a PNG plus CSV files; `summary.json` holds the numbers `claims.py` turns
+into the claims table. All sweeps of all studies are validated first, then mapped at once.
+"""
+from __future__ import annotations
+
+import json
+import math
+import time as _time
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from harness import params as _params
+from harness import plots
+from harness.executor import DEFAULT_CACHE_DIR, RESULTS_DIR, Runner, atomic_write_text, write_csv
+from harness.sweep import (ConfigError, SweepResult, SweepSettings, SweepSpec, omega_of, run_sweeps,
+                           validate_spec)
+
+PI = math.pi
+
+
+@dataclass(frozen=True)
+class Study:
+    key: str  # gap | mass | angle | kn
+    figure: str  # paper figure
+    param: str  # FMU parameter varied
+    values: tuple[float, ...]
+    xlabel: str
+    unit_scale: float  # value * unit_scale for labels
+    unit: str
+
+    def label(self, v: float) -> str:
+        if self.param == "gamma":
+            return f"gamma = pi/{PI / v:.0f}"
+        if self.param == "kn":
+            return f"kn = {v:.0e} N/m"
+        return f"{self.param} = {v * self.unit_scale:g} {self.unit}"
+
+
+STUDIES: dict[str, Study] = {
+    "gap": Study("gap", "fig6", "d", (2e-5, 3e-5, 4e-5, 5e-5, 6e-5), "gap d [mm]", 1e3, "mm"),
+    "mass": Study("mass", "fig7", "m0", (0.02, 0.04, 0.06, 0.08, 0.1), "shroud mass m0 [kg]", 1.0, "kg"),
+    "angle": Study("angle", "fig8", "gamma", (PI / 3, PI / 4, PI / 5, PI / 6, PI / 7), "contact angle [rad]", 1.0, "rad"),
+    "kn": Study("kn", "fig9", "kn", (1e5, 3e5, 1e6, 3e6, 1e7), "normal stiffness kn [N/m]", 1.0, "N/m"),
+}
+
+
+@dataclass(frozen=True)
+class Size:
+    """How much work `reproduce` does."""
+
+    name: str
+    speeds: tuple[float, ...]  # coarse time-domain grid [rpm] (refined near peaks and jumps)
+    fixed_speeds: tuple[float, ...]  # speeds of the fixed-point procedure [rpm]
+    hb_speeds: tuple[float, ...]  # harmonic-balance speeds [rpm]
+    values: Mapping[str, tuple[float, ...]] | None = None  # per-study values (None: all of STUDIES)
+    settings: SweepSettings = SweepSettings()
+    fig45_time: float = 0.6  # [s] simulated for Fig. 4/5
+    coulomb: bool = True
+    iteration_steps: int = 12  # the paper's iteration B <- A_0.2s(B)
+
+
+def _grid(a: float, b: float, step: float) -> tuple[float, ...]:
+    return tuple(float(x) for x in np.arange(a, b + 0.5 * step, step))
+
+
+SIZES: dict[str, Size] = {
+    "quick": Size("quick", speeds=_grid(3000, 10000, 1000), fixed_speeds=(5000.0, 8000.0),
+                  hb_speeds=_grid(3000, 10000, 100),
+                  values={"gap": (2e-5, 6e-5), "mass": (0.02, 0.1), "angle": (PI / 3, PI / 7), "kn": (1e5, 1e7)},
+                  settings=SweepSettings(refine_levels=3, min_dn=60.0, max_time=0.5, fixed_max_time=0.4,
+                                         n_scan=10),
+                  fig45_time=0.4, coulomb=False, iteration_steps=6),
+    "default": Size("default", speeds=_grid(3000, 10000, 250), fixed_speeds=_grid(3000, 10000, 500),
+                    hb_speeds=_grid(2000, 10000, 40)),
+    "full": Size("full", speeds=_grid(1000, 10000, 125), fixed_speeds=_grid(2000, 10000, 250),
+                 hb_speeds=_grid(100, 10000, 20),
+                 settings=SweepSettings(rtol=1e-4, max_time=2.0, refine_levels=6, min_dn=5.0, n_scan=24,
+                                        fixed_max_time=1.5),
+                 fig45_time=1.0),
+}
+
+
+def base_params() -> dict[str, Any]:
+    """The paper's base case: Table 1 with d = 0.03 mm, gamma = pi/3, m0 = 0.025 kg, kn = 1e7."""
+    return _params.validate({}, source="paper Table 1")
+
+
+# ---------------------------------------------------------------------------------------------
+# Building and running the sweeps
+# ---------------------------------------------------------------------------------------------
+def study_specs(size: Size, names: Sequence[str], base: Mapping[str, Any]) -> list[tuple[str, float, SweepSpec]]:
+    out = []
+    for name in names:
+        st = STUDIES[name]
+        vals = (size.values or {}).get(name, st.values)
+        for v in vals:
+            p = dict(base, **{st.param: v})
+            out.append((name, v, SweepSpec(p, size.speeds, label=f"{st.figure} {st.label(v)}",
+                                           methods=("time", "fixed", "hb"), fixed_speeds=size.fixed_speeds,
+                                           hb_speeds=size.hb_speeds, settings=size.settings)))
+    return out
+
+
+def coulomb_specs(size: Size, base: Mapping[str, Any]) -> list[tuple[str, float, SweepSpec]]:
+    out = []
+    for name in ("kn", "angle"):
+        st = STUDIES[name]
+        for v in (size.values or {}).get(name, st.values):
+            p = dict(base, frictionModel=2, **{st.param: v})
+            out.append((name, v, SweepSpec(p, size.speeds, label=f"Coulomb {st.label(v)}",
+                                           directions=("up", "down"), methods=("time", "hb"),
+                                           hb_speeds=size.hb_speeds, settings=size.settings)))
+    return out
+
+
+def _peak(arr: np.ndarray, col: str) -> tuple[float, float]:
+    if len(arr) == 0:
+        return math.nan, math.nan
+    i = int(np.argmax(arr[col]))
+    return float(arr["speed"][i]), float(arr[col][i])
+
+
+def _at(res: SweepResult, speed: float) -> float:
+    """Time-domain amplitude at `speed` (up sweep; nan if that speed was not computed)."""
+    b = res.branch("up")
+    hit = b[np.isclose(b["speed"], speed)]
+    return float(hit["amplitude"][0]) if len(hit) else math.nan
+
+
+def summarize(res: SweepResult) -> dict[str, Any]:
+    sp_t, a_t = _peak(res.time, "amplitude")
+    sp_u, a_u = _peak(res.branch("up"), "amplitude")
+    sp_d, a_d = _peak(res.branch("down"), "amplitude")
+    fx = res.fixed[res.fixed["kind"] == "contact"] if len(res.fixed) else res.fixed
+    sp_f, a_f = _peak(res.fixed, "B")
+    hb_st = res.hb[res.hb["stable"]] if len(res.hb) else res.hb
+    sp_h, a_h = _peak(hb_st, "B")
+    return {
+        "time_peak": a_t, "time_speed": sp_t, "up_peak": a_u, "up_speed": sp_u, "down_peak": a_d,
+        "down_speed": sp_d, "fixed_peak": a_f, "fixed_speed": sp_f, "hb_peak": a_h, "hb_speed": sp_h,
+        "amp_5000": _at(res, 5000.0), "plateaus": int(len(res.time)),
+        "not_steady": int(np.sum(~res.time["reached"])) if len(res.time) else 0,
+        "fixed_roots": int(len(res.fixed)), "fixed_contact_roots": int(len(fx)),
+        "fixed_not_converged": int(np.sum(~res.fixed["reached"])) if len(res.fixed) else 0,
+        "hb_multi_speeds": int(len(np.unique(res.hb["speed"][_multi(res.hb)]))) if len(res.hb) else 0,
+    }
+
+
+def _multi(hb: np.ndarray) -> np.ndarray:
+    sp, counts = np.unique(hb["speed"], return_counts=True)
+    many = set(sp[counts > 1].tolist())
+    return np.array([s in many for s in hb["speed"]], dtype=bool)
+
+
+def _stack(rows: list[tuple[float, np.ndarray]], dtype_extra: list[tuple[str, str]] | None = None) -> np.ndarray:
+    if not rows:
+        return np.zeros(0)
+    first = rows[0][1]
+    dt = [("value", "f8")] + list(first.dtype.descr)
+    out = np.zeros(sum(len(a) for _, a in rows), dtype=dt)
+    i = 0
+    for v, a in rows:
+        out["value"][i:i + len(a)] = v
+        for n in a.dtype.names:
+            out[n][i:i + len(a)] = a[n]
+        i += len(a)
+    return out
+
+
+def write_study(out: Path, st: Study, results: list[tuple[float, SweepResult]]) -> dict[str, Any]:
+    stem = f"{st.figure}_{st.key}"
+    write_csv(out / f"{stem}_time.csv", _stack([(v, r.time) for v, r in results]),
+              f"{st.figure}: FMU time-domain sweeps (tracked amplitude), value = {st.param}; amplitude [m]")
+    write_csv(out / f"{stem}_fixed.csv", _stack([(v, r.fixed) for v, r in results]),
+              f"{st.figure}: roots of A(B) = B (paper's fixed point, FMU amplitudeMode 1); B [m]")
+    write_csv(out / f"{stem}_hb.csv", _stack([(v, r.hb) for v, r in results]),
+              f"{st.figure}: harmonic balance (reference, gating off), every branch; B [m]")
+    rows = []
+    for v, r in results:
+        s = summarize(r)
+        s["value"] = v
+        rows.append(s)
+    keys = ["value", "time_peak", "time_speed", "up_peak", "up_speed", "down_peak", "down_speed", "fixed_peak",
+            "fixed_speed", "hb_peak", "hb_speed", "amp_5000", "plateaus", "not_steady", "fixed_roots",
+            "fixed_not_converged", "hb_multi_speeds"]
+    tab = np.array([tuple(r[k] for k in keys) for r in rows], dtype=[(k, "f8") for k in keys])
+    write_csv(out / f"{stem}_summary.csv", tab, f"{st.figure}: peak amplitude [m] and resonant speed [rpm] per method")
+    curves = [{"label": st.label(v), "time": r.time, "fixed": r.fixed, "hb": r.hb} for v, r in results]
+    gaps = [r.spec.params["d"] for _, r in results]
+    plots.study_curves(out / f"{stem}.png", f"Paper {st.figure.replace('fig', 'Fig. ')}: {st.xlabel}", curves, gaps)
+    return {"param": st.param, "figure": st.figure, "values": [v for v, _ in results], "rows": rows}
+
+
+# ---------------------------------------------------------------------------------------------
+# Single runs with the FMU in this process
+# ---------------------------------------------------------------------------------------------
+def settling_time(time: np.ndarray, amp: np.ndarray, band: float = 0.02) -> float:
+    """First time after which the tracked amplitude stays within `band` of its final value."""
+    final = amp[-1]
+    out = np.abs(amp - final) > band * abs(final)
+    if not np.any(out):
+        return float(time[0])
+    last = int(np.nonzero(out)[0][-1])
+    return float(time[min(last + 1, len(time) - 1)])
+
+
+def fig45(fmu: Any, out: Path, params: Mapping[str, Any], speed: float, t_stop: float) -> dict[str, Any]:
+    """Time response from rest at `speed` and the spectrum of its steady part (paper Fig. 4/5)."""
+    from harness.steady_state import analyze
+
+    p = dict(params)
+    om = omega_of(p, speed)
+    T = 2 * PI / om
+    n_per = 64
+    t_stop = T * math.ceil(t_stop / T)
+    res = fmu.run(p, t_stop, T / n_per, speed=speed,
+                  outputs=["tipDisplacement", "tipVelocity", "amplitude", "regime", "contactState"])
+    ss = analyze(res["time"], res["tipDisplacement"], T, rtol=1e-3, min_periods=3)
+    t_set = settling_time(res["time"], res["amplitude"], 0.02)
+    f, a = ss.spectrum
+    k = int(np.argmax(a[1:])) + 1 if len(a) > 1 else 0
+    f_peak = float(f[k]) if len(f) else math.nan
+    write_csv(out / "fig4_time_response.csv", res, f"Fig. 4: FMU tip response from rest at {speed:g} rpm (tracked amplitude)")
+    spec = np.zeros(len(f), dtype=[("frequency", "f8"), ("amplitude", "f8")])
+    spec["frequency"], spec["amplitude"] = f, a
+    write_csv(out / "fig5_spectrum.csv", spec, f"Fig. 5: single-sided amplitude spectrum of the steady part at {speed:g} rpm")
+    plots.time_response(out / "fig4_5_time_spectrum.png",
+                        f"Paper Fig. 4/5: tip response and spectrum at {speed:g} rpm (d = {p['d'] * 1e3:g} mm)",
+                        res["time"], res["tipDisplacement"], f, a, p["d"], t_set, p["engineOrder"] * speed / 60)
+    return {"speed": speed, "t_settle_2pct": t_set, "t_steady_rtol1e-3": ss.t_steady, "reached": ss.reached,
+            "f_peak": f_peak, "f_expected": p["engineOrder"] * speed / 60.0, "amplitude": float(res["amplitude"][-1]),
+            "max_abs_q": float(np.max(np.abs(res["tipDisplacement"]))), "d": p["d"],
+            "harmonic_amplitude": ss.harmonic_amplitude, "message": ss.message}
+
+
+def paper_iteration(fmu: Any, params: Mapping[str, Any], speed: float, B0: float, steps: int,
+                    t_int: float = 0.2) -> list[float]:
+    """The paper's section-3 procedure: B_{k+1} = max |q| over the last period of a t_int run from
+    rest with the amplitude fixed at B_k (MODEL.md s.4: it falls into a 2-cycle near resonance)."""
+    om = omega_of(params, speed)
+    T = 2 * PI / om
+    seq = [B0]
+    for _ in range(steps):
+        p = dict(params, amplitudeMode=1, B=seq[-1])
+        res = fmu.run(p, T * math.ceil(t_int / T), T / 64, speed=speed, outputs=["tipDisplacement"])
+        last = res[res["time"] >= res["time"][-1] - T * (1 + 1e-9)]
+        seq.append(float(np.max(np.abs(last["tipDisplacement"]))))
+    return seq
+
+
+def hysteresis(fmu: Any, out: Path, base: Mapping[str, Any]) -> dict[str, Any]:
+    """Fig. 2: the loop of eq. 4 at amplitude B against (a) the reference Jenkins element driven by
+    v = B cos(theta) and (b) the FMU's time-domain element (frictionModel 3) in a steady run."""
+    from harness import reference as ref
+
+    panels, rows, info = [], [], {}
+    theta = np.linspace(0, 2 * PI, 721)
+    for label, kn, speed in (("kn = 1e7 N/m (paper)", 1e7, 5000.0), ("kn = 1e5 N/m (soft)", 1e5, 4950.0)):
+        p = _params.validate(dict(base, kn=kn, frictionModel=3))
+        om = omega_of(p, speed)
+        T = 2 * PI / om
+        r = fmu.run(p, T * math.ceil(0.6 / T), T / 256, speed=speed,
+                    outputs=["tipDisplacement", "frictionForce", "normalForce", "dissipatedEnergy", "tipVelocity"])
+        last = r[r["time"] >= r["time"][-1] - T * (1 + 1e-9)]
+        B = float(np.max(np.abs(last["tipDisplacement"])))
+        sg = math.sin(p["gamma"])
+        Ff_eq4 = np.array([ref.loop_friction(p, B, th, 1) for th in theta[:-1]] + [math.nan])
+        du_eq4 = B * sg * np.cos(theta)
+        du_fmu = last["tipDisplacement"] * sg
+        E_fmu = float(-np.sum(0.5 * (last["frictionForce"][1:] + last["frictionForce"][:-1]) * np.diff(du_fmu)))
+        E_eq4 = float(-np.trapz(np.nan_to_num(Ff_eq4[:-1]), du_eq4[:-1]))
+        df = ref.describing_function(p, B, om, model=1)
+        E_df = float(PI * om * B * B * float(df.fc))
+        jp = ref.jenkins_prescribed(p, B, om, n_cycles=2, samples_per_cycle=720)
+        du_j = B * sg * np.cos(jp["theta"])
+        panels.append({"title": f"{label}, {speed:g} rpm, B = {B * 1e3:.4f} mm (FMU steady amplitude)",
+                       "eq4": (du_eq4, Ff_eq4), "fmu": (du_fmu, last["frictionForce"])})
+        panels[-1]["jenkins"] = (du_j, jp["Ff"])
+        info[label] = {"kn": kn, "speed": speed, "B": B, "E_loop_fmu": abs(E_fmu), "E_loop_eq4": abs(E_eq4),
+                       "E_pi_omega_B2_fc": E_df, "E_jenkins_prescribed": float(jp["cycle_work"][-1])}
+        for th, du, F in zip(theta[:-1], du_eq4[:-1], Ff_eq4[:-1]):
+            rows.append((kn, 0, th, du, F))
+        for du, F in zip(du_fmu, last["frictionForce"]):
+            rows.append((kn, 1, math.nan, du, F))
+        for th, du, F in zip(jp["theta"], du_j, jp["Ff"]):
+            rows.append((kn, 2, th, du, F))
+    tab = np.array(rows, dtype=[("kn", "f8"), ("source", "i4"), ("theta", "f8"), ("du", "f8"), ("Ff", "f8")])
+    write_csv(out / "fig2_hysteresis.csv", tab,
+              "Fig. 2: friction loop; source 0 = eq. 4 closed form, 1 = FMU frictionModel 3 (last period of a "
+              "steady run), 2 = reference Jenkins element driven by v = B cos(theta); du [m], Ff [N]")
+    plots.hysteresis(out / "fig2_hysteresis.png", panels)
+    return info
+
+
+def campbell(fmu: Any, out: Path, params: Mapping[str, Any], peaks: Sequence[tuple[float, float, str]] = ()) -> dict[str, Any]:
+    """naturalFrequency of the FMU along a 0..10000 rpm run-up (no load) with the EO lines."""
+    from harness.excitation import LinearRamp
+
+    r = fmu.run(dict(params), 1.0, 1e-3, speed=LinearRamp(0.0, 10000.0, 0.0, 1.0),
+                aero=LinearRamp(0.0, 0.0, 0.0, 1.0), outputs=["naturalFrequency"])
+    n = 10000.0 * r["time"]
+    f = r["naturalFrequency"]
+    eo = int(params["engineOrder"])
+    g = f - eo * n / 60.0
+    idx = np.nonzero(np.sign(g[:-1]) != np.sign(g[1:]))[0]
+    cross = math.nan
+    if len(idx):
+        i = int(idx[0])
+        cross = float(n[i] - g[i] * (n[i + 1] - n[i]) / (g[i + 1] - g[i]))
+    tab = np.zeros(len(n), dtype=[("time", "f8"), ("speed", "f8"), ("naturalFrequency", "f8")] +
+                   [(f"EO{k}", "f8") for k in range(1, 7)])
+    tab["time"], tab["speed"], tab["naturalFrequency"] = r["time"], n, f
+    for k in range(1, 7):
+        tab[f"EO{k}"] = k * n / 60.0
+    write_csv(out / "campbell.csv", tab, "Campbell diagram: FMU naturalFrequency [Hz] along a run-up, EO lines k n/60")
+    plots.campbell(out / "campbell.png", n, f, range(1, 7), eo, cross, peaks)
+    return {"eo_crossing_rpm": cross, "f_rest_hz": float(f[0]), "f_at_crossing_hz": eo * cross / 60.0}
+
+
+# ---------------------------------------------------------------------------------------------
+# Everything
+# ---------------------------------------------------------------------------------------------
+@dataclass
+class Reproduction:
+    summary: dict[str, Any]
+    results: dict[str, list[tuple[float, SweepResult]]] = field(default_factory=dict)
+
+
+def validate_request(size: str | Size, studies: Sequence[str] | None) -> tuple[Size, list[str]]:
+    if isinstance(size, str):
+        if size not in SIZES:
+            raise ConfigError(f"size {size!r} is unknown; choose from {', '.join(SIZES)}")
+        size = SIZES[size]
+    names = list(studies) if studies else list(STUDIES)
+    for n in names:
+        if n not in STUDIES:
+            raise ConfigError(f"study {n!r} is unknown; choose from {', '.join(STUDIES)}")
+    return size, names
+
+
+def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studies: Sequence[str] | None = None,
+              runner: Runner | None = None, cache_dir: Path | str | None = DEFAULT_CACHE_DIR,
+              fmu_path: Path | str | None = None, extras: bool = True, base: Mapping[str, Any] | None = None) -> Reproduction:
+    """Run the studies (and, with `extras`, Fig. 2, 4/5, Campbell, Coulomb, paper iteration)."""
+    from harness.fmu import BladeFMU
+    from harness.sweep import fmu_identity
+
+    size, names = validate_request(size, studies)
+    out = Path(out)
+    base_p = _params.validate(base or {}, source="reproduce base parameters")
+    entries = study_specs(size, names, base_p)
+    cent = coulomb_specs(size, base_p) if (extras and size.coulomb) else []
+    for _, _, spec in entries + cent:  # everything is checked before any work starts
+        validate_spec(spec)
+    path, _ = fmu_identity(fmu_path)
+    out.mkdir(parents=True, exist_ok=True)
+    own_runner = runner is None
+    runner = runner or Runner()
+    timing: dict[str, float] = {}
+    summary: dict[str, Any] = {"size": size.name, "base": base_p, "studies": {}}
+    rep = Reproduction(summary)
+    try:
+        t0 = _time.perf_counter()
+        all_res = run_sweeps([e[2] for e in entries + cent], runner, fmu_path=path, cache_dir=cache_dir,
+                             desc="studies")
+        timing["sweeps_wall"] = _time.perf_counter() - t0
+        if all_res:
+            timing["hb_wall"] = all_res[0].stats.get("wall_hb_all", math.nan)
+            timing["time_domain_wall"] = all_res[0].stats.get("wall_time_all", math.nan)
+            timing["fixed_point_wall"] = all_res[0].stats.get("wall_fixed_all", math.nan)
+        timing["plateaus"] = float(sum(len(r.time) for r in all_res))
+        timing["fixed_evals"] = float(sum(r.stats.get("fixed_evals", 0) for r in all_res))
+        timing["sim_time"] = float(sum(r.stats.get("sim_time", 0.0) for r in all_res))
+        main_res = all_res[:len(entries)]
+        coul_res = all_res[len(entries):]
+        for name in names:
+            st = STUDIES[name]
+            pairs = [(v, r) for (n, v, _), r in zip(entries, main_res) if n == name]
+            rep.results[name] = pairs
+            summary["studies"][name] = write_study(out, st, pairs)
+        if cent:
+            summary["coulomb"] = write_coulomb(out, summary, cent, coul_res)
+        if extras:
+            t0 = _time.perf_counter()
+            with BladeFMU(path) as fmu:
+                summary["fig45"] = fig45(fmu, out, base_p, 5000.0, size.fig45_time)
+                summary["hysteresis"] = hysteresis(fmu, out, base_p)
+                peaks = []
+                if "kn" in summary["studies"]:
+                    for row in summary["studies"]["kn"]["rows"]:
+                        if math.isfinite(row["time_speed"]):
+                            peaks.append((row["time_speed"], base_p["engineOrder"] * row["time_speed"] / 60,
+                                          f"peak, kn = {row['value']:.0e}"))
+                summary["campbell"] = campbell(fmu, out, base_p, peaks)
+                seq = paper_iteration(fmu, base_p, 5000.0, 2 * base_p["d"], size.iteration_steps)
+                summary["paper_iteration"] = {"speed": 5000.0, "t_int": 0.2, "B": seq}
+                it = np.zeros(len(seq), dtype=[("iteration", "i4"), ("B", "f8")])
+                it["iteration"], it["B"] = np.arange(len(seq)), seq
+                write_csv(out / "paper_iteration.csv", it,
+                          "the paper's section-3 iteration B <- max|q| of a 0.2 s run with B fixed, 5000 rpm, base case")
+            timing["extras_wall"] = _time.perf_counter() - t0
+    finally:
+        if own_runner:
+            runner.close()
+    summary["timing"] = timing
+    atomic_write_text(out / "summary.json", json.dumps(summary, indent=1, sort_keys=True, default=_json_default))
+    return rep
+
+
+def _json_default(o: Any) -> Any:
+    if isinstance(o, (np.floating, np.integer)):
+        return o.item()
+    if isinstance(o, np.bool_):
+        return bool(o)
+    raise TypeError(type(o).__name__)
+
+
+def write_coulomb(out: Path, summary: dict, cent: list, coul_res: list[SweepResult]) -> dict[str, Any]:
+    rows: dict[str, dict] = {}
+    table = []
+    for name in ("kn", "angle"):
+        if name not in summary["studies"]:
+            continue
+        st = STUDIES[name]
+        mac = {r["value"]: r for r in summary["studies"][name]["rows"]}
+        cou = {v: summarize(r) for (n, v, _), r in zip(cent, coul_res) if n == name}
+        xs = [v for v in mac if v in cou]
+        x_plot = xs if name == "kn" else [PI / v for v in xs]
+        rows[name] = {
+            "x": x_plot, "xlabel": st.xlabel if name == "kn" else "contact angle = pi / x", "log": name == "kn",
+            "macroslip": {"peak": [mac[v]["time_peak"] for v in xs], "speed": [mac[v]["time_speed"] for v in xs],
+                          "hb_peak": [mac[v]["hb_peak"] for v in xs], "hb_speed": [mac[v]["hb_speed"] for v in xs]},
+            "coulomb": {"peak": [cou[v]["time_peak"] for v in xs], "speed": [cou[v]["time_speed"] for v in xs],
+                        "hb_peak": [cou[v]["hb_peak"] for v in xs], "hb_speed": [cou[v]["hb_speed"] for v in xs]},
+        }
+        for v in xs:
+            table.append((name, v, mac[v]["time_peak"], mac[v]["time_speed"], cou[v]["time_peak"], cou[v]["time_speed"],
+                          mac[v]["hb_peak"], mac[v]["hb_speed"], cou[v]["hb_peak"], cou[v]["hb_speed"]))
+    tab = np.array(table, dtype=[("study", "U5"), ("value", "f8"), ("macroslip_peak", "f8"), ("macroslip_speed", "f8"),
+                                 ("coulomb_peak", "f8"), ("coulomb_speed", "f8"), ("macroslip_hb_peak", "f8"),
+                                 ("macroslip_hb_speed", "f8"), ("coulomb_hb_peak", "f8"), ("coulomb_hb_speed", "f8")])
+    write_csv(out / "section4_coulomb.csv", tab, "Section 4: peak amplitude [m] and resonant speed [rpm], macroslip vs Coulomb")
+    if rows:
+        plots.coulomb(out / "section4_coulomb.png", rows)
+    return {name: r for name, r in rows.items()}
+
+
+__all__ = ["STUDIES", "SIZES", "Size", "Study", "reproduce", "study_specs", "summarize", "settling_time",
+           "paper_iteration", "replace"]
