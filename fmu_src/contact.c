@@ -35,6 +35,7 @@ typedef struct {
     double b;       /* mu k_n cos g [N/m] */
     double B;       /* amplitude [m] */
     double eps;     /* B - d [m] */
+    double r;       /* (B - d) / B [-]: the closed forms use it so they never under/overflow */
     double Nstar;   /* N* = mu k_n cos g (B - d) [N] */
     double th1;     /* eq. 5 [rad] */
     double th2;     /* eq. 5 [rad] */
@@ -103,8 +104,9 @@ static void loopSetup(const ContactParams *p, FrictionModel model, double B, Loo
     L->b = p->mu * p->kn * cg;
     L->B = B;
     L->eps = B - p->d;
+    L->r = L->eps / B;
     L->Nstar = L->b * L->eps;
-    L->th2 = angleFromVersine(L->eps / B);
+    L->th2 = angleFromVersine(L->r);
     L->th1 = 0.0;
     L->th3 = 0.0;
     L->phi3 = 0.0;
@@ -116,8 +118,8 @@ static void loopSetup(const ContactParams *p, FrictionModel model, double B, Loo
         if (a > 0.0) {
             double amb = a - b;
             if (amb < 0.0) amb = 0.0; /* a >= b in this regime; guards rounding of the tan test */
-            L->th1 = angleFromVersine(2.0 * b * L->eps / ((a + b) * B));
-            L->phi3 = angleFromVersine(amb * L->eps / (a * B));
+            L->th1 = angleFromVersine(2.0 * (b / (a + b)) * L->r);
+            L->phi3 = angleFromVersine((amb / a) * L->r);
         } else {
             /* a = 0 here forces b = 0 (a >= b): no friction at all; the pieces collapse */
             L->th1 = 0.0;
@@ -132,10 +134,10 @@ static void loopSetup(const ContactParams *p, FrictionModel model, double B, Loo
 /* S1(2 th2) - S1(2 phi3) without cancellation when phi3 -> th2 (large a/b):
  * with h = 2 (th2 - phi3), m = th2 + phi3: S1(X) - S1(Y) = 2 S1(h/2) + 4 sin(h/2) sin^2(m/2),
  * and th2 - phi3 = 2 (asin x - asin y) = 2 asin((x^2 - y^2)/(x sqrt(1-y^2) + y sqrt(1-x^2))),
- * x^2 = eps/(2B), y^2 = (a-b) eps/(2 a B), x^2 - y^2 = b eps / (2 a B). */
+ * x^2 = r/2, y^2 = (a-b) r/(2 a), x^2 - y^2 = b r / (2 a), r = eps/B. */
 static double stickDifference(const Loop *L) {
-    double x2 = 0.5 * L->eps / L->B, y2 = 0.5 * (L->a - L->b) * L->eps / (L->a * L->B);
-    double dx2 = 0.5 * L->b * L->eps / (L->a * L->B), x, y, den, half, m, sh;
+    double x2 = 0.5 * L->r, y2 = 0.5 * ((L->a - L->b) / L->a) * L->r;
+    double dx2 = 0.5 * (L->b / L->a) * L->r, x, y, den, half, m, sh;
     if (y2 < 0.0) y2 = 0.0;
     if (y2 > x2) y2 = x2;
     x = sqrt(x2);
@@ -172,18 +174,19 @@ int contactDescribe(const ContactParams *p, FrictionModel model, Projection proj
     pk = p->kn * cg * xMinusSin(2.0 * L.th2) / CONTACT_PI; /* eq. 10 */
     if (L.coulomb) {
         fk = 0.0;
-        fcOmega = 4.0 * L.Nstar * L.eps / (CONTACT_PI * B * B);
+        fcOmega = 4.0 * L.b * L.r * L.r / CONTACT_PI; /* 4 N* (B - d) / (pi B^2) */
     } else if (L.regime == RegimeFullStick) {
         fk = p->kdRatio * tan(p->gamma) * pk;
         fcOmega = 0.0;
     } else if (L.a > 0.0) {
         double a = L.a, b = L.b;
-        double Ic = (a + b) * B * xMinusSin(2.0 * L.th1) / 4.0 + a * B * stickDifference(&L) / 4.0 -
-                    L.Nstar * sin(L.th2);                                       /* eq. 7 */
+        /* (int_0^pi F cos) / B, eq. 7 */
+        double IcOverB = (a + b) * xMinusSin(2.0 * L.th1) / 4.0 + a * stickDifference(&L) / 4.0 -
+                         b * L.r * sin(L.th2);
         double bracket = (a - b) / (a + b) + (2.0 * a - b) / (2.0 * a);
         if (bracket < 0.5) bracket = 0.5; /* >= 1/2 for a >= b; guards rounding only */
-        fk = 2.0 * Ic / (CONTACT_PI * B);
-        fcOmega = 2.0 * b * L.eps * L.eps * bracket / (CONTACT_PI * B * B);  /* eq. 8 fixed */
+        fk = 2.0 * IcOverB / CONTACT_PI;
+        fcOmega = 2.0 * b * L.r * L.r * bracket / CONTACT_PI;  /* eq. 8 fixed: 2 b eps^2 [.]/(pi B^2) */
     } else {
         fk = 0.0;
         fcOmega = 0.0;
