@@ -21,6 +21,7 @@ from typing import Sequence
 COMMANDS: dict[str, str] = {
     "simulate": "harness.simulate_cmd",
     "validate": "harness.validate",
+    "crosscheck": "harness.crosscheck",
     "run": "harness.run_cmd",
     "sweep": "harness.sweep_cmd",
     "reproduce": "harness.reproduce_cmd",

@@ -59,3 +59,34 @@ def fmpy_validate(fmu: Path) -> StaticResult:
     problems = validate_fmu(str(fmu))
     return StaticResult("fmpy validate_fmu", fmpy.__version__, not problems, _time.perf_counter() - t0,
                         [str(p) for p in problems], f"fmpy.validation.validate_fmu({str(fmu)!r})")
+
+
+def rebuild_from_sources(fmu: Path, out_fmu: Path, build_dir: Path | None = None) -> Path:
+    """Rebuild the FMU's binary from its own `sources/` with fmpy.build.build_platform_binary.
+
+    The archive is extracted, its binaries/ removed, fmpy's CMake project compiles the files listed
+    in <SourceFiles> with only sources/ and the FMI headers on the include path, and the result is
+    zipped to `out_fmu`. Runs in a subprocess so CMake's output is captured (shown on failure).
+    """
+    import tempfile
+    import zipfile
+
+    with tempfile.TemporaryDirectory(prefix="sb-rebuild-") as tmp:
+        unzipdir = Path(tmp) / "fmu"
+        with zipfile.ZipFile(fmu) as z:
+            z.extractall(unzipdir)
+        shutil.rmtree(unzipdir / "binaries", ignore_errors=True)
+        bdir = Path(build_dir) if build_dir else Path(tmp) / "build"
+        bdir.mkdir(parents=True, exist_ok=True)
+        code = ("import sys; from fmpy.build import build_platform_binary; "
+                "build_platform_binary(sys.argv[1], build_dir=sys.argv[2])")
+        proc = subprocess.run([sys.executable, "-c", code, str(unzipdir), str(bdir)], capture_output=True, text=True)
+        if proc.returncode != 0:
+            raise RuntimeError(f"fmpy.build.build_platform_binary failed:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
+        out_fmu = Path(out_fmu)
+        out_fmu.parent.mkdir(parents=True, exist_ok=True)
+        with zipfile.ZipFile(out_fmu, "w", zipfile.ZIP_DEFLATED) as z:
+            for f in sorted(unzipdir.rglob("*")):
+                if f.is_file():
+                    z.write(f, f.relative_to(unzipdir).as_posix())
+    return out_fmu
