@@ -290,6 +290,7 @@ def _settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings
     n_chunk = s.chunk_periods * s.steps_per_period
     n_cap = max(int(math.ceil(cap / h)), (s.min_periods + 2) * s.steps_per_period)
     n_done = 0
+    window = (3 * s.min_periods + 4) * s.steps_per_period
     ss = None
     first = True
     while n_done < n_cap:
@@ -304,14 +305,16 @@ def _settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings
         first = False
         n_done += n
         t = float(res["time"][-1])
-        data = np.concatenate(chunks)
         if n_done >= (s.min_periods + 1) * s.steps_per_period:
+            # decide on a window of the last periods only (cheap); the full record is analysed once
+            data = np.concatenate(chunks)[-(window + 1):]
             ss = analyze(data["time"], data["tipDisplacement"], period, rtol=s.rtol, min_periods=s.min_periods)
             if ss.reached:
                 break
     data = np.concatenate(chunks)
-    if ss is None:
-        ss = analyze(data["time"], data["tipDisplacement"], period, rtol=s.rtol, min_periods=s.min_periods)
+    ss_full = analyze(data["time"], data["tipDisplacement"], period, rtol=s.rtol, min_periods=s.min_periods)
+    if ss is None or ss_full.reached == ss.reached:
+        ss = ss_full
     phase = (start.phase + omega * (t - start.time)) % (2.0 * math.pi)
     return data, ss, t, phase
 

@@ -1,0 +1,259 @@
+"""Benchmark the FMU and the harness and write bench/RESULTS.md (make bench).
+
+Measured in one run on this machine: the FMU's internal step cost (the C benchmark
+build/bench_step when it exists), the cost of one fmi2DoStep through the harness loop on fmpy
+(small and large communication steps), the Python overhead of a time-domain sweep against the
+FMU's own compute for the same work (time spent inside fmi2DoStep), the same stepped-speed run
+through the Python reference as a ratio, harmonic balance for all studies, and the wall time of
+`reproduce` from a cold cache with its breakdown against the issue's targets.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import platform
+import re
+import subprocess
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from harness.executor import REPO_ROOT, atomic_write_text
+
+BENCH_DIR = REPO_ROOT / "bench"
+
+
+def machine() -> dict[str, Any]:
+    cpu = "unknown"
+    try:
+        with open("/proc/cpuinfo") as fh:
+            for ln in fh:
+                if ln.startswith("model name"):
+                    cpu = ln.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    import fmpy
+
+    return {"nproc": os.cpu_count(), "cpu": cpu, "python": platform.python_version(), "fmpy": fmpy.__version__,
+            "system": f"{platform.system()} {platform.release()}"}
+
+
+def c_step_cost() -> dict[str, Any]:
+    """Run build/bench_step (the core engineer's C benchmark) if present; its output verbatim."""
+    exe = REPO_ROOT / "build" / "bench_step"
+    if not exe.is_file():
+        try:
+            from harness.build import build
+
+            build(("bench_step",))
+        except Exception:
+            pass
+    if not exe.is_file():
+        return {"available": False, "text": "build/bench_step not built (no such CMake target yet)"}
+    proc = subprocess.run([str(exe)], capture_output=True, text=True, timeout=600)
+    text = (proc.stdout + proc.stderr).strip()
+    ns = [float(x) for x in re.findall(r"([0-9.]+(?:[eE][-+]?\d+)?)\s*ns", text)]
+    return {"available": True, "text": text, "ns_values": ns}
+
+
+class _Timed:
+    """Wraps the ctypes fmi2DoStep of a BladeFMU and accumulates the time spent inside it."""
+
+    def __init__(self, fn):
+        self.fn, self.total, self.calls = fn, 0.0, 0
+
+    def __call__(self, *a):
+        t = time.perf_counter()
+        st = self.fn(*a)
+        self.total += time.perf_counter() - t
+        self.calls += 1
+        return st
+
+
+def dostep_cost(fmu: Any, params: dict) -> dict[str, Any]:
+    """Wall time per doStep of BladeFMU.run at 5000 rpm: h = maxStep (one internal step per
+    doStep: mostly overhead) and h = T/8 (the sweep's step), and the share spent inside fmi2DoStep."""
+    out = {}
+    T = 60.0 / (5000.0 * params["engineOrder"])
+    for label, h, t_stop in (("h = maxStep = 1e-5 s", 1e-5, 0.2), ("h = T/8 = 5e-4 s (sweep step)", T / 8, 1.0)):
+        fmu.run(params, 10 * h, h)  # warm-up
+        t = time.perf_counter()
+        r = fmu.run(params, t_stop, h, outputs=["tipDisplacement", "amplitude"])
+        wall = time.perf_counter() - t
+        n = len(r) - 1
+        timed = _Timed(fmu._doStep)
+        fmu._doStep = timed
+        try:
+            fmu.run(params, t_stop, h, outputs=["tipDisplacement", "amplitude"])
+        finally:
+            fmu._doStep = timed.fn
+        out[label] = {"steps": n, "us_per_doStep": wall / n * 1e6, "us_inside_doStep": timed.total / timed.calls * 1e6,
+                      "ratio_total_to_inside": wall / timed.total, "sim_time": t_stop,
+                      "us_per_simulated_ms": wall / t_stop * 1e3}
+    return out
+
+
+def sweep_overhead(fmu_path: str) -> dict[str, Any]:
+    """One up sweep (base case, 3000..10000 rpm every 500, no refinement, no cache): wall time of
+    the Python-driven sweep vs the time spent inside fmi2DoStep for the same work."""
+    from harness import sweep as sw
+    from harness.executor import PointCache
+    from harness.studies import base_params
+
+    s = sw.SweepSettings(refine_levels=0)
+    task = sw.ChainTask(base_params(), tuple(np.arange(3000.0, 10001.0, 500.0)), "up", s, *sw.fmu_identity(fmu_path), None)
+    fmu = sw.worker_fmu(task.fmu_path)
+    sw.run_chain(task)  # warm-up (imports, first-call costs)
+    t = time.perf_counter()
+    recs = sw.run_chain(task)
+    wall = time.perf_counter() - t
+    timed = _Timed(fmu._doStep)
+    fmu._doStep = timed
+    try:
+        sw.run_chain(task)
+    finally:
+        fmu._doStep = timed.fn
+    del PointCache
+    sim = sum(r["sim_time"] for r in recs)
+    return {"plateaus": len(recs), "sim_time": sim, "wall": wall, "inside_doStep": timed.total,
+            "doSteps": timed.calls, "ratio": wall / timed.total}
+
+
+def reference_ratio(fmu: Any, params: dict) -> dict[str, Any]:
+    """The same stepped-speed run (3 plateaus x 0.1 s, 4500/5000/5500 rpm) through the FMU and
+    through the Python reference (DOP853 with located events), fed the same piecewise Taylor input."""
+    from harness import reference as ref
+    from harness.excitation import AeroLoad, Stepped, fmu_view
+
+    speed = Stepped([4500.0, 5000.0, 5500.0], [0.1, 0.1, 0.1])
+    aero = AeroLoad(params["Fw0"], params["engineOrder"], speed)
+    h = 60.0 / (5500.0 * params["engineOrder"]) / 8
+    t = time.perf_counter()
+    r = fmu.run(params, 0.3, h, aero=aero, speed=speed, outputs=["tipDisplacement"])
+    w_fmu = time.perf_counter() - t
+    grid = r["time"]
+    t = time.perf_counter()
+    rr = ref.simulate(params, 0.3, fmu_view(aero, grid, 8), fmu_view(speed, grid, 8), grid, breakpoints=grid)
+    w_ref = time.perf_counter() - t
+    dev = float(np.max(np.abs(rr["tipDisplacement"] - r["tipDisplacement"])) / np.max(np.abs(r["tipDisplacement"])))
+    return {"sim_time": 0.3, "wall_fmu": w_fmu, "wall_reference": w_ref, "ratio": w_ref / w_fmu,
+            "max_rel_deviation": dev}
+
+
+def hb_all() -> dict[str, Any]:
+    from harness.studies import SIZES, STUDIES, base_params
+    from harness.sweep import hb_curve
+
+    base = base_params()
+    size = SIZES["default"]
+    hb_curve(base, size.hb_speeds[:5])  # warm-up
+    t = time.perf_counter()
+    n = 0
+    for st in STUDIES.values():
+        for v in st.values:
+            n += len(hb_curve(dict(base, **{st.param: v}), size.hb_speeds))
+    return {"curves": sum(len(s.values) for s in STUDIES.values()), "speeds_per_curve": len(size.hb_speeds),
+            "solutions": n, "wall": time.perf_counter() - t}
+
+
+def reproduce_cold(size: str, workers: int | None) -> dict[str, Any]:
+    from harness.executor import Runner
+    from harness.studies import reproduce
+
+    with tempfile.TemporaryDirectory() as tmp:
+        t = time.perf_counter()
+        with Runner(workers=workers, progress=False) as runner:
+            rep = reproduce(Path(tmp) / "results", size, runner=runner, cache_dir=Path(tmp) / "cache")
+        wall = time.perf_counter() - t
+    tim = rep.summary["timing"]
+    return {"size": size, "wall": wall, **tim}
+
+
+def write_results(path: Path, data: dict[str, Any]) -> None:
+    m = data["machine"]
+    L = ["# Benchmark results", "",
+         f"Machine: {m['nproc']} CPU(s), {m['cpu']}, {m['system']}, Python {m['python']}, fmpy {m['fmpy']}.",
+         f"Measured by `make bench` (`python -m harness bench`) on {data['date']}; every number below comes from "
+         "that single run.", ""]
+    c = data.get("c_step", {})
+    L += ["## FMU internal step cost (C benchmark `build/bench_step`)", ""]
+    L += (["```", c.get("text", ""), "```", ""] if c.get("available") else [c.get("text", "not measured"), ""])
+    if "dostep" in data:
+        L += ["## Cost of one fmi2DoStep through the harness loop (fmpy/ctypes)", "",
+              "| communication step | doSteps | us per doStep (total) | us inside fmi2DoStep | total / inside | wall per simulated ms |",
+              "|---|---|---|---|---|---|"]
+        for k, v in data["dostep"].items():
+            L.append(f"| {k} | {v['steps']} | {v['us_per_doStep']:.2f} | {v['us_inside_doStep']:.2f} | "
+                     f"{v['ratio_total_to_inside']:.2f} | {v['us_per_simulated_ms']:.1f} us |")
+        L.append("")
+    if "sweep" in data:
+        s = data["sweep"]
+        L += ["## A time-domain sweep driven from Python vs the FMU's own compute", "",
+              f"One up sweep of the base case, {s['plateaus']} plateaus (3000..10000 rpm every 500, no refinement, "
+              f"no cache), {s['sim_time']:.2f} s simulated in {s['doSteps']} doSteps: wall {s['wall']:.3f} s, inside "
+              f"fmi2DoStep {s['inside_doStep']:.3f} s: **ratio {s['ratio']:.2f}** (target <= 1.5).", ""]
+    if "reference" in data:
+        r = data["reference"]
+        L += ["## The same run through the Python reference", "",
+              f"Stepped speed 4500/5000/5500 rpm, {r['sim_time']} s simulated, same piecewise Taylor input: FMU "
+              f"{r['wall_fmu']:.3f} s, reference {r['wall_reference']:.2f} s: **reference / FMU = {r['ratio']:.0f}x** "
+              f"(max deviation {r['max_rel_deviation']:.1e} of the peak).", ""]
+    if "hb" in data:
+        h = data["hb"]
+        L += ["## Harmonic balance for all studies", "",
+              f"{h['curves']} curves x {h['speeds_per_curve']} speeds ({h['solutions']} solutions): "
+              f"**{h['wall']:.3f} s** (target <= 1 s).", ""]
+    if "reproduce" in data:
+        r = data["reproduce"]
+        td = r.get("time_domain_wall", math.nan) + r.get("fixed_point_wall", math.nan)
+        L += ["## `reproduce` from a cold cache", "",
+              f"Size `{r['size']}`, all studies + extras: **{r['wall']:.1f} s wall**. Breakdown: time-domain sweeps "
+              f"{r.get('time_domain_wall', math.nan):.1f} s ({r.get('plateaus', 0):.0f} plateaus, "
+              f"{r.get('sim_time', 0):.1f} s simulated), fixed points {r.get('fixed_point_wall', math.nan):.1f} s "
+              f"({r.get('fixed_evals', 0):.0f} A(B) runs), harmonic balance {r.get('hb_wall', math.nan):.2f} s, "
+              f"Fig. 2/4/5/Campbell/iteration {r.get('extras_wall', math.nan):.1f} s.",
+              f"Target: four studies in the time domain with fixed points <= 30 s: **{td:.1f} s**.", ""]
+    atomic_write_text(path, "\n".join(L))
+
+
+def configure_parser(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--size", default="default", help="reproduce size to time (default: default)")
+    p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes for reproduce")
+    p.add_argument("--skip-reproduce", action="store_true", help="do not time the whole reproduce")
+    p.add_argument("--output-file", default=str(BENCH_DIR / "RESULTS.md"), metavar="MD",
+                   help="where to write the results (default bench/RESULTS.md)")
+
+
+def run(args: argparse.Namespace) -> int:
+    from harness.fmu import BladeFMU
+    from harness.studies import base_params
+    from harness.sweep import fmu_identity
+
+    path, _ = fmu_identity(None)
+    data: dict[str, Any] = {"machine": machine(), "date": time.strftime("%Y-%m-%d %H:%M")}
+    print("C step benchmark ...", flush=True)
+    data["c_step"] = c_step_cost()
+    p = base_params()
+    with BladeFMU(path) as fmu:
+        print("doStep cost ...", flush=True)
+        data["dostep"] = dostep_cost(fmu, p)
+        print("reference ratio ...", flush=True)
+        data["reference"] = reference_ratio(fmu, p)
+    print("sweep overhead ...", flush=True)
+    data["sweep"] = sweep_overhead(path)
+    print("harmonic balance ...", flush=True)
+    data["hb"] = hb_all()
+    if not args.skip_reproduce:
+        print(f"reproduce --size {args.size} from a cold cache ...", flush=True)
+        data["reproduce"] = reproduce_cold(args.size, args.workers)
+    out = Path(args.output_file)
+    write_results(out, data)
+    atomic_write_text(out.with_suffix(".json"), json.dumps(data, indent=1, default=str))
+    print(out.read_text())
+    return 0
