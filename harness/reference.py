@@ -13,10 +13,13 @@ from harness.reference_blade import Galerkin, galerkin
 from harness.reference_contact import (DF, describing_function, jenkins_cycle_dissipation, loop_angles,
                                        loop_friction, loop_state, normal_force, regime)
 from harness.reference_dynamics import OUTPUT_DTYPE, SimulationError, jenkins_prescribed, simulate
+from harness.reference_fixedpoint import (FixedPointResult, FixedPointRoot, SteadyState, finite_horizon_amplitude,
+                                          fixed_point, naive_iteration, steady_amplitude)
 from harness.reference_hb import HBSolution, harmonic_balance
 
 __all__ = [
     "Galerkin", "galerkin", "DF", "describing_function", "jenkins_cycle_dissipation", "loop_angles",
     "loop_friction", "loop_state", "normal_force", "regime", "OUTPUT_DTYPE", "SimulationError",
-    "jenkins_prescribed", "simulate", "HBSolution", "harmonic_balance",
+    "jenkins_prescribed", "simulate", "HBSolution", "harmonic_balance", "FixedPointResult", "FixedPointRoot",
+    "SteadyState", "finite_horizon_amplitude", "fixed_point", "naive_iteration", "steady_amplitude",
 ]

@@ -19,6 +19,8 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from harness.reference_hybrid import run_segment
+
 from harness.params import validate
 from harness.reference_blade import Galerkin, galerkin
 from harness.reference_contact import (COULOMB_DF, MACROSLIP_DF, MACROSLIP_TD, ContactConsts, contact_consts,
@@ -224,68 +226,43 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
 
     y = np.array([0.0, 0.0, 0.0, 0.0, 0.0])
     t = float(start_time)
-    n_eval_done = 0
     zero_len = 0
+    qv = lambda ts, Y: (Y[0], Y[1])  # noqa: E731
     for seg_i in range(len(edges) - 1):
         t_end = edges[seg_i + 1]
         last_edge = seg_i == len(edges) - 2
-        while True:
-            evs: list[Callable] = []
-            acts: list[Callable] = []
+        while t < t_end:
+            evs: list = []
+            acts: list = []
             if jen is None and gating:
                 if ds.g == 0:
-                    evs += [_event(lambda t, y: y[0] - d, 1.0), _event(lambda t, y: y[0] + d, -1.0)]
+                    evs += [(lambda t, y: y[0] - d, 1.0), (lambda t, y: y[0] + d, -1.0)]
                     acts += [lambda y: setattr(ds, "g", 1)] * 2
                 else:
                     side = 1.0 if y[0] > 0 else -1.0
-                    evs.append(_event(lambda t, y, side=side: side * (y[0] - side * d), -1.0))
+                    evs.append((lambda t, y, side=side: side * (y[0] - side * d), -1.0))
                     acts.append(lambda y: setattr(ds, "g", 0))
             if jen is not None:
                 for f, a in jen.events(0, 1, 4):
-                    evs.append(f)
+                    evs.append((f, f.direction))
                     acts.append(a)
-            n_term = len(evs)
             if tracked:
-                k = ds.k
-                evs.append(_event(lambda t, y, k=k: y[2] - TWO_PI * k, 1.0))
+                evs.append((lambda t, y, k=ds.k: y[2] - TWO_PI * k, 1.0))
                 acts.append(None)  # period end, handled below
-                evs.append(_event(lambda t, y: y[1], 0.0, terminal=False))
-            sel = np.nonzero((t_eval >= t) & ((t_eval < t_end) | (last_edge & (t_eval <= t_end))))[0]
-            if t_end <= t:
-                break
-            sol = solve_ivp(rhs, (t, t_end), y, method="DOP853", rtol=rtol, atol=atol, events=evs or None,
-                            dense_output=True, max_step=max_step)
-            if sol.status < 0:
-                raise SimulationError(f"solve_ivp failed at t = {sol.t[-1]:g}: {sol.message}")
-            t_stop = float(sol.t[-1])
-            fired = None
-            if sol.status == 1:
-                for i in range(len(evs)):
-                    if getattr(evs[i], "terminal", False) and sol.t_events[i].size:
-                        fired = i
-                        break
-            # outputs strictly before the stop (or up to t_end if the segment ran through)
-            if fired is None:
-                mask = sel
-            else:
-                mask = sel[t_eval[sel] < t_stop]
-            if mask.size:
-                outputs(mask, t_eval[mask], sol.sol(t_eval[mask]))
-                n_eval_done = max(n_eval_done, int(mask[-1]) + 1)
-            y = sol.y[:, -1].copy()
+            idx = np.nonzero((t_eval >= t) & ((t_eval < t_end) | (last_edge & (t_eval <= t_end))))[0]
+            res = run_segment(rhs, t, y, t_end, evs, qv, rtol, atol, max_step, t_eval[idx],
+                              lambda m, ts, Y, idx=idx: outputs(idx[m], ts, Y), track_qmax=tracked)
+            y = np.array(res.y, dtype=float)
             if tracked:
-                ext = sol.y_events[-1]
-                if ext.size:
-                    ds.qmax = max(ds.qmax, float(np.max(np.abs(ext[:, 0]))))
-                ds.qmax = max(ds.qmax, abs(y[0]))
-            if fired is None:
+                ds.qmax = max(ds.qmax, res.qmax)
+            if res.fired is None:
                 t = t_end
                 break
-            zero_len = zero_len + 1 if t_stop - t <= 1e-14 * max(1.0, abs(t)) else 0
+            zero_len = zero_len + 1 if res.t - t <= 1e-14 * max(1.0, abs(t)) else 0
             if zero_len > 1000:
-                raise SimulationError(f"chattering: more than 1000 events at t = {t_stop:g} s")
-            t = t_stop
-            act = acts[fired]
+                raise SimulationError(f"chattering: more than 1000 events at t = {res.t:g} s")
+            t = res.t
+            act = acts[res.fired]
             if act is None:  # period end: B <- max |q| over the period just ended (model-notes s.3)
                 ds.B = ds.qmax
                 ds.df = describe(ds.B)
@@ -295,10 +272,9 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
                 act(y)
                 if jen is not None:
                     y[4] = jen.consistent_w(y[0], y[4])
-    # the last output (t == stop_time) if not produced by the loop (e.g. stop at an event)
+    # an output at stop_time reached exactly by an event (post-event state)
     rest = np.nonzero(t_eval >= t)[0]
-    rest = rest[rest >= n_eval_done]
-    if rest.size:
+    if rest.size and t >= stop_time:
         outputs(rest, t_eval[rest], np.repeat(y[:, None], rest.size, axis=1))
     return out
 
