@@ -1,0 +1,547 @@
+/* FMI 2.0 co-simulation entry points of ShroudedBlade: call-sequence state machine (one
+ * allowed-states mask per function, from the co-simulation state table of the FMI 2.0 standard,
+ * section 4.2.4), pointer and argument checks, status handling; the work is done in instance.c.
+ * Every FMI 2.0 function is exported; the model-exchange ones log and return fmi2Error. */
+#include <string.h>
+
+#include "config.h"
+#include "fmi2Functions.h"
+#include "instance.h"
+
+/* Allowed states per function. The error state additionally allows fmi2GetStatus and friends. */
+#define ALL_BUT_START (FsmInstantiated | FsmInitializationMode | FsmStepComplete | FsmStepInProgress | \
+                       FsmStepFailed | FsmStepCanceled | FsmTerminated | FsmError)
+#define MASK_SetDebugLogging ALL_BUT_START
+#define MASK_SetupExperiment FsmInstantiated
+#define MASK_EnterInitializationMode FsmInstantiated
+#define MASK_ExitInitializationMode FsmInitializationMode
+#define MASK_Terminate (FsmStepComplete | FsmStepFailed)
+#define MASK_Reset (FsmInstantiated | FsmInitializationMode | FsmStepComplete | FsmStepFailed | \
+                    FsmStepCanceled | FsmTerminated | FsmError)
+#define MASK_Get (FsmInitializationMode | FsmStepComplete | FsmStepFailed | FsmStepCanceled | \
+                  FsmTerminated | FsmError)
+#define MASK_Set (FsmInstantiated | FsmInitializationMode | FsmStepComplete)
+#define MASK_FMUstate MASK_Reset
+#define MASK_GetDirectionalDerivative MASK_Get
+#define MASK_SetRealInputDerivatives (FsmInstantiated | FsmInitializationMode | FsmStepComplete)
+#define MASK_GetRealOutputDerivatives (FsmStepComplete | FsmStepFailed | FsmStepCanceled | FsmTerminated | \
+                                       FsmError)
+#define MASK_DoStep FsmStepComplete
+#define MASK_CancelStep FsmStepInProgress
+#define MASK_GetStatus (FsmStepComplete | FsmStepInProgress | FsmStepFailed | FsmTerminated | FsmError)
+
+/* The instance behind c, if c is one and the call is allowed in its state; else NULL (logged
+ * when possible). */
+static Instance *enter(fmi2Component c, const char *fn, int mask)
+{
+    Instance *inst = (Instance *)c;
+    if (inst == NULL || inst->magic != INSTANCE_MAGIC) return NULL;
+    instanceLog(inst, fmi2OK, LogCalls, "%s (state: %s)", fn, fsmStateName(inst->d.fsm));
+    if ((inst->d.fsm & mask) == 0) {
+        instanceLogStatus(inst, fmi2Error, "%s: Illegal call sequence (state: %s)", fn, fsmStateName(inst->d.fsm));
+        return NULL;
+    }
+    return inst;
+}
+
+static int nullArgs(Instance *inst, const char *fn, size_t nvr, const void *a, const void *b)
+{
+    if (nvr > 0 && (a == NULL || b == NULL)) {
+        instanceLogStatus(inst, fmi2Error, "%s: NULL array argument with nvr = %lu", fn, (unsigned long)nvr);
+        return 1;
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Common functions                                                                             */
+
+const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
+
+const char *fmi2GetVersion(void) { return fmi2Version; }
+
+fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nCategories,
+                               const fmi2String categories[])
+{
+    const char *fn = "fmi2SetDebugLogging";
+    Instance *inst = enter(c, fn, MASK_SetDebugLogging);
+    size_t i;
+    int k;
+    if (inst == NULL) return fmi2Error;
+    if (nCategories > 0 && categories == NULL) {
+        instanceLogStatus(inst, fmi2Error, "%s: categories is NULL with nCategories = %lu", fn,
+                          (unsigned long)nCategories);
+        return fmi2Error;
+    }
+    for (i = 0; i < nCategories; ++i) {
+        int found = 0;
+        if (categories[i] != NULL)
+            for (k = 0; k < LOG_NUM_CATEGORIES; ++k)
+                if (strcmp(categories[i], logCategoryName(k)) == 0) found = 1;
+        if (!found) {
+            instanceLogStatus(inst, fmi2Error,
+                              "%s: unknown log category '%s'; known: logEvents, logStatusWarning, "
+                              "logStatusDiscard, logStatusError, logStatusFatal, logAll, logCalls", fn,
+                              categories[i] ? categories[i] : "(NULL)");
+            return fmi2Error;
+        }
+    }
+    if (nCategories == 0) {
+        for (k = 0; k < LOG_NUM_CATEGORIES; ++k) inst->logOn[k] = loggingOn ? 1 : 0;
+    } else {
+        for (i = 0; i < nCategories; ++i)
+            for (k = 0; k < LOG_NUM_CATEGORIES; ++k)
+                if (strcmp(categories[i], logCategoryName(k)) == 0) inst->logOn[k] = loggingOn ? 1 : 0;
+    }
+    return fmi2OK;
+}
+
+fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
+                              fmi2String fmuResourceLocation, const fmi2CallbackFunctions *functions,
+                              fmi2Boolean visible, fmi2Boolean loggingOn)
+{
+    const char *fn = "fmi2Instantiate";
+    Instance *inst;
+    fmi2CallbackLogger log;
+    const char *name = (instanceName != NULL) ? instanceName : "";
+    (void)visible;
+    if (functions == NULL || functions->logger == NULL) return NULL; /* no way to report anything */
+    log = functions->logger;
+    if (instanceName == NULL || instanceName[0] == '\0') {
+        if (loggingOn) log(functions->componentEnvironment, name, fmi2Error, "logStatusError",
+                           "fmi2Instantiate: instanceName must be a non-empty string");
+        return NULL;
+    }
+    if (fmuType != fmi2CoSimulation) {
+        if (loggingOn) log(functions->componentEnvironment, name, fmi2Error, "logStatusError",
+                           "fmi2Instantiate: fmuType = %d is not supported: ShroudedBlade is a co-simulation "
+                           "FMU (fmi2CoSimulation = %d)", (int)fmuType, (int)fmi2CoSimulation);
+        return NULL;
+    }
+    if (fmuGUID == NULL || strcmp(fmuGUID, MODEL_GUID) != 0) {
+        if (loggingOn) log(functions->componentEnvironment, name, fmi2Error, "logStatusError",
+                           "fmi2Instantiate: GUID %s does not match the GUID %s of this FMU binary",
+                           fmuGUID ? fmuGUID : "(NULL)", MODEL_GUID);
+        return NULL;
+    }
+    inst = instanceNew(instanceName, fmuResourceLocation, log, functions->componentEnvironment, loggingOn);
+    if (inst == NULL) {
+        if (loggingOn) log(functions->componentEnvironment, name, fmi2Fatal, "logStatusFatal",
+                           "fmi2Instantiate: out of memory");
+        return NULL;
+    }
+    /* resources are not used; file:///, file:/ (and file://host/) URIs and NULL are accepted */
+    if (fmuResourceLocation != NULL && strncmp(fmuResourceLocation, "file:", 5) != 0)
+        instanceLogStatus(inst, fmi2Warning, "%s: fmuResourceLocation is not a file: URI (ignored: this FMU has "
+                          "no resources)", fn);
+    instanceLog(inst, fmi2OK, LogCalls, "%s: instance created (GUID %s)", fn, MODEL_GUID);
+    return (fmi2Component)inst;
+}
+
+void fmi2FreeInstance(fmi2Component c)
+{
+    Instance *inst = (Instance *)c;
+    if (inst == NULL || inst->magic != INSTANCE_MAGIC) return;
+    instanceLog(inst, fmi2OK, LogCalls, "fmi2FreeInstance");
+    instanceFree(inst);
+}
+
+fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance,
+                               fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime)
+{
+    Instance *inst = enter(c, "fmi2SetupExperiment", MASK_SetupExperiment);
+    if (inst == NULL) return fmi2Error;
+    return instanceSetupExperiment(inst, toleranceDefined, tolerance, startTime, stopTimeDefined, stopTime);
+}
+
+fmi2Status fmi2EnterInitializationMode(fmi2Component c)
+{
+    Instance *inst = enter(c, "fmi2EnterInitializationMode", MASK_EnterInitializationMode);
+    if (inst == NULL) return fmi2Error;
+    inst->d.fsm = FsmInitializationMode;
+    return fmi2OK;
+}
+
+fmi2Status fmi2ExitInitializationMode(fmi2Component c)
+{
+    Instance *inst = enter(c, "fmi2ExitInitializationMode", MASK_ExitInitializationMode);
+    fmi2Status status;
+    if (inst == NULL) return fmi2Error;
+    status = instanceExitInitialization(inst);
+    inst->d.fsm = status <= fmi2Warning ? FsmStepComplete : FsmError;
+    return status;
+}
+
+fmi2Status fmi2Terminate(fmi2Component c)
+{
+    Instance *inst = enter(c, "fmi2Terminate", MASK_Terminate);
+    if (inst == NULL) return fmi2Error;
+    inst->d.fsm = FsmTerminated;
+    return fmi2OK;
+}
+
+fmi2Status fmi2Reset(fmi2Component c)
+{
+    Instance *inst = enter(c, "fmi2Reset", MASK_Reset);
+    if (inst == NULL) return fmi2Error;
+    instanceReset(inst);
+    return fmi2OK;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Getting and setting variables                                                                */
+
+fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[])
+{
+    const char *fn = "fmi2GetReal";
+    Instance *inst = enter(c, fn, MASK_Get);
+    if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
+    return instanceGetReal(inst, fn, vr, nvr, value);
+}
+
+fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[])
+{
+    const char *fn = "fmi2GetInteger";
+    Instance *inst = enter(c, fn, MASK_Get);
+    if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
+    return instanceGetInteger(inst, fn, vr, nvr, value);
+}
+
+fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[])
+{
+    const char *fn = "fmi2GetBoolean";
+    Instance *inst = enter(c, fn, MASK_Get);
+    if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
+    return instanceGetBoolean(inst, fn, vr, nvr, value);
+}
+
+/* There are no String variables: every value reference is refused. */
+static fmi2Status noStrings(Instance *inst, const char *fn, const fmi2ValueReference vr[], size_t nvr)
+{
+    if (nvr == 0) return fmi2OK;
+    {
+        const char *name = instanceVariableName(vr[0]);
+        if (name) instanceLogStatus(inst, fmi2Error, "%s: %s (vr %u) is not a String variable", fn, name, (unsigned)vr[0]);
+        else instanceLogStatus(inst, fmi2Error, "%s: unknown value reference %u (this FMU has no String variables)",
+                               fn, (unsigned)vr[0]);
+    }
+    return fmi2Error;
+}
+
+fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2String value[])
+{
+    const char *fn = "fmi2GetString";
+    Instance *inst = enter(c, fn, MASK_Get);
+    if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
+    return noStrings(inst, fn, vr, nvr);
+}
+
+fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[])
+{
+    const char *fn = "fmi2SetReal";
+    Instance *inst = enter(c, fn, MASK_Set);
+    if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
+    return instanceSetReal(inst, fn, vr, nvr, value);
+}
+
+fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[])
+{
+    const char *fn = "fmi2SetInteger";
+    Instance *inst = enter(c, fn, MASK_Set);
+    if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
+    return instanceSetInteger(inst, fn, vr, nvr, value);
+}
+
+fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[])
+{
+    const char *fn = "fmi2SetBoolean";
+    Instance *inst = enter(c, fn, MASK_Set);
+    if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
+    return instanceSetBoolean(inst, fn, vr, nvr, value);
+}
+
+fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2String value[])
+{
+    const char *fn = "fmi2SetString";
+    Instance *inst = enter(c, fn, MASK_Set);
+    if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
+    return noStrings(inst, fn, vr, nvr);
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* FMU state                                                                                    */
+
+fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
+{
+    const char *fn = "fmi2GetFMUstate";
+    Instance *inst = enter(c, fn, MASK_FMUstate);
+    if (inst == NULL) return fmi2Error;
+    if (FMUstate == NULL) {
+        instanceLogStatus(inst, fmi2Error, "%s: FMUstate is NULL", fn);
+        return fmi2Error;
+    }
+    return instanceGetState(inst, FMUstate);
+}
+
+fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate)
+{
+    const char *fn = "fmi2SetFMUstate";
+    Instance *inst = enter(c, fn, MASK_FMUstate);
+    if (inst == NULL) return fmi2Error;
+    if (FMUstate == NULL) {
+        instanceLogStatus(inst, fmi2Error, "%s: FMUstate is NULL", fn);
+        return fmi2Error;
+    }
+    return instanceSetState(inst, FMUstate);
+}
+
+fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
+{
+    const char *fn = "fmi2FreeFMUstate";
+    Instance *inst = enter(c, fn, MASK_FMUstate);
+    if (inst == NULL) return fmi2Error;
+    if (FMUstate == NULL) {
+        instanceLogStatus(inst, fmi2Error, "%s: FMUstate is NULL", fn);
+        return fmi2Error;
+    }
+    return instanceFreeState(inst, FMUstate);
+}
+
+fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate FMUstate, size_t *size)
+{
+    const char *fn = "fmi2SerializedFMUstateSize";
+    Instance *inst = enter(c, fn, MASK_FMUstate);
+    if (inst == NULL) return fmi2Error;
+    if (FMUstate == NULL || size == NULL) {
+        instanceLogStatus(inst, fmi2Error, "%s: FMUstate or size is NULL", fn);
+        return fmi2Error;
+    }
+    return instanceSerializedSize(inst, FMUstate, size);
+}
+
+fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate FMUstate, fmi2Byte serializedState[], size_t size)
+{
+    const char *fn = "fmi2SerializeFMUstate";
+    Instance *inst = enter(c, fn, MASK_FMUstate);
+    if (inst == NULL) return fmi2Error;
+    if (FMUstate == NULL || serializedState == NULL) {
+        instanceLogStatus(inst, fmi2Error, "%s: FMUstate or serializedState is NULL", fn);
+        return fmi2Error;
+    }
+    return instanceSerialize(inst, FMUstate, serializedState, size);
+}
+
+fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedState[], size_t size,
+                                   fmi2FMUstate *FMUstate)
+{
+    const char *fn = "fmi2DeSerializeFMUstate";
+    Instance *inst = enter(c, fn, MASK_FMUstate);
+    if (inst == NULL) return fmi2Error;
+    if (serializedState == NULL || FMUstate == NULL) {
+        instanceLogStatus(inst, fmi2Error, "%s: serializedState or FMUstate is NULL", fn);
+        return fmi2Error;
+    }
+    return instanceDeserialize(inst, serializedState, size, FMUstate);
+}
+
+fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference vUnknown_ref[], size_t nUnknown,
+                                        const fmi2ValueReference vKnown_ref[], size_t nKnown,
+                                        const fmi2Real dvKnown[], fmi2Real dvUnknown[])
+{
+    const char *fn = "fmi2GetDirectionalDerivative";
+    Instance *inst = enter(c, fn, MASK_GetDirectionalDerivative);
+    (void)vUnknown_ref; (void)nUnknown; (void)vKnown_ref; (void)nKnown; (void)dvKnown; (void)dvUnknown;
+    if (inst == NULL) return fmi2Error;
+    instanceLogStatus(inst, fmi2Error, "%s: not supported (providesDirectionalDerivative = false)", fn);
+    return fmi2Error;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Model exchange: not supported                                                                */
+
+static fmi2Status notModelExchange(fmi2Component c, const char *fn)
+{
+    Instance *inst = (Instance *)c;
+    if (inst == NULL || inst->magic != INSTANCE_MAGIC) return fmi2Error;
+    instanceLogStatus(inst, fmi2Error, "%s: model exchange is not supported: ShroudedBlade is a co-simulation FMU", fn);
+    return fmi2Error;
+}
+
+fmi2Status fmi2EnterEventMode(fmi2Component c) { return notModelExchange(c, "fmi2EnterEventMode"); }
+
+fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *fmi2eventInfo)
+{
+    (void)fmi2eventInfo;
+    return notModelExchange(c, "fmi2NewDiscreteStates");
+}
+
+fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) { return notModelExchange(c, "fmi2EnterContinuousTimeMode"); }
+
+fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
+                                       fmi2Boolean *enterEventMode, fmi2Boolean *terminateSimulation)
+{
+    (void)noSetFMUStatePriorToCurrentPoint; (void)enterEventMode; (void)terminateSimulation;
+    return notModelExchange(c, "fmi2CompletedIntegratorStep");
+}
+
+fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time)
+{
+    (void)time;
+    return notModelExchange(c, "fmi2SetTime");
+}
+
+fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t nx)
+{
+    (void)x; (void)nx;
+    return notModelExchange(c, "fmi2SetContinuousStates");
+}
+
+fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx)
+{
+    (void)derivatives; (void)nx;
+    return notModelExchange(c, "fmi2GetDerivatives");
+}
+
+fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], size_t ni)
+{
+    (void)eventIndicators; (void)ni;
+    return notModelExchange(c, "fmi2GetEventIndicators");
+}
+
+fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx)
+{
+    (void)x; (void)nx;
+    return notModelExchange(c, "fmi2GetContinuousStates");
+}
+
+fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x_nominal[], size_t nx)
+{
+    (void)x_nominal; (void)nx;
+    return notModelExchange(c, "fmi2GetNominalsOfContinuousStates");
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Co-simulation                                                                                */
+
+fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                                       const fmi2Integer order[], const fmi2Real value[])
+{
+    const char *fn = "fmi2SetRealInputDerivatives";
+    Instance *inst = enter(c, fn, MASK_SetRealInputDerivatives);
+    if (inst == NULL || nullArgs(inst, fn, nvr, vr, value) || nullArgs(inst, fn, nvr, order, order)) return fmi2Error;
+    return instanceSetInputDerivatives(inst, vr, nvr, order, value);
+}
+
+fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                                        const fmi2Integer order[], fmi2Real value[])
+{
+    const char *fn = "fmi2GetRealOutputDerivatives";
+    Instance *inst = enter(c, fn, MASK_GetRealOutputDerivatives);
+    if (inst == NULL || nullArgs(inst, fn, nvr, vr, value) || nullArgs(inst, fn, nvr, order, order)) return fmi2Error;
+    if (nvr == 0) return fmi2OK;
+    instanceLogStatus(inst, fmi2Error, "%s: output derivatives are not provided (maxOutputDerivativeOrder = 0)", fn);
+    return fmi2Error;
+}
+
+fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2Real communicationStepSize,
+                      fmi2Boolean noSetFMUStatePriorToCurrentPoint)
+{
+    Instance *inst = enter(c, "fmi2DoStep", MASK_DoStep);
+    fmi2Status status;
+    (void)noSetFMUStatePriorToCurrentPoint;
+    if (inst == NULL) return fmi2Error;
+    status = instanceDoStep(inst, currentCommunicationPoint, communicationStepSize);
+    /* fmi2Discard: state restored, the master may set an earlier FMU state and retry;
+     * fmi2Error: terminal until fmi2Reset or fmi2SetFMUstate */
+    inst->d.fsm = status <= fmi2Warning ? FsmStepComplete : (status == fmi2Discard ? FsmStepFailed : FsmError);
+    return status;
+}
+
+fmi2Status fmi2CancelStep(fmi2Component c)
+{
+    Instance *inst = enter(c, "fmi2CancelStep", MASK_CancelStep);
+    if (inst == NULL) return fmi2Error;
+    return fmi2Error; /* unreachable: steps are never asynchronous */
+}
+
+fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *value)
+{
+    const char *fn = "fmi2GetStatus";
+    Instance *inst = enter(c, fn, MASK_GetStatus);
+    if (inst == NULL) return fmi2Error;
+    if (value == NULL) {
+        instanceLogStatus(inst, fmi2Error, "%s: value is NULL", fn);
+        return fmi2Error;
+    }
+    if (s != fmi2DoStepStatus) {
+        instanceLogStatus(inst, fmi2Discard, "%s: status kind %d is not available here (only fmi2DoStepStatus)", fn, (int)s);
+        return fmi2Discard;
+    }
+    *value = (fmi2Status)inst->d.lastDoStepStatus;
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value)
+{
+    const char *fn = "fmi2GetRealStatus";
+    Instance *inst = enter(c, fn, MASK_GetStatus);
+    if (inst == NULL) return fmi2Error;
+    if (value == NULL) {
+        instanceLogStatus(inst, fmi2Error, "%s: value is NULL", fn);
+        return fmi2Error;
+    }
+    if (s != fmi2LastSuccessfulTime) {
+        instanceLogStatus(inst, fmi2Discard, "%s: status kind %d is not available here (only fmi2LastSuccessfulTime)",
+                          fn, (int)s);
+        return fmi2Discard;
+    }
+    *value = inst->d.time; /* a discarded step leaves the time at its start */
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value)
+{
+    const char *fn = "fmi2GetIntegerStatus";
+    Instance *inst = enter(c, fn, MASK_GetStatus);
+    if (inst == NULL) return fmi2Error;
+    if (value == NULL) {
+        instanceLogStatus(inst, fmi2Error, "%s: value is NULL", fn);
+        return fmi2Error;
+    }
+    instanceLogStatus(inst, fmi2Discard, "%s: status kind %d is not available (FMI 2.0 defines no Integer status)", fn,
+                      (int)s);
+    return fmi2Discard;
+}
+
+fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value)
+{
+    const char *fn = "fmi2GetBooleanStatus";
+    Instance *inst = enter(c, fn, MASK_GetStatus);
+    if (inst == NULL) return fmi2Error;
+    if (value == NULL) {
+        instanceLogStatus(inst, fmi2Error, "%s: value is NULL", fn);
+        return fmi2Error;
+    }
+    if (s != fmi2Terminated) {
+        instanceLogStatus(inst, fmi2Discard, "%s: status kind %d is not available here (only fmi2Terminated)", fn, (int)s);
+        return fmi2Discard;
+    }
+    /* the slave never asks to end the simulation by itself, except in the error state */
+    *value = inst->d.fsm == FsmError ? fmi2True : fmi2False;
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *value)
+{
+    const char *fn = "fmi2GetStringStatus";
+    Instance *inst = enter(c, fn, MASK_GetStatus);
+    if (inst == NULL) return fmi2Error;
+    if (value == NULL) {
+        instanceLogStatus(inst, fmi2Error, "%s: value is NULL", fn);
+        return fmi2Error;
+    }
+    *value = "";
+    instanceLogStatus(inst, fmi2Discard, "%s: status kind %d is not available (steps are never asynchronous)", fn,
+                      (int)s);
+    return fmi2Discard;
+}
