@@ -176,7 +176,7 @@ def test_reset_restores_start_values(lib: Fmi2Library) -> None:
     # after a run with other parameters, fmi2Reset without setting any parameter = defaults
     with ready(lib) as d:
         defaults = run(d, 0, 300)
-    with ready(lib, {"frictionModel": 3, "kn": 1e6, "d": 1e-5, "engineOrder": 2}) as c:
+    with ready(lib, {"frictionModel": 2, "kn": 1e6, "d": 1e-5, "engineOrder": 2}) as c:
         other = run(c, 0, 300)
         assert not np.array_equal(other, defaults)
         assert c.reset() == OK
@@ -289,7 +289,7 @@ def test_resealed_content_is_validated(lib: Fmi2Library, blob: bytes) -> None:
                 accepted += 1
                 assert c.set_state(s) == OK
                 st2, tl = c.get_real_status(F.LAST_SUCCESSFUL_TIME)
-                if st2 == OK and math.isfinite(tl):
+                if st2 == OK and abs(tl) < 1e6:
                     st3, out = F.run_steps(c, tl, H, 3)
                     assert st3 in F.VALID_STATUSES
                     if st3 == OK:

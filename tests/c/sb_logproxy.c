@@ -5,7 +5,8 @@
  * hands the finished text to a plain callback. The callback and a cookie travel inside the
  * componentEnvironment the importer passes to fmi2Instantiate (struct SbLogEnv), so one process
  * can hold many instances with different loggers. A logger call whose componentEnvironment is not
- * an SbLogEnv (the FMU lost or replaced it) is counted in sbOrphanLogs instead.
+ * an SbLogEnv (the FMU lost or replaced it) is counted in sbOrphanLogs instead; calls with a NULL
+ * componentEnvironment (legal when the importer passed NULL) are counted in sbNullEnvLogs.
  *
  * sbCalloc/sbFree are counting memory callbacks: the FMU declares
  * canNotUseMemoryManagementFunctions="true", so the tests check they are never called. */
@@ -26,10 +27,12 @@ typedef struct {
 
 /* Test-side counters (this library is test code, not the FMU: globals are fine here). */
 static volatile long sbOrphanLogCount = 0;
+static volatile long sbNullEnvLogCount = 0;
 static volatile long sbAllocCount = 0;
 static volatile long sbFreeCount = 0;
 
 long sbOrphanLogs(void) { return __atomic_load_n(&sbOrphanLogCount, __ATOMIC_SEQ_CST); }
+long sbNullEnvLogs(void) { return __atomic_load_n(&sbNullEnvLogCount, __ATOMIC_SEQ_CST); }
 long sbAllocs(void) { return __atomic_load_n(&sbAllocCount, __ATOMIC_SEQ_CST); }
 long sbFrees(void) { return __atomic_load_n(&sbFreeCount, __ATOMIC_SEQ_CST); }
 
@@ -41,7 +44,11 @@ void sbLogProxy(void *componentEnvironment, const char *instanceName, int status
     char *big = NULL;
     va_list args;
     int n;
-    if (env == NULL || env->magic != SB_LOG_MAGIC || env->callback == NULL) {
+    if (env == NULL) {
+        __atomic_add_fetch(&sbNullEnvLogCount, 1, __ATOMIC_SEQ_CST);
+        return;
+    }
+    if (env->magic != SB_LOG_MAGIC || env->callback == NULL) {
         __atomic_add_fetch(&sbOrphanLogCount, 1, __ATOMIC_SEQ_CST);
         return;
     }
