@@ -91,7 +91,10 @@ class BladeFMU:
         self.log, self.fmi_logging = log, fmi_logging
         self.messages: collections.deque[str] = collections.deque(maxlen=1000)
         self._run_messages: list[str] = []
-        self.md = read_model_description(str(self.path))
+        try:
+            self.md = read_model_description(str(self.path))
+        except Exception as exc:  # not a zip, no or bad modelDescription.xml
+            raise FMUNotFoundError(f"{self.path} is not a readable FMU ({exc}): rebuild it with `make fmu`") from None
         self.variables = {v.name: v for v in self.md.modelVariables}
         self.output_names = [v.name for v in self.md.modelVariables if v.causality == "output"]
         self._unzip: str | None = extract(str(self.path))
@@ -400,4 +403,5 @@ class BladeFMU:
             s.freeFMUstate(st)
         self._phase = "stepping"
         self._time = getattr(state, "time", None) if getattr(state, "time", None) is not None else math.nan
-        self._params = getattr(state, "params", None)
+        sp = getattr(state, "params", None)
+        self._params = validate(sp, source="FMUState.params") if sp is not None else None

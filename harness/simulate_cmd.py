@@ -98,7 +98,7 @@ def plot_atomic(path: str | Path, result: np.ndarray, title: str) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from harness.excitation import Constant, ExcitationError, LinearRamp
-    from harness.fmu import BladeFMU, fmu_path
+    from harness.fmu import SPEED_RANGE, BladeFMU, fmu_path
     from harness.params import validate
     from harness.steady_state import analyze
 
@@ -112,6 +112,10 @@ def run(args: argparse.Namespace) -> int:
             raise ExcitationError(f"--speed {args.speed!r} is not a number: give the rotor speed in rpm, e.g. 5000")
         speed = Constant(args.speed)
         speed_text = f"{args.speed:g} rpm"
+    lo, hi = SPEED_RANGE
+    for n in ([args.speed] if args.run_up is None else args.run_up[:2]):
+        if not lo <= n <= hi:
+            raise ExcitationError(f"rotorSpeed = {n:g} rpm is outside [{lo:g}, {hi:g}] rpm: choose a speed in that range")
     path = Path(args.fmu) if args.fmu else fmu_path(build=True)
     with BladeFMU(path, log=args.debug_logging, fmi_logging=args.fmi_logging) as fmu:
         res = fmu.run(params, args.stop_time, args.output_interval, speed=speed,
