@@ -4,7 +4,15 @@ STAMP   := .venv/.installed
 FMU     := build/ShroudedBlade.fmu
 JOBS    ?= 2
 
-.PHONY: run test test-slow bench crosscheck fmu venv clean
+.PHONY: run test test-slow bench crosscheck fmu venv clean sysdeps javadeps
+
+# System packages (Debian) the default tests and `make crosscheck` need, installed only when missing:
+# libtbb12 for ecospy's libecosc.so; a JDK 17 and Maven for the FMI4j driver (crosscheck/java).
+APT := $(shell [ "$$(id -u)" = 0 ] && echo apt-get || echo sudo apt-get)
+sysdeps:
+	@ldconfig -p | grep -q 'libtbb\.so\.12' || { $(APT) update -qq && DEBIAN_FRONTEND=noninteractive $(APT) install -y -qq libtbb12 > /dev/null; }
+javadeps:
+	@{ command -v mvn && command -v javac; } > /dev/null || { $(APT) update -qq && DEBIAN_FRONTEND=noninteractive $(APT) install -y -qq openjdk-17-jdk-headless maven > /dev/null; }
 
 venv: $(STAMP)
 $(STAMP): pyproject.toml
@@ -20,17 +28,19 @@ fmu: $(STAMP)
 run: fmu
 	$(PY) -m harness run
 
-test: fmu
+test: fmu sysdeps
 	$(PY) -m pytest
 
-test-slow: fmu
+test-slow: fmu sysdeps javadeps
 	$(PY) -m pytest -m slow
 
 bench: fmu
 	$(PY) -m harness bench
 
-crosscheck: fmu
-	$(PY) -m harness crosscheck
+# all importers (incl. FMI4j via Maven), the agreement table (crosscheck/agreement.md) and the
+# cross-check deliverables under crosscheck/fmus and crosscheck/results
+crosscheck: fmu sysdeps javadeps
+	$(PY) -m harness crosscheck --deliverables
 
 clean:
 	rm -rf build build-* .pytest_cache
