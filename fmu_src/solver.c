@@ -251,12 +251,19 @@ static double refineRoot(const double c[4], double lo, double plo, double hi, do
 
 /* First theta in (0, 1] where the cubic Hermite interpolant with values p0, p1 and scaled slopes
  * m0 = h g'(0), m1 = h g'(1) is negative; NO_EVENT if none. p0 < 0 (a state just switched whose
- * function is a rounding error on the wrong side) is clamped to 0. */
+ * function is a rounding error on the wrong side) is clamped to 0, and dips shallower than
+ * 1e-12 of the data's scale are ignored: right after a switch a function starts at a rounding
+ * error from 0 with a slope that may be a rounding error of the wrong sign (e.g. q' at a
+ * slip -> stick switch), which must not switch back. The delay this threshold adds to a real
+ * crossing is 1e-12 of the step. */
 static double firstNegative(double p0, double m0, double p1, double m1, double tol)
 {
-    double c[4], br[4], pa, a;
+    double c[4], br[4], pa, a, noise;
     int nb = 0;
     if (!(p0 >= 0.0)) p0 = 0.0;
+    noise = 1e-12 * (fabs(p0) + fabs(p1) + fabs(m0) + fabs(m1));
+    p0 += noise;
+    p1 += noise;
     /* Bernstein control points >= 0: the cubic is >= 0 on [0, 1] (convex hull) */
     if (p0 + m0 / 3.0 >= 0.0 && p1 - m1 / 3.0 >= 0.0 && p1 >= 0.0) return NO_EVENT;
     c[0] = p0;
