@@ -162,6 +162,30 @@ def static_table(fmu: Path) -> tuple[str, bool]:
     return "\n".join(lines), all(r.ok for r in rows)
 
 
+def system_section(fmu: Path, stop_time: float | None) -> tuple[str, bool]:
+    """The system example (Excitation FMU + two blades) in the fmpy master and in libcosim."""
+    import time as _time
+
+    from harness import system_example as se
+
+    system = se.System() if stop_time is None else se.System(stop_time=stop_time)
+    exc = se.build_excitation_fmu()
+    t0 = _time.perf_counter()
+    a = se.run_fmpy(fmu, exc, system)
+    t1 = _time.perf_counter()
+    b = se.run_libcosim(fmu, exc, system)
+    t2 = _time.perf_counter()
+    d, worst = max_rel_diff(b, a)
+    blades = ", ".join(f"{k} {dict(v) or 'Table 1'}" for k, v in system.blades.items())
+    lines = [f"### System example: Excitation FMU (run-up {system.excitation['n0']:g} -> {system.excitation['n1']:g} rpm) "
+             f"driving two blades ({blades}); {system.stop_time:g} s, step {system.step:g} s", "",
+             "| master | recorded variables | max rel. diff to the fmpy master | wall time [s] |", "|---|---|---|---|",
+             f"| fmpy FMU2Slave loop | {len(a.dtype.names) - 1} | (reference) | {t1 - t0:.3f} |",
+             f"| libcosim (libcosimpy) | {len(b.dtype.names) - 1} | {_fmt(d)}{' (' + worst + ')' if d else ''} | "
+             f"{t2 - t1:.3f} |"]
+    return "\n".join(lines), d <= TOLERANCE
+
+
 def configure_parser(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--fmu", type=Path, default=None, help="FMU to check (default: build/ShroudedBlade.fmu, built if needed)")
     parser.add_argument("--scenario", choices=sorted(SCENARIOS) + ["all"], default="all")
@@ -193,6 +217,11 @@ def run(args: argparse.Namespace) -> int:
         print(text + "\n", flush=True)
         parts += [text, ""]
         ok &= all(r.ok or r.compared_with.startswith("(reference") for r in rep.rows)
+    if "libcosim" in tools and "fmpy" in tools:
+        text, sys_ok = system_section(fmu, args.stop_time)
+        print(text + "\n")
+        parts += [text, ""]
+        ok &= sys_ok
     st, st_ok = static_table(fmu)
     print(st + "\n")
     parts += ["### Static checks", "", st, ""]

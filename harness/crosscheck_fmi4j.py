@@ -68,7 +68,8 @@ def run(fmu: Path, scenario: Scenario, plan: InputPlan, *, build_first: bool = T
     with tempfile.TemporaryDirectory(prefix="sb-fmi4j-") as tmp:
         plan_csv = plan.write_csv(Path(tmp) / "plan.csv")
         out_csv = Path(tmp) / "out.csv"
-        cmd = [java, "-cp", _classpath(), MAIN_CLASS, "--fmu", str(Path(fmu).resolve()),
+        # FMI4j extracts its JNI library and the FMU under java.io.tmpdir and leaves them: keep them in tmp
+        cmd = [java, f"-Djava.io.tmpdir={tmp}", "-cp", _classpath(), MAIN_CLASS, "--fmu", str(Path(fmu).resolve()),
                "--plan", str(plan_csv), "--out", str(out_csv)]
         for name, value in scenario.fmu_overrides().items():
             cmd += ["--set", f"{name}={str(value).lower() if isinstance(value, bool) else value}"]
