@@ -90,7 +90,7 @@ class BladeFMU:
             raise FMUNotFoundError(f"FMU file {self.path} not found: check the path or build it with `make fmu`")
         self.log, self.fmi_logging = log, fmi_logging
         self.messages: collections.deque[str] = collections.deque(maxlen=1000)
-        self._run_messages: list[str] = []
+        self._run_messages: collections.deque[str] = collections.deque(maxlen=200)
         try:
             self.md = read_model_description(str(self.path))
         except Exception as exc:  # not a zip, no or bad modelDescription.xml
@@ -117,12 +117,16 @@ class BladeFMU:
         from fmpy import calloc, free
         cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
         cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        from fmpy.logging import addLoggerProxy  # formats the variadic C message
-        addLoggerProxy(ctypes.byref(cb))
-        self._callbacks = cb  # keep alive as long as the instance
+        # No fmpy logger proxy: it keeps ONE process-global Python logger, so a second instance
+        # would steal (and, once freed, crash) the first one's messages. Our FMU formats every
+        # message itself and passes it as a printf format with '%' escaped as '%%', so a plain
+        # per-instance ctypes callback receives it complete.
+        self._callbacks = cb  # kept alive until after fmi2FreeInstance
         self._slave.instantiate(callbacks=cb, loggingOn=True)
         self._phase = "instantiated"
-        self._slave.setDebugLogging(True, [] if self.log else _ERROR_CATEGORIES)
+        if not self.log:  # loggingOn enabled every category: keep only the status ones
+            self._slave.setDebugLogging(False, [])
+            self._slave.setDebugLogging(True, _ERROR_CATEGORIES)
         dll = self._slave.dll
         self._c = self._slave.component
         self._setReal = _SET(("fmi2SetReal", dll))
@@ -145,10 +149,10 @@ class BladeFMU:
 
     def _on_log(self, env, instance, status, category, message) -> None:
         text = (f"[{STATUS[status] if 0 <= status < 6 else status}] "
-                f"{(category or b'').decode(errors='replace')}: {(message or b'').decode(errors='replace')}")
+                f"{(category or b'').decode(errors='replace')}: "
+                f"{(message or b'').decode(errors='replace').replace('%%', '%')}")
         self.messages.append(text)
-        if len(self._run_messages) < 200:
-            self._run_messages.append(text)
+        self._run_messages.append(text)
         if self.log:
             print(text, file=sys.stderr)
 
@@ -289,14 +293,12 @@ class BladeFMU:
         derivs = np.ascontiguousarray(np.concatenate([ua[1:].T, us[1:].T], axis=1))
         u0 = (float(aero_sig(grid[0])), float(us[0, 0]))
 
+        self._run_messages.clear()
         if reset:
-            self._run_messages = []
             self._params = None
             self._set_parameters(p, start, u0)
             self._params = p
             self._time = start
-        else:
-            self._run_messages = []
 
         # preallocated results; sampled steps
         rec = np.zeros(N + 1, dtype=bool)
