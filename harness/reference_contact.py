@@ -3,8 +3,8 @@
 Normal force (eq. 3), the macroslip friction loop (eq. 4) with its angles (eq. 5) and the Coulomb
 limit of the loop (docs/model-notes.md s.5), and their describing functions f_k, f_c, p_k, K_eq,
 C_eq computed two ways: the closed forms (eq. 7, eq. 8 with the MODEL.md fix, eq. 10; full stick;
-Coulomb) vectorised over the amplitude B, and a numerical quadrature of the piecewise loop split
-at its breakpoints. All per unit v (the contact coordinate), f_c carries 1/omega.
+Coulomb) vectorised over the amplitude B, and a numerical (Gauss-Legendre) quadrature of the
+piecewise loop split at its breakpoints. All per unit v (the contact coordinate), f_c carries 1/omega.
 Also: the loop state at a phase (model-notes s.4) and the closed-form cycle dissipation of the
 time-domain Jenkins element driven by a prescribed harmonic motion (model-notes s.2), which is not
 the paper's loop: see `jenkins_cycle_dissipation`.
@@ -16,7 +16,6 @@ from dataclasses import dataclass
 from typing import Any, Mapping
 
 import numpy as np
-from scipy.integrate import quad
 
 from harness.params import validate
 
@@ -218,31 +217,33 @@ def _df_closed(cc: ContactConsts, B: np.ndarray, model: int) -> tuple[np.ndarray
     return fk + z, fcw + z, pk + z, angles
 
 
+_GL = {n: np.polynomial.legendre.leggauss(n) for n in (32, 64)}
+
+
 def _df_quadrature(cc: ContactConsts, B: float, model: int) -> tuple[float, float, float]:
-    """(f_k, f_c * omega, p_k) by adaptive quadrature of eq. 3/4 split at every breakpoint."""
+    """(f_k, f_c * omega, p_k) by Gauss-Legendre quadrature of eq. 3/4 on every piece between the
+    loop's breakpoints. Each piece is a trigonometric polynomial of theta (analytic), so 64 nodes
+    per piece are exact to roundoff; the 32-node result is computed too and must agree (self-check)."""
     if not B > cc.d:
         return 0.0, 0.0, 0.0
     t1, t2, t3 = loop_angles(cc, B, model)
     pi = math.pi
     pts = sorted({0.0, t1, t2, pi - t2, t3, pi, pi + t1, pi + t2, 2 * pi - t2, pi + t3, 2 * pi})
-    ff = lambda th: float(loop_friction(cc, B, th, model))  # noqa: E731
-    fn = lambda th: float(normal_force(cc, B * math.cos(th)))  # noqa: E731
-
-    eps_abs = 1e-17 * cc.kn * B  # the integrals scale like k_n B; avoids roundoff warnings on zero pieces
-
-    def integ(f) -> float:
-        tot = 0.0
+    res = {}
+    for n, (x, wts) in _GL.items():
+        tot = np.zeros(3)
         for lo, hi in zip(pts[:-1], pts[1:]):
             if hi > lo:
-                # evaluate strictly inside [lo, hi] so the piece of this interval is used
-                val, _ = quad(f, lo, hi, epsabs=eps_abs, epsrel=2e-14, limit=200)
-                tot += val
-        return tot
-
-    fk = integ(lambda th: ff(th) * math.cos(th)) / (pi * B)
-    fcw = -integ(lambda th: ff(th) * math.sin(th)) / (pi * B)
-    pk = integ(lambda th: fn(th) * math.cos(th)) / (pi * B)
-    return fk, fcw, pk
+                th = 0.5 * (hi - lo) * x + 0.5 * (hi + lo)  # strictly inside the piece
+                ff = np.asarray(loop_friction(cc, B, th, model))
+                fn = np.asarray(normal_force(cc, B * np.cos(th)))
+                w = 0.5 * (hi - lo) * wts
+                tot += [np.dot(w, ff * np.cos(th)), -np.dot(w, ff * np.sin(th)), np.dot(w, fn * np.cos(th))]
+        res[n] = tot / (pi * B)
+    scale = cc.kn
+    if np.max(np.abs(res[64] - res[32])) > 1e-12 * scale:
+        raise ArithmeticError(f"loop quadrature did not converge at B = {B:g}")
+    return float(res[64][0]), float(res[64][1]), float(res[64][2])
 
 
 def describing_function(params: Mapping[str, Any] | ContactConsts, B: Any, omega: float, model: int = MACROSLIP_DF,

@@ -17,8 +17,6 @@ from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
-from scipy.integrate import solve_ivp
-
 from harness.reference_hybrid import run_segment
 
 from harness.params import validate
@@ -130,12 +128,15 @@ class _Discrete:
 def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[[float], float],
              speed: Callable[[float], float], t_eval: Sequence[float] | np.ndarray, rtol: float = 1e-11,
              atol: Sequence[float] | float | None = None, start_time: float = 0.0,
-             breakpoints: Sequence[float] | None = None, max_step: float = np.inf) -> np.ndarray:
+             breakpoints: Sequence[float] | None = None, max_step: float = np.inf,
+             initial: tuple[float, float] | None = None) -> np.ndarray:
     """Simulate the FMU's model (model-notes s.1-4) from rest at `start_time` to `stop_time`.
 
     aero(t) -> f_w [N/m], speed(t) -> n [rpm]; `t_eval` output times in [start_time, stop_time];
     `breakpoints` times where the inputs may be non-smooth (integration restarts there). At an event
     instant that is also an output time the post-event discrete state is reported.
+    `initial` = (q0, q'0) starts elsewhere than at rest (reference-only extension for stability
+    tests; psi(start) = 0; the Jenkins element then starts unloaded).
     """
     p = validate(params or {})
     gal: Galerkin = galerkin(p)
@@ -225,6 +226,14 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
                 row["contactState"] = jen.mode
 
     y = np.array([0.0, 0.0, 0.0, 0.0, 0.0])
+    if initial is not None:
+        y[0], y[1] = float(initial[0]), float(initial[1])
+        y[4] = sg * y[0]
+        if gating and abs(y[0]) > d:
+            ds.g = 1
+        if jen is not None and abs(y[0]) > d:
+            jen._set(STICK, 1 if y[0] > 0 else -1, 0)  # w = sg q: unloaded spring, inside the cone
+    ds.qmax = abs(y[0])
     t = float(start_time)
     zero_len = 0
     qv = lambda ts, Y: (Y[0], Y[1])  # noqa: E731
@@ -281,72 +290,66 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
 
 def jenkins_prescribed(params: Mapping[str, Any] | None, B: float, omega: float, n_cycles: int = 2,
                        rtol: float = 1e-12, samples_per_cycle: int = 0) -> dict[str, Any]:
-    """Drive the Jenkins element alone with q(t) = B cos(omega t), t in [0, n_cycles 2 pi/omega],
-    starting from rest at q = B with an unloaded spring (mode per contact entry rules at the first
-    crossing is not needed: q starts in contact, so the element starts in stick with w = B sin g).
+    """Drive the Jenkins element alone with a prescribed q(t) = B cos(omega t), t in
+    [0, n_cycles 2 pi / omega]. q starts at B in contact (B > d) with an unloaded spring, so the
+    element starts in stick with w = B sin g; from the second cycle on the loop is periodic.
 
-    Returns dict with 'cycle_work' (friction work F_f dw over each cycle [J], list), 'switch_theta'
-    (phases of the mode changes, list of (theta, new_mode)) and optional samples 'theta', 'Ff', 'Fn',
-    'mode' of the last cycle (samples_per_cycle > 0)."""
+    Returns 'cycle_work' (friction work, integral of F_f w' dt, over each cycle [J]), 'switch_theta'
+    (phase in [0, 2 pi) and new mode of every transition, in order) and, with samples_per_cycle > 0,
+    'theta', 'Ff', 'Fn', 'mode' sampled over the last cycle."""
     p = validate(params or {})
     cc = contact_consts(p)
     jen = Jenkins(cc)
     T = TWO_PI / omega
     if B > cc.d:
         jen._set(STICK, 1, 0)
-    w0 = jen.sg * B
-    y = np.array([0.0, w0])  # [E_f, w]
+    y = np.array([0.0, jen.sg * B])  # [friction work, w]
 
-    def qv(t: float) -> tuple[float, float]:
-        return B * math.cos(omega * t), -B * omega * math.sin(omega * t)
+    def qv_t(t: Any) -> tuple[Any, Any]:
+        return B * np.cos(omega * t), -B * omega * np.sin(omega * t)
 
     def rhs(t: float, y: np.ndarray) -> list[float]:
-        q, v = qv(t)
-        _, _, wdot, P = jen.forces(q, v, y[1])
+        q, v = qv_t(t)
+        _, _, wdot, P = jen.forces(float(q), float(v), y[1])
         return [P, wdot]
 
-    def wrap(f: Callable) -> Callable:  # events written for y = (q, v, w): rebuild that vector
-        g = lambda t, y: f(t, np.array([*qv(t), y[1]]))  # noqa: E731
-        return _event(g, f.direction)
+    def full(t: float, y: np.ndarray) -> np.ndarray:
+        q, v = qv_t(t)
+        return np.array([q, v, y[1]])
 
-    t, t_stop_all = 0.0, n_cycles * T
-    cycle_ends = [T * (i + 1) for i in range(n_cycles)]
-    E_at: list[float] = []
+    work: list[float] = []
     switches: list[tuple[float, int]] = []
-    samples = []
-    for c_end in cycle_ends:
+    samples: list[tuple[float, float, float, int]] = []
+    t = 0.0
+    for c in range(n_cycles):
+        c_end = (c + 1) * T
+        E_start = y[0]
+        ts = np.linspace(c * T, c_end, samples_per_cycle, endpoint=False) if samples_per_cycle and c == n_cycles - 1 \
+            else np.array([])
+
+        def record(m: np.ndarray, tt: np.ndarray, Y: np.ndarray) -> None:
+            for ti, wi in zip(tt, Y[1]):
+                q, v = qv_t(ti)
+                Fn, Ff, _, _ = jen.forces(float(q), float(v), float(wi))
+                samples.append((omega * ti % TWO_PI, Ff, Fn, jen.mode))
+
         while t < c_end:
             pairs = jen.events(0, 1, 2)
-            evs = [wrap(f) for f, _ in pairs]
-            sol = solve_ivp(rhs, (t, c_end), y, method="DOP853", rtol=rtol, atol=rtol * np.array([1e-6, B]),
-                            events=evs or None, dense_output=True)
-            fired = None
-            if sol.status == 1:
-                for i, te in enumerate(sol.t_events):
-                    if te.size:
-                        fired = i
-                        break
-            if samples_per_cycle and c_end == cycle_ends[-1]:
-                ts = np.linspace(c_end - T, c_end, samples_per_cycle, endpoint=False)
-                ts = ts[(ts >= t) & (ts < sol.t[-1])]
-                for ti in ts:
-                    q, v = qv(ti)
-                    Fn, Ff, _, _ = jen.forces(q, v, float(sol.sol(ti)[1]))
-                    samples.append((omega * ti % TWO_PI, Ff, Fn, jen.mode))
-            y = sol.y[:, -1].copy()
-            t = float(sol.t[-1])
-            if fired is None:
+            evs = [(lambda tt, yy, f=f: f(tt, full(tt, yy)), f.direction) for f, _ in pairs]
+            sel = ts[(ts >= t) & (ts < c_end)]
+            res = run_segment(rhs, t, y, c_end, evs, lambda tt, Y: qv_t(tt), rtol, rtol * np.array([1e-6, B]),
+                              t_eval=sel, on_output=record)
+            y = np.array(res.y, dtype=float)
+            t = res.t
+            if res.fired is None:
                 t = c_end
                 break
-            pairs[fired][1](np.array([*qv(t), y[1]]))
-            q, _ = qv(t)
-            y[1] = jen.consistent_w(q, y[1])
+            pairs[res.fired][1](full(t, y))
+            y[1] = jen.consistent_w(float(qv_t(t)[0]), y[1])
             switches.append(((omega * t) % TWO_PI, jen.mode))
-        E_at.append(float(y[0]))
-    work = [E_at[0]] + [E_at[i] - E_at[i - 1] for i in range(1, len(E_at))]
-    res: dict[str, Any] = {"cycle_work": work, "switch_theta": switches}
+        work.append(float(y[0] - E_start))
+    out: dict[str, Any] = {"cycle_work": work, "switch_theta": switches}
     if samples:
         arr = np.array(samples)
-        res.update(theta=arr[:, 0], Ff=arr[:, 1], Fn=arr[:, 2], mode=arr[:, 3].astype(int))
-    del t_stop_all
-    return res
+        out.update(theta=arr[:, 0], Ff=arr[:, 1], Fn=arr[:, 2], mode=arr[:, 3].astype(int))
+    return out

@@ -73,7 +73,7 @@ def run_segment(rhs: Callable, t0: float, y0: np.ndarray, t_end: float, events: 
         for i, (g, direction) in enumerate(events):
             vals = [g(knots[j], Y[:, j]) for j in range(knots.size)]
             for j in range(knots.size - 1):
-                if best_t is not None and knots[j] >= best_t:
+                if best_t is not None and knots[j] >= best_t + 1e-13 * max(1.0, abs(best_t)):
                     break
                 if _crossed(vals[j], vals[j + 1], direction):
                     if vals[j] == 0.0:
@@ -84,7 +84,8 @@ def run_segment(rhs: Callable, t0: float, y0: np.ndarray, t_end: float, events: 
                         # the root must lie on the post-crossing side (sign of the new value)
                         if not _crossed(vals[j], g(tr, sol(tr)), direction):
                             tr = np.nextafter(tr, knots[j + 1])
-                    if best_t is None or tr < best_t:
+                    # simultaneous roots (within roundoff): the event listed first wins
+                    if best_t is None or tr < best_t - 1e-13 * max(1.0, abs(tr)):
                         best_t, best_i = tr, i
                     break
         stop = tb if best_t is None else float(best_t)
