@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -196,14 +197,41 @@ def configure_parser(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--output-file", type=Path, default=AGREEMENT_FILE, help="where to write the agreement table")
 
 
+def snapshot(fmu: Path, directory: Path) -> Path:
+    """Copy the FMU to `directory` (under the build lock when it is build/ShroudedBlade.fmu): other
+    processes may rebuild build/ while the cross-check runs, and CMake rewrites the archive in place."""
+    import fcntl
+    import shutil
+
+    from harness import build as _build
+
+    out = Path(directory) / fmu.name
+    lock_file = _build.BUILD_DIR / ".build.lock"
+    if Path(fmu).resolve() == _build.FMU_PATH.resolve() and lock_file.parent.is_dir():
+        with open(lock_file, "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            shutil.copyfile(fmu, out)
+    else:
+        shutil.copyfile(fmu, out)
+    return out
+
+
 def run(args: argparse.Namespace) -> int:
+    import tempfile
+
     from harness.fmu import fmu_path
 
-    fmu = Path(args.fmu) if args.fmu else fmu_path(build=True)
+    with tempfile.TemporaryDirectory(prefix="sb-crosscheck-") as tmp:
+        fmu = snapshot(Path(args.fmu) if args.fmu else fmu_path(build=True), Path(tmp))
+        return _run(args, fmu)
+
+
+def _run(args: argparse.Namespace, fmu: Path) -> int:
     tools = tuple(t.strip() for t in args.tools.split(",") if t.strip())
     unknown = set(tools) - set(TOOLS)
     if unknown:
-        raise SystemExit(f"error: unknown tool(s) {sorted(unknown)}; known: {', '.join(TOOLS)}")
+        print(f"error: unknown tool(s) {', '.join(sorted(unknown))}; known: {', '.join(TOOLS)}", file=sys.stderr)
+        return 2
     names = sorted(SCENARIOS) if args.scenario == "all" else [args.scenario]
     ok = True
     parts = ["# ShroudedBlade cross-tool agreement", "",
