@@ -10,7 +10,7 @@ JOBS    ?= 2
 # libtbb12 for ecospy's libecosc.so; a JDK 17 and Maven for the FMI4j driver (crosscheck/java).
 APT := $(shell [ "$$(id -u)" = 0 ] && echo apt-get || echo sudo apt-get)
 sysdeps:
-	@ldconfig -p | grep -q 'libtbb\.so\.12' || { $(APT) update -qq && DEBIAN_FRONTEND=noninteractive $(APT) install -y -qq libtbb12 > /dev/null; }
+	@{ ldconfig -p 2>/dev/null || /sbin/ldconfig -p; } | grep -q 'libtbb\.so\.12' || { $(APT) update -qq && DEBIAN_FRONTEND=noninteractive $(APT) install -y -qq libtbb12 > /dev/null; }
 javadeps:
 	@{ command -v mvn && command -v javac; } > /dev/null || { $(APT) update -qq && DEBIAN_FRONTEND=noninteractive $(APT) install -y -qq openjdk-17-jdk-headless maven > /dev/null; }
 
