@@ -5,7 +5,7 @@ point passed to fmi2DoStep is double(k * 100000 ns) / 1e9 and the step size is t
 such doubles (libcosim's `to_double_duration`), so neither accumulates. libcosim does not call
 fmi2SetRealInputDerivatives: inputs are held over a step. They are set through an override
 manipulator before every step (libcosim applies it when the step commences) and as initial values
-before initialization; outputs are read from a last-value observer after each step.
+before initialization; outputs come from a time-series observer (step 0 = after initialization).
 """
 from __future__ import annotations
 
@@ -63,8 +63,6 @@ def run(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
         raise ValueError("libcosimpy's CosimExecution.from_step_size always starts at t = 0")
     vars_ = variables_by_name(fmu)
     outs = outputs(fmu)
-    reals = [o.vr for o in outs if o.type == "Real"]
-    ints = [o.vr for o in outs if o.type == "Integer"]
     in_vrs = [vars_[n][0] for n in INPUTS]
 
     log_output_level(CosimLogLevel.ERROR)  # libcosim logs every FMI call at debug level by default
