@@ -88,6 +88,7 @@ class Variable:
     type: str  # Real, Integer, Boolean, String
     causality: str
     variability: str
+    initial: str | None
     start: Any
     low: float | None
     high: float | None
@@ -105,7 +106,7 @@ def _load_md() -> tuple[str, dict[str, Variable], list[str]]:
         lo, hi = typ.get("min"), typ.get("max")
         variables[sv.get("name")] = Variable(
             sv.get("name"), int(sv.get("valueReference")), typ.tag, sv.get("causality", "local"),
-            sv.get("variability", "continuous"), start, None if lo is None else float(lo),
+            sv.get("variability", "continuous"), sv.get("initial"), start, None if lo is None else float(lo),
             None if hi is None else float(hi))
     cats = [c.get("name") for c in root.iter("Category")]
     return root.get("guid"), variables, cats
@@ -152,7 +153,7 @@ _extracted: dict[str, Path] = {}
 def extract_fmu(fmu: Path = FMU_FILE) -> Path:
     """Unzip the FMU once per process into a temporary directory (with a space in its name, so
     every test also exercises resource URIs with spaces); returns the unzip directory."""
-    key = f"{fmu}:{fmu.stat().st_mtime_ns}"
+    key = str(fmu)  # once per process: other engineers may rebuild the file meanwhile
     with _extract_lock:
         if key not in _extracted:
             d = Path(tempfile.mkdtemp(prefix="sb fmu "))
@@ -247,9 +248,11 @@ class Fmi2Library:
 
     @classmethod
     def get(cls, binary: Path | None = None) -> "Fmi2Library":
-        binary = Path(binary or fmu_binary())
         with cls._cache_lock:
-            key = str(binary.resolve())
+            if binary is None and "default" in cls._cache:
+                return cls._cache["default"]
+            binary = Path(binary or fmu_binary())
+            key = "default" if binary == fmu_binary() else str(binary.resolve())
             if key not in cls._cache:
                 cls._cache[key] = cls(binary)
             return cls._cache[key]
