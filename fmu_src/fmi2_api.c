@@ -32,17 +32,19 @@
 
 /* The instance behind c, if c is one and the call is allowed in its state; else NULL (logged
  * when possible). */
-static Instance *enter(fmi2Component c, const char *fn, int mask)
+static Instance *enterAs(fmi2Component c, const char *fn, int mask, int logCall)
 {
     Instance *inst = (Instance *)c;
     if (inst == NULL || inst->magic != INSTANCE_MAGIC) return NULL;
-    instanceLog(inst, fmi2OK, LogCalls, "%s (state: %s)", fn, fsmStateName(inst->d.fsm));
+    if (logCall) instanceLog(inst, fmi2OK, LogCalls, "%s (state: %s)", fn, fsmStateName(inst->d.fsm));
     if ((inst->d.fsm & mask) == 0) {
         instanceLogStatus(inst, fmi2Error, "%s: Illegal call sequence (state: %s)", fn, fsmStateName(inst->d.fsm));
         return NULL;
     }
     return inst;
 }
+
+static Instance *enter(fmi2Component c, const char *fn, int mask) { return enterAs(c, fn, mask, 1); }
 
 static int nullArgs(Instance *inst, const char *fn, size_t nvr, const void *a, const void *b)
 {
@@ -64,7 +66,7 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
                                const fmi2String categories[])
 {
     const char *fn = "fmi2SetDebugLogging";
-    Instance *inst = enter(c, fn, MASK_SetDebugLogging);
+    Instance *inst = enterAs(c, fn, MASK_SetDebugLogging, 0); /* logs the call after the change */
     size_t i;
     int k;
     if (inst == NULL) return fmi2Error;
@@ -86,13 +88,17 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
             return fmi2Error;
         }
     }
-    if (nCategories == 0) {
-        for (k = 0; k < LOG_NUM_CATEGORIES; ++k) inst->logOn[k] = loggingOn ? 1 : 0;
-    } else {
+    /* FMI 2.0 s.2.1.5: nCategories = 0 switches all categories; with loggingOn = fmi2True and a
+     * list, only the listed categories are output; with fmi2False the listed ones are switched off */
+    if (nCategories == 0 || loggingOn) {
+        for (k = 0; k < LOG_NUM_CATEGORIES; ++k) inst->logOn[k] = (loggingOn && nCategories == 0) ? 1 : 0;
+    }
+    if (nCategories > 0) {
         for (i = 0; i < nCategories; ++i)
             for (k = 0; k < LOG_NUM_CATEGORIES; ++k)
                 if (strcmp(categories[i], logCategoryName(k)) == 0) inst->logOn[k] = loggingOn ? 1 : 0;
     }
+    instanceLog(inst, fmi2OK, LogCalls, "%s (state: %s)", fn, fsmStateName(inst->d.fsm));
     return fmi2OK;
 }
 
@@ -134,7 +140,6 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     if (fmuResourceLocation != NULL && strncmp(fmuResourceLocation, "file:", 5) != 0)
         instanceLogStatus(inst, fmi2Warning, "%s: fmuResourceLocation is not a file: URI (ignored: this FMU has "
                           "no resources)", fn);
-    instanceLog(inst, fmi2OK, LogCalls, "%s: instance created (GUID %s)", fn, MODEL_GUID);
     return (fmi2Component)inst;
 }
 

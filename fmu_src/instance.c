@@ -222,6 +222,8 @@ static void setStartValues(Instance *inst)
     d->lastDoStepStatus = fmi2OK;
     d->warnedFullStick = 0;
     d->modelValid = 0;
+    d->solver.B = d->par[ParB]; /* rebuilt by fmi2ExitInitializationMode; consistent until then */
+    d->solver.side = d->solver.slipDir = d->solver.vdir = 1;
     refreshInputs(inst);
 }
 
@@ -1088,6 +1090,7 @@ static int validState(Instance *inst, const char *fn, InstanceData *d)
         instanceLogStatus(inst, fmi2Error, "%s: invalid time or status fields in the data", fn);
         return 0;
     }
+    if (preInit(d)) return 1; /* the solver state is rebuilt at fmi2ExitInitializationMode */
     if (!isfinite(s->q) || !isfinite(s->v) || !isfinite(s->psi) || !isfinite(s->E) || !isfinite(s->w) ||
         !(s->B >= 0.0) || !isfinite(s->B) || !(s->windowMax >= 0.0) || !isfinite(s->windowMax) ||
         !(s->periods >= 0.0) || s->periods > 9e15 || s->periods != floor(s->periods) ||
