@@ -676,3 +676,47 @@ def message_names_value_and_range(text: str, name: str, value: float,
         else:
             pool.pop(hit)
     return problems
+
+
+# ---------------------------------------------------------------------------------------------
+# the sanitizer build (tests/c/CMakeLists.txt, option SB_SANITIZE)
+
+ASAN_BUILD_DIR = REPO_ROOT / "build-asan"
+SANITIZER_REPORT = re.compile(r"ERROR: AddressSanitizer|ERROR: LeakSanitizer|runtime error:|"
+                              r"SUMMARY: (Address|Undefined|Leak)Sanitizer")
+
+
+def build_asan() -> tuple[Path, Path]:
+    """Configures (once) and builds build-asan/: the FMU binary and tests/c/sb_importer, both with
+    -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all. Returns
+    (FMU binary, importer)."""
+    import sys
+    d = ASAN_BUILD_DIR
+    with _locked(d / ".build.lock"):
+        if not (d / "CMakeCache.txt").exists():
+            subprocess.run(["cmake", "-S", str(REPO_ROOT), "-B", str(d), "-DSB_SANITIZE=ON",
+                            "-DCMAKE_BUILD_TYPE=RelWithDebInfo", f"-DPython3_EXECUTABLE={sys.executable}"],
+                           check=True, capture_output=True, text=True)
+        proc = subprocess.run(["cmake", "--build", str(d), "-j", "2", "--target", "ShroudedBlade",
+                               "sb_importer"], capture_output=True, text=True)
+        if proc.returncode != 0:
+            raise RuntimeError(f"sanitizer build failed:\n{proc.stdout[-4000:]}\n{proc.stderr[-4000:]}")
+    return d / "ShroudedBlade.so", d / "tests" / "c" / "sb_importer"
+
+
+def sanitizer_env(python: bool) -> dict[str, str]:
+    """Environment for a sanitized run. For a Python child, libasan is preloaded (the interpreter
+    itself is not instrumented) and leak detection is off (the interpreter's own allocations at
+    exit are not leaks of the FMU); the C importer runs with LeakSanitizer on."""
+    env = os.environ.copy()
+    env["UBSAN_OPTIONS"] = "print_stacktrace=1:halt_on_error=1"
+    if python:
+        libasan = subprocess.run(["cc", "-print-file-name=libasan.so"], capture_output=True,
+                                 text=True, check=True).stdout.strip()
+        env["LD_PRELOAD"] = str(Path(libasan).resolve())
+        env["ASAN_OPTIONS"] = "detect_leaks=0:halt_on_error=1:abort_on_error=0"
+    else:
+        env.pop("LD_PRELOAD", None)
+        env["ASAN_OPTIONS"] = ("detect_leaks=1:halt_on_error=1:abort_on_error=0:"
+                               "detect_stack_use_after_return=1:strict_string_checks=1")
+    return env

@@ -1,0 +1,83 @@
+"""The FMU under AddressSanitizer + UndefinedBehaviorSanitizer: the C importer and the Python suites.
+
+build-asan/ holds the FMU compiled with -fsanitize=address,undefined,float-cast-overflow
+-fno-omit-frame-pointer -fno-sanitize-recover=all and tests/c/sb_importer (the same flags), a
+small FMI importer in C with a real variadic logger. The importer does full runs (3000 steps with
+inputs and 8 input derivatives, FMU state get/set, serialize, deserialize into a new instance,
+terminate, reset, rerun bit-identically) for every friction model, then every error path (bad
+instantiation arguments and URIs, invalid parameters and inputs, call order, bad steps, bad value
+references, NULL pointers and components, every truncation and single-byte corruption of a state
+blob). A sanitizer report or a failed check makes the exit code non-zero.
+
+The Python fuzz, error and state suites run again against the sanitized binary in a child
+pytest: `LD_PRELOAD=$(cc -print-file-name=libasan.so) ASAN_OPTIONS=detect_leaks=0
+SB_FMU_BINARY=build-asan/ShroudedBlade.so .venv/bin/python -m pytest tests/test_fmu_fuzz.py`
+(the interpreter is not instrumented, so libasan must be loaded first and leak checking is left to
+the C importer, see tests/test_fmu_leaks.py).
+"""
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import fmi2raw as F
+
+TESTS = Path(__file__).resolve().parent
+
+
+@pytest.fixture(scope="module")
+def asan_build() -> tuple[Path, Path]:
+    return F.build_asan()
+
+
+def check_clean(proc: subprocess.CompletedProcess, what: str) -> None:
+    report = F.SANITIZER_REPORT.search(proc.stderr)
+    assert report is None, f"{what}: sanitizer report:\n{proc.stderr[-6000:]}"
+    assert proc.returncode == 0, f"{what}: exit {proc.returncode}\n{proc.stdout[-3000:]}\n{proc.stderr[-6000:]}"
+
+
+def test_c_importer_full_runs_and_error_paths(asan_build: tuple[Path, Path]) -> None:
+    binary, importer = asan_build
+    proc = subprocess.run([str(importer), str(binary), "full"], capture_output=True, text=True,
+                          timeout=900, env=F.sanitizer_env(python=False))
+    check_clean(proc, "sb_importer full")
+    assert " 0 failures" in proc.stdout, proc.stdout
+    print(proc.stdout)
+
+
+def run_python_suite(binary: Path, args: list[str], extra_env: dict[str, str] | None = None,
+                     timeout: float = 1800) -> subprocess.CompletedProcess:
+    env = F.sanitizer_env(python=True)
+    env["SB_FMU_BINARY"] = str(binary)
+    env.update(extra_env or {})
+    return subprocess.run([sys.executable, "-m", "pytest", "-q", "-x", "-p", "no:cacheprovider",
+                           "-o", "addopts=", *args], cwd=str(TESTS.parent), capture_output=True,
+                          text=True, timeout=timeout, env=env)
+
+
+def test_python_error_and_state_suites_under_asan(asan_build: tuple[Path, Path]) -> None:
+    binary, _ = asan_build
+    proc = run_python_suite(binary, ["tests/test_fmu_errors.py", "tests/test_fmu_state.py",
+                                     "tests/test_fmu_threads.py"])
+    check_clean(proc, "errors/state/threads suites under ASan")
+
+
+def test_fuzz_under_asan(asan_build: tuple[Path, Path]) -> None:
+    binary, _ = asan_build
+    proc = run_python_suite(binary, ["tests/test_fmu_fuzz.py", "-s", "-k", "not long"],
+                            {"SB_FUZZ_EXAMPLES": os.environ.get("SB_ASAN_FUZZ_EXAMPLES", "150")})
+    check_clean(proc, "fuzz under ASan")
+    print([ln for ln in proc.stdout.splitlines() if ln.startswith("fuzz:")])
+
+
+@pytest.mark.slow
+def test_fuzz_under_asan_long(asan_build: tuple[Path, Path]) -> None:
+    binary, _ = asan_build
+    proc = run_python_suite(binary, ["tests/test_fmu_fuzz.py", "-s", "-k", "not long"],
+                            {"SB_FUZZ_EXAMPLES": "3000", "SB_FUZZ_RANDOM": "1"}, timeout=7200)
+    check_clean(proc, "long fuzz under ASan")
+    print([ln for ln in proc.stdout.splitlines() if ln.startswith("fuzz:")])
