@@ -111,7 +111,8 @@ class BladeFMU:
     # ---- lifecycle ----
     def _instantiate(self) -> None:
         self._slave = FMU2Slave(guid=self.md.guid, unzipDirectory=self._unzip,
-                                modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName="blade")
+                                modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName="blade",
+                                fmiCallLogger=(lambda m: print(m, file=sys.stderr)) if self.fmi_logging else None)
         cb = fmi2CallbackFunctions()
         cb.logger = fmi2CallbackLoggerTYPE(self._on_log)
         from fmpy import calloc, free
@@ -139,11 +140,26 @@ class BladeFMU:
                 setattr(self, name, self._logged(name[1:], getattr(self, name)))
 
     def _logged(self, name: str, f):
+        """Wrap a raw FMI function so each call is printed with its values (for --fmi-logging)."""
+        D, U, I = ctypes.c_double, ctypes.c_uint, ctypes.c_int
+
+        def arr(ctype, addr: int, n: int) -> list:
+            return list((ctype * n).from_address(addr)) if n else []
+
         def call(*args):
             st = f(*args)
-            shown = ", ".join(f"{a:.17g}" if isinstance(a, float) else str(a) for a in args[1:])
-            print(f"fmi2{name[0].upper()}{name[1:]}({shown}) -> {STATUS[st] if 0 <= st < 6 else st}",
-                  file=sys.stderr)
+            if name == "doStep":
+                shown = f"t={args[1]:.17g}, h={args[2]:.17g}"
+            elif name == "setDer":
+                n = args[2]
+                shown = (f"vr={arr(U, args[1], n)}, order={arr(I, args[3], n)}, "
+                         f"value={[float(f'{v:.6g}') for v in arr(D, args[4], n)]}")
+            else:
+                n = args[2]
+                vals = arr(I if name == "getInteger" else D, args[3], n)
+                shown = f"vr={arr(U, args[1], n)}, value={vals}"
+            label = {"setDer": "SetRealInputDerivatives"}.get(name, name[0].upper() + name[1:])
+            print(f"fmi2{label}({shown}) -> {STATUS[st] if 0 <= st < 6 else st}", file=sys.stderr)
             return st
         return call
 
