@@ -133,8 +133,12 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
     """Simulate the FMU's model (model-notes s.1-4) from rest at `start_time` to `stop_time`.
 
     aero(t) -> f_w [N/m], speed(t) -> n [rpm]; `t_eval` output times in [start_time, stop_time];
-    `breakpoints` times where the inputs may be non-smooth (integration restarts there). At an event
-    instant that is also an output time the post-event discrete state is reported.
+    `breakpoints` times where the inputs may be non-smooth (integration restarts there); inside a
+    segment [b_k, b_{k+1}] the inputs are read at min(t, b_{k+1} - ulp), i.e. a piecewise input
+    callable is used on the piece that starts at b_k up to and including the segment's end (as the
+    FMU uses the Taylor polynomial of a communication step up to its end). At an event instant or a
+    breakpoint that is also an output time, the post-event state and the new input piece are
+    reported.
     `initial` = (q0, q'0) starts elsewhere than at rest (reference-only extension for stability
     tests; psi(start) = 0; the Jenkins element then starts unloaded).
     """
@@ -159,8 +163,11 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
     def omega_of(t: float) -> float:
         return EO * TWO_PI * speed(t) / 60.0
 
+    seg = {"end_minus": math.inf}  # inputs inside a segment [a, b] are read at min(t, b - ulp)
+
     def rhs(t: float, y: np.ndarray) -> list[float]:
         q, v = y[0], y[1]
+        t = t if t < seg["end_minus"] else seg["end_minus"]  # the piece that ends at b, not the next one
         n = speed(t)
         Om = TWO_PI * n / 60.0
         om = EO * Om
@@ -186,7 +193,7 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
         return [v, acc, om, C0 * v * v + P, wdot]
 
     if atol is None:
-        atol = rtol * np.array([max(d, 1e-6), max(d, 1e-6) * 1e3, 1.0, 1e-4, max(d, 1e-6)])
+        atol = rtol * np.array([1e-6, 1e-3, 1e-6, 1e-9, 1e-6])  # absolute floors: m, m/s, rad, J, m
     t_eval = np.asarray(t_eval, dtype=float)
     if np.any(np.diff(t_eval) < 0) or (t_eval.size and (t_eval[0] < start_time or t_eval[-1] > stop_time)):
         raise ValueError("t_eval must be sorted and inside [start_time, stop_time]")
@@ -239,6 +246,7 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
     qv = lambda ts, Y: (Y[0], Y[1])  # noqa: E731
     for seg_i in range(len(edges) - 1):
         t_end = edges[seg_i + 1]
+        seg["end_minus"] = float(np.nextafter(t_end, -math.inf)) if seg_i < len(edges) - 2 else math.inf
         last_edge = seg_i == len(edges) - 2
         while t < t_end:
             evs: list = []
