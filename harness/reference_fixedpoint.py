@@ -364,8 +364,9 @@ def finite_horizon_amplitude(params: Mapping[str, Any], speed_rpm: float, B: flo
 def naive_iteration(A, B0: float, n_iter: int = 30, tol: float = 1e-6, tail: int = 10) -> dict:
     """The paper's procedure B_{j+1} = A(B_j) from B0. Returns 'sequence' and either 'fixed' (the
     limit, if successive iterates agree to tol) or 'cycle' = ((low_min, low_max), (high_min,
-    high_max)) when the last `tail` iterates alternate between two separated bands (a 2-cycle,
-    exact or noisy: A is very steep near the low band, so the high band wanders), else neither."""
+    high_max)) when the last `tail` iterates alternate between two separated bands and the jumps
+    between them do not shrink (a 2-cycle, exact or noisy: A is very steep near the low band, so
+    the high band wanders), else neither (e.g. a slowly converging alternation)."""
     seq = [B0]
     for _ in range(n_iter):
         seq.append(A(seq[-1]).A)
@@ -374,5 +375,7 @@ def naive_iteration(A, B0: float, n_iter: int = 30, tol: float = 1e-6, tail: int
     last = seq[-tail:]
     ev, od = last[0::2], last[1::2]
     lo, hi = (ev, od) if max(ev) < min(od) else ((od, ev) if max(od) < min(ev) else (None, None))
-    cycle = ((min(lo), max(lo)), (min(hi), max(hi))) if lo is not None else None
+    # a converging alternation also has separated bands: require that the jumps do not shrink
+    not_shrinking = abs(last[-1] - last[-2]) >= 0.5 * abs(last[1] - last[0])
+    cycle = ((min(lo), max(lo)), (min(hi), max(hi))) if lo is not None and not_shrinking else None
     return {"sequence": seq, "fixed": None, "cycle": cycle}
