@@ -10,16 +10,18 @@ module only re-exports the public API of the parts: `reference_blade` (Galerkin 
 from __future__ import annotations
 
 from harness.reference_blade import Galerkin, galerkin
-from harness.reference_contact import (DF, describing_function, jenkins_cycle_dissipation, loop_angles,
-                                       loop_friction, loop_state, normal_force, regime)
+from harness.reference_contact import (DF, ContactConsts, contact_consts, describing_function,
+                                       jenkins_cycle_dissipation, loop_angles, loop_friction, loop_state, normal_force,
+                                       regime)
 from harness.reference_dynamics import OUTPUT_DTYPE, SimulationError, jenkins_prescribed, simulate
-from harness.reference_fixedpoint import (FixedPointResult, FixedPointRoot, SteadyState, finite_horizon_amplitude,
-                                          fixed_point, naive_iteration, steady_amplitude)
-from harness.reference_hb import HBSolution, harmonic_balance
+from harness.reference_fixedpoint import (FixedPointResult, FixedPointRoot, PiecewiseStepper, SteadyState,
+                                          finite_horizon_amplitude, fixed_point, naive_iteration, steady_amplitude)
+from harness.reference_hb import HBSolution, harmonic_balance, stability, tracked_map_radius
 
 __all__ = [
-    "Galerkin", "galerkin", "DF", "describing_function", "jenkins_cycle_dissipation", "loop_angles",
+    "Galerkin", "galerkin", "DF", "ContactConsts", "contact_consts", "describing_function", "jenkins_cycle_dissipation", "loop_angles",
     "loop_friction", "loop_state", "normal_force", "regime", "OUTPUT_DTYPE", "SimulationError",
     "jenkins_prescribed", "simulate", "HBSolution", "harmonic_balance", "FixedPointResult", "FixedPointRoot",
     "SteadyState", "finite_horizon_amplitude", "fixed_point", "naive_iteration", "steady_amplitude",
+    "PiecewiseStepper", "stability", "tracked_map_radius",
 ]

@@ -1,10 +1,11 @@
 """Independent Python reference, part 3: time simulation of eq. 27 (docs/model-notes.md s.1-4).
 
-A hybrid simulation with scipy's solve_ivp (DOP853, tight tolerances): continuous states
-(q, q', psi, E, w), a discrete state (amplitude B in use, gating flag g, Jenkins mode/side/slip
-direction, period counter, running max |q|), integration segment by segment with terminal events
-at every switching instant (|q| = d, stick/slip, period end psi = 2 pi k) and a restart with the
-updated discrete state; extrema q' = 0 are non-terminal events that feed the tracked amplitude.
+A hybrid simulation on scipy's DOP853 stepper (harness.reference_hybrid, tight tolerances):
+continuous states (q, q', psi, E, w), a discrete state (amplitude B in use, gating flag g, Jenkins
+mode/side/slip direction, period counter, running max |q|), integration segment by segment with
+terminal events at every switching instant (|q| = d, stick/slip, period end psi = 2 pi k) and a
+restart with the updated discrete state; the extrema q' = 0 located inside every step feed the
+tracked amplitude (max |q| over a period in continuous time).
 Inputs may be non-smooth at caller-given `breakpoints` (e.g. the FMU's communication points when
 it is fed piecewise Taylor polynomials): integration restarts there. Output: a numpy structured
 array, `time` first, fields named like the FMU outputs. `jenkins_prescribed` drives the Jenkins
@@ -175,12 +176,9 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
         if jen is None:
             if ds.g:
                 df = ds.df
-                if df.CeqOmega != 0.0:
-                    if om == 0.0:
-                        raise SimulationError(f"omega = 0 at t = {t:g} s while C_eq is needed (B = {ds.B:g} m > d)")
-                    Ceq = df.CeqOmega / om
-                else:
-                    Ceq = 0.0
+                if om == 0.0 and ds.B > d:  # model-notes s.2: the FMU discards such a step
+                    raise SimulationError(f"omega = 0 at t = {t:g} s while the contact force is needed (B = {ds.B:g} m > d)")
+                Ceq = df.CeqOmega / om if df.CeqOmega != 0.0 else 0.0
                 Fc = df.Keq * q + Ceq * v
                 P = Ceq * v * v
             else:
