@@ -274,3 +274,20 @@ def test_outputs_of_the_df_model() -> None:
 def test_zero_speed_with_contact_is_refused() -> None:
     with pytest.raises(SimulationError):
         simulate({"amplitudeMode": 1, "B": 6e-5, "gating": False}, 0.01, lambda t: 100.0, lambda t: 0.0, [0.01])
+
+
+def test_segment_runner_finds_an_excursion_inside_one_step() -> None:
+    """q = cos(t) (q'' = -q from t = -0.1): q exceeds 1 - 1e-6 only for |t| < 1.414e-3, far inside
+    one DOP853 step at rtol 1e-6 (steps ~0.1). Checking signs at step ends alone misses it; the
+    runner's extremum knots must find the upward crossing at t = -acos(1 - 1e-6)."""
+    from harness.reference_hybrid import run_segment
+
+    level = 1 - 1e-6
+    y0 = np.array([math.cos(-0.1), -math.sin(-0.1)])
+    res = run_segment(lambda t, y: [y[1], -y[0]], -0.1, y0, 0.5, [(lambda t, y: y[0] - level, 1.0)],
+                      lambda ts, Y: (Y[0], Y[1]), 1e-6, 1e-9, track_qmax=True)
+    assert res.fired == 0
+    assert res.t == pytest.approx(-math.acos(level), abs=1e-7)
+    res = run_segment(lambda t, y: [y[1], -y[0]], -0.1, y0, 0.5, [], lambda ts, Y: (Y[0], Y[1]), 1e-6, 1e-9,
+                      track_qmax=True)
+    assert res.fired is None and res.qmax == pytest.approx(1.0, abs=1e-9)  # the max between knots
