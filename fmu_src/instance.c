@@ -439,7 +439,7 @@ static const VarInfo *lookup(Instance *inst, const char *fn, fmi2ValueReference 
         return NULL;
     }
     if (v->type != type) {
-        instanceLogStatus(inst, fmi2Error, "%s: %s (vr %u) is a %s variable, not a %s", fn, v->name,
+        instanceLogStatus(inst, fmi2Error, "%s: %s (vr %u) is of type %s, not %s", fn, v->name,
                           (unsigned)vr, typeName(v->type), typeName(type));
         return NULL;
     }
