@@ -136,7 +136,6 @@ def loop_friction(params: Mapping[str, Any] | ContactConsts, B: float, theta: An
         return out[()] if out.ndim == 0 else out
     t1, t2, t3 = loop_angles(cc, B, model)
     Ns = cc.mu * cc.kn * cg * (B - cc.d)
-    pi = math.pi
     # Interval edges of eq. 4, [edge_i, edge_{i+1}); interval 10 is closed at 2 pi.
     pieces = [
         cc.kd * (du - B * sg) + cc.mu * cc.kn * cg * (v - cc.d),  # 1

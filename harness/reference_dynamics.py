@@ -177,7 +177,8 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
             if ds.g:
                 df = ds.df
                 if om == 0.0 and ds.B > d:  # model-notes s.2: the FMU discards such a step
-                    raise SimulationError(f"omega = 0 at t = {t:g} s while the contact force is needed (B = {ds.B:g} m > d)")
+                    raise SimulationError(f"omega = 0 at t = {t:g} s while the contact force is needed"
+                                          f" (B = {ds.B:g} m > d)")
                 Ceq = df.CeqOmega / om if df.CeqOmega != 0.0 else 0.0
                 Fc = df.Keq * q + Ceq * v
                 P = Ceq * v * v

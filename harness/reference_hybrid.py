@@ -43,8 +43,8 @@ def run_segment(rhs: Callable, t0: float, y0: np.ndarray, t_end: float, events: 
                 on_output: Callable[[np.ndarray, np.ndarray, np.ndarray], None] | None = None, n_sub: int = 4,
                 track_qmax: bool = False) -> SegmentResult:
     """Integrate from t0 until t_end or the first event. qv(ts, Y) -> (q, q') at times ts for states
-    Y (columns). Outputs: on_output(mask, ts, Y) (mask over t_eval) for the t_eval points in [t0, stop) (and t_end itself if
-    the segment runs through and t_eval contains it)."""
+    Y (columns). Outputs: on_output(mask, ts, Y) (mask over t_eval) for the t_eval points in
+    [t0, stop) (and t_end itself if the segment runs through and t_eval contains it)."""
     y0 = np.asarray(y0, dtype=float)
     te_arr = np.asarray(t_eval if t_eval is not None else [], dtype=float)
     qmax = float(np.abs(qv(np.array([t0]), y0[:, None])[0][0])) if track_qmax else 0.0

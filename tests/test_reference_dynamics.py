@@ -243,7 +243,8 @@ def test_taylor_input_with_breakpoints_matches_smooth_input() -> None:
         k = k + 1 if (k + 1) * h <= t else (k - 1 if k * h > t else k)  # exact piece of t
         tk = k * h
         dt = t - tk
-        return 100 * sum((om ** j) * math.sin(om * tk + j * math.pi / 2) * dt ** j / math.factorial(j) for j in range(9))
+        return 100 * sum(om ** j * math.sin(om * tk + j * math.pi / 2) * dt ** j / math.factorial(j)
+                         for j in range(9))
 
     te = np.linspace(0, 0.05, 51)
     p = {"frictionModel": 3}
