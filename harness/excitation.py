@@ -240,6 +240,28 @@ class AeroLoad:
         return f"AeroLoad({self.Fw0!r}, {self.engine_order!r}, {self.speed!r})"
 
 
+class Modulated:
+    """envelope(t) * signal(t), e.g. a load whose amplitude is ramped up slowly; derivatives by the
+    Leibniz rule (d^k (e s) = sum_j C(k, j) e^(j) s^(k-j)), breakpoints of both."""
+
+    def __init__(self, envelope: Piecewise, signal: Signal):
+        self.envelope, self.signal = envelope, signal
+        self.breakpoints = np.union1d(envelope.breakpoints, signal.breakpoints)
+
+    def __call__(self, t):
+        return self.envelope(t) * self.signal(t)
+
+    def derivatives(self, t, order: int) -> np.ndarray:
+        order = _check_order(order)
+        e = self.envelope.derivatives(t, order)
+        s = np.asarray(self.signal.derivatives(t, order))
+        out = np.zeros_like(s)
+        for k in range(order + 1):
+            for j in range(k + 1):
+                out[k] += math.comb(k, j) * e[j] * s[k - j]
+        return out
+
+
 def fmu_view(signal: Signal, grid: Sequence[float], order: int) -> Piecewise:
     """The input the FMU reconstructs: at each grid point t_k the Taylor polynomial of `signal` with
     value and derivatives up to `order` (0 = held value), valid until the next grid point."""

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from harness.excitation import (AeroLoad, Constant, ExcitationError, LinearRamp, Stepped, fmu_view,
+from harness.excitation import (AeroLoad, Constant, ExcitationError, LinearRamp, Modulated, Stepped, fmu_view,
                                 sin_series)
 
 OMEGA_5000 = 3 * 5000 * 2 * math.pi / 60  # EO 3 at 5000 rpm [rad/s]
@@ -94,6 +94,20 @@ def test_fmu_view_is_the_taylor_polynomial_per_step():
     # held input (order 0) is off by up to Fw0 w h
     v0 = fmu_view(f, grid, 0)
     assert np.max(np.abs(v0(tt) - f(tt))) > 10.0
+
+
+def test_modulated_closed_form():
+    # (a + b t) sin(w t): k-th derivative = (a + b t) w^k sin(wt + k pi/2) + k b w^(k-1) sin(wt + (k-1) pi/2)
+    env = LinearRamp(0.0, 1.0, 0.0, 0.1)  # a = 0, b = 10 on (0, 0.1)
+    f = Modulated(env, AeroLoad(100.0, 3, 5000.0))
+    t = np.array([0.013, 0.05, 0.0999])
+    d = f.derivatives(t, 8)
+    w, b = OMEGA_5000, 10.0
+    for k in range(9):
+        exact = 100.0 * (b * t * w ** k * np.sin(w * t + k * math.pi / 2)
+                         + k * b * w ** (k - 1) * np.sin(w * t + (k - 1) * math.pi / 2))
+        np.testing.assert_allclose(d[k], exact, rtol=0, atol=1e-11 * 100.0 * w ** k)
+    np.testing.assert_allclose(f.breakpoints, [0.0, 0.1])
 
 
 def test_errors():

@@ -48,7 +48,7 @@ def test_steady_state_agrees_with_harmonic_balance(fmu, options, rpm):
     rows = compare_hb(fmu, Case("HB", options, Constant(rpm), 0.0, kind="hb", rpm=rpm))
     assert all(r.passed for r in rows), [(r.quantity, r.error, r.note) for r in rows]
     if rows[0].ok is None:
-        assert rows[0].tolerance == TOL_HB and "contact branch" in rows[0].note
+        assert rows[0].tolerance == TOL_HB and any("contact branch" in r.note for r in rows)
 
 
 def test_input_derivatives_beat_held_inputs_at_coarse_step(fmu):
