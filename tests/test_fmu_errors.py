@@ -213,9 +213,9 @@ def boundary_cases() -> list[Case]:
 
 
 def _input_case(name: str, value: float, low: float | None, high: float | None,
-                expect: str = "refuse") -> Case:
+                expect: str = "refuse", params: dict | None = None, label: str = "") -> Case:
     def run(lib: Fmi2Library) -> Outcome:
-        with _ready(lib) as c:
+        with _ready(lib, params) as c:
             out = _sequence(c, [("fmi2SetReal", lambda: c.set_real([name], [value])),
                                 ("fmi2DoStep", lambda: c.do_step(0.0, 1e-4))])
             if out.status == OK:
@@ -223,7 +223,7 @@ def _input_case(name: str, value: float, low: float | None, high: float | None,
                 if not np.all(np.isfinite(y)):
                     out.after = "outputs not finite after an OK step"
             return out
-    return Case("input", f"{name} = {value!r}", run, expect, name, value, low, high)
+    return Case("input", f"{name} = {value!r}{label}", run, expect, name, value, low, high)
 
 
 def _derivative_case(label: str, vr: str | int, order: int, value: float, n0: float | None = None,
@@ -247,6 +247,12 @@ def input_cases() -> list[Case]:
     cases += [_input_case("aeroLoad", 1e300, None, None, "either"),
               _input_case("rotorSpeed", 0.0, 0.0, 30000.0, "accept"),
               _input_case("rotorSpeed", 30000.0, 0.0, 30000.0, "accept")]
+    # a tiny positive speed: omega -> 0 makes C_eq ~ 1/omega overflow; the step may be
+    # discarded, but an OK step must not report an infinite output (found by the fuzz test)
+    cases += [_input_case("rotorSpeed", 1e-310, 0.0, 30000.0, "either", {"frictionModel": fm},
+                          f" with frictionModel {fm}") for fm in (1, 3)]
+    cases += [_input_case("rotorSpeed", 1e-308, 0.0, 30000.0, "either",
+                          {"frictionModel": 1, "gating": False}, " with frictionModel 1, gating off")]
     cases += [
         _derivative_case("rotorSpeed 29999 rpm, slope 1e7 rpm/s: leaves [0, 30000] inside the step",
                          "rotorSpeed", 1, 1e7, n0=29999.0, h=1e-3, name="rotorSpeed"),

@@ -515,13 +515,23 @@ def _fnv1a(data: bytes) -> int:
     return h
 
 
-def _run(examples: int) -> None:
+CHUNK = 500  # hypothesis keeps per-run bookkeeping (~0.25 MB per sequence): long runs go in chunks
+
+
+def _run(examples: int, randomize: bool = False) -> None:
+    """Runs `examples` sequences (in chunks of CHUNK); deterministic unless randomize or
+    SB_FUZZ_RANDOM is set (a failure prints the shrunk call sequence either way)."""
     FmuMachine.sequences = FmuMachine.calls = FmuMachine.steps_ok = 0
-    test = FmuMachine.TestCase
-    test.settings = settings(max_examples=examples, stateful_step_count=STEPS_PER_SEQUENCE,
-                             deadline=None, derandomize=os.environ.get("SB_FUZZ_RANDOM") is None,
-                             suppress_health_check=list(HealthCheck), database=None)
-    test("runTest").runTest()
+    randomize = randomize or os.environ.get("SB_FUZZ_RANDOM") is not None
+    left = examples
+    while left > 0:
+        n = min(CHUNK, left)
+        test = FmuMachine.TestCase
+        test.settings = settings(max_examples=n, stateful_step_count=STEPS_PER_SEQUENCE,
+                                 deadline=None, derandomize=not randomize,
+                                 suppress_health_check=list(HealthCheck), database=None)
+        test("runTest").runTest()
+        left -= n
     print(f"\nfuzz: {FmuMachine.sequences} sequences, {FmuMachine.calls} FMI calls, "
           f"{FmuMachine.steps_ok} accepted steps")
     assert FmuMachine.sequences >= examples // 2
@@ -541,4 +551,4 @@ def test_fuzz_fmi_sequences(lib: Fmi2Library) -> None:
 
 @pytest.mark.slow
 def test_fuzz_fmi_sequences_long(lib: Fmi2Library) -> None:
-    _run(FUZZ_SLOW_EXAMPLES)
+    _run(FUZZ_SLOW_EXAMPLES, randomize=True)
