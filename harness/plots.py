@@ -47,18 +47,19 @@ def study_curves(path: Path | str, title: str, curves: Sequence[dict], gap: Sequ
                 b = t[t["direction"] == direction]
                 b = b[np.argsort(b["speed"])]
                 if len(b):
-                    axes[0].plot(b["speed"], b["amplitude"] * MM, ls, color=col, lw=1.3,
-                                 label=f"{c['label']} ({direction})" if direction == "up" else None)
+                    axes[0].plot(b["speed"], b["amp_hi"] * MM, ls, color=col, lw=1.3,
+                                 label=f"{c['label']}" if direction == "up" else None)
+                    axes[0].fill_between(b["speed"], b["amp_lo"] * MM, b["amp_hi"] * MM, color=col, alpha=0.12, lw=0)
                     nr = b[~b["reached"]]
                     if len(nr):
-                        axes[0].plot(nr["speed"], nr["amplitude"] * MM, "o", mfc="none", color=col, ms=5)
+                        axes[0].plot(nr["speed"], nr["amp_hi"] * MM, "o", mfc="none", color=col, ms=2.5, lw=0)
         f = c.get("fixed")
         if f is not None and len(f):
+            f = f[f["kind"] != "jump"]  # a jump of A(B) across the diagonal is not a fixed point
             ok = f[f["reached"]]
             bad = f[~f["reached"]]
-            axes[0].plot(ok["speed"], ok["B"] * MM, "x", color=col, ms=5)
-            if len(bad):
-                axes[0].plot(bad["speed"], bad["B"] * MM, "+", color="red", ms=6)
+            axes[0].plot(ok["speed"], ok["B"] * MM, "x", color=col, ms=5, lw=0)
+            axes[0].plot(bad["speed"], bad["B"] * MM, "+", color=col, ms=6, lw=0)
         h = c.get("hb")
         if h is not None and len(h):
             st = h[h["stable"]]
@@ -69,7 +70,8 @@ def study_curves(path: Path | str, title: str, curves: Sequence[dict], gap: Sequ
         for g in sorted(set(gap)):
             for ax in axes:
                 ax.axhline(g * MM, color="0.6", lw=0.6, ls=":")
-    axes[0].set_title("FMU time domain: up (solid), down (dashed); x fixed-point roots; o not steady")
+    axes[0].set_title("FMU: up (solid) / down (dashed) sweeps, band = amplitude range of the final periods;\n"
+                      "o not steady within the cap, x fixed points A(B) = B, + not converged", fontsize=8)
     axes[1].set_title("harmonic balance (reference): stable (bold), unstable (faint)")
     for ax in axes:
         ax.set_xlabel("rotor speed n [rpm]")
@@ -81,26 +83,33 @@ def study_curves(path: Path | str, title: str, curves: Sequence[dict], gap: Sequ
     return _save(fig, path)
 
 
-def time_response(path: Path | str, title: str, t: np.ndarray, q: np.ndarray, freq: np.ndarray,
-                  amp: np.ndarray, d: float, t_settle: float, f_line: float) -> Path:
-    """Fig. 4 (q(t)) and Fig. 5 (single-sided amplitude spectrum of the steady part)."""
-    fig, (a, b) = plt.subplots(1, 2, figsize=(13, 4.2))
-    a.plot(t, q * MM, lw=0.6)
-    a.axhline(d * MM, color="0.5", ls=":", lw=0.8, label="gap d")
-    a.axhline(-d * MM, color="0.5", ls=":", lw=0.8)
-    if np.isfinite(t_settle):
-        a.axvline(t_settle, color="red", lw=0.8, label=f"settled (2 %) at {t_settle:.3f} s")
-    a.set_xlabel("time [s]")
-    a.set_ylabel("tip displacement q [mm]")
-    a.legend(fontsize=8)
-    a.grid(alpha=0.3)
-    b.plot(freq, amp * MM, lw=0.9)
-    b.axvline(f_line, color="red", lw=0.6, ls="--", label=f"EO x n/60 = {f_line:.1f} Hz")
-    b.set_xlim(0, min(float(freq[-1]) if len(freq) else 1000.0, 1500.0))
-    b.set_xlabel("frequency [Hz]")
-    b.set_ylabel("amplitude [mm]")
-    b.legend(fontsize=8)
-    b.grid(alpha=0.3)
+def time_response(path: Path | str, title: str, runs: Sequence[tuple[str, dict]], d: float, f_line: float) -> Path:
+    """Fig. 4 (q(t), per-period max and settling time) and Fig. 5 (spectrum of the second half),
+    one row per formulation; each run dict: res (time, tipDisplacement), t_per, per_max, t_settle,
+    freq, amp."""
+    fig, axes = plt.subplots(len(runs), 2, figsize=(13, 3.6 * len(runs)), squeeze=False)
+    for (label, r), (a, b) in zip(runs, axes):
+        res = r["res"]
+        a.plot(res["time"], res["tipDisplacement"] * MM, lw=0.4, label="q(t)")
+        a.plot(r["t_per"], r["per_max"] * MM, "k-", lw=0.9, label="max |q| per period")
+        a.axhline(d * MM, color="0.5", ls=":", lw=0.8, label="gap d")
+        a.axhline(-d * MM, color="0.5", ls=":", lw=0.8)
+        ts = r["t_settle"]
+        a.axvline(ts if np.isfinite(ts) else res["time"][-1], color="red", lw=0.8,
+                  label=f"settled (2 %) at {ts:.3f} s" if np.isfinite(ts) else "never settles (irregular)")
+        a.set_xlabel("time [s]")
+        a.set_ylabel("tip displacement q [mm]")
+        a.set_title(label, fontsize=9)
+        a.legend(fontsize=7, loc="lower right")
+        a.grid(alpha=0.3)
+        b.plot(r["freq"], r["amp"] * MM, lw=0.9)
+        b.axvline(f_line, color="red", lw=0.6, ls="--", label=f"EO x n/60 = {f_line:.1f} Hz")
+        b.set_xlim(0, 1000.0)
+        b.set_xlabel("frequency [Hz]")
+        b.set_ylabel("amplitude [mm]")
+        b.set_title(f"{label}: spectrum of the second half (Hann)", fontsize=9)
+        b.legend(fontsize=7)
+        b.grid(alpha=0.3)
     fig.suptitle(title)
     return _save(fig, path)
 

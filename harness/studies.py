@@ -66,7 +66,7 @@ class Size:
     hb_speeds: tuple[float, ...]  # harmonic-balance speeds [rpm]
     values: Mapping[str, tuple[float, ...]] | None = None  # per-study values (None: all of STUDIES)
     settings: SweepSettings = SweepSettings()
-    fig45_time: float = 0.6  # [s] simulated for Fig. 4/5
+    fig45_time: float = 1.0  # [s] simulated for Fig. 4/5
     coulomb: bool = True
     iteration_steps: int = 12  # the paper's iteration B <- A_0.2s(B)
 
@@ -76,19 +76,19 @@ def _grid(a: float, b: float, step: float) -> tuple[float, ...]:
 
 
 SIZES: dict[str, Size] = {
-    "quick": Size("quick", speeds=_grid(3000, 10000, 1000), fixed_speeds=(5000.0, 8000.0),
+    "quick": Size("quick", speeds=_grid(3000, 10000, 1000), fixed_speeds=_grid(4000, 9000, 500),
                   hb_speeds=_grid(3000, 10000, 100),
                   values={"gap": (2e-5, 6e-5), "mass": (0.02, 0.1), "angle": (PI / 3, PI / 7), "kn": (1e5, 1e7)},
                   settings=SweepSettings(refine_levels=3, min_dn=60.0, max_time=0.5, fixed_max_time=0.4,
                                          n_scan=10),
-                  fig45_time=0.4, coulomb=False, iteration_steps=6),
-    "default": Size("default", speeds=_grid(3000, 10000, 250), fixed_speeds=_grid(3000, 10000, 500),
+                  fig45_time=0.6, coulomb=False, iteration_steps=6),
+    "default": Size("default", speeds=_grid(3000, 10000, 500), fixed_speeds=_grid(3000, 10000, 500),
                     hb_speeds=_grid(2000, 10000, 40)),
     "full": Size("full", speeds=_grid(1000, 10000, 125), fixed_speeds=_grid(2000, 10000, 250),
                  hb_speeds=_grid(100, 10000, 20),
                  settings=SweepSettings(rtol=1e-4, max_time=2.0, refine_levels=6, min_dn=5.0, n_scan=24,
                                         fixed_max_time=1.5),
-                 fig45_time=1.0),
+                 fig45_time=2.0),
 }
 
 
@@ -136,24 +136,37 @@ def _at(res: SweepResult, speed: float) -> float:
     """Time-domain amplitude at `speed` (up sweep; nan if that speed was not computed)."""
     b = res.branch("up")
     hit = b[np.isclose(b["speed"], speed)]
-    return float(hit["amplitude"][0]) if len(hit) else math.nan
+    return float(hit["amp_hi"][0]) if len(hit) else math.nan
+
+
+def contact_edge(res: SweepResult) -> float:
+    """Highest speed of the up sweep where the response still touches (envelope > d): the end of
+    the contact branch, where a run-up jumps down (nan without contact)."""
+    b = res.branch("up")
+    hit = b["speed"][b["amp_hi"] > res.spec.params["d"]]
+    return float(np.max(hit)) if len(hit) else math.nan
 
 
 def summarize(res: SweepResult) -> dict[str, Any]:
-    sp_t, a_t = _peak(res.time, "amplitude")
-    sp_u, a_u = _peak(res.branch("up"), "amplitude")
-    sp_d, a_d = _peak(res.branch("down"), "amplitude")
-    fx = res.fixed[res.fixed["kind"] == "contact"] if len(res.fixed) else res.fixed
-    sp_f, a_f = _peak(res.fixed, "B")
+    """Peaks per method. Time domain: the envelope amp_hi (largest period amplitude over the final
+    window of a plateau; equals the amplitude where the response is steady), over both sweeps."""
+    sp_t, a_t = _peak(res.time, "amp_hi")
+    sp_u, a_u = _peak(res.branch("up"), "amp_hi")
+    sp_d, a_d = _peak(res.branch("down"), "amp_hi")
+    fx = res.fixed[np.isin(res.fixed["kind"], ["open", "contact"])] if len(res.fixed) else res.fixed
+    sp_f, a_f = _peak(fx, "B")
     hb_st = res.hb[res.hb["stable"]] if len(res.hb) else res.hb
     sp_h, a_h = _peak(hb_st, "B")
+    irregular = (res.time["amp_hi"] - res.time["amp_lo"] > 0.05 * res.time["amp_hi"]) if len(res.time) else []
     return {
         "time_peak": a_t, "time_speed": sp_t, "up_peak": a_u, "up_speed": sp_u, "down_peak": a_d,
-        "down_speed": sp_d, "fixed_peak": a_f, "fixed_speed": sp_f, "hb_peak": a_h, "hb_speed": sp_h,
+        "down_speed": sp_d, "time_edge": contact_edge(res), "fixed_peak": a_f, "fixed_speed": sp_f,
+        "hb_peak": a_h, "hb_speed": sp_h,
         "amp_5000": _at(res, 5000.0), "plateaus": int(len(res.time)),
         "not_steady": int(np.sum(~res.time["reached"])) if len(res.time) else 0,
-        "fixed_roots": int(len(res.fixed)), "fixed_contact_roots": int(len(fx)),
-        "fixed_not_converged": int(np.sum(~res.fixed["reached"])) if len(res.fixed) else 0,
+        "irregular": int(np.sum(irregular)),
+        "fixed_roots": int(len(fx)), "fixed_jumps": int(np.sum(res.fixed["kind"] == "jump")) if len(res.fixed) else 0,
+        "fixed_not_converged": int(np.sum(~fx["reached"])) if len(fx) else 0,
         "hb_multi_speeds": int(len(np.unique(res.hb["speed"][_multi(res.hb)]))) if len(res.hb) else 0,
     }
 
@@ -192,9 +205,9 @@ def write_study(out: Path, st: Study, results: list[tuple[float, SweepResult]]) 
         s = summarize(r)
         s["value"] = v
         rows.append(s)
-    keys = ["value", "time_peak", "time_speed", "up_peak", "up_speed", "down_peak", "down_speed", "fixed_peak",
-            "fixed_speed", "hb_peak", "hb_speed", "amp_5000", "plateaus", "not_steady", "fixed_roots",
-            "fixed_not_converged", "hb_multi_speeds"]
+    keys = ["value", "time_peak", "time_speed", "up_peak", "up_speed", "down_peak", "down_speed", "time_edge",
+            "fixed_peak", "fixed_speed", "hb_peak", "hb_speed", "amp_5000", "plateaus", "not_steady", "irregular",
+            "fixed_roots", "fixed_jumps", "fixed_not_converged", "hb_multi_speeds"]
     tab = np.array([tuple(r[k] for k in keys) for r in rows], dtype=[(k, "f8") for k in keys])
     write_csv(out / f"{stem}_summary.csv", tab, f"{st.figure}: peak amplitude [m] and resonant speed [rpm] per method")
     curves = [{"label": st.label(v), "time": r.time, "fixed": r.fixed, "hb": r.hb} for v, r in results]
@@ -207,42 +220,83 @@ def write_study(out: Path, st: Study, results: list[tuple[float, SweepResult]]) 
 # Single runs with the FMU in this process
 # ---------------------------------------------------------------------------------------------
 def settling_time(time: np.ndarray, amp: np.ndarray, band: float = 0.02) -> float:
-    """First time after which the tracked amplitude stays within `band` of its final value."""
+    """First time after which the amplitude stays within `band` of its final value; nan if it only
+    enters the band in the last fifth of the record (never settles: irregular response)."""
     final = amp[-1]
     out = np.abs(amp - final) > band * abs(final)
     if not np.any(out):
         return float(time[0])
     last = int(np.nonzero(out)[0][-1])
-    return float(time[min(last + 1, len(time) - 1)])
+    if last + 1 >= 0.8 * len(time):
+        return math.nan
+    return float(time[last + 1])
 
 
-def fig45(fmu: Any, out: Path, params: Mapping[str, Any], speed: float, t_stop: float) -> dict[str, Any]:
-    """Time response from rest at `speed` and the spectrum of its steady part (paper Fig. 4/5)."""
+def _response(fmu: Any, p: Mapping[str, Any], speed: float, t_stop: float) -> dict[str, Any]:
+    """Run from rest, per-period max |q|, 2 % settling time, and the Hann spectrum of the last half
+    (a whole number of periods, so the EO line falls on a bin)."""
     from harness.steady_state import analyze
 
-    p = dict(params)
     om = omega_of(p, speed)
     T = 2 * PI / om
     n_per = 64
-    t_stop = T * math.ceil(t_stop / T)
-    res = fmu.run(p, t_stop, T / n_per, speed=speed,
-                  outputs=["tipDisplacement", "tipVelocity", "amplitude", "regime", "contactState"])
-    ss = analyze(res["time"], res["tipDisplacement"], T, rtol=1e-3, min_periods=3)
-    t_set = settling_time(res["time"], res["amplitude"], 0.02)
-    f, a = ss.spectrum
-    k = int(np.argmax(a[1:])) + 1 if len(a) > 1 else 0
-    f_peak = float(f[k]) if len(f) else math.nan
-    write_csv(out / "fig4_time_response.csv", res, f"Fig. 4: FMU tip response from rest at {speed:g} rpm (tracked amplitude)")
-    spec = np.zeros(len(f), dtype=[("frequency", "f8"), ("amplitude", "f8")])
-    spec["frequency"], spec["amplitude"] = f, a
-    write_csv(out / "fig5_spectrum.csv", spec, f"Fig. 5: single-sided amplitude spectrum of the steady part at {speed:g} rpm")
+    P = int(math.ceil(t_stop / T))
+    res = fmu.run(dict(p), P * T, T / n_per, speed=speed, outputs=["tipDisplacement", "amplitude"])
+    q = res["tipDisplacement"]
+    per_max = np.abs(q[1:]).reshape(P, n_per).max(axis=1)
+    t_per = T * (np.arange(P) + 1)
+    ss = analyze(res["time"], q, T, rtol=1e-3, min_periods=3)
+    half = q[-(P // 2) * n_per:]
+    win = np.hanning(len(half))
+    amp = np.abs(np.fft.rfft(half * win)) * 2.0 / np.sum(win)
+    freq = np.fft.rfftfreq(len(half), T / n_per)
+    k = int(np.argmax(amp[1:])) + 1
+    return {"res": res, "per_max": per_max, "t_per": t_per, "ss": ss, "freq": freq, "amp": amp,
+            "t_settle": settling_time(t_per, per_max, 0.02), "f_peak": float(freq[k]),
+            "final": float(per_max[-1]), "band": (float(per_max[-P // 5:].min()), float(per_max[-P // 5:].max()))}
+
+
+def fig45(fmu: Any, out: Path, params: Mapping[str, Any], speed: float, t_stop: float, B_root: float) -> dict[str, Any]:
+    """Paper Fig. 4/5: response from rest at `speed` and the spectrum of its second half, for the
+    paper's formulation (amplitude fixed at the fixed-point root B_root, amplitudeMode 1) and for the
+    tracked amplitude (amplitudeMode 2)."""
+    p = dict(params)
+    runs = {"paper": _response(fmu, dict(p, amplitudeMode=1, B=B_root), speed, t_stop),
+            "tracked": _response(fmu, dict(p, amplitudeMode=2), speed, t_stop)}
+    a, b = runs["paper"], runs["tracked"]
+    tab = np.zeros(len(a["res"]), dtype=[("time", "f8"), ("q_paper", "f8"), ("q_tracked", "f8")])
+    tab["time"], tab["q_paper"], tab["q_tracked"] = a["res"]["time"], a["res"]["tipDisplacement"], b["res"]["tipDisplacement"]
+    write_csv(out / "fig4_time_response.csv", tab,
+              f"Fig. 4: FMU tip displacement q [m] from rest at {speed:g} rpm; paper = amplitude fixed at the "
+              f"fixed-point root B = {B_root:.6g} m (amplitudeMode 1), tracked = amplitudeMode 2")
+    spec = np.zeros(len(a["freq"]), dtype=[("frequency", "f8"), ("amp_paper", "f8"), ("amp_tracked", "f8")])
+    spec["frequency"], spec["amp_paper"], spec["amp_tracked"] = a["freq"], a["amp"], b["amp"]
+    write_csv(out / "fig5_spectrum.csv", spec, f"Fig. 5: single-sided amplitude spectrum [m] (Hann window) of the "
+              f"second half of the runs at {speed:g} rpm")
     plots.time_response(out / "fig4_5_time_spectrum.png",
-                        f"Paper Fig. 4/5: tip response and spectrum at {speed:g} rpm (d = {p['d'] * 1e3:g} mm)",
-                        res["time"], res["tipDisplacement"], f, a, p["d"], t_set, p["engineOrder"] * speed / 60)
-    return {"speed": speed, "t_settle_2pct": t_set, "t_steady_rtol1e-3": ss.t_steady, "reached": ss.reached,
-            "f_peak": f_peak, "f_expected": p["engineOrder"] * speed / 60.0, "amplitude": float(res["amplitude"][-1]),
-            "max_abs_q": float(np.max(np.abs(res["tipDisplacement"]))), "d": p["d"],
-            "harmonic_amplitude": ss.harmonic_amplitude, "message": ss.message}
+                        f"Paper Fig. 4/5 at {speed:g} rpm, d = {p['d'] * 1e3:g} mm",
+                        [("paper: B fixed at the fixed-point root", a), ("tracked amplitude", b)], p["d"],
+                        p["engineOrder"] * speed / 60)
+    f_exp = p["engineOrder"] * speed / 60.0
+    out_d: dict[str, Any] = {"speed": speed, "d": p["d"], "f_expected": f_exp, "B_root": B_root}
+    for name, r in runs.items():
+        out_d[name] = {"t_settle_2pct": r["t_settle"], "reached": bool(r["ss"].reached),
+                       "t_steady_rtol1e-3": r["ss"].t_steady, "f_peak": r["f_peak"], "amplitude": r["final"],
+                       "band_last_fifth": r["band"], "max_abs_q": float(np.max(np.abs(r["res"]["tipDisplacement"]))),
+                       "line_at_f_expected": float(r["amp"][int(np.argmin(np.abs(r["freq"] - f_exp)))]),
+                       "largest_line": float(np.max(r["amp"][1:]))}
+    return out_d
+
+
+def _root_at(params: Mapping[str, Any], speed: float, settings: SweepSettings, path: str,
+             cache_dir: Path | str | None) -> float:
+    """The largest fixed point A(B) = B at `speed` (FMU, paper's procedure; cached like the studies)."""
+    from harness.sweep import FixedPointTask, fmu_identity, run_fixed_point
+
+    r = run_fixed_point(FixedPointTask(dict(params), speed, settings, *fmu_identity(path),
+                                       None if cache_dir is None else str(cache_dir)))
+    roots = [x["B"] for x in r["roots"] if x["kind"] in ("open", "contact")]
+    return max(roots) if roots else 2.0 * float(params["d"])
 
 
 def paper_iteration(fmu: Any, params: Mapping[str, Any], speed: float, B0: float, steps: int,
@@ -258,6 +312,12 @@ def paper_iteration(fmu: Any, params: Mapping[str, Any], speed: float, B0: float
         last = res[res["time"] >= res["time"][-1] - T * (1 + 1e-9)]
         seq.append(float(np.max(np.abs(last["tipDisplacement"]))))
     return seq
+
+
+def _loop_area(x: np.ndarray, F: np.ndarray) -> float:
+    """|closed integral F dx| (trapezoid) of a sampled loop, closed from the last to the first point."""
+    xc, Fc = np.append(x, x[0]), np.append(F, F[0])
+    return float(abs(np.sum(0.5 * (Fc[1:] + Fc[:-1]) * np.diff(xc))))
 
 
 def hysteresis(fmu: Any, out: Path, base: Mapping[str, Any]) -> dict[str, Any]:
@@ -279,8 +339,8 @@ def hysteresis(fmu: Any, out: Path, base: Mapping[str, Any]) -> dict[str, Any]:
         Ff_eq4 = np.array([ref.loop_friction(p, B, th, 1) for th in theta[:-1]] + [math.nan])
         du_eq4 = B * sg * np.cos(theta)
         du_fmu = last["tipDisplacement"] * sg
-        E_fmu = float(-np.sum(0.5 * (last["frictionForce"][1:] + last["frictionForce"][:-1]) * np.diff(du_fmu)))
-        E_eq4 = float(-np.trapz(np.nan_to_num(Ff_eq4[:-1]), du_eq4[:-1]))
+        E_fmu = _loop_area(du_fmu, last["frictionForce"])
+        E_eq4 = _loop_area(du_eq4[:-1], Ff_eq4[:-1])
         df = ref.describing_function(p, B, om, model=1)
         E_df = float(PI * om * B * B * float(df.fc))
         jp = ref.jenkins_prescribed(p, B, om, n_cycles=2, samples_per_cycle=720)
@@ -395,7 +455,8 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
         if extras:
             t0 = _time.perf_counter()
             with BladeFMU(path) as fmu:
-                summary["fig45"] = fig45(fmu, out, base_p, 5000.0, size.fig45_time)
+                summary["fig45"] = fig45(fmu, out, base_p, 5000.0, size.fig45_time,
+                                         _root_at(base_p, 5000.0, size.settings, path, cache_dir))
                 summary["hysteresis"] = hysteresis(fmu, out, base_p)
                 peaks = []
                 if "kn" in summary["studies"]:

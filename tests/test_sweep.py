@@ -15,7 +15,9 @@ from harness.executor import Runner
 from harness.params import ParameterError, validate
 from harness.reference import galerkin, harmonic_balance
 
-FAST = sw.SweepSettings(refine_levels=0, max_time=1.5, rtol=1e-4)
+# The contact-free blade is lightly damped (tau = 2M/C0 ~ 0.2 s): plateaus need a few seconds to be
+# declared steady at rtol 1e-3 (cheap: ~0.1 s of wall time per simulated second).
+SLOW_SETTLE = sw.SweepSettings(refine_levels=0, max_time=6.0, rtol=1e-3)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -96,11 +98,11 @@ def _linear_amplitude(p: dict, n: float) -> float:
 def test_contact_free_plateaus_match_closed_form(fmu_path, tmp_path):
     # Large gap: the contact never closes, the blade is linear and the steady amplitude is the
     # closed form F / |K0 - M w^2 + i C0 w| (reference Galerkin constants, an independent code).
-    # Tolerance 2e-3: steady-state rtol 1e-4 plus the FMU's RK4 error (maxStep 1e-5, ~1e-6) and
+    # Tolerance 2e-3: steady-state rtol 1e-3 (an upper estimate of the distance) plus the FMU's RK4 error (maxStep 1e-5, ~1e-6) and
     # the order-8 input Taylor error (~1e-7); the FMU's `amplitude` is the exact period maximum.
     p = validate({"d": 1e-2})
     speeds = [3000.0, 4000.0, 4800.0]
-    res = sw.sweep(sw.SweepSpec(p, speeds, methods=("time",), directions=("up",), settings=FAST),
+    res = sw.sweep(sw.SweepSpec(p, speeds, methods=("time",), directions=("up",), settings=SLOW_SETTLE),
                    fmu_path=fmu_path, cache_dir=tmp_path)
     assert len(res.time) == 3
     for row in res.time:
@@ -117,7 +119,7 @@ def test_ungated_sweeps_follow_stable_hb_branches_and_fixed_points_find_every_hb
     hb_all = harmonic_balance(p, np.array(speeds))
     multi = [s for s, sols in zip(speeds, hb_all) if len(sols) >= 3]
     assert multi, "test premise: some speed has three harmonic-balance solutions"
-    s = sw.SweepSettings(refine_levels=0, max_time=1.5, rtol=1e-4, n_scan=24, fixed_max_time=1.5)
+    s = sw.SweepSettings(refine_levels=0, max_time=6.0, rtol=1e-3, n_scan=24, fixed_max_time=6.0)
     res = sw.sweep(sw.SweepSpec(p, speeds, methods=("time", "fixed"), fixed_speeds=[multi[0]], settings=s),
                    fmu_path=fmu_path, cache_dir=tmp_path)
     branch_seen = set()
@@ -127,7 +129,7 @@ def test_ungated_sweeps_follow_stable_hb_branches_and_fixed_points_find_every_hb
         sols = hb_all[speeds.index(row["speed"])]
         stable = [x.B for x in sols if x.stable]
         err = min(abs(row["amplitude"] - b) / b for b in stable)
-        # 5e-3: steady-state rtol 1e-4 over a slowly settling plateau, plus RK4 and Taylor errors
+        # 5e-3: steady-state rtol 1e-3 (upper estimate) plus RK4 and Taylor errors
         assert err < 5e-3, (row, stable)
         if len(sols) >= 3:
             branch_seen.add((row["direction"], int(np.argmin([abs(row["amplitude"] - b) for b in stable]))))
@@ -169,5 +171,15 @@ def test_dask_local_cluster_gives_the_local_numbers(fmu_path, tmp_path):
             with Runner(scheduler=client, progress=False) as r:
                 remote = sw.sweep(spec, r, fmu_path=fmu_path, cache_dir=None)
     # same FMU binary, same inputs, deterministic arithmetic: identical to the last bit
-    assert np.array_equal(local.time, remote.time)
-    assert np.array_equal(local.fixed, remote.fixed)
+    assert_same(local.time, remote.time)
+    assert_same(local.fixed, remote.fixed)
+
+
+def assert_same(a: np.ndarray, b: np.ndarray) -> None:
+    """Structured arrays equal field by field, bit for bit (nan == nan)."""
+    assert a.dtype == b.dtype and len(a) == len(b) and len(a) > 0
+    for name in a.dtype.names:
+        if a.dtype[name].kind == "f":
+            assert np.array_equal(a[name], b[name], equal_nan=True), name
+        else:
+            assert np.array_equal(a[name], b[name]), name

@@ -17,6 +17,7 @@ import pytest
 from harness import executor as ex
 from harness import sweep as sw
 from harness.params import validate
+from test_sweep import assert_same
 
 SETTINGS = sw.SweepSettings(refine_levels=1, max_time=0.25, rtol=1e-3)
 SPEEDS = (4000.0, 5000.0, 6000.0, 7000.0)
@@ -96,11 +97,12 @@ def test_interrupted_sweep_resumes_without_recomputing(fmu_path, tmp_path, monke
     computed.clear()
     clean = sw.sweep(_spec(), fmu_path=fmu_path, cache_dir=tmp_path / "fresh")
     assert n_resumed == len(computed) - 3  # exactly the 3 finished points were not recomputed
-    assert np.array_equal(resumed.time, clean.time)
+    assert_same(resumed.time, clean.time)
     # a third run finds everything in the cache
     computed.clear()
     again = sw.sweep(_spec(), fmu_path=fmu_path, cache_dir=tmp_path / "cache")
-    assert computed == [] and np.array_equal(again.time, clean.time)
+    assert computed == []
+    assert_same(again.time, clean.time)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -167,4 +169,4 @@ def test_killed_worker_loses_only_its_point(fmu_path, tmp_path):
     th.join()
     assert killed
     clean = sw.sweep(spec, fmu_path=fmu_path, cache_dir=tmp_path / "fresh")
-    assert np.array_equal(res.time, clean.time)
+    assert_same(res.time, clean.time)
