@@ -709,14 +709,15 @@ def sanitizer_env(python: bool) -> dict[str, str]:
     itself is not instrumented) and leak detection is off (the interpreter's own allocations at
     exit are not leaks of the FMU); the C importer runs with LeakSanitizer on."""
     env = os.environ.copy()
-    env["UBSAN_OPTIONS"] = "print_stacktrace=1:halt_on_error=1"
+    # distinct exit codes: 99 = AddressSanitizer/LeakSanitizer, 98 = UndefinedBehaviorSanitizer
+    env["UBSAN_OPTIONS"] = "print_stacktrace=1:halt_on_error=1:exitcode=98"
     if python:
         libasan = subprocess.run(["cc", "-print-file-name=libasan.so"], capture_output=True,
                                  text=True, check=True).stdout.strip()
         env["LD_PRELOAD"] = str(Path(libasan).resolve())
-        env["ASAN_OPTIONS"] = "detect_leaks=0:halt_on_error=1:abort_on_error=0"
+        env["ASAN_OPTIONS"] = "detect_leaks=0:halt_on_error=1:abort_on_error=0:exitcode=99"
     else:
         env.pop("LD_PRELOAD", None)
-        env["ASAN_OPTIONS"] = ("detect_leaks=1:halt_on_error=1:abort_on_error=0:"
+        env["ASAN_OPTIONS"] = ("detect_leaks=1:halt_on_error=1:abort_on_error=0:exitcode=99:"
                                "detect_stack_use_after_return=1:strict_string_checks=1")
     return env
