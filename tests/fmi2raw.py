@@ -628,6 +628,28 @@ def run_steps(inst: Instance, t0: float, h: float, n: int, Fw0: float = 100.0,
 
 
 # ---------------------------------------------------------------------------------------------
+# the serialized-state format documented in fmu_src/instance.c (magic "SBLDSTAT", int32 version
+# at offset 8, int32 total size at 12, FNV-1a 64 of the GUID at 16, counts at 24, doubles from
+# 32, then int32s, and an FNV-1a 64 checksum of everything before it in the last 8 bytes)
+
+BLOB_MAGIC = b"SBLDSTAT"
+
+
+def fnv1a(data: bytes) -> int:
+    """FNV-1a 64, the checksum of the blob format."""
+    h = 0xcbf29ce484222325
+    for b in data:
+        h = ((h ^ b) * 0x100000001b3) & 0xFFFFFFFFFFFFFFFF
+    return h
+
+
+def reseal(blob: bytes) -> bytes:
+    """Recomputes the trailing checksum, so only the FMU's content checks can catch a change."""
+    import struct
+    return bytes(blob[:-8]) + struct.pack("<Q", fnv1a(bytes(blob[:-8])))
+
+
+# ---------------------------------------------------------------------------------------------
 # checking log messages
 
 

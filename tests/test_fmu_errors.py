@@ -18,6 +18,7 @@ import json
 import math
 import os
 import re
+import struct
 import subprocess
 import sys
 from dataclasses import dataclass, field
@@ -775,7 +776,15 @@ def blob_cases() -> list[Case]:
         _blob_case("one extra byte", lambda b: b + b"\x00"),
         _blob_case("size argument larger than the blob header says", lambda b: b + b"\x00" * 64),
         _blob_case("first byte (magic) corrupted", flip(0)),
-        _blob_case("wrong version: each of bytes 4..7 corrupted", _version_bump),
+        _blob_case("wrong version 2 (checksum recomputed)",
+                   lambda b: F.reseal(b[:8] + struct.pack("<i", 2) + b[12:])),
+        _blob_case("one payload byte flipped (checksum mismatch)", flip(100, 0x01)),
+        _blob_case("saved by another FMU (GUID hash differs, checksum recomputed)",
+                   lambda b: F.reseal(b[:16] + struct.pack("<Q", F.fnv1a(b"{other}")) + b[24:])),
+        _blob_case("valid checksum over NaN in the first state double",
+                   lambda b: F.reseal(b[:32] + struct.pack("<d", math.nan) + b[40:])),
+        _blob_case("valid checksum over a state-machine value of 7",
+                   lambda b: F.reseal(_set_int(b, 0, 7))),
         _blob_case("all zeros", lambda b: bytes(len(b))),
         _blob_case("all 0xFF", lambda b: b"\xff" * len(b)),
         _blob_case("random garbage of the right size",
@@ -784,10 +793,12 @@ def blob_cases() -> list[Case]:
     ]
 
 
-def _version_bump(b: bytes) -> bytes:
-    # the version field position is not part of the FMI contract: corrupt bytes 4..7 together,
-    # which covers "magic (4 bytes) + version" and "8-byte magic" layouts alike
-    return b[:4] + bytes(x ^ 0x5A for x in b[4:8]) + b[8:]
+def _set_int(b: bytes, index: int, value: int) -> bytes:
+    """Sets int32 number `index` of the blob's int32 block (index 0: the state machine)."""
+    ndouble = struct.unpack_from("<i", b, 24)[0]
+    out = bytearray(b)
+    struct.pack_into("<i", out, 32 + 8 * ndouble + 4 * index, value)
+    return bytes(out)
 
 
 # ---------------------------------------------------------------------------------------------
