@@ -87,7 +87,7 @@ def time_response(path: Path | str, title: str, runs: Sequence[tuple[str, dict]]
     """Fig. 4 (q(t), per-period max and settling time) and Fig. 5 (spectrum of the second half),
     one row per formulation; each run dict: res (time, tipDisplacement), t_per, per_max, t_settle,
     freq, amp."""
-    fig, axes = plt.subplots(len(runs), 2, figsize=(13, 3.6 * len(runs)), squeeze=False)
+    fig, axes = plt.subplots(len(runs), 2, figsize=(13, 3.8 * len(runs)), squeeze=False, constrained_layout=True)
     for (label, r), (a, b) in zip(runs, axes):
         res = r["res"]
         a.plot(res["time"], res["tipDisplacement"] * MM, lw=0.4, label="q(t)")
@@ -119,11 +119,15 @@ def hysteresis(path: Path | str, panels: Sequence[dict]) -> Path:
     fig, axes = plt.subplots(1, len(panels), figsize=(6.2 * len(panels), 4.6))
     axes = np.atleast_1d(axes)
     for ax, p in zip(axes, panels):
+        E = p.get("energy", {})
         du, F = p["eq4"]
-        ax.plot(du * 1e6, F, "-", lw=1.6, label="eq. 4 closed form (harmonic v = B cos theta)")
+        ax.plot(du * 1e6, F, "-", lw=1.6, label=f"eq. 4 closed form, v = B cos(theta); loop {E.get('eq4', np.nan) * 1e6:.1f} uJ")
+        if p.get("jenkins") is not None:
+            du3, F3 = p["jenkins"]
+            ax.plot(du3 * 1e6, F3, ":", lw=1.8, label=f"reference Jenkins element, v = B cos(theta); {E.get('jenkins', np.nan) * 1e6:.1f} uJ")
         if p.get("fmu") is not None:
             du2, F2 = p["fmu"]
-            ax.plot(du2 * 1e6, F2, "--", lw=1.1, label="FMU time-domain element (frictionModel 3)")
+            ax.plot(du2 * 1e6, F2, "--", lw=1.1, label=f"FMU element (frictionModel 3) in a steady run; {E.get('fmu', np.nan) * 1e6:.1f} uJ")
         ax.set_xlabel("tangential displacement du [um]")
         ax.set_ylabel("friction force F_f [N]")
         ax.set_title(p["title"], fontsize=9)

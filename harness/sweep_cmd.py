@@ -52,13 +52,14 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--fixed-speeds", metavar="RANGE", help="speeds for --method fixed (default: --speeds)")
     p.add_argument("--start-values", nargs="+", default=[], metavar="NAME VALUE",
                    help="parameter name-value pairs, e.g. `--start-values d 4e-5 kn 1e6`")
-    p.add_argument("--rtol", type=float, default=1e-3, help="steady-state tolerance per plateau (default 1e-3)")
+    p.add_argument("--rtol", type=float, default=1e-2,
+                   help="steady-state tolerance per plateau (default 1e-2; the estimate is conservative)")
     p.add_argument("--max-time", type=float, default=1.0, metavar="S",
                    help="simulated-time cap per speed plateau [s] (default 1.0)")
     p.add_argument("--refine", type=int, default=4, metavar="LEVELS",
                    help="bisection rounds near peaks and jumps (default 4, 0 = fixed grid)")
-    p.add_argument("--steps-per-period", type=int, default=8, metavar="N",
-                   help="communication steps per excitation period (default 8, with 8 input derivatives)")
+    p.add_argument("--steps-per-period", type=int, default=6, metavar="N",
+                   help="communication steps per excitation period (default 6, with 8 input derivatives)")
     p.add_argument("--output-file", default="sweep.csv", metavar="CSV", help="result table (default sweep.csv)")
     p.add_argument("--plot", metavar="PNG", help="also plot the curves to this PNG file")
     add_execution_options(p)
