@@ -73,7 +73,13 @@ def build_parser(command: str | None) -> argparse.ArgumentParser:
         description="ShroudedBlade: simulate the shrouded-blade FMU (build/ShroudedBlade.fmu), sweep speeds,"
                     " reproduce the paper's studies and validate the FMU against the Python reference."
                     " Run `python -m harness <command> --help` for the options of one command.",
-        epilog="Example: python -m harness simulate --stop-time 0.3 --start-values d 4e-5 --output-file out.csv")
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="examples:\n"
+               "  python -m harness simulate --plot tip.png              # 0.3 s at 5000 rpm -> CSV + PNG\n"
+               "  python -m harness simulate --speed 7000 --start-values d 4e-5 gating false\n"
+               "  python -m harness validate --quick                     # FMU vs reference, pass/fail table\n"
+               "The FMU (build/ShroudedBlade.fmu) is built on first use (cmake + gcc); parameter names\n"
+               "and defaults are those of modelDescription.xml (paper Table 1) plus Fw0 [N/m].")
     sub = parser.add_subparsers(dest="command", metavar="<command>", parser_class=_Parser)
     for name, module in COMMANDS.items():
         p = sub.add_parser(name, help=_summary(module), description=_summary(module) + ".")

@@ -60,7 +60,12 @@ def fmu_path(build: bool = True) -> Path:
     """build/ShroudedBlade.fmu, built (if out of date) when `build` and the C sources are present."""
     sources = list((_build.REPO_ROOT / "fmu_src").glob("*.c"))
     if build and sources and shutil.which("cmake"):
-        return _build.build(("fmu",))
+        try:
+            return _build.build(("fmu",))
+        except _build.BuildError as exc:
+            first = str(exc).splitlines()[0] if str(exc) else "cmake failed"
+            raise FMUNotFoundError(f"building {_build.FMU_PATH} failed ({first}): run `make fmu` to see the"
+                                   " compiler output") from exc
     if not _build.FMU_PATH.is_file():
         raise FMUNotFoundError(f"{_build.FMU_PATH} not found: build it with `make fmu`"
                                " (needs cmake and a C compiler) or pass the path of an FMU")
