@@ -52,8 +52,8 @@ class ConfigError(_params.ParameterError):
 class SweepSettings:
     """How each point is computed (all of it enters the cache key of a point)."""
 
-    steps_per_period: int = 6  # communication steps per excitation period (order-8 inputs: the
-    # load's Taylor error (2 pi/6)^9/9! = 4e-6 moves a steady amplitude by ~3e-7, measured)
+    steps_per_period: int = 8  # communication steps per excitation period (order-8 inputs: the
+    # load's Taylor error (2 pi/8)^9/9! = 3e-7; >= 8 so that analyze() works on the raw samples)
     derivative_order: int = 8  # input derivative order set per step (0 = held inputs)
     rtol: float = 1e-2  # steady-state tolerance of harness.steady_state.analyze (conservative)
     min_periods: int = 3  # converged periods needed
@@ -124,7 +124,8 @@ def _check_speeds(name: str, speeds: Any, label: str, at_least: int = 1) -> tupl
 
 
 def validate_settings(s: SweepSettings) -> SweepSettings:
-    _num("steps_per_period", s.steps_per_period, 4, 4096, integer=True)
+    # analyze() needs >= 8 samples per period (fewer: spline end effects keep it from converging)
+    _num("steps_per_period", s.steps_per_period, 8, 4096, integer=True)
     _num("derivative_order", s.derivative_order, 0, 8, integer=True)
     _num("rtol", s.rtol, 0, 0.1, low_open=True)
     _num("min_periods", s.min_periods, 1, 1000, integer=True)

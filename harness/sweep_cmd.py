@@ -58,8 +58,8 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                    help="simulated-time cap per speed plateau [s] (default 1.0)")
     p.add_argument("--refine", type=int, default=4, metavar="LEVELS",
                    help="bisection rounds near peaks and jumps (default 4, 0 = fixed grid)")
-    p.add_argument("--steps-per-period", type=int, default=6, metavar="N",
-                   help="communication steps per excitation period (default 6, with 8 input derivatives)")
+    p.add_argument("--steps-per-period", type=int, default=8, metavar="N",
+                   help="communication steps per excitation period, >= 8 (default 8, with 8 input derivatives)")
     p.add_argument("--output-file", default="sweep.csv", metavar="CSV", help="result table (default sweep.csv)")
     p.add_argument("--plot", metavar="PNG", help="also plot the curves to this PNG file")
     add_execution_options(p)

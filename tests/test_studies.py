@@ -115,4 +115,4 @@ def test_claims_are_computed_from_the_data(quick):
     rows[-1]["time_peak"] = rows[0]["time_peak"] * 3.3
     v = [r for r in build_claims(s2) if "3.3 x" in r["claim"] and r["setting"].startswith("time")]
     assert v[0]["verdict"] == "reproduced" and v[0]["ours"].startswith("3.30")
-    assert np.isfinite(s["timing"]["sweeps_wall"])
+    assert np.isfinite(s["timing"]["studies_wall"])
