@@ -659,6 +659,29 @@ def _hb_speeds(spec: SweepSpec) -> tuple[float, ...]:
     return tuple(np.linspace(min(spec.speeds), max(spec.speeds), 200))
 
 
+def _fixed_refinement(specs: Sequence[SweepSpec], fixed: list, fixed_out: list, level: int) -> list:
+    """Bisect the speed intervals next to each curve's largest fixed point where the largest root
+    changes by more than refine_tol of it (the narrow low-kn peak falls between coarse speeds)."""
+    extra = []
+    for i, sp in enumerate(specs):
+        s = sp.settings
+        if level >= s.refine_levels:
+            continue
+        pts = sorted((o["speed"], max([r["B"] for r in o["roots"] if r["kind"] != "jump"], default=0.0))
+                     for (j, _), o in zip(fixed, fixed_out) if j == i)
+        if len(pts) < 2:
+            continue
+        speeds, amps = [x for x, _ in pts], [a for _, a in pts]
+        k = int(np.argmax(amps))
+        task0 = next(t for (j, t) in fixed if j == i)
+        for a, b in ((k - 1, k), (k, k + 1)):
+            if a < 0 or b >= len(pts) or speeds[b] - speeds[a] < 2 * s.min_dn:
+                continue
+            if abs(amps[b] - amps[a]) > s.refine_tol * amps[k]:
+                extra.append((i, replace(task0, speed=0.5 * (speeds[a] + speeds[b]))))
+    return extra
+
+
 def run_sweeps(specs: Sequence[SweepSpec], runner: Runner | None = None, *, fmu_path: str | Path | None = None,
                cache_dir: str | Path | None = None, desc: str = "") -> list[SweepResult]:
     """Validate every spec (before any work), then map all their tasks over `runner` at once."""
@@ -690,6 +713,13 @@ def run_sweeps(specs: Sequence[SweepSpec], runner: Runner | None = None, *, fmu_
     t_time = _time.perf_counter() - t0
     t0 = _time.perf_counter()
     fixed_out = runner.map(run_fixed_point, [t for _, t in fixed], desc=f"{prefix}fixed points", unit="speed")
+    for level in range(max((sp.settings.refine_levels for sp in specs), default=0)):
+        extra = _fixed_refinement(specs, fixed, fixed_out, level)
+        if not extra:
+            break
+        fixed_out += runner.map(run_fixed_point, [t for _, t in extra], desc=f"{prefix}fixed points, refined",
+                                unit="speed")
+        fixed += extra
     t_fixed = _time.perf_counter() - t0
     per_spec_time: dict[int, list] = {}
     for (i, _), recs in zip(chains, chain_out):
