@@ -40,10 +40,12 @@ def reproduce_and_report(args: argparse.Namespace, size: str, studies, extras: b
                         fmu_path=args.fmu, extras=extras)
     wall = time.perf_counter() - t0
     rows = write_claims(out / "claims.md", rep.summary)
+    from harness.studies import STUDIES
+
     for name, st in rep.summary["studies"].items():
-        print(f"{st['figure']} ({name}):")
+        print(f"{st['figure']} ({name}): peak amplitude and its speed per method")
         for r in st["rows"]:
-            print(f"  {st['param']} = {r['value']:<10.4g} peak {r['time_peak'] * 1e3:8.5f} mm at {r['time_speed']:6.0f} rpm"
+            print(f"  {STUDIES[name].label(r['value']):<18s} {r['time_peak'] * 1e3:8.5f} mm at {r['time_speed']:6.0f} rpm"
                   f" (time), {r['fixed_peak'] * 1e3:8.5f} mm at {r['fixed_speed']:6.0f} rpm (fixed),"
                   f" {r['hb_peak'] * 1e3:8.5f} mm at {r['hb_speed']:6.0f} rpm (HB)")
     counts = ", ".join(f"{v} {k}" for k, v in verdict_counts(rows).items())
