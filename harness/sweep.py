@@ -644,9 +644,11 @@ class SweepResult:
         return t[np.argsort(t["speed"])]
 
     def peak(self, method: str = "time") -> tuple[float, float]:
-        """(speed of the largest amplitude, that amplitude) of one method (nan if no data)."""
-        tab = {"time": (self.time, "amplitude"), "fixed": (self.fixed, "B"), "hb": (self.hb, "B")}[method]
-        arr, col = tab
+        """(speed of the largest amplitude, that amplitude) of one method (nan if no data): the
+        envelope amp_hi in the time domain, fixed points without jumps, stable HB branches."""
+        fixed = self.fixed[self.fixed["kind"] != "jump"] if len(self.fixed) else self.fixed
+        hb = self.hb[self.hb["stable"]] if len(self.hb) else self.hb
+        arr, col = {"time": (self.time, "amp_hi"), "fixed": (fixed, "B"), "hb": (hb, "B")}[method]
         if len(arr) == 0:
             return math.nan, math.nan
         i = int(np.argmax(arr[col]))

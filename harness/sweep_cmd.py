@@ -67,7 +67,8 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 def to_table(res) -> np.ndarray:
     rows = [(r["speed"], f"time-{r['direction']}", r["amplitude"], int(r["reached"]), -1) for r in res.time]
-    rows += [(r["speed"], "fixed", r["B"], int(r["reached"]), -1) for r in res.fixed]
+    rows += [(r["speed"], "fixed" if r["kind"] != "jump" else "fixed-jmp", r["B"], int(r["reached"]), -1)
+             for r in res.fixed]
     rows += [(r["speed"], "hb", r["B"], -1, int(r["stable"])) for r in res.hb]
     return np.array(sorted(rows, key=lambda r: (r[1], r[0])), dtype=OUT_DTYPE)
 
@@ -90,7 +91,9 @@ def run(args: argparse.Namespace) -> int:
     with runner:
         res = sweep(spec, runner, fmu_path=args.fmu, cache_dir=None if args.no_cache else args.cache_dir)
     table = to_table(res)
-    write_csv(args.output_file, table, "speed [rpm], amplitude [m]; steady: 1/0 (-1 n/a); stable: 1/0 (-1 n/a)")
+    write_csv(args.output_file, table, "speed [rpm], amplitude [m] (time-up/down: last period; fixed: root of A(B) = B,"
+              " fixed-jmp: A(B) jumps across B there, no root; hb: harmonic balance); steady: 1/0 (-1 n/a);"
+              " stable: 1/0 (-1 n/a)")
     print(f"wrote {len(table)} rows to {args.output_file}")
     for m in ("time", "fixed", "hb"):
         if m in spec.methods:
