@@ -522,9 +522,10 @@ void solverOutputs(const SolverModel *m, const SolverState *s, double nRpm, Solv
     const double Omega = m->OmegaPerRpm * nRpm;
     const double omega = m->omegaPerRpm * nRpm;
     const double K0 = m->K0static + m->K0omega2 * Omega * Omega;
-    /* f_c and C_eq carry 1/omega; with omega = 0 (no rotation) they are reported as 0 */
-    const double CeqDF = omega > 0.0 ? s->df.CeqOmega / omega : 0.0;
-    const double fc = omega > 0.0 ? s->df.fcOmega / omega : 0.0;
+    /* f_c and C_eq carry 1/omega; with omega = 0 (no rotation) they are reported as 0, and so
+     * they are when omega is so small (< ~1e-300 rad/s) that the quotient overflows */
+    const double CeqDF = omega > 0.0 && isfinite(s->df.CeqOmega / omega) ? s->df.CeqOmega / omega : 0.0;
+    const double fc = omega > 0.0 && isfinite(s->df.fcOmega / omega) ? s->df.fcOmega / omega : 0.0;
     const double sig = (double)s->side;
     out->naturalFrequency = sqrt((K0 > 0.0 ? K0 : 0.0) * m->invM) / TWO_PI;
     out->regime = (int)s->df.regime;
