@@ -86,7 +86,7 @@ def test_python_error_and_state_suites_under_asan(asan_build: tuple[Path, Path])
 def test_fuzz_under_asan(asan_build: tuple[Path, Path]) -> None:
     binary, _ = asan_build
     proc = run_python_suite(binary, ["tests/test_fmu_fuzz.py", "-k", "not long"],
-                            {"SB_FUZZ_EXAMPLES": os.environ.get("SB_ASAN_FUZZ_EXAMPLES", "150")})
+                            {"SB_FUZZ_EXAMPLES": os.environ.get("SB_ASAN_FUZZ_EXAMPLES", "300")})
     check_no_memory_errors(proc, "fuzz under ASan")
     print([ln for ln in proc.stdout.splitlines() if ln.startswith("fuzz:")])
 
