@@ -192,6 +192,27 @@ def parameter_cases() -> list[Case]:
     return cases
 
 
+def _start_value_case(name: str, value: float, expect: str) -> Case:
+    """Start value of an initial="exact" output (settable before initialization, FMI 2.0 s.4.2.4)."""
+    def run(lib: Fmi2Library) -> Outcome:
+        with Instance(lib) as c:
+            out = _sequence(c, [("fmi2SetReal", lambda: c.set_real([name], [value])),
+                                ("initialize", lambda: c.initialize()),
+                                ("fmi2DoStep x5", lambda: _steps(c, 0.0, 5))])
+            if out.status in (OK, F.WARNING) and not np.all(np.isfinite(c.outputs()[1])):
+                out.after = "outputs not finite after an OK step"
+            return out
+    return Case("start value", f"{name} = {value!r}", run, expect, name, value)
+
+
+def start_value_cases() -> list[Case]:
+    cases = []
+    for name in ("tipDisplacement", "tipVelocity", "dissipatedEnergy"):
+        cases += [_start_value_case(name, v, "refuse") for v in (math.nan, math.inf, -math.inf)]
+        cases += [_start_value_case(name, v, "either") for v in (-1.0, 1e300)]
+    return cases
+
+
 def _valid_param_case(name: str, value: float | int) -> Case:
     def run(lib: Fmi2Library) -> Outcome:
         with Instance(lib) as c:
@@ -819,7 +840,7 @@ def _set_int(b: bytes, index: int, value: int) -> bytes:
 
 
 def all_cases() -> list[Case]:
-    return (parameter_cases() + boundary_cases() + input_cases() + order_cases()
+    return (parameter_cases() + start_value_cases() + boundary_cases() + input_cases() + order_cases()
             + [_after_error_case()] + step_cases() + huge_step_cases() + stop_time_cases()
             + vr_cases() + pointer_cases() + null_component_cases() + unsupported_cases()
             + model_exchange_cases() + instantiate_cases() + resource_cases() + blob_cases())
@@ -956,7 +977,7 @@ def test_invalid_input(lib: Fmi2Library, case: Case) -> None:
         # an Error always says why (all categories are enabled in these instances); so does a
         # refused parameter, input or step (a Discard from a status query needs no message)
         if (out.status == ERROR and case.kind != "NULL component") or case.kind in (
-                "parameter", "input", "input derivative", "step", "huge step"):
+                "parameter", "start value", "input", "input derivative", "step", "huge step"):
             assert out.errors(), f"refused without a message: {where}"
         if case.kind == "call order" and case.name is not None:
             assert any(case.name in (r.message or "") or out.call in (r.message or "")
