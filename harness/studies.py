@@ -15,7 +15,7 @@ from __future__ import annotations
 import json
 import math
 import time as _time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
@@ -291,7 +291,8 @@ def fig45(fmu: Any, out: Path, params: Mapping[str, Any], speed: float, t_stop: 
 def _root_at(params: Mapping[str, Any], speed: float, settings: SweepSettings, path: str,
              cache_dir: Path | str | None) -> float:
     """The largest fixed point A(B) = B at `speed` (FMU, paper's procedure; cached like the studies)."""
-    from harness.sweep import FixedPointTask, fmu_identity, run_fixed_point
+    from harness.fixed_point import FixedPointTask, run_fixed_point
+    from harness.plateau import fmu_identity
 
     r = run_fixed_point(FixedPointTask(dict(params), speed, settings, *fmu_identity(path),
                                        None if cache_dir is None else str(cache_dir)))
@@ -522,4 +523,4 @@ def write_coulomb(out: Path, summary: dict, cent: list, coul_res: list[SweepResu
 
 
 __all__ = ["STUDIES", "SIZES", "Size", "Study", "reproduce", "study_specs", "summarize", "settling_time",
-           "paper_iteration", "replace"]
+           "paper_iteration"]

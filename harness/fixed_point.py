@@ -1,0 +1,174 @@
+"""The paper's fixed point A(B) = B at one rotor speed, with the FMU (amplitudeMode 1).
+
+A(B) is the steady max |q| of a run from rest with the amplitude fixed at B. Every root in
+(d, B_max] is bracketed on a geometric scan and refined by brentq; a sign change where A(B) jumps
+across the diagonal is reported as a "jump", not a root; the open root B = A(open) <= d comes from
+one contact-free run. With gating, a contact-free run that never reaches d is the same run for
+every B > d, so the scan is skipped there. Each A(B) is cached on disk (an interrupted run loses
+only the evaluation in progress). `fixed_refinement` bisects the speed intervals next to a curve's
+largest root where it changes a lot (the narrow low-kn peak).
+"""
+from __future__ import annotations
+
+import math
+import time as _time
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from harness.executor import PointCache, point_key
+from harness.plateau import Start, omega_of, settle, worker_fmu
+from harness.sweep_config import ALGO_VERSION, SweepSettings, SweepSpec
+
+@dataclass(frozen=True)
+class FixedPointTask:
+    params: dict
+    speed: float
+    settings: SweepSettings
+    fmu_path: str
+    fmu_hash: str
+    cache_dir: str | None
+
+
+FIXED_OUTPUTS = ["tipDisplacement", "tipVelocity", "amplitude"]
+
+
+def hermite_max_abs(t: np.ndarray, q: np.ndarray, v: np.ndarray) -> float:
+    """max |q| of the piecewise cubic Hermite interpolant through (t, q, q') (exact stationary points)."""
+    h = np.diff(t)
+    q0, q1, m0, m1 = q[:-1], q[1:], v[:-1] * h, v[1:] * h
+    # p(s) = q0 + m0 s + (3(q1-q0) - 2 m0 - m1) s^2 + (2(q0-q1) + m0 + m1) s^3,  p'(s) = 0
+    c2 = 3 * (q1 - q0) - 2 * m0 - m1
+    c3 = 2 * (q0 - q1) + m0 + m1
+    A, B, C = 3 * c3, 2 * c2, m0
+    best = float(np.max(np.abs(q)))
+    disc = B * B - 4 * A * C
+    ok = disc >= 0
+    sq = np.sqrt(np.where(ok, disc, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lin = np.abs(A) < 1e-300
+        r1 = np.where(lin, -C / np.where(B == 0, np.inf, B), (-B + sq) / (2 * A))
+        r2 = np.where(lin, np.nan, (-B - sq) / (2 * A))
+    for r in (r1, r2):
+        sel = ok & np.isfinite(r) & (r > 0) & (r < 1)
+        if np.any(sel):
+            s_ = r[sel]
+            val = q0[sel] + m0[sel] * s_ + c2[sel] * s_ ** 2 + c3[sel] * s_ ** 3
+            best = max(best, float(np.max(np.abs(val))))
+    return best
+
+
+def amplitude_for(fmu: Any, cache: PointCache, fmu_hash: str, params: dict, speed: float, B: float,
+                  s: SweepSettings, cap_factor: float = 1.0) -> dict:
+    """A(B): steady max |q| of the FMU with the amplitude fixed at B (amplitudeMode 1), from rest.
+    Also `peak_all`: max |q| over the whole run, transient included (Hermite-refined)."""
+    key = point_key(kind="A(B)", v=ALGO_VERSION, fmu=fmu_hash, params=params, speed=speed, B=B,
+                    settings=s.fixed_key(), cap_factor=cap_factor)
+    rec = cache.get(key)
+    if rec is not None:
+        return rec
+    p = dict(params, amplitudeMode=1, B=float(B))
+    t0 = _time.perf_counter()
+    data, ss, t_end, _ = settle(fmu, p, speed, Start(), s, s.fixed_max_time * cap_factor, FIXED_OUTPUTS)
+    rec = {"B": float(B), "A": float(ss.amplitude), "A_h1": float(ss.harmonic_amplitude),
+           "reached": bool(ss.reached), "rel_change": float(ss.rel_change), "sim_time": t_end,
+           "peak_all": hermite_max_abs(data["time"], data["tipDisplacement"], data["tipVelocity"]),
+           "wall": _time.perf_counter() - t0, "message": ss.message}
+    cache.put(key, rec)
+    return rec
+
+
+def linear_bound(params: Mapping[str, Any], speed: float) -> float:
+    """G Fw0 / (C0 omega) [m]: the contact-free resonant amplitude bound at this speed."""
+    from harness.reference import galerkin
+
+    g = galerkin(params, params["formulation"])
+    return g.loadGain * params["Fw0"] / (g.C0 * omega_of(params, speed))
+
+
+def run_fixed_point(task: FixedPointTask) -> dict:
+    """All roots of A(B) = B at one speed: the open root (B <= d) and every sign change of A(B) - B
+    on a geometric scan of (d, B_max], refined by brentq. Non-converged evaluations are reported."""
+    from scipy.optimize import brentq
+
+    fmu = worker_fmu(task.fmu_path)
+    cache = PointCache(None if task.cache_dir is None else Path(task.cache_dir))
+    s, p, sp = task.settings, task.params, task.speed
+    d = float(p["d"])
+    evals: list[dict] = []
+
+    def A(B: float, cap_factor: float = 1.0) -> dict:
+        r = amplitude_for(fmu, cache, task.fmu_hash, p, sp, B, s, cap_factor)
+        evals.append(r)
+        return r
+
+    roots: list[dict] = []
+    B_max = s.B_max if s.B_max is not None else 1.5 * linear_bound(p, sp)
+    # B <= d: regime open, the contact-free response; lightly damped (tau = 2M/C0 ~ 0.2 s), so it
+    # gets at least 2 s (transient down to ~1e-4 of its start)
+    open_run = A(0.5 * d, max(1.0, 2.0 / s.fixed_max_time)) if d > 0 else None
+    if open_run is not None and open_run["A"] <= d:
+        roots.append({"B": open_run["A"], "kind": "open", "reached": open_run["reached"], "slope": 0.0})
+    # With gating (and for the time-domain element, which ignores B) nothing depends on B while
+    # |q| <= d: if the contact-free run from rest never reaches d (1 % margin over the Hermite
+    # maximum), every run with B > d is the same run, A(B) = A(open) < B: no contact root.
+    skip = open_run is not None and p["gating"] and open_run["peak_all"] * 1.01 < d
+    if int(p["frictionModel"]) == 3 and not skip:
+        r = A(max(2.0 * d, 1e-9))  # the element needs no B: A(B) is one constant
+        if r["A"] > d:
+            roots.append({"B": r["A"], "kind": "contact", "reached": r["reached"], "slope": 0.0})
+        skip = True
+    B_lo = d * (1 + 1e-6) if d > 0 else B_max * 1e-4
+    if not skip and B_max > B_lo:
+        grid = np.geomspace(B_lo, B_max, s.n_scan)
+        g = [A(float(B)) for B in grid]
+        for i in range(len(grid) - 1):
+            ga, gb = g[i]["A"] - grid[i], g[i + 1]["A"] - grid[i + 1]
+            if ga == 0.0:
+                roots.append({"B": float(grid[i]), "kind": "contact", "reached": g[i]["reached"], "slope": math.nan})
+            if ga * gb >= 0:
+                continue
+            seen: list[dict] = []
+
+            def f(B: float) -> float:
+                r = A(B)
+                seen.append(r)
+                return r["A"] - B
+
+            try:
+                B = brentq(f, float(grid[i]), float(grid[i + 1]), xtol=1e-3 * max(d, 1e-9), rtol=1e-3, maxiter=30)
+                rB = A(B)
+                # A(B) continuous through the root, or a jump of A(B) across the diagonal?
+                kind = "contact" if abs(rB["A"] - B) <= 0.02 * B else "jump"
+                ok = all(r["reached"] for r in seen) and g[i]["reached"] and g[i + 1]["reached"]
+            except (RuntimeError, ValueError):
+                B, ok, kind = 0.5 * (grid[i] + grid[i + 1]), False, "jump"
+            slope = ((g[i + 1]["A"] - g[i]["A"]) / (grid[i + 1] - grid[i]))
+            roots.append({"B": float(B), "kind": kind, "reached": bool(ok), "slope": float(slope)})
+    return {"speed": float(sp), "roots": roots, "n_evals": len(evals),
+            "all_reached": all(r["reached"] for r in evals), "B_max": float(B_max)}
+
+
+def fixed_refinement(specs: Sequence[SweepSpec], fixed: list, fixed_out: list, level: int) -> list:
+    """Bisect the speed intervals next to each curve's largest fixed point where the largest root
+    changes by more than refine_tol of it (the narrow low-kn peak falls between coarse speeds)."""
+    extra = []
+    for i, sp in enumerate(specs):
+        s = sp.settings
+        if level >= s.refine_levels:
+            continue
+        pts = sorted((o["speed"], max([r["B"] for r in o["roots"] if r["kind"] != "jump"], default=0.0))
+                     for (j, _), o in zip(fixed, fixed_out) if j == i)
+        if len(pts) < 2:
+            continue
+        speeds, amps = [x for x, _ in pts], [a for _, a in pts]
+        k = int(np.argmax(amps))
+        task0 = next(t for (j, t) in fixed if j == i)
+        for a, b in ((k - 1, k), (k, k + 1)):
+            if a < 0 or b >= len(pts) or speeds[b] - speeds[a] < 2 * s.min_dn:
+                continue
+            if abs(amps[b] - amps[a]) > s.refine_tol * amps[k]:
+                extra.append((i, replace(task0, speed=0.5 * (speeds[a] + speeds[b]))))
+    return extra
