@@ -11,8 +11,6 @@ same command is run again. The configuration is checked completely before any wo
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
-
 import numpy as np
 
 from harness.executor import DEFAULT_CACHE_DIR, write_csv
