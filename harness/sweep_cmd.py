@@ -15,7 +15,8 @@ import numpy as np
 
 from harness.executor import DEFAULT_CACHE_DIR, write_csv
 
-OUT_DTYPE = [("speed", "f8"), ("method", "U9"), ("amplitude", "f8"), ("steady", "i4"), ("stable", "i4")]
+OUT_DTYPE = [("speed", "f8"), ("method", "U9"), ("amplitude", "f8"), ("band_lo", "f8"), ("band_hi", "f8"),
+             ("steady", "i4"), ("stable", "i4")]
 
 
 def add_execution_options(p: argparse.ArgumentParser) -> None:
@@ -64,10 +65,12 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 
 def to_table(res) -> np.ndarray:
-    rows = [(r["speed"], f"time-{r['direction']}", r["amplitude"], int(r["reached"]), -1) for r in res.time]
-    rows += [(r["speed"], "fixed" if r["kind"] != "jump" else "fixed-jmp", r["B"], int(r["reached"]), -1)
+    nan = float("nan")
+    rows = [(r["speed"], f"time-{r['direction']}", r["amplitude"], r["amp_lo"], r["amp_hi"], int(r["reached"]), -1)
+            for r in res.time]
+    rows += [(r["speed"], "fixed" if r["kind"] != "jump" else "fixed-jmp", r["B"], nan, nan, int(r["reached"]), -1)
              for r in res.fixed]
-    rows += [(r["speed"], "hb", r["B"], -1, int(r["stable"])) for r in res.hb]
+    rows += [(r["speed"], "hb", r["B"], nan, nan, -1, int(r["stable"])) for r in res.hb]
     return np.array(sorted(rows, key=lambda r: (r[1], r[0])), dtype=OUT_DTYPE)
 
 
@@ -89,7 +92,7 @@ def run(args: argparse.Namespace) -> int:
     with runner:
         res = sweep(spec, runner, fmu_path=args.fmu, cache_dir=None if args.no_cache else args.cache_dir)
     table = to_table(res)
-    write_csv(args.output_file, table, "speed [rpm], amplitude [m] (time-up/down: last period; fixed: root of A(B) = B,"
+    write_csv(args.output_file, table, "speed [rpm], amplitude [m] (time-up/down: last period, band_lo..band_hi: range over the final periods; fixed: root of A(B) = B,"
               " fixed-jmp: A(B) jumps across B there, no root; hb: harmonic balance); steady: 1/0 (-1 n/a);"
               " stable: 1/0 (-1 n/a)")
     print(f"wrote {len(table)} rows to {args.output_file}")
