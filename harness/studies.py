@@ -84,9 +84,9 @@ SIZES: dict[str, Size] = {
                   fig45_time=0.6, coulomb=False, iteration_steps=6),
     "default": Size("default", speeds=_grid(3000, 10000, 500), fixed_speeds=_grid(3000, 10000, 500),
                     hb_speeds=_grid(2000, 10000, 40)),
-    "full": Size("full", speeds=_grid(1000, 10000, 125), fixed_speeds=_grid(2000, 10000, 250),
+    "full": Size("full", speeds=_grid(2000, 10000, 250), fixed_speeds=_grid(2000, 10000, 250),
                  hb_speeds=_grid(100, 10000, 20),
-                 settings=SweepSettings(rtol=1e-4, max_time=2.0, refine_levels=6, min_dn=5.0, n_scan=24,
+                 settings=SweepSettings(rtol=1e-3, max_time=2.5, refine_levels=6, min_dn=5.0, n_scan=20,
                                         fixed_max_time=1.5),
                  fig45_time=2.0),
 }
