@@ -12,12 +12,15 @@ the enabled log categories, and checks after every call:
 - fmi2DoStep is refused outside "step complete" (after an fmi2Error or fmi2Discard of a step, an
   fmi2Error of fmi2ExitInitializationMode, before initialization, after fmi2Terminate), and for a
   wrong communication point or h <= 0; a valid step with valid inputs is never an fmi2Error;
-- the logger is called only for enabled categories (fmi2SetDebugLogging with a random subset:
-  only those, per FMI 2.0 section 2.1.5; loggingOn = fmi2False: none), always with our instance
-  name and a known category;
-- a changed state blob is refused unless its checksum was recomputed.
-Default: FUZZ_EXAMPLES sequences (env SB_FUZZ_EXAMPLES, default 300). The `slow` test runs
-SB_FUZZ_SLOW_EXAMPLES (default 10000). The same test runs against the AddressSanitizer build in
+- the logger is called only for enabled categories (fmi2SetDebugLogging(fmi2True, subset): only
+  those, per FMI 2.0 section 2.1.5; fmi2SetDebugLogging(fmi2False, 0 categories) or loggingOn =
+  fmi2False at instantiation: none), always with our instance name and a known category;
+- valid parameters, inputs and derivatives are accepted; a changed state blob is refused unless
+  its checksum was recomputed (then its content is validated or it is safe to use).
+Default: SB_FUZZ_EXAMPLES sequences (default 300, deterministic). The `slow` test runs
+SB_FUZZ_SLOW_EXAMPLES (default 10000, random, in chunks of 500 because hypothesis keeps per-run
+bookkeeping). SB_FUZZ_VERBOSE=1 prints how often each call returned each status. A failure
+prints the shrunk call sequence. The same test runs against the AddressSanitizer build in
 tests/test_fmu_sanitizers.py: a child pytest with LD_PRELOAD=libasan, ASAN_OPTIONS=detect_leaks=0
 and SB_FMU_BINARY pointing to build-asan/ShroudedBlade.so.
 """
