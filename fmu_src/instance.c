@@ -828,8 +828,10 @@ fmi2Status instanceDoStep(Instance *inst, double tc, double h)
         switch (st) {
         case SolverNonFinite:
             instanceLogStatus(inst, fmi2Discard, "%s: the state became non-finite near t = %.17g s (numerical "
-                              "instability: try a smaller maxStep = %g s); the step from t = %.17g s is "
-                              "discarded and the state restored", fn, tf, d->par[ParMaxStep], tc);
+                              "instability: try a smaller maxStep = %g s; a describing-function contact at low "
+                              "rotorSpeed = %g rpm is stiff since C_eq grows like 1/omega); the step from "
+                              "t = %.17g s is discarded and the state restored", fn, tf, d->par[ParMaxStep],
+                              n0, tc);
             break;
         case SolverChattering:
             instanceLogStatus(inst, fmi2Discard, "%s: more than %d switching events in one internal step near "
