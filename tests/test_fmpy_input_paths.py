@@ -129,8 +129,8 @@ def test_unpatched_fmpy_status(unzipped: str, fmpy_needs_patch: bool, record_pro
 
 
 @pytest.mark.parametrize("name", list(SCENARIOS))
-def test_input_derivatives_closer_to_reference(unzipped: str, fmpy_needs_patch: bool, name: str,
-                                               monkeypatch: pytest.MonkeyPatch, record_property) -> None:  # noqa: ANN001
+def test_input_derivatives_closer_to_reference(unzipped: str, fmpy_needs_patch: bool, name: str,  # noqa: ANN001
+                                               monkeypatch: pytest.MonkeyPatch, record_property) -> None:
     options, speed = SCENARIOS[name]
     p = validate(options)
     aero = AeroLoad(p["Fw0"], p["engineOrder"], speed)
