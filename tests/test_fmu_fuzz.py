@@ -31,7 +31,7 @@ import os
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, settings
+from hypothesis import HealthCheck, seed, settings
 from hypothesis import strategies as st
 from hypothesis.stateful import Bundle, RuleBasedStateMachine, consumes, initialize, rule
 
@@ -521,18 +521,19 @@ CHUNK = 500  # hypothesis keeps per-run bookkeeping (~0.25 MB per sequence): lon
 
 
 def _run(examples: int, randomize: bool = False) -> None:
-    """Runs `examples` sequences (in chunks of CHUNK); deterministic unless randomize or
-    SB_FUZZ_RANDOM is set (a failure prints the shrunk call sequence either way)."""
+    """Runs `examples` sequences (in chunks of CHUNK); reproducible (chunk k uses seed k, so the
+    chunks differ) unless randomize or SB_FUZZ_RANDOM is set (a failure prints the shrunk call
+    sequence either way)."""
     FmuMachine.sequences = FmuMachine.calls = FmuMachine.steps_ok = 0
     FmuMachine.outcomes = {}
     randomize = randomize or os.environ.get("SB_FUZZ_RANDOM") is not None
-    left = examples
+    left, chunk = examples, 0
     while left > 0:
         n = min(CHUNK, left)
-        test = FmuMachine.TestCase
+        test = (FmuMachine if randomize else seed(chunk)(FmuMachine)).TestCase
+        chunk += 1
         test.settings = settings(max_examples=n, stateful_step_count=STEPS_PER_SEQUENCE,
-                                 deadline=None, derandomize=not randomize,
-                                 suppress_health_check=list(HealthCheck), database=None)
+                                 deadline=None, suppress_health_check=list(HealthCheck), database=None)
         test("runTest").runTest()
         left -= n
     print(f"\nfuzz: {FmuMachine.sequences} sequences, {FmuMachine.calls} FMI calls, "
@@ -557,4 +558,4 @@ def test_fuzz_fmi_sequences(lib: Fmi2Library) -> None:
 
 @pytest.mark.slow
 def test_fuzz_fmi_sequences_long(lib: Fmi2Library) -> None:
-    _run(FUZZ_SLOW_EXAMPLES, randomize=True)
+    _run(FUZZ_SLOW_EXAMPLES)
