@@ -61,7 +61,6 @@ int solverBuildModel(SolverModel *m, const BladeReduction *r, const ContactParam
     m->gating = gating ? 1 : 0;
     m->tracked = tracked ? 1 : 0;
     m->contact = *cp;
-    m->M = r->M;
     m->invM = 1.0 / r->M;
     m->C0 = r->C0;
     m->K0static = r->K0static;
@@ -75,6 +74,7 @@ int solverBuildModel(SolverModel *m, const BladeReduction *r, const ContactParam
     m->kd = cp->kdRatio * cp->kn;
     m->knCos = cp->kn * m->cosG;
     m->muKnCos = cp->mu * cp->kn * m->cosG;
+    m->muKnCosPerKd = m->muKnCos / m->kd;
     /* model-notes s.2: slip at entry iff kd sin g > mu kn cos g */
     m->stickAtEntry = !(m->kd * m->sinG > m->muKnCos);
     return 0;
@@ -136,7 +136,8 @@ SolverStatus solverInitState(const SolverModel *m, SolverState *s, double q0, do
     return solverUpdateDescribe(m, s);
 }
 
-int solverGateOn(const SolverModel *m, const SolverState *s)
+/* 1 if the contact force is switched on in s (DF: gate on or gating off; Jenkins: in contact). */
+static int gateOn(const SolverModel *m, const SolverState *s)
 {
     if (m->friction == FrictionMacroslipTD) return s->mode != ContactOpen;
     return s->mode == 1;
@@ -170,7 +171,7 @@ static inline int rhs(const SolverModel *m, const SolverState *s, double fw, dou
             const double Fn = m->knCos * (q - sig * m->d);
             const double Ff = sd * m->muKnCos * (sig * q - m->d); /* F_f = s mu |F_n| */
             Fc = Fn * m->cosG + Ff * m->sinG;
-            dw = (m->sinG - sd * sig * m->muKnCos / m->kd) * v; /* w = Delta_u - s L / k_d */
+            dw = (m->sinG - sd * sig * m->muKnCosPerKd) * v; /* w = Delta_u - s L / k_d */
             P = Ff * dw;
             break;
         }
@@ -319,7 +320,7 @@ static Ev detect(const SolverModel *m, const SolverState *s, double h, const dou
 
     const int contactModel = m->friction == FrictionMacroslipTD;
     if (contactModel || m->gating) {
-        const int inside = contactModel ? s->mode != ContactOpen : s->mode == 1;
+        const int inside = gateOn(m, s);
         const double d = m->d;
         if (inside) {
             const double sg = (double)s->side;
@@ -454,8 +455,9 @@ SolverStatus solverAdvance(const SolverModel *m, SolverState *s, const SolverInp
         const double tauB = (k + 1 == nSteps) ? h : (double)(k + 1) * hi;
         int events = 0;
         tau0 = (double)k * hi;
-        for (;;) {
-            double theta;
+        for (;;) { /* the internal step [tau0, tauB], cut at every event inside it */
+            SolverEventKind kind = SolverEventGateOn;
+            double theta, hs, tAbs, tol, te;
             Ev ev;
             if (!f0Valid) {
                 const double fw0 = inputAt(in, SOLVER_INPUT_AERO, tau0), n0 = inputAt(in, SOLVER_INPUT_SPEED, tau0);
@@ -467,42 +469,39 @@ SolverStatus solverAdvance(const SolverModel *m, SolverState *s, const SolverInp
             if (rk4(m, s, in, tau0, tauB, x0, f0, x1, &fwB, &nB)) { status = SolverOmegaZero; break; }
             if (!allFinite(x1)) { status = SolverNonFinite; break; }
             if (rhs(m, s, fwB, nB, x1, f1)) { status = SolverOmegaZero; break; } /* FSAL: next k1 */
-            {
-                const double hs = tauB - tau0;
-                const double tAbs = fabs(tStart + tau0);
-                double tol = 1e-15 * (tAbs > hs ? tAbs : hs) / hs; /* ~1e-15 relative in time */
-                if (tol < 4.0 * DBL_EPSILON) tol = 4.0 * DBL_EPSILON;
-                ev = detect(m, s, hs, x0, f0, x1, f1, tol, &theta);
-                if (ev == EvNone) {
-                    storeX(s, x1);
-                    memcpy(x0, x1, sizeof x0);
-                    memcpy(f0, f1, sizeof f0);
-                    ++nAccepted;
-                    break;
-                } else {
-                    SolverEventKind kind = SolverEventGateOn;
-                    double te = tau0 + theta * hs;
-                    if (theta >= 1.0 || te >= tauB) {
-                        te = tauB;
-                        storeX(s, x1);
-                    } else if (te > tau0) {
-                        double xe[SOLVER_NX], fwE, nE;
-                        nRhs += 3;
-                        if (rk4(m, s, in, tau0, te, x0, f0, xe, &fwE, &nE)) { status = SolverOmegaZero; break; }
-                        if (!allFinite(xe)) { status = SolverNonFinite; break; }
-                        storeX(s, xe);
-                    } /* else: te == tau0, the switch happens at the step start */
-                    ++nEvents;
-                    status = applyEvent(m, s, ev, &kind);
-                    if (status != SolverOk) break;
-                    if (hook) hook(ctx, kind, tStart + te, s);
-                    loadX(s, x0);
-                    f0Valid = 0;
-                    tau0 = te;
-                    if (++events > SOLVER_MAX_EVENTS_PER_STEP) { status = SolverChattering; break; }
-                    if (te >= tauB) { ++nAccepted; break; }
-                }
+            hs = tauB - tau0;
+            tAbs = fabs(tStart + tau0);
+            tol = 1e-15 * (tAbs > hs ? tAbs : hs) / hs; /* ~1e-15 relative in time */
+            if (tol < 4.0 * DBL_EPSILON) tol = 4.0 * DBL_EPSILON;
+            ev = detect(m, s, hs, x0, f0, x1, f1, tol, &theta);
+            if (ev == EvNone) { /* no switch: accept the whole step */
+                storeX(s, x1);
+                memcpy(x0, x1, sizeof x0);
+                memcpy(f0, f1, sizeof f0);
+                ++nAccepted;
+                break;
             }
+            /* redo the step up to the switching instant te, then update the discrete state */
+            te = tau0 + theta * hs;
+            if (theta >= 1.0 || te >= tauB) {
+                te = tauB;
+                storeX(s, x1);
+            } else if (te > tau0) {
+                double xe[SOLVER_NX], fwE, nE;
+                nRhs += 3;
+                if (rk4(m, s, in, tau0, te, x0, f0, xe, &fwE, &nE)) { status = SolverOmegaZero; break; }
+                if (!allFinite(xe)) { status = SolverNonFinite; break; }
+                storeX(s, xe);
+            } /* else: te == tau0, the switch happens at the step start */
+            ++nEvents;
+            status = applyEvent(m, s, ev, &kind);
+            if (status != SolverOk) break;
+            if (hook) hook(ctx, kind, tStart + te, s);
+            loadX(s, x0);
+            f0Valid = 0;
+            tau0 = te;
+            if (++events > SOLVER_MAX_EVENTS_PER_STEP) { status = SolverChattering; break; }
+            if (te >= tauB) { ++nAccepted; break; }
         }
     }
     if (counters) {
@@ -550,7 +549,7 @@ void solverOutputs(const SolverModel *m, const SolverState *s, double nRpm, Solv
             break;
         }
     } else {
-        const int g = solverGateOn(m, s);
+        const int g = gateOn(m, s);
         out->normalForce = g ? s->df.pk * s->q : 0.0;
         out->frictionForce = g ? s->df.fk * s->q + fc * s->v : 0.0;
         out->Keq = g ? s->df.Keq : 0.0;

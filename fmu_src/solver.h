@@ -47,8 +47,7 @@ typedef struct {
     int tracked;              /* 1: amplitudeMode 2 (model-notes s.3) */
     ContactParams contact;    /* kn, kdRatio, mu, gamma, d */
     /* blade, eq. 26 / MODEL.md s.2 */
-    double M;                 /* generalized mass [kg] */
-    double invM;              /* 1/M [1/kg] */
+    double invM;              /* 1/M, M the generalized mass [1/kg] */
     double C0;                /* generalized viscous damping [N s/m] */
     double K0static;          /* K0 at Omega = 0 [N/m] */
     double K0omega2;          /* dK0/d(Omega^2) [kg] */
@@ -61,6 +60,7 @@ typedef struct {
     double kd;                /* tangential stiffness kdRatio kn [N/m] */
     double knCos;             /* kn cos(gamma): F_n = knCos (q - sigma d) [N/m] */
     double muKnCos;           /* mu kn cos(gamma): L = muKnCos (sigma q - d) [N/m] */
+    double muKnCosPerKd;      /* muKnCos / kd [-]: slip rate w' = (sin g - s sigma muKnCosPerKd) q' */
     int stickAtEntry;         /* 1 if kd tan(gamma) <= mu kn: contact starts in stick */
 } SolverModel;
 
@@ -139,8 +139,5 @@ typedef struct {
 
 /* Outputs for state s at rotor speed nRpm [rpm]. */
 void solverOutputs(const SolverModel *m, const SolverState *s, double nRpm, SolverOutputs *out);
-
-/* 1 if the DF contact force is switched on in s (gate on or gating off). */
-int solverGateOn(const SolverModel *m, const SolverState *s);
 
 #endif
