@@ -3,8 +3,10 @@
 A(B) is the steady max |q| of a run from rest with the amplitude fixed at B. Every root in
 (d, B_max] is bracketed on a geometric scan and refined by brentq; a sign change where A(B) jumps
 across the diagonal is reported as a "jump", not a root; the open root B = A(open) <= d comes from
-one contact-free run. With gating, a contact-free run that never reaches d is the same run for
-every B > d, so the scan is skipped there. Each A(B) is cached on disk (an interrupted run loses
+one contact-free run (run with the tracked amplitude, whose exact period maxima tell whether it
+ever reaches d). With gating, a contact-free run that never reaches d is the same run for every
+B > d, so the scan is skipped there. A(B) is the max |q| of one extra, finely sampled period at
+the end of the run (`plateau.period_peak`). Each A(B) is cached on disk (an interrupted run loses
 only the evaluation in progress). `fixed_refinement` bisects the speed intervals next to a curve's
 largest root where it changes a lot (the narrow low-kn peak).
 """
@@ -19,7 +21,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from harness.executor import PointCache, point_key
-from harness.plateau import Start, omega_of, settle, worker_fmu
+from harness.plateau import Start, omega_of, period_peak, settle, worker_fmu
 from harness.sweep_config import ALGO_VERSION, SweepSettings, SweepSpec
 
 @dataclass(frozen=True)
@@ -61,21 +63,29 @@ def hermite_max_abs(t: np.ndarray, q: np.ndarray, v: np.ndarray) -> float:
 
 
 def amplitude_for(fmu: Any, cache: PointCache, fmu_hash: str, params: dict, speed: float, B: float,
-                  s: SweepSettings, cap_factor: float = 1.0) -> dict:
+                  s: SweepSettings, cap_factor: float = 1.0, tracked: bool = False) -> dict:
     """A(B): steady max |q| of the FMU with the amplitude fixed at B (amplitudeMode 1), from rest.
-    Also `peak_all`: max |q| over the whole run, transient included (Hermite-refined)."""
+    Also `peak_all`: max |q| over the whole run, transient included (Hermite-refined, as coarse as
+    the steps). tracked=True runs amplitudeMode 2 from B instead: A and peak_all are then the FMU's
+    exact period maxima (its `amplitude` output: the last one, the largest one)."""
     key = point_key(kind="A(B)", v=ALGO_VERSION, fmu=fmu_hash, params=params, speed=speed, B=B,
-                    settings=s.fixed_key(), cap_factor=cap_factor)
+                    settings=s.fixed_key(), cap_factor=cap_factor, tracked=tracked)
     rec = cache.get(key)
     if rec is not None:
         return rec
-    p = dict(params, amplitudeMode=1, B=float(B))
+    p = dict(params, amplitudeMode=2 if tracked else 1, B=float(B))
     t0 = _time.perf_counter()
-    data, ss, t_end, _ = settle(fmu, p, speed, Start(), s, s.fixed_max_time * cap_factor, FIXED_OUTPUTS)
-    rec = {"B": float(B), "A": float(ss.amplitude), "A_h1": float(ss.harmonic_amplitude),
+    data, ss, t_end, phase = settle(fmu, p, speed, Start(), s, s.fixed_max_time * cap_factor, FIXED_OUTPUTS)
+    if tracked:
+        A, peak = float(data["amplitude"][-1]), float(np.max(data["amplitude"]))
+    else:
+        # the period maximum from one more, finely sampled period (the coarse steps of the settling
+        # run would leave a Hermite error of ~1e-1 at 2 steps per period)
+        A = period_peak(fmu, p, speed, t_end, phase, s)
+        peak = max(A, hermite_max_abs(data["time"], data["tipDisplacement"], data["tipVelocity"]))
+    rec = {"B": float(B), "A": A, "A_h1": float(ss.harmonic_amplitude),
            "reached": bool(ss.reached), "rel_change": float(ss.rel_change), "sim_time": t_end,
-           "peak_all": hermite_max_abs(data["time"], data["tipDisplacement"], data["tipVelocity"]),
-           "wall": _time.perf_counter() - t0, "message": ss.message}
+           "peak_all": peak, "wall": _time.perf_counter() - t0, "message": ss.message}
     cache.put(key, rec)
     return rec
 
@@ -99,22 +109,33 @@ def run_fixed_point(task: FixedPointTask) -> dict:
     d = float(p["d"])
     evals: list[dict] = []
 
-    def A(B: float, cap_factor: float = 1.0) -> dict:
-        r = amplitude_for(fmu, cache, task.fmu_hash, p, sp, B, s, cap_factor)
+    def A(B: float, cap_factor: float = 1.0, tracked: bool = False) -> dict:
+        r = amplitude_for(fmu, cache, task.fmu_hash, p, sp, B, s, cap_factor, tracked)
         evals.append(r)
         return r
 
     roots: list[dict] = []
     B_max = s.B_max if s.B_max is not None else 1.5 * linear_bound(p, sp)
     # B <= d: regime open, the contact-free response; lightly damped (tau = 2M/C0 ~ 0.2 s), so it
-    # gets at least 2 s (transient down to ~1e-4 of its start)
-    open_run = A(0.5 * d, max(1.0, 2.0 / s.fixed_max_time)) if d > 0 else None
+    # gets at least 2 s (transient down to ~1e-4 of its start). It runs with the tracked amplitude
+    # from B = d/2: while the period maxima stay <= d that is the very same open run as with B
+    # fixed <= d, and the FMU reports each period maximum exactly (its `amplitude` output), so
+    # whether the transient ever reaches d is known exactly. If it does, the tracked run leaves the
+    # open regime (B > d from the next period end on), and the open run is redone with B fixed
+    # (not needed for the time-domain element, which ignores B).
+    open_run = touched = None
+    if d > 0:
+        cap = max(1.0, 2.0 / s.fixed_max_time)
+        open_run = A(0.5 * d, cap, tracked=True)
+        touched = open_run["peak_all"] >= d
+        if touched and int(p["frictionModel"]) != 3:
+            open_run = A(0.5 * d, cap)
     if open_run is not None and open_run["A"] <= d:
         roots.append({"B": open_run["A"], "kind": "open", "reached": open_run["reached"], "slope": 0.0})
-    # With gating (and for the time-domain element, which ignores B) nothing depends on B while
-    # |q| <= d: if the contact-free run from rest never reaches d (1 % margin over the Hermite
-    # maximum), every run with B > d is the same run, A(B) = A(open) < B: no contact root.
-    skip = open_run is not None and p["gating"] and open_run["peak_all"] * 1.01 < d
+    # With gating (and for the time-domain element) nothing depends on B while |q| <= d: if the
+    # contact-free run from rest never reaches d, every run with B > d is the same run,
+    # A(B) = A(open) < B: no contact root.
+    skip = open_run is not None and (p["gating"] or int(p["frictionModel"]) == 3) and not touched
     if int(p["frictionModel"]) == 3 and not skip:
         r = A(max(2.0 * d, 1e-9))  # the element needs no B: A(B) is one constant
         if r["A"] > d:

@@ -34,7 +34,7 @@ from harness.sweep_config import (ALGO_VERSION, DIRECTIONS, MAX_RPM, METHODS, Co
                                   SweepSettings, SweepSpec, parse_speed_range, validate_settings,
                                   validate_spec)
 
-TIME_OUTPUTS = ["tipDisplacement", "amplitude"]
+TIME_OUTPUTS = ["tipDisplacement", "tipVelocity", "amplitude"]
 
 
 def plateau(fmu: Any, cache: PointCache, fmu_hash: str, params: dict, speed: float, start: Start,
@@ -54,7 +54,7 @@ def plateau(fmu: Any, cache: PointCache, fmu_hash: str, params: dict, speed: flo
     rec = {
         "key": key, "speed": float(speed), "amplitude": float(data["amplitude"][-1]),
         "amp_lo": float(np.min(data["amplitude"][-window:])), "amp_hi": float(np.max(data["amplitude"][-window:])),
-        "amp_samples": float(ss.amplitude), "amp_h1": float(ss.harmonic_amplitude),
+        "amp_h1": float(ss.harmonic_amplitude),
         "reached": bool(ss.reached), "rel_change": float(ss.rel_change),
         "t_settle": float(ss.t_steady - start.time) if ss.reached else math.nan,
         "sim_time": float(t_end - start.time), "contact": int(data["amplitude"][-1] > params["d"]),

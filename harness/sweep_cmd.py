@@ -14,6 +14,7 @@ import argparse
 import numpy as np
 
 from harness.executor import DEFAULT_CACHE_DIR, write_csv
+from harness.sweep_config import SweepSettings
 
 OUT_DTYPE = [("speed", "f8"), ("method", "U9"), ("amplitude", "f8"), ("band_lo", "f8"), ("band_hi", "f8"),
              ("steady", "i4"), ("stable", "i4")]
@@ -41,6 +42,9 @@ def make_runner(args: argparse.Namespace):
     return Runner(workers=args.workers, scheduler=args.scheduler, progress=not args.quiet)
 
 
+_DEFAULTS = SweepSettings()
+
+
 def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--speeds", default="3000:10000:250", metavar="RANGE",
                    help="coarse speed grid [rpm], start:stop:step or a comma list (default 3000:10000:250)")
@@ -51,14 +55,16 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--fixed-speeds", metavar="RANGE", help="speeds for --method fixed (default: --speeds)")
     p.add_argument("--start-values", nargs="+", default=[], metavar="NAME VALUE",
                    help="parameter name-value pairs, e.g. `--start-values d 4e-5 kn 1e6`")
-    p.add_argument("--rtol", type=float, default=1e-2,
-                   help="steady-state tolerance per plateau (default 1e-2; the estimate is conservative)")
-    p.add_argument("--max-time", type=float, default=1.0, metavar="S",
-                   help="simulated-time cap per speed plateau [s] (default 1.0)")
+    p.add_argument("--rtol", type=float, default=_DEFAULTS.rtol,
+                   help="steady-state tolerance per plateau: estimated relative distance from the periodic "
+                        f"limit (default {_DEFAULTS.rtol:g})")
+    p.add_argument("--max-time", type=float, default=_DEFAULTS.max_time, metavar="S",
+                   help=f"simulated-time cap per speed plateau [s] (default {_DEFAULTS.max_time:g})")
     p.add_argument("--refine", type=int, default=4, metavar="LEVELS",
                    help="bisection rounds near peaks and jumps (default 4, 0 = fixed grid)")
-    p.add_argument("--steps-per-period", type=int, default=8, metavar="N",
-                   help="communication steps per excitation period, >= 8 (default 8, with 8 input derivatives)")
+    p.add_argument("--steps-per-period", type=int, default=_DEFAULTS.steps_per_period, metavar="N",
+                   help="communication steps per excitation period, >= 4 (default "
+                        f"{_DEFAULTS.steps_per_period}, with 8 input derivatives)")
     p.add_argument("--output-file", default="sweep.csv", metavar="CSV", help="result table (default sweep.csv)")
     p.add_argument("--plot", metavar="PNG", help="also plot the curves to this PNG file")
     add_execution_options(p)
@@ -78,7 +84,7 @@ def run(args: argparse.Namespace) -> int:
     from harness import plots
     from harness.params import validate
     from harness.simulate_cmd import parse_start_values
-    from harness.sweep import SweepSettings, SweepSpec, parse_speed_range, sweep, validate_spec
+    from harness.sweep import SweepSpec, parse_speed_range, sweep, validate_spec
 
     params = validate(parse_start_values(args.start_values), source="--start-values")
     settings = SweepSettings(rtol=args.rtol, max_time=args.max_time, refine_levels=args.refine,
