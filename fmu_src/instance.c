@@ -419,7 +419,7 @@ static double outputValue(const Instance *inst, const VarInfo *v, const SolverOu
     return 0.0;
 }
 
-/* Value of any variable as a double; *needsOutputs tells the caller to evaluate outputs first. */
+/* Value of any variable as a double; o holds the outputs (read only for outputs). */
 static double variableValue(const Instance *inst, const VarInfo *v, const SolverOutputs *o)
 {
     const InstanceData *d = &inst->d;
@@ -446,8 +446,28 @@ static const VarInfo *lookup(Instance *inst, const char *fn, fmi2ValueReference 
     return v;
 }
 
+/* Element i of a caller's fmi2Real/fmi2Integer/fmi2Boolean array, read or written as a double. */
+static double readValue(VarType type, const void *values, size_t i)
+{
+    switch (type) {
+    case TypeReal: return ((const fmi2Real *)values)[i];
+    case TypeInteger: return (double)((const fmi2Integer *)values)[i];
+    default: return ((const fmi2Boolean *)values)[i] ? 1.0 : 0.0; /* any nonzero is true */
+    }
+}
+
+static void writeValue(VarType type, void *values, size_t i, double x)
+{
+    switch (type) {
+    case TypeReal: ((fmi2Real *)values)[i] = x; break;
+    case TypeInteger: ((fmi2Integer *)values)[i] = (fmi2Integer)x; break;
+    default: ((fmi2Boolean *)values)[i] = x != 0.0 ? fmi2True : fmi2False; break;
+    }
+}
+
+/* Unknown or mistyped references give 0 and fmi2Error, the others are still read. */
 static fmi2Status getValues(Instance *inst, const char *fn, const fmi2ValueReference vr[],
-                            size_t nvr, VarType type, double out[])
+                            size_t nvr, VarType type, void *out)
 {
     fmi2Status status = fmi2OK;
     SolverOutputs o;
@@ -457,7 +477,7 @@ static fmi2Status getValues(Instance *inst, const char *fn, const fmi2ValueRefer
         const VarInfo *v = lookup(inst, fn, vr[i], type);
         if (v == NULL) {
             status = fmi2Error;
-            out[i] = 0.0;
+            writeValue(type, out, i, 0.0);
             continue;
         }
         if (v->causality == CausOutput && !haveOutputs) {
@@ -465,7 +485,7 @@ static fmi2Status getValues(Instance *inst, const char *fn, const fmi2ValueRefer
             solverOutputs(&inst->d.model, &inst->d.solver, inst->d.in[SOLVER_INPUT_SPEED][0], &o);
             haveOutputs = 1;
         }
-        out[i] = variableValue(inst, v, &o);
+        writeValue(type, out, i, variableValue(inst, v, &o));
     }
     return status;
 }
@@ -475,39 +495,21 @@ fmi2Status instanceGetReal(Instance *inst, const char *fn, const fmi2ValueRefere
     return getValues(inst, fn, vr, nvr, TypeReal, value);
 }
 
-/* Integer and Boolean go through a small stack buffer in chunks. */
-#define CHUNK 64
 fmi2Status instanceGetInteger(Instance *inst, const char *fn, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[])
 {
-    fmi2Status status = fmi2OK;
-    double buf[CHUNK];
-    for (size_t i0 = 0; i0 < nvr; i0 += CHUNK) {
-        const size_t n = nvr - i0 < CHUNK ? nvr - i0 : CHUNK;
-        const fmi2Status s = getValues(inst, fn, vr + i0, n, TypeInteger, buf);
-        for (size_t i = 0; i < n; ++i) value[i0 + i] = (fmi2Integer)buf[i];
-        if (s > status) status = s;
-    }
-    return status;
+    return getValues(inst, fn, vr, nvr, TypeInteger, value);
 }
 
 fmi2Status instanceGetBoolean(Instance *inst, const char *fn, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[])
 {
-    fmi2Status status = fmi2OK;
-    double buf[CHUNK];
-    for (size_t i0 = 0; i0 < nvr; i0 += CHUNK) {
-        const size_t n = nvr - i0 < CHUNK ? nvr - i0 : CHUNK;
-        const fmi2Status s = getValues(inst, fn, vr + i0, n, TypeBoolean, buf);
-        for (size_t i = 0; i < n; ++i) value[i0 + i] = buf[i] != 0.0 ? fmi2True : fmi2False;
-        if (s > status) status = s;
-    }
-    return status;
+    return getValues(inst, fn, vr, nvr, TypeBoolean, value);
 }
 
 /* May v be set now? Logs and returns 0 if not. */
 static int settable(Instance *inst, const char *fn, const VarInfo *v)
 {
     const int32_t fsm = inst->d.fsm;
-    const int before = fsm == FsmInstantiated || fsm == FsmInitializationMode;
+    const int before = preInit(&inst->d);
     if (v->causality == CausInput) return 1; /* the call-sequence mask already restricts states */
     if (v->causality == CausParameter) {
         if (before) return 1;
@@ -570,17 +572,19 @@ static void applyValue(Instance *inst, const VarInfo *v, double x)
     }
 }
 
+/* Atomic: every value is validated before any is applied. */
 static fmi2Status setValues(Instance *inst, const char *fn, const fmi2ValueReference vr[],
-                            size_t nvr, VarType type, const double x[])
+                            size_t nvr, VarType type, const void *values)
 {
     int anyInput = 0;
-    for (size_t i = 0; i < nvr; ++i) { /* validate all first: atomic */
+    for (size_t i = 0; i < nvr; ++i) {
         const VarInfo *v = lookup(inst, fn, vr[i], type);
-        if (v == NULL || !settable(inst, fn, v) || !validValue(inst, fn, v, x[i])) return fmi2Error;
+        if (v == NULL || !settable(inst, fn, v) || !validValue(inst, fn, v, readValue(type, values, i)))
+            return fmi2Error;
     }
     for (size_t i = 0; i < nvr; ++i) {
         const VarInfo *v = findVar(vr[i]);
-        applyValue(inst, v, x[i]);
+        applyValue(inst, v, readValue(type, values, i));
         anyInput |= v->causality == CausInput;
     }
     if (anyInput) refreshInputs(inst);
@@ -594,40 +598,12 @@ fmi2Status instanceSetReal(Instance *inst, const char *fn, const fmi2ValueRefere
 
 fmi2Status instanceSetInteger(Instance *inst, const char *fn, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[])
 {
-    double buf[CHUNK];
-    /* atomic over chunks: validate everything before applying anything */
-    for (size_t i0 = 0; i0 < nvr; i0 += CHUNK) {
-        const size_t n = nvr - i0 < CHUNK ? nvr - i0 : CHUNK;
-        for (size_t i = 0; i < n; ++i) {
-            const VarInfo *v = lookup(inst, fn, vr[i0 + i], TypeInteger);
-            if (v == NULL || !settable(inst, fn, v) || !validValue(inst, fn, v, (double)value[i0 + i]))
-                return fmi2Error;
-        }
-    }
-    for (size_t i0 = 0; i0 < nvr; i0 += CHUNK) {
-        const size_t n = nvr - i0 < CHUNK ? nvr - i0 : CHUNK;
-        for (size_t i = 0; i < n; ++i) buf[i] = (double)value[i0 + i];
-        if (setValues(inst, fn, vr + i0, n, TypeInteger, buf) != fmi2OK) return fmi2Error;
-    }
-    return fmi2OK;
+    return setValues(inst, fn, vr, nvr, TypeInteger, value);
 }
 
 fmi2Status instanceSetBoolean(Instance *inst, const char *fn, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[])
 {
-    double buf[CHUNK];
-    for (size_t i0 = 0; i0 < nvr; i0 += CHUNK) {
-        const size_t n = nvr - i0 < CHUNK ? nvr - i0 : CHUNK;
-        for (size_t i = 0; i < n; ++i) {
-            const VarInfo *v = lookup(inst, fn, vr[i0 + i], TypeBoolean);
-            if (v == NULL || !settable(inst, fn, v)) return fmi2Error;
-        }
-    }
-    for (size_t i0 = 0; i0 < nvr; i0 += CHUNK) {
-        const size_t n = nvr - i0 < CHUNK ? nvr - i0 : CHUNK;
-        for (size_t i = 0; i < n; ++i) buf[i] = value[i0 + i] ? 1.0 : 0.0; /* any nonzero is true */
-        if (setValues(inst, fn, vr + i0, n, TypeBoolean, buf) != fmi2OK) return fmi2Error;
-    }
-    return fmi2OK;
+    return setValues(inst, fn, vr, nvr, TypeBoolean, value);
 }
 
 fmi2Status instanceSetInputDerivatives(Instance *inst, const fmi2ValueReference vr[], size_t nvr,
