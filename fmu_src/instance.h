@@ -1,6 +1,7 @@
-/* ShroudedBlade FMU instance: all state of one instance (no globals), parameters with start values
- * and validation, initialization, the communication step, FMU state copy and serialization.
- * The FMI 2.0 entry points (fmi2_api.c) check call sequence and pointers, then call these. */
+/* ShroudedBlade FMU instance: all state of one instance (no globals) and what the FMI 2.0 entry
+ * points (fmi2_api.c) call after checking call sequence and pointers. Implemented in instance.c
+ * (lifecycle, initialization, the communication step), variables.c (start values, validation,
+ * get/set), fmu_state.c (FMU state copies, serialization) and logging.c. */
 #ifndef INSTANCE_H
 #define INSTANCE_H
 
@@ -93,7 +94,7 @@ Instance *instanceNew(const char *instanceName, const char *resourceLocation,
 void instanceFree(Instance *inst);
 void instanceReset(Instance *inst); /* start values, solver memory, time 0; keeps logging */
 
-/* Logging: only enabled categories reach the logger (logAll enables all). */
+/* Logging (logging.c): only enabled categories reach the logger (logAll enables all). */
 int instanceLogEnabled(const Instance *inst, int category);
 #if defined(__GNUC__)
 __attribute__((format(printf, 4, 5)))
@@ -105,8 +106,8 @@ __attribute__((format(printf, 3, 4)))
 #endif
 void instanceLogStatus(Instance *inst, fmi2Status status, const char *fmt, ...);
 
-/* Variable access (arrays; fn names the FMI function for messages). Set* is atomic: either all
- * values are valid and applied, or nothing changes. */
+/* Variable access (variables.c; arrays; fn names the FMI function for messages). Set* is atomic:
+ * either all values are valid and applied, or nothing changes. */
 fmi2Status instanceGetReal(Instance *inst, const char *fn, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]);
 fmi2Status instanceGetInteger(Instance *inst, const char *fn, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[]);
 fmi2Status instanceGetBoolean(Instance *inst, const char *fn, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[]);
@@ -126,7 +127,7 @@ fmi2Status instanceExitInitialization(Instance *inst);
 /* The communication step (model-notes s.1, s.6). fmi2Discard: state restored to the step start. */
 fmi2Status instanceDoStep(Instance *inst, double currentCommunicationPoint, double h);
 
-/* FMU states. */
+/* FMU states (fmu_state.c). */
 fmi2Status instanceGetState(Instance *inst, fmi2FMUstate *state);
 fmi2Status instanceSetState(Instance *inst, fmi2FMUstate state);
 fmi2Status instanceFreeState(Instance *inst, fmi2FMUstate *state);
