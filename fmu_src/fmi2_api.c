@@ -46,6 +46,17 @@ static Instance *enterAs(fmi2Component c, const char *fn, int mask, int logCall)
 
 static Instance *enter(fmi2Component c, const char *fn, int mask) { return enterAs(c, fn, mask, 1); }
 
+/* enter() for a function with a required pointer argument: ok = 0 logs "<fn>: <what> is NULL". */
+static Instance *enterNonNull(fmi2Component c, const char *fn, int mask, int ok, const char *what)
+{
+    Instance *inst = enter(c, fn, mask);
+    if (inst != NULL && !ok) {
+        instanceLogStatus(inst, fmi2Error, "%s: %s is NULL", fn, what);
+        return NULL;
+    }
+    return inst;
+}
+
 static int nullArgs(Instance *inst, const char *fn, size_t nvr, const void *a, const void *b)
 {
     if (nvr > 0 && (a == NULL || b == NULL)) {
@@ -279,60 +290,41 @@ fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
 fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
 {
     const char *fn = "fmi2GetFMUstate";
-    Instance *inst = enter(c, fn, MASK_FMUstate);
+    Instance *inst = enterNonNull(c, fn, MASK_FMUstate, FMUstate != NULL, "FMUstate");
     if (inst == NULL) return fmi2Error;
-    if (FMUstate == NULL) {
-        instanceLogStatus(inst, fmi2Error, "%s: FMUstate is NULL", fn);
-        return fmi2Error;
-    }
     return instanceGetState(inst, FMUstate);
 }
 
 fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate)
 {
     const char *fn = "fmi2SetFMUstate";
-    Instance *inst = enter(c, fn, MASK_FMUstate);
+    Instance *inst = enterNonNull(c, fn, MASK_FMUstate, FMUstate != NULL, "FMUstate");
     if (inst == NULL) return fmi2Error;
-    if (FMUstate == NULL) {
-        instanceLogStatus(inst, fmi2Error, "%s: FMUstate is NULL", fn);
-        return fmi2Error;
-    }
     return instanceSetState(inst, FMUstate);
 }
 
 fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
 {
     const char *fn = "fmi2FreeFMUstate";
-    Instance *inst = enter(c, fn, MASK_FMUstate);
+    Instance *inst = enterNonNull(c, fn, MASK_FMUstate, FMUstate != NULL, "FMUstate");
     if (inst == NULL) return fmi2Error;
-    if (FMUstate == NULL) {
-        instanceLogStatus(inst, fmi2Error, "%s: FMUstate is NULL", fn);
-        return fmi2Error;
-    }
     return instanceFreeState(inst, FMUstate);
 }
 
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate FMUstate, size_t *size)
 {
     const char *fn = "fmi2SerializedFMUstateSize";
-    Instance *inst = enter(c, fn, MASK_FMUstate);
+    Instance *inst = enterNonNull(c, fn, MASK_FMUstate, FMUstate != NULL && size != NULL, "FMUstate or size");
     if (inst == NULL) return fmi2Error;
-    if (FMUstate == NULL || size == NULL) {
-        instanceLogStatus(inst, fmi2Error, "%s: FMUstate or size is NULL", fn);
-        return fmi2Error;
-    }
     return instanceSerializedSize(inst, FMUstate, size);
 }
 
 fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate FMUstate, fmi2Byte serializedState[], size_t size)
 {
     const char *fn = "fmi2SerializeFMUstate";
-    Instance *inst = enter(c, fn, MASK_FMUstate);
+    Instance *inst = enterNonNull(c, fn, MASK_FMUstate, FMUstate != NULL && serializedState != NULL,
+                                  "FMUstate or serializedState");
     if (inst == NULL) return fmi2Error;
-    if (FMUstate == NULL || serializedState == NULL) {
-        instanceLogStatus(inst, fmi2Error, "%s: FMUstate or serializedState is NULL", fn);
-        return fmi2Error;
-    }
     return instanceSerialize(inst, FMUstate, serializedState, size);
 }
 
@@ -340,12 +332,9 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedSta
                                    fmi2FMUstate *FMUstate)
 {
     const char *fn = "fmi2DeSerializeFMUstate";
-    Instance *inst = enter(c, fn, MASK_FMUstate);
+    Instance *inst = enterNonNull(c, fn, MASK_FMUstate, serializedState != NULL && FMUstate != NULL,
+                                  "serializedState or FMUstate");
     if (inst == NULL) return fmi2Error;
-    if (serializedState == NULL || FMUstate == NULL) {
-        instanceLogStatus(inst, fmi2Error, "%s: serializedState or FMUstate is NULL", fn);
-        return fmi2Error;
-    }
     return instanceDeserialize(inst, serializedState, size, FMUstate);
 }
 
@@ -472,12 +461,8 @@ fmi2Status fmi2CancelStep(fmi2Component c)
 fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *value)
 {
     const char *fn = "fmi2GetStatus";
-    Instance *inst = enter(c, fn, MASK_GetStatus);
+    Instance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
     if (inst == NULL) return fmi2Error;
-    if (value == NULL) {
-        instanceLogStatus(inst, fmi2Error, "%s: value is NULL", fn);
-        return fmi2Error;
-    }
     if (s != fmi2DoStepStatus) {
         instanceLogStatus(inst, fmi2Discard, "%s: status kind %d is not available here (only fmi2DoStepStatus)", fn, (int)s);
         return fmi2Discard;
@@ -489,12 +474,8 @@ fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *va
 fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value)
 {
     const char *fn = "fmi2GetRealStatus";
-    Instance *inst = enter(c, fn, MASK_GetStatus);
+    Instance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
     if (inst == NULL) return fmi2Error;
-    if (value == NULL) {
-        instanceLogStatus(inst, fmi2Error, "%s: value is NULL", fn);
-        return fmi2Error;
-    }
     if (s != fmi2LastSuccessfulTime) {
         instanceLogStatus(inst, fmi2Discard, "%s: status kind %d is not available here (only fmi2LastSuccessfulTime)",
                           fn, (int)s);
@@ -507,12 +488,8 @@ fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *
 fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value)
 {
     const char *fn = "fmi2GetIntegerStatus";
-    Instance *inst = enter(c, fn, MASK_GetStatus);
+    Instance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
     if (inst == NULL) return fmi2Error;
-    if (value == NULL) {
-        instanceLogStatus(inst, fmi2Error, "%s: value is NULL", fn);
-        return fmi2Error;
-    }
     instanceLogStatus(inst, fmi2Discard, "%s: status kind %d is not available (FMI 2.0 defines no Integer status)", fn,
                       (int)s);
     return fmi2Discard;
@@ -521,12 +498,8 @@ fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Int
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value)
 {
     const char *fn = "fmi2GetBooleanStatus";
-    Instance *inst = enter(c, fn, MASK_GetStatus);
+    Instance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
     if (inst == NULL) return fmi2Error;
-    if (value == NULL) {
-        instanceLogStatus(inst, fmi2Error, "%s: value is NULL", fn);
-        return fmi2Error;
-    }
     if (s != fmi2Terminated) {
         instanceLogStatus(inst, fmi2Discard, "%s: status kind %d is not available here (only fmi2Terminated)", fn, (int)s);
         return fmi2Discard;
@@ -539,12 +512,8 @@ fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boo
 fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *value)
 {
     const char *fn = "fmi2GetStringStatus";
-    Instance *inst = enter(c, fn, MASK_GetStatus);
+    Instance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
     if (inst == NULL) return fmi2Error;
-    if (value == NULL) {
-        instanceLogStatus(inst, fmi2Error, "%s: value is NULL", fn);
-        return fmi2Error;
-    }
     *value = "";
     instanceLogStatus(inst, fmi2Discard, "%s: status kind %d is not available (steps are never asynchronous)", fn,
                       (int)s);
