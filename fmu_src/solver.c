@@ -82,19 +82,15 @@ int solverBuildModel(SolverModel *m, const BladeReduction *r, const ContactParam
 
 SolverStatus solverUpdateDescribe(const SolverModel *m, SolverState *s)
 {
+    /* the Jenkins element reports the macroslip DF (model-notes s.4) */
+    const FrictionModel dfModel = m->friction == FrictionMacroslipTD ? FrictionMacroslipDF : m->friction;
+    DescribingFunction df;
     memset(&s->df, 0, sizeof s->df);
     s->df.regime = RegimeOpen;
     if (!(s->B > m->d)) return SolverOk; /* MODEL.md s.3: B <= d is the open regime, all zero */
-    {
-        const FrictionModel dfModel =
-            m->friction == FrictionMacroslipTD ? FrictionMacroslipDF : m->friction;
-        DescribingFunction df;
-        if (contactDescribe(&m->contact, dfModel, m->projection, s->B, &df) != 0) return SolverDescribeFailed;
-        if (!isfinite(df.Keq) || !isfinite(df.CeqOmega) || !isfinite(df.fk) || !isfinite(df.pk) ||
-            !isfinite(df.fcOmega))
-            return SolverDescribeFailed;
-        s->df = df;
-    }
+    /* nonzero also for a non-finite result (contactDescribe checks every field) */
+    if (contactDescribe(&m->contact, dfModel, m->projection, s->B, &df) != 0) return SolverDescribeFailed;
+    s->df = df;
     return SolverOk;
 }
 
