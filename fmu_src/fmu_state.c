@@ -90,7 +90,6 @@ fmi2Status instanceSetState(Instance *inst, fmi2FMUstate state)
     const StateBlob *b = checkBlob(inst, "fmi2SetFMUstate", state);
     if (b == NULL) return fmi2Error;
     inst->d = b->d;
-    instanceRefreshInputs(inst);
     return fmi2OK;
 }
 

@@ -30,11 +30,6 @@ const char *fsmStateName(int32_t state)
 /* ------------------------------------------------------------------------------------------- */
 /* Start values, lifecycle                                                                     */
 
-void instanceRefreshInputs(Instance *inst)
-{
-    solverSetInputs(&inst->inputs, (const double(*)[SOLVER_MAX_ORDER + 1])inst->d.in);
-}
-
 static void setStartValues(Instance *inst)
 {
     InstanceData *d = &inst->d;
@@ -45,7 +40,6 @@ static void setStartValues(Instance *inst)
      * given yet, model not built */
     d->solver.B = d->par[ParB]; /* rebuilt by fmi2ExitInitializationMode; consistent until then */
     d->solver.side = d->solver.slipDir = d->solver.vdir = 1;
-    instanceRefreshInputs(inst);
 }
 
 static char *copyString(const char *s)
@@ -210,7 +204,6 @@ fmi2Status instanceExitInitialization(Instance *inst)
     fmi2Status status = instanceBuildModel(inst, fn, 1);
     if (status != fmi2OK) return status;
     inst->d.time = inst->d.startTime;
-    instanceRefreshInputs(inst);
     return warnFullStickOnce(inst, fn);
 }
 
@@ -261,24 +254,24 @@ static void eventHook(void *ctx, SolverEventKind kind, double t, const SolverSta
     }
 }
 
-/* Moves the Taylor expansion of the inputs from tau = 0 to tau = h (the next communication
- * point), so an input that is not set again continues as the same polynomial. */
-static void shiftInputs(Instance *inst, double h)
+/* Moves the Taylor expansion of the inputs in from tau = 0 to tau = h (the next communication
+ * point) and stores it in inst->d.in, so an input that is not set again continues as the same
+ * polynomial. */
+static void shiftInputs(Instance *inst, const SolverInputs *in, double h)
 {
     for (int i = 0; i < SOLVER_NUM_INPUTS; ++i) {
         double c[SOLVER_MAX_ORDER + 1];
-        const int top = inst->inputs.top[i];
+        const int top = in->top[i];
         double fact = 1.0;
-        memcpy(c, inst->inputs.coef[i], sizeof c);
+        memcpy(c, in->coef[i], sizeof c);
         for (int j = 0; j < top; ++j) /* repeated synthetic division: Taylor shift */
             for (int k = top - 1; k >= j; --k) c[k] += h * c[k + 1];
         for (int j = 0; j <= SOLVER_MAX_ORDER; ++j) {
             if (j > 0) fact *= (double)j;
             inst->d.in[i][j] = j <= top ? c[j] * fact : 0.0;
         }
-        inst->d.in[i][0] = solverInputAt(&inst->inputs, i, h); /* exactly the value checked */
+        inst->d.in[i][0] = solverInputAt(in, i, h); /* exactly the value checked */
     }
-    instanceRefreshInputs(inst);
 }
 
 #define MAX_INTERNAL_STEPS 1e7
@@ -290,6 +283,7 @@ fmi2Status instanceDoStep(Instance *inst, double tc, double h)
     const double tol = 1e-9 * (fabs(d->time) > 1.0 ? fabs(d->time) : 1.0);
     double ratio, n0, n1, tFail = 0.0;
     long nSteps;
+    SolverInputs in; /* the input polynomials of this step, from d->in (model-notes s.1) */
     SolverState backup;
     SolverStatus st;
     if (!isfinite(tc) || !isfinite(h)) {
@@ -322,9 +316,10 @@ fmi2Status instanceDoStep(Instance *inst, double tc, double h)
     }
     nSteps = (long)ceil(ratio - 1e-9);
     if (nSteps < 1) nSteps = 1;
+    solverSetInputs(&in, (const double(*)[SOLVER_MAX_ORDER + 1])d->in);
     /* model-notes s.1: rotorSpeed in [0, 30000] rpm at both ends of the step */
-    n0 = solverInputAt(&inst->inputs, SOLVER_INPUT_SPEED, 0.0);
-    n1 = solverInputAt(&inst->inputs, SOLVER_INPUT_SPEED, h);
+    n0 = solverInputAt(&in, SOLVER_INPUT_SPEED, 0.0);
+    n1 = solverInputAt(&in, SOLVER_INPUT_SPEED, h);
     if (!(n0 >= 0.0 && n0 <= 30000.0 && n1 >= 0.0 && n1 <= 30000.0)) {
         instanceLogStatus(inst, fmi2Discard, "%s: rotorSpeed = %g rpm at t = %.17g s and %g rpm at the step end "
                           "t = %.17g s: it must stay in [0, 30000] rpm (its derivatives extrapolate it out "
@@ -333,7 +328,7 @@ fmi2Status instanceDoStep(Instance *inst, double tc, double h)
         return fmi2Discard;
     }
     backup = d->solver;
-    st = solverAdvance(&d->model, &d->solver, &inst->inputs, tc, h, nSteps,
+    st = solverAdvance(&d->model, &d->solver, &in, tc, h, nSteps,
                        instanceLogEnabled(inst, LogEvents) ? eventHook : NULL, inst, &inst->counters, &tFail);
     if (st != SolverOk) {
         const double tf = tc + tFail;
@@ -366,7 +361,7 @@ fmi2Status instanceDoStep(Instance *inst, double tc, double h)
         return fmi2Discard;
     }
     d->time = tc + h; /* model-notes s.6: the master's communication point plus h */
-    shiftInputs(inst, h);
+    shiftInputs(inst, &in, h);
     d->lastDoStepStatus = warnFullStickOnce(inst, fn);
     return (fmi2Status)d->lastDoStepStatus;
 }

@@ -74,7 +74,6 @@ typedef struct StateBlob StateBlob;
 typedef struct {
     uint64_t magic;
     InstanceData d;
-    SolverInputs inputs;                /* derived from d.in */
     char *instanceName;
     char *resourceLocation;
     fmi2CallbackLogger logger;

@@ -13,8 +13,6 @@ int instancePreInit(const InstanceData *d);
 fmi2Status instanceBuildModel(Instance *inst, const char *fn, int initState);
 /* Builds the model if a parameter changed since it was last built (outputs need it). */
 fmi2Status instanceEnsureModel(Instance *inst, const char *fn);
-/* Rebuilds inst->inputs from inst->d.in (after any change of d.in). */
-void instanceRefreshInputs(Instance *inst);
 
 /* variables.c */
 /* Writes the start values of all parameters, inputs and initial="exact" outputs into d. */

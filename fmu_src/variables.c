@@ -290,18 +290,12 @@ static void applyValue(Instance *inst, const VarInfo *v, double x)
 static fmi2Status setValues(Instance *inst, const char *fn, const fmi2ValueReference vr[],
                             size_t nvr, VarType type, const void *values)
 {
-    int anyInput = 0;
     for (size_t i = 0; i < nvr; ++i) {
         const VarInfo *v = lookup(inst, fn, vr[i], type);
         if (v == NULL || !settable(inst, fn, v) || !validValue(inst, fn, v, readValue(type, values, i)))
             return fmi2Error;
     }
-    for (size_t i = 0; i < nvr; ++i) {
-        const VarInfo *v = findVar(vr[i]);
-        applyValue(inst, v, readValue(type, values, i));
-        anyInput |= v->causality == CausInput;
-    }
-    if (anyInput) instanceRefreshInputs(inst);
+    for (size_t i = 0; i < nvr; ++i) applyValue(inst, findVar(vr[i]), readValue(type, values, i));
     return fmi2OK;
 }
 
@@ -349,7 +343,6 @@ fmi2Status instanceSetInputDerivatives(Instance *inst, const fmi2ValueReference 
         }
     }
     for (size_t i = 0; i < nvr; ++i) inst->d.in[findVar(vr[i])->slot][order[i]] = value[i];
-    instanceRefreshInputs(inst);
     return fmi2OK;
 }
 
