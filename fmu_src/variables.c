@@ -25,8 +25,8 @@ typedef struct {
     VarType type;
     Causality causality;
     const char *unit;   /* "" if dimensionless */
-    double start;
-    double lo, hi;      /* allowed range */
+    double start;       /* start value [unit] */
+    double lo, hi;      /* allowed range [unit] */
     int loOpen, hiOpen; /* 1: the bound itself is excluded */
     int slot;           /* RealParam, IntParam, input index or OutputId */
     int startSlot;      /* RealParam holding the start value of an initial="exact" output, or -1 */
@@ -35,6 +35,7 @@ typedef struct {
 #define INF HUGE_VAL
 #define HALF_PI 1.5707963267948966
 
+/* Sorted by value reference (findVar bisects). */
 static const VarInfo VARS[] = {
     {vr_EI, "EI", TypeReal, CausParameter, "N.m2", 343.0, 0.0, INF, 1, 0, ParEI, -1},
     {vr_rho, "rho", TypeReal, CausParameter, "kg/m3", 7800.0, 0.0, INF, 1, 0, ParRho, -1},
@@ -71,10 +72,16 @@ static const VarInfo VARS[] = {
 };
 #define NUM_VARS ((int)(sizeof VARS / sizeof VARS[0]))
 
+/* Bisection: VARS is sorted by value reference (every Get/Set looks up each vr). */
 static const VarInfo *findVar(fmi2ValueReference vr)
 {
-    for (int i = 0; i < NUM_VARS; ++i)
-        if (VARS[i].vr == vr) return &VARS[i];
+    int lo = 0, hi = NUM_VARS - 1;
+    while (lo <= hi) {
+        const int mid = (lo + hi) / 2;
+        if (VARS[mid].vr == vr) return &VARS[mid];
+        if (VARS[mid].vr < vr) lo = mid + 1;
+        else hi = mid - 1;
+    }
     return NULL;
 }
 
