@@ -65,7 +65,7 @@ static double angleFromVersine(double c) {
     return 2.0 * asin(sqrt(h));
 }
 
-static int paramsValid(const ContactParams *p) {
+int contactParamsValid(const ContactParams *p) {
     if (p == NULL) return 0;
     if (!isfinite(p->kn) || !isfinite(p->kdRatio) || !isfinite(p->mu) || !isfinite(p->gamma) ||
         !isfinite(p->d))
@@ -75,15 +75,13 @@ static int paramsValid(const ContactParams *p) {
     return 1;
 }
 
-int contactParamsValid(const ContactParams *p) { return paramsValid(p); }
-
 static int modelValid(FrictionModel model) {
     return model == FrictionMacroslipDF || model == FrictionCoulombDF || model == FrictionMacroslipTD;
 }
 
 Regime contactRegime(const ContactParams *p, double B) {
     double kd;
-    if (!paramsValid(p) || !isfinite(B) || B <= p->d) return RegimeOpen;
+    if (!contactParamsValid(p) || !isfinite(B) || B <= p->d) return RegimeOpen;
     kd = p->kdRatio * p->kn;
     /* MODEL.md s.3: stick-slip iff k_d tan(gamma) >= mu k_n */
     return (kd * tan(p->gamma) >= p->mu * p->kn) ? RegimeStickSlip : RegimeFullStick;
@@ -162,7 +160,7 @@ int contactDescribe(const ContactParams *p, FrictionModel model, Projection proj
     double sg, cg, fk, fcOmega, pk;
     if (out == NULL) return 1;
     zeroDF(out);
-    if (!paramsValid(p)) return 2;
+    if (!contactParamsValid(p)) return 2;
     if (!modelValid(model)) return 3;
     if (projection != ProjectionPaper && projection != ProjectionConsistent) return 4;
     if (!isfinite(B) || B < 0.0) return 5;
@@ -215,7 +213,7 @@ int contactDescribe(const ContactParams *p, FrictionModel model, Projection proj
 }
 
 double contactNormalForce(const ContactParams *p, double v) {
-    if (!paramsValid(p) || !isfinite(v)) return NAN;
+    if (!contactParamsValid(p) || !isfinite(v)) return NAN;
     if (v > p->d) return p->kn * (v - p->d) * cos(p->gamma);  /* eq. 3 */
     if (v < -p->d) return p->kn * (v + p->d) * cos(p->gamma);
     return 0.0;
@@ -258,7 +256,7 @@ static double halfLoopFriction(const Loop *L, double t) {
 double contactLoopFriction(const ContactParams *p, FrictionModel model, double B, double theta) {
     Loop L;
     double t;
-    if (!paramsValid(p) || !modelValid(model) || !isfinite(B) || B < 0.0 || !isfinite(theta)) return NAN;
+    if (!contactParamsValid(p) || !modelValid(model) || !isfinite(B) || B < 0.0 || !isfinite(theta)) return NAN;
     if (B <= p->d) return 0.0;
     loopSetup(p, model, B, &L);
     t = wrapPhase(theta);
@@ -269,7 +267,7 @@ double contactLoopFriction(const ContactParams *p, FrictionModel model, double B
 ContactState contactLoopState(const ContactParams *p, FrictionModel model, double B, double theta) {
     Loop L;
     double t;
-    if (!paramsValid(p) || !modelValid(model) || !isfinite(B) || B < 0.0 || !isfinite(theta))
+    if (!contactParamsValid(p) || !modelValid(model) || !isfinite(B) || B < 0.0 || !isfinite(theta))
         return ContactOpen;
     if (B <= p->d) return ContactOpen;
     loopSetup(p, model, B, &L);

@@ -276,11 +276,14 @@ static void shiftInputs(Instance *inst, const SolverInputs *in, double h)
 
 #define MAX_INTERNAL_STEPS 1e7
 
+/* Tolerance of a time comparison at time t [s] (model-notes s.6): 1e-9 max(1, |t|). */
+static double timeTolerance(double t) { return 1e-9 * (fabs(t) > 1.0 ? fabs(t) : 1.0); }
+
 fmi2Status instanceDoStep(Instance *inst, double tc, double h)
 {
     const char *fn = "fmi2DoStep";
     InstanceData *d = &inst->d;
-    const double tol = 1e-9 * (fabs(d->time) > 1.0 ? fabs(d->time) : 1.0);
+    const double tol = timeTolerance(d->time);
     double ratio, n0, n1, tFail = 0.0;
     long nSteps;
     SolverInputs in; /* the input polynomials of this step, from d->in (model-notes s.1) */
@@ -300,7 +303,7 @@ fmi2Status instanceDoStep(Instance *inst, double tc, double h)
                           "%.17g s (tolerance %g s)", fn, tc, d->time, tol);
         return fmi2Error;
     }
-    if (d->stopTimeDefined && tc + h > d->stopTime + 1e-9 * (fabs(d->stopTime) > 1.0 ? fabs(d->stopTime) : 1.0)) {
+    if (d->stopTimeDefined && tc + h > d->stopTime + timeTolerance(d->stopTime)) {
         instanceLogStatus(inst, fmi2Error, "%s: the step to %.17g s goes past the stop time %.17g s", fn, tc + h,
                           d->stopTime);
         return fmi2Error;
