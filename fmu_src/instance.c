@@ -254,9 +254,9 @@ static void eventHook(void *ctx, SolverEventKind kind, double t, const SolverSta
     }
 }
 
-/* Moves the Taylor expansion of the inputs in from tau = 0 to tau = h (the next communication
- * point) and stores it in inst->d.in, so an input that is not set again continues as the same
- * polynomial. */
+/* Re-expands the step's input polynomials at tau = h (the next communication point) into
+ * inst->d.in, so an input the master does not set again continues as the same polynomial
+ * (model-notes s.7). */
 static void shiftInputs(Instance *inst, const SolverInputs *in, double h)
 {
     for (int i = 0; i < SOLVER_NUM_INPUTS; ++i) {
