@@ -107,7 +107,10 @@ def settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings,
     """Run chunks at constant `speed` from `start` until analyze() finds the steady state or
     `cap` seconds are simulated. Returns (samples of the plateau, SteadyState, t_end, phase_end).
 
-    Every step is sampled (q and q' always: analyze compares the state (q, q') period to period).
+    The FMU is sampled once per period, at the period starts (q and q' always: the decision
+    compares the state (q, q') one period apart, the Poincare section of the period map); the
+    load values are carried over by the FMU between steps (`BladeFMU.run(carry_values=True)`).
+    The returned samples are these (one row per period, `time` first).
     The first chunk holds enough periods for one decision; after that each chunk is as long as the
     fitted decay of the transient says is still needed to reach rtol (+ min_periods, + 10 %), at
     most `chunk_periods`, so a plateau stops within a few periods of its steady state; without a
@@ -123,7 +126,7 @@ def settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings,
     spp = s.steps_per_period
     h = period / spp
     aero = PhasedSine(params["Fw0"], omega, start.phase, start.time)
-    if start.state is not None:
+    if start.state is not None and not fmu.holds(start.state):  # (a chain's next plateau: held)
         from harness.fmu import FMUState
 
         st = FMUState(start.state)
@@ -143,21 +146,23 @@ def settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings,
         fresh = first and start.state is None
         # reset=False continues with the parameters already in the FMU (None: no re-validation)
         res = fmu.run(params if fresh else None, t_stop, h, aero=aero, speed=float(speed), outputs=outputs,
-                      derivative_order=s.derivative_order, start_time=t, reset=fresh, input_fit=s.input_fit)
+                      derivative_order=s.derivative_order, start_time=t, reset=fresh, input_fit=s.input_fit,
+                      carry_values=True, sample_every=spp)
         if not first and len(res) and abs(res["time"][0] - t) <= 1e-12 * max(1.0, abs(t)):
             res = res[1:]  # the chunk's first row repeats the previous chunk's last one
         chunks.append(res)
         first = False
         p_done += n
         t = float(res["time"][-1])
-        # the periods since the previous decision plus the lookback: row i at start + i h
+        # the periods since the previous decision plus the lookback: row i at start + i T
         k0 = max(0, last_decision - lookback)
-        w = _tail(chunks, (p_done - k0) * spp + 1)
+        w = _tail(chunks, p_done - k0 + 1)
         last_decision = p_done
-        rows = (p_done - k0, spp)
-        reached, rel, decay = decide(w["tipDisplacement"][:-1].reshape(rows), w["tipVelocity"][:-1].reshape(rows),
+        if p_done >= p_cap:
+            break
+        reached, rel, decay = decide(w["tipDisplacement"][:-1, None], w["tipVelocity"][:-1, None],
                                      omega, rtol=s.rtol, min_periods=s.min_periods)
-        if reached or p_done >= p_cap:
+        if reached:
             break
         if math.isfinite(rel) and 0.0 < decay < 1.0:
             need = math.log(s.rtol / rel) / math.log(decay)  # periods to reach rtol
@@ -195,5 +200,6 @@ def period_peak(fmu: Any, params: dict, speed: float, t: float, phase: float, s:
     period = 2.0 * math.pi / omega
     aero = PhasedSine(params["Fw0"], omega, phase, t)
     r = fmu.run(None, t + period, period / steps, aero=aero, speed=float(speed), outputs=list(SETTLE_OUTPUTS),
-                derivative_order=s.derivative_order, start_time=t, reset=False, input_fit=s.input_fit)
+                derivative_order=s.derivative_order, start_time=t, reset=False, input_fit=s.input_fit,
+                carry_values=True)
     return hermite_peak(r["time"], r["tipDisplacement"], r["tipVelocity"])

@@ -19,9 +19,11 @@ samples, relative to each channel's maximum); the steady state is reached when t
 with at least `min_periods` converged periods, and t_steady is the start of the first of them.
 Works with any whole number of raw samples per period (4 is enough, no interpolation); other
 sampling is resampled with a degree-7 spline. Amplitude = max |q| over the last period (cubic
-Hermite through q and q' when the velocity is given, else a cubic spline through q), harmonic
-amplitude and phase by a least-squares fit of the first harmonic over whole periods, spectrum by
-rfft over whole periods.
+Hermite through q and q' when the velocity is given, else a cubic spline through q; with fewer
+than 3 samples per period and the velocity, the largest sqrt(q^2 + (q'/w)^2) of the last
+period's samples: exact for a harmonic response only), harmonic amplitude and phase by a
+least-squares fit of the first harmonic over whole periods (q' joins below 3 samples per period),
+spectrum by rfft over whole periods (harmonics up to M/2 only).
 """
 from __future__ import annotations
 
@@ -88,85 +90,171 @@ def _rows(time: np.ndarray, x: np.ndarray, period: float, P: int, M: int, raw: b
 # ---------------------------------------------------------------------------------------------
 # Distance from the limit cycle
 # ---------------------------------------------------------------------------------------------
-def _fit_order(Dw: np.ndarray, p: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _tr(L: np.ndarray, i0: int, k0: int, m: int) -> np.ndarray:
+    """sum_{j<m} L[:, i0 + j, k0 + j]: a sum of inner products D_{i0+j} . D_{k0+j} per window."""
+    return np.einsum("bii->b", L[:, i0:i0 + m, k0:k0 + m])
+
+
+def _fit_order(Dw: np.ndarray, L: np.ndarray, p: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Fit D_{j+1} = sum_{i<p} a_i D_{j-i} on each window of Dw (shape (B, W, n): B windows of W
-    scaled period differences, oldest first) by least squares over all equations and samples.
-    Returns per window the relative residual, the estimated sup-norm distance of the period after
-    the window's last difference from the limit, and the spectral radius of the recurrence.
-    Orders 1 and 2 in closed form (the common cases, and cheap: this runs at every decision)."""
+    scaled period differences, oldest first; L their inner products, (B, W, W)) by least squares
+    over all equations and samples. Returns per window the relative residual, the estimated
+    sup-norm distance of the period after the window's last difference from the limit, and the
+    spectral radius of the recurrence. Orders 1 and 2 in closed form (the common cases).
+    Call under np.errstate(all="ignore"): singular fits give inf/nan, caught below."""
     B, W, n = Dw.shape
-    y = Dw[:, p:].reshape(B, -1)
-    X = [Dw[:, p - 1 - i:W - 1 - i].reshape(B, -1) for i in range(p)]  # regressor i: D_{j-i}
+    m = W - p  # equations D_j = sum_i a_i D_{j-1-i}, j = p .. W-1
+    G = np.empty((B, p, p))
+    for i in range(p):
+        for k in range(i, p):
+            G[:, i, k] = G[:, k, i] = _tr(L, p - 1 - i, p - 1 - k, m)
+    rhs = np.stack([_tr(L, p, p - 1 - i, m) for i in range(p)], axis=1)  # (B, p)
+    yy = _tr(L, p, p, m)
     # normal equations with a ridge of 1e-12 of the trace: the least-squares solution where the
     # differences span p directions, a bounded one where they span fewer (then any solution
     # reproduces the sequence)
-    G = np.array([[np.einsum("br,br->b", X[i], X[k]) for k in range(p)] for i in range(p)])  # (p, p, B)
-    rhs = np.array([np.einsum("br,br->b", X[i], y) for i in range(p)])  # (p, B)
-    ridge = 1e-12 * sum(G[i, i] for i in range(p)) + 1e-300
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        if p == 1:
-            a = (rhs / (G[0, 0] + ridge))[None].reshape(1, B)
-            rho = np.abs(a[0])
-            tail = a[0] / (1.0 - a[0])
-            g = tail[None]
-        elif p == 2:
-            g11, g22, g12 = G[0, 0] + ridge, G[1, 1] + ridge, G[0, 1]
-            det = g11 * g22 - g12 * g12
-            a = np.array([(rhs[0] * g22 - rhs[1] * g12) / det, (g11 * rhs[1] - g12 * rhs[0]) / det])
-            disc = a[0] ** 2 + 4 * a[1]  # roots of z^2 - a1 z - a2
-            sq = np.sqrt(np.abs(disc))
-            rho = np.where(disc >= 0, 0.5 * (np.abs(a[0]) + sq), np.sqrt(np.abs(a[1])))
-            # tail of the recurrence: (a1 + a2) D_K + a2 D_{K-1}, over (1 - a1 - a2)
-            g = np.array([a[0] + a[1], a[1]]) / (1.0 - a[0] - a[1])
-        else:
-            Gm = np.moveaxis(G, 2, 0) + ridge[:, None, None] * np.eye(p)
-            a = np.linalg.solve(Gm, rhs.T[:, :, None])[:, :, 0].T  # (p, B)
-            # companion matrix C; the tail sum_{m>=1} D_{K+m} = sum_i g_i D_{K-i}, g = e1' C (I - C)^-1
-            C = np.zeros((B, p, p))
-            C[:, 0, :] = a.T
-            C[:, np.arange(1, p), np.arange(p - 1)] = 1.0
-            rho = np.max(np.abs(np.linalg.eigvals(C)), axis=1)
-            Mt = np.swapaxes(np.eye(p) - C, 1, 2)
-            Mt[~(rho < 1.0 - 1e-12)] = np.eye(p)
-            g = np.linalg.solve(Mt, a.T[:, :, None])[:, :, 0].T
-    res = y - sum(a[i][:, None] * X[i] for i in range(p))
-    yn = np.sqrt(np.einsum("br,br->b", y, y))
-    r = np.sqrt(np.einsum("br,br->b", res, res)) / np.where(yn > 0, yn, 1.0)
-    ok = np.isfinite(rho) & (rho < 1.0 - 1e-12) & np.all(np.isfinite(g), axis=0)
-    S = sum(g[i][:, None] * Dw[:, W - 1 - i] for i in range(p))
+    ridge = 1e-12 * np.einsum("bii->b", G) + 1e-300
+    if p == 1:
+        a = rhs / (G[:, 0] + ridge[:, None])
+        rho = np.abs(a[:, 0])
+        g = a / (1.0 - a)
+    elif p == 2:
+        g11, g22, g12 = G[:, 0, 0] + ridge, G[:, 1, 1] + ridge, G[:, 0, 1]
+        det = g11 * g22 - g12 * g12
+        a1 = (rhs[:, 0] * g22 - rhs[:, 1] * g12) / det
+        a2 = (g11 * rhs[:, 1] - g12 * rhs[:, 0]) / det
+        a = np.stack([a1, a2], axis=1)
+        disc = a1 * a1 + 4 * a2  # roots of z^2 - a1 z - a2
+        rho = np.where(disc >= 0, 0.5 * (np.abs(a1) + np.sqrt(np.abs(disc))), np.sqrt(np.abs(a2)))
+        # tail of the recurrence: ((a1 + a2) D_K + a2 D_{K-1}) / (1 - a1 - a2)
+        g = np.stack([a1 + a2, a2], axis=1) / (1.0 - a1 - a2)[:, None]
+    else:
+        a = np.linalg.solve(G + ridge[:, None, None] * np.eye(p), rhs[:, :, None])[:, :, 0]
+        # companion matrix C; the tail sum_{m>=1} D_{K+m} = sum_i g_i D_{K-i}, g = e1' C (I - C)^-1
+        C = np.zeros((B, p, p))
+        C[:, 0, :] = a
+        C[:, np.arange(1, p), np.arange(p - 1)] = 1.0
+        rho = np.max(np.abs(np.linalg.eigvals(C)), axis=1)
+        Mt = np.swapaxes(np.eye(p) - C, 1, 2)
+        Mt[~(rho < 1.0 - 1e-12)] = np.eye(p)
+        g = np.linalg.solve(Mt, a[:, :, None])[:, :, 0]
+    # squared residual from the normal equations (relative accuracy ~1e-8 of r: enough for the
+    # FIT_OK / FIT_BAD thresholds)
+    Ga = np.matmul(G, a[:, :, None])[:, :, 0]
+    rr = yy - np.sum(a * (2 * rhs - Ga), axis=1)
+    r = np.sqrt(np.maximum(rr, 0.0) / np.where(yy > 0, yy, 1.0))
+    last = Dw[:, W - 1 - np.arange(p + 1)]  # D_K, D_{K-1}, ..., D_{K-p}
+    res_last = last[:, 0] - np.matmul(a[:, None, :], last[:, 1:])[:, 0]
+    ok = (rho < 1.0 - 1e-12) & np.all(np.isfinite(g), axis=1)
+    S = np.matmul(np.where(ok[:, None], g, 0.0)[:, None, :], last[:, :p])[:, 0]
     # the part of the last difference the recurrence does not explain, taken as a geometric tail
-    unexplained = np.max(np.abs(res[:, -n:]), axis=1) / np.maximum(1.0 - np.where(ok, rho, 0.0), 1e-3)
-    with np.errstate(invalid="ignore"):
-        dist = np.where(ok, np.max(np.abs(S), axis=1) + unexplained, np.inf)
+    unexplained = np.max(np.abs(res_last), axis=1) / np.maximum(1.0 - np.where(ok, rho, 0.0), 1e-3)
+    dist = np.where(ok, np.max(np.abs(S), axis=1) + unexplained, np.inf)
     return np.where(np.isfinite(r), r, np.inf), dist, rho
+
+
+def _fit_low_scalar(D: list, L: list, p: int) -> tuple[float, float, float]:
+    """`_fit_order` for one window and p = 1 or 2 in plain floats (D: the W difference rows, L
+    their inner products, as lists): the same formulas, without numpy's per-call cost (a driver
+    decides on a few windows at a time, many times)."""
+    W = len(D)
+    m = W - p
+
+    def tr(i0: int, k0: int) -> float:
+        return sum(L[i0 + j][k0 + j] for j in range(m))
+
+    if p == 1:
+        g11, r1, yy = tr(0, 0), tr(1, 0), tr(1, 1)
+        ridge = 1e-12 * g11 + 1e-300
+        a1 = r1 / (g11 + ridge)
+        rr = yy - a1 * (2 * r1 - a1 * g11)
+        rho = abs(a1)
+        coef = [a1]
+        gains = [a1 / (1.0 - a1)] if rho < 1.0 - 1e-12 else None
+    else:
+        g11, g22, g12 = tr(1, 1), tr(0, 0), tr(1, 0)
+        r1, r2, yy = tr(2, 1), tr(2, 0), tr(2, 2)
+        ridge = 1e-12 * (g11 + g22) + 1e-300
+        det = (g11 + ridge) * (g22 + ridge) - g12 * g12
+        if not det > 0:
+            return math.inf, math.inf, math.nan
+        a1 = (r1 * (g22 + ridge) - r2 * g12) / det
+        a2 = ((g11 + ridge) * r2 - g12 * r1) / det
+        rr = yy - a1 * (2 * r1 - (a1 * g11 + a2 * g12)) - a2 * (2 * r2 - (a1 * g12 + a2 * g22))
+        disc = a1 * a1 + 4 * a2
+        rho = 0.5 * (abs(a1) + math.sqrt(disc)) if disc >= 0 else math.sqrt(abs(a2))
+        coef = [a1, a2]
+        den = 1.0 - a1 - a2
+        gains = [(a1 + a2) / den, a2 / den] if rho < 1.0 - 1e-12 and den != 0 else None
+    r = math.sqrt(max(rr, 0.0) / yy) if yy > 0 else 0.0
+    if gains is None or not all(math.isfinite(x) for x in gains):
+        return r, math.inf, rho
+    last = D[W - 1]
+    res = [last[c] - sum(coef[i] * D[W - 2 - i][c] for i in range(p)) for c in range(len(last))]
+    S = [sum(gains[i] * D[W - 1 - i][c] for i in range(p)) for c in range(len(last))]
+    unexplained = max(abs(x) for x in res) / max(1.0 - rho, 1e-3)
+    return r, max(abs(x) for x in S) + unexplained, rho
 
 
 def _distance(Dw: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Estimated distance from the limit and fitted decay per period for each window of Dw (see
     `_fit_order`): the lowest order whose residual is below FIT_OK; a higher order replaces a
-    lower one only where it explains clearly more; inf where even the best leaves FIT_BAD."""
-    B, W, _ = Dw.shape
+    lower one only where it explains clearly more; inf where even the best leaves FIT_BAD
+    (orders 3-4 are tried only where orders 1-2 leave less than FIT_BAD)."""
+    B, W, n = Dw.shape
+    L = np.matmul(Dw, np.swapaxes(Dw, 1, 2))  # inner products of the differences, (B, W, W)
+    if B <= 4 and n <= 16:
+        return _distance_few(Dw, L)
     best_r = np.full(B, np.inf)
     best_d = np.full(B, np.inf)
     best_rho = np.full(B, np.nan)
-    for p in range(1, min(MAX_ORDER, (W - 1) // 2) + 1):
-        open_ = best_r > FIT_OK
-        if not np.any(open_):
-            break
-        r, dist, rho = _fit_order(Dw, p)
-        adopt = open_ & ((r <= FIT_OK) | (r < 0.5 * best_r))
-        best_r = np.where(adopt, r, best_r)
-        best_d = np.where(adopt, dist, best_d)
-        best_rho = np.where(adopt, rho, best_rho)
+    with np.errstate(all="ignore"):
+        for p in range(1, min(MAX_ORDER, (W - 1) // 2) + 1):
+            # still open: no order explains the window yet; orders above 2 only where orders 1-2
+            # found some structure (an irregular response has none at any order: cheaper decisions)
+            open_ = (best_r > FIT_OK) & ((p <= 2) | (best_r <= FIT_BAD))
+            if not np.any(open_):
+                break
+            r, dist, rho = _fit_order(Dw, L, p)
+            adopt = open_ & ((r <= FIT_OK) | (r < 0.5 * best_r))
+            best_r = np.where(adopt, r, best_r)
+            best_d = np.where(adopt, dist, best_d)
+            best_rho = np.where(adopt, rho, best_rho)
     return np.where(best_r <= FIT_BAD, best_d, np.inf), best_rho
 
 
-def _distances(X: np.ndarray, floor: float, stop: float, first: int) -> tuple[np.ndarray, np.ndarray]:
+def _distance_few(Dw: np.ndarray, L: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """`_distance` for a few small windows: orders 1-2 in plain floats, 3-4 batched as usual."""
+    B, W, _ = Dw.shape
+    out_d, out_rho = np.full(B, np.inf), np.full(B, np.nan)
+    Dl, Ll = Dw.tolist(), L.tolist()
+    with np.errstate(all="ignore"):
+        for b in range(B):
+            best = (math.inf, math.inf, math.nan)
+            for p in range(1, min(MAX_ORDER, (W - 1) // 2) + 1):
+                if best[0] <= FIT_OK or (p > 2 and best[0] > FIT_BAD):
+                    break
+                if p <= 2:
+                    cand = _fit_low_scalar(Dl[b], Ll[b], p)
+                else:
+                    r, d, rho = _fit_order(Dw[b:b + 1], L[b:b + 1], p)
+                    cand = (float(r[0]), float(d[0]), float(rho[0]))
+                if cand[0] <= FIT_OK or cand[0] < 0.5 * best[0]:
+                    best = cand
+            if best[0] <= FIT_BAD:
+                out_d[b] = best[1]
+            out_rho[b] = best[2]
+    return out_d, out_rho
+
+
+def _distances(X: np.ndarray, floor: float, stop: float, first: int,
+               extend: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """Estimated relative distance from the limit cycle of the periods that decide the final
     converged run (X: scaled period rows, shape (P, n)) and the fitted decay per period (nan where
-    not fitted). Evaluated backwards from the last period in blocks (`first` periods, then doubling)
-    until a period's distance exceeds `stop` or the record starts; earlier entries stay inf. A
-    period needs WINDOW differences before it for a fit; earlier ones count only when quiet."""
+    not fitted). Evaluated backwards from the last period in blocks (`first` periods, then doubling;
+    only the first block unless `extend`) until a period's distance exceeds `stop` or the record
+    starts; earlier entries stay inf. A period needs WINDOW differences before it for a fit;
+    earlier ones count only when quiet."""
     P = X.shape[0]
     rel = np.full(P, np.inf)
     decay = np.full(P, np.nan)
@@ -183,7 +271,7 @@ def _distances(X: np.ndarray, floor: float, stop: float, first: int) -> tuple[np
         if len(fit):
             idx = fit[:, None] - WINDOW + np.arange(WINDOW)[None, :]
             rel[fit], decay[fit] = _distance(D[idx])
-        if not np.all(rel[ks] <= stop):
+        if not extend or not np.all(rel[ks] <= stop):
             break
         hi, block = ks[0], 2 * block
     return rel, decay
@@ -220,7 +308,7 @@ def decide(q_rows: np.ndarray, v_rows: np.ndarray | None, omega: float, *, rtol:
     (reached, estimated relative distance of the last period from the limit, fitted decay per
     period). Cheap: what a driver calls between chunks of simulation."""
     X = _state_rows(q_rows, None if v_rows is None else v_rows / omega)
-    rel, decay = _distances(X, NOISE * rtol, rtol, min_periods)
+    rel, decay = _distances(X, NOISE * rtol, rtol, min_periods, extend=False)
     return _run_length(rel, rtol) >= min_periods, float(rel[-1]), float(decay[-1])
 
 
@@ -268,10 +356,11 @@ def _peak_abs(time: np.ndarray, q: np.ndarray, v: np.ndarray | None, t0: float, 
 
 def _fit(w: np.ndarray, tt: np.ndarray, period: float, wv: np.ndarray | None) -> tuple[float, float, float]:
     """Least squares q ~ a0 + a cos(wt) + b sin(wt) on whole periods: returns (H, phase, a0) (wv:
-    the samples of q'/w, or None).
-    With fewer than 3 samples per period q alone cannot separate the three terms: then the
-    velocity samples join as q'/w ~ -a sin(wt) + b cos(wt) (exact for a harmonic response; with
-    higher harmonics both estimates are aliased); without them nan."""
+    the samples of q'/w, or None). With fewer than 3 samples per period q alone cannot separate
+    the three terms: then the velocity samples join as q'/w ~ -a sin(wt) + b cos(wt) (exact for a
+    harmonic response; with higher harmonics both estimates are aliased); with one sample per
+    period (one phase) a0 is not separable either and is taken as 0 (reported nan); without the
+    velocity, nan."""
     om = 2 * math.pi / period
     t = tt.ravel()
     A = np.column_stack([np.ones_like(t), np.cos(om * t), np.sin(om * t)])
@@ -281,6 +370,9 @@ def _fit(w: np.ndarray, tt: np.ndarray, period: float, wv: np.ndarray | None) ->
             return math.nan, math.nan, float(np.mean(w))
         A = np.vstack([A, np.column_stack([np.zeros_like(t), -np.sin(om * t), np.cos(om * t)])])
         y = np.concatenate([y, wv.ravel()])
+        if w.shape[1] == 1:
+            (a, b), *_ = np.linalg.lstsq(A[:, 1:], y, rcond=None)
+            return float(math.hypot(a, b)), float(math.atan2(a, b)), math.nan
     (a0, a, b), *_ = np.linalg.lstsq(A, y, rcond=None)
     return float(math.hypot(a, b)), float(math.atan2(a, b)), float(a0)
 
@@ -362,6 +454,9 @@ def analyze(time, q, period: float, *, rtol: float = 1e-4, min_periods: int = 3,
                f"rtol {rtol:g}); run longer." + _subharmonic_hint(w, rtol))
     H, ph, a0 = _fit(w[-n_fit:], tt[-n_fit:], period, None if wv is None else wv[-n_fit:])
     spec = _spectrum(w[-n_fit:], period / M, reached)
-    amp = _peak_abs(time, q, v, float(tt[-1, 0]), float(tt[-1, 0] + period))
+    if M >= 3 or wv is None:
+        amp = _peak_abs(time, q, v, float(tt[-1, 0]), float(tt[-1, 0] + period))
+    else:  # too few samples for an interpolant: the harmonic amplitude seen at each sample
+        amp = float(np.max(np.hypot(w[-1], wv[-1])))
     return SteadyState(reached, t_steady, amp, H, ph, a0, freq, spec, P, float(rel[-1]), msg,
                        float(decay[-1]), M)

@@ -49,7 +49,7 @@ def plateau(fmu: Any, cache: PointCache, fmu_hash: str, params: dict, speed: flo
     p = dict(params, amplitudeMode=2)
     t0 = _time.perf_counter()
     data, ss, t_end, phase = settle(fmu, p, speed, start, s, s.max_time, TIME_OUTPUTS)
-    window = (3 * s.min_periods + 4) * s.steps_per_period
+    window = 3 * s.min_periods + 4  # periods (settle samples once per period)
     state = fmu.get_state()
     rec = {
         "key": key, "speed": float(speed), "amplitude": float(data["amplitude"][-1]),

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
+from harness import steady_state as ss_mod
 from harness.steady_state import analyze, decide
 
 T = 4e-3  # 250 Hz: the 3 Omega line at 5000 rpm
@@ -155,6 +156,22 @@ def test_decide_agrees_with_analyze():
         assert reached == ss.reached
         assert rel == pytest.approx(ss.rel_change, rel=1e-12)
         assert decay == pytest.approx(ss.decay, rel=1e-12, nan_ok=True)
+
+
+def test_few_window_fast_path_equals_the_batched_fit():
+    # decide() fits a few windows in plain floats (orders 1-2), longer scans batch them in numpy:
+    # the same formulas, so the same distances and decays to rounding, on windows of a decaying
+    # rotating pair plus a real mode (order 3), of pure rotation (order 2), and of noise (no fit)
+    rng = np.random.default_rng(7)
+    k = np.arange(10)[:, None]
+    z = (0.97 * np.exp(0.4j)) ** k * np.array([1.0 + 0.5j, -0.3 + 1j, 0.2 - 0.7j, 1.0])
+    windows = np.stack([z.real, (z + 0.3 * 0.9 ** k).real, rng.normal(size=(10, 4)),
+                        (0.5 * z).imag, ((-0.8) ** k * np.ones((10, 4))), z.real + 1e-3 * rng.normal(size=(10, 4))])
+    d_batch, rho_batch = ss_mod._distance(windows)  # 6 windows: the batched path
+    for b in range(len(windows)):
+        d1, rho1 = ss_mod._distance(windows[b:b + 1])  # 1 window: the plain-float path
+        assert d1[0] == pytest.approx(d_batch[b], rel=1e-9), b
+        assert rho1[0] == pytest.approx(rho_batch[b], rel=1e-9, nan_ok=True), b
 
 
 def test_two_samples_per_period_amplitude_and_phase_from_q_and_velocity():
