@@ -103,16 +103,26 @@ def _inside(fmu: Any, fn, repeats: int) -> tuple[float, int]:
 
 
 def dostep_cost(fmu: Any, params: dict, repeats: int = 5) -> dict[str, Any]:
-    """Cost of one doStep of BladeFMU.run at 5000 rpm for three communication steps."""
+    """Cost of one doStep of BladeFMU.run at 5000 rpm for four communication steps; the last one
+    as the sweeps step (Chebyshev-fitted load, values carried by the FMU, one sample per period)."""
+    from harness.sweep import SweepSettings
+
     out = {}
     T = 60.0 / (5000.0 * params["engineOrder"])
-    for label, h, t_stop in (("h = maxStep = 1e-5 s (1 internal step)", 1e-5, 0.2),
-                             ("h = T/8 = 0.5 ms (sweep default, 50 internal steps)", T / 8, 1.0),
-                             ("h = T/4 = 1 ms (100 internal steps)", T / 4, 1.0)):
+    spp = SweepSettings().steps_per_period
+    plain = {"outputs": ["tipDisplacement", "amplitude"]}
+    sweep_like = {"outputs": ["tipDisplacement", "tipVelocity", "amplitude"], "input_fit": "chebyshev",
+                  "carry_values": True, "sample_every": spp}
+    for label, h, t_stop, kw in (
+            ("h = maxStep = 1e-5 s (1 internal step)", 1e-5, 0.2, plain),
+            ("h = T/8 = 0.5 ms (50 internal steps)", T / 8, 1.0, plain),
+            ("h = T/4 = 1 ms (100 internal steps)", T / 4, 1.0, plain),
+            (f"h = T/{spp} = {T / spp * 1e3:g} ms ({T / spp / 1e-5:.0f} internal steps), as in the sweeps: "
+             "Chebyshev-fitted load, values carried, 1 sample per period", T / spp, 1.0, sweep_like)):
         fmu.run(params, 10 * h, h)  # warm-up
 
         def go():
-            return fmu.run(params, t_stop, h, outputs=["tipDisplacement", "amplitude"])
+            return fmu.run(params, t_stop, h, **kw)
 
         wall, cpu, r = _best(go, repeats)
         inside, n = _inside(fmu, go, repeats)
@@ -129,7 +139,7 @@ def sweep_overhead(fmu_path: str, repeats: int = 3) -> dict[str, Any]:
     from harness.studies import base_params
 
     out = {}
-    for spp in (sw.SweepSettings().steps_per_period, 16):
+    for spp in (sw.SweepSettings().steps_per_period, 8):
         s = sw.SweepSettings(refine_levels=0, steps_per_period=spp)
         task = sw.ChainTask(base_params(), tuple(np.arange(3000.0, 10001.0, 500.0)), "up", s,
                             *sw.fmu_identity(fmu_path), None)
@@ -209,7 +219,10 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
     L += (["```", c.get("text", ""), "```", ""] if c.get("available") else [c.get("text", "not measured"), ""])
     if "dostep" in data:
         L += ["## Cost of one fmi2DoStep through the harness loop (fmpy/ctypes)", "",
-              "BladeFMU.run at 5000 rpm, two outputs sampled every step; minimum over 5 repeats.", "",
+              "BladeFMU.run at 5000 rpm, outputs sampled every step (first three rows: fmi2SetReal, "
+              "fmi2SetRealInputDerivatives, fmi2DoStep, fmi2GetReal per step); the last row is the sweeps' "
+              "configuration (fmi2SetRealInputDerivatives and fmi2DoStep per step, fmi2GetReal once per "
+              "period); minimum over 5 repeats.", "",
               "| communication step | doSteps | us per doStep (wall) | (CPU) | us inside fmi2DoStep | wall / inside | CPU / inside |",
               "|---|---|---|---|---|---|---|"]
         for k, v in data["dostep"].items():
@@ -217,10 +230,15 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
                      f"{v['us_inside_doStep']:.2f} | {v['ratio_wall']:.2f} | {v['ratio_cpu']:.2f} |")
         L.append("")
     if "sweep" in data:
+        st = data.get("sweep_settings", {})
         L += ["## A time-domain sweep driven from Python vs the FMU's own compute (target <= 1.5x)", "",
               "One up sweep of the base case, 3000..10000 rpm every 500 rpm, no refinement, no cache (plateaus "
               "with steady-state checks, state carried); the FMU's own compute = time spent inside "
-              "fmi2DoStep for the same work. Minimum over 3 repeats.", "",
+              "fmi2DoStep for the same work. Minimum over 3 repeats. Default settings: "
+              f"{st.get('steps_per_period', '?')} steps per period with the load's degree-8 "
+              f"{st.get('input_fit', '?')} polynomial per step, rtol {st.get('rtol', '?')}, cap "
+              f"{st.get('max_time', '?')} s per plateau; the second row only changes the steps per period "
+              "(more doSteps for the same physics).", "",
               "| communication step | plateaus | simulated | doSteps | wall | CPU | inside fmi2DoStep | wall / inside | CPU / inside |",
               "|---|---|---|---|---|---|---|---|---|"]
         for k, v in data["sweep"].items():
@@ -281,6 +299,11 @@ def run(args: argparse.Namespace) -> int:
         data["reference"] = reference_ratio(fmu, p)
     print("sweep overhead ...", flush=True)
     data["sweep"] = sweep_overhead(path)
+    from dataclasses import asdict
+
+    from harness.sweep import SweepSettings
+
+    data["sweep_settings"] = asdict(SweepSettings())
     print("harmonic balance ...", flush=True)
     data["hb"] = hb_all()
     if not args.skip_reproduce:

@@ -38,7 +38,8 @@ class SweepSettings:
     rtol: float = 1e-3  # steady-state tolerance: estimated relative distance from the periodic limit
     min_periods: int = 3  # converged periods needed
     chunk_periods: int = 400  # most periods simulated between two steady-state decisions
-    max_time: float = 1.0  # cap of simulated time per plateau / per A(B) evaluation [s]
+    max_time: float = 1.5  # cap of simulated time per plateau [s] (contact-free plateaus carried from
+    # a neighbour need ~tau ln(0.3/rtol) = 1.3 s at rtol 1e-3, tau = 2M/C0 = 0.22 s)
     # grid refinement (time-domain sweeps)
     refine_levels: int = 4  # bisection rounds
     refine_tol: float = 0.08  # refine where |dA| > refine_tol * max A of the curve
