@@ -105,7 +105,9 @@ PEAK_STEPS = 64  # samples of the extra period of `period_peak` (Hermite error <
 def settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings, cap: float,
            outputs: list[str]) -> tuple[np.ndarray, Any, float, float]:
     """Run chunks at constant `speed` from `start` until analyze() finds the steady state or
-    `cap` seconds are simulated. Returns (samples of the plateau, SteadyState, t_end, phase_end).
+    `cap` seconds are simulated; a response that converges with a fitted decay fast enough to
+    reach rtol within `s.extend` x cap may go on to that (an irregular one stops at the cap).
+    Returns (samples of the plateau, SteadyState, t_end, phase_end).
 
     The FMU is sampled once per period, at the period starts (q and q' always: the decision
     compares the state (q, q') one period apart, the Poincare section of the period map); the
@@ -135,13 +137,15 @@ def settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings,
     t = start.time
     chunks: list[np.ndarray] = []
     lookback = WINDOW + s.min_periods + 2  # periods before a decision's new ones that it needs
-    p_cap = max(int(math.ceil(cap / period - 1e-9)), lookback + s.min_periods)  # whole periods
+    p_soft = max(int(math.ceil(cap / period - 1e-9)), lookback + s.min_periods)  # whole periods
+    p_hard = max(int(math.ceil(s.extend * cap / period - 1e-9)), p_soft)
+    limit = p_soft
     p_done = 0
-    n_next = min(lookback + s.min_periods, p_cap)
+    n_next = min(lookback + s.min_periods, p_soft)
     last_decision = 0  # period count at the previous decision
     first = True
     while True:
-        n = min(n_next, p_cap - p_done)
+        n = min(n_next, limit - p_done)
         t_stop = start.time + (p_done + n) * period
         fresh = first and start.state is None
         # reset=False continues with the parameters already in the FMU (None: no re-validation)
@@ -158,17 +162,24 @@ def settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings,
         k0 = max(0, last_decision - lookback)
         w = _tail(chunks, p_done - k0 + 1)
         last_decision = p_done
-        if p_done >= p_cap:
+        if p_done >= p_hard:
             break
         reached, rel, decay = decide(w["tipDisplacement"][:-1, None], w["tipVelocity"][:-1, None],
                                      omega, rtol=s.rtol, min_periods=s.min_periods)
         if reached:
             break
-        if math.isfinite(rel) and 0.0 < decay < 1.0:
-            need = math.log(s.rtol / rel) / math.log(decay)  # periods to reach rtol
-            n_next = int(min(max(math.ceil(1.1 * need) + s.min_periods, s.min_periods + 1), s.chunk_periods))
+        converging = math.isfinite(rel) and 0.0 < decay < 1.0
+        if converging:
+            need = math.log(s.rtol / rel) / math.log(decay) + s.min_periods  # periods to reach rtol
+            n_next = int(min(max(math.ceil(1.1 * need), s.min_periods + 1), s.chunk_periods))
         else:  # no decay fitted yet (strongly nonlinear start, irregular response): triple the chunk
             n_next = min(3 * n, s.chunk_periods)
+        if p_done >= limit:
+            # at the cap: a response converging with a fitted decay that reaches rtol before
+            # extend x cap goes on; anything else (irregular, too slow) stops here
+            if limit == p_hard or not (converging and p_done + need <= p_hard):
+                break
+            limit = p_hard
     ss = analyze(w["time"], w["tipDisplacement"], period, rtol=s.rtol, min_periods=s.min_periods,
                  velocity=w["tipVelocity"])
     data = np.concatenate(chunks)

@@ -38,8 +38,10 @@ class SweepSettings:
     rtol: float = 1e-3  # steady-state tolerance: estimated relative distance from the periodic limit
     min_periods: int = 3  # converged periods needed
     chunk_periods: int = 400  # most periods simulated between two steady-state decisions
-    max_time: float = 1.5  # cap of simulated time per plateau [s] (contact-free plateaus carried from
-    # a neighbour need ~tau ln(0.3/rtol) = 1.3 s at rtol 1e-3, tau = 2M/C0 = 0.22 s)
+    max_time: float = 1.0  # cap of simulated time per plateau [s] (see `extend`)
+    extend: float = 2.5  # a plateau / A(B) run still converging at its cap (fitted decay, rtol reached
+    # in time by prediction) may go on to extend x cap: contact-free plateaus carried from a neighbour
+    # need ~tau ln(0.3/rtol) = 1.3 s at rtol 1e-3 (tau = 2M/C0 = 0.22 s); irregular ones stop at the cap
     # grid refinement (time-domain sweeps)
     refine_levels: int = 4  # bisection rounds
     refine_tol: float = 0.08  # refine where |dA| > refine_tol * max A of the curve
@@ -52,11 +54,11 @@ class SweepSettings:
 
     def plateau_key(self) -> dict:
         return {k: getattr(self, k) for k in ("steps_per_period", "derivative_order", "input_fit", "rtol",
-                                              "min_periods", "chunk_periods", "max_time")}
+                                              "min_periods", "chunk_periods", "max_time", "extend")}
 
     def fixed_key(self) -> dict:
         return {k: getattr(self, k) for k in ("steps_per_period", "derivative_order", "input_fit", "rtol",
-                                              "min_periods", "chunk_periods", "fixed_max_time")}
+                                              "min_periods", "chunk_periods", "fixed_max_time", "extend")}
 
 
 @dataclass(frozen=True)
@@ -111,6 +113,7 @@ def validate_settings(s: SweepSettings) -> SweepSettings:
     _num("min_periods", s.min_periods, 1, 1000, integer=True)
     _num("chunk_periods", s.chunk_periods, 1, 100000, integer=True)
     _num("max_time", s.max_time, 0, 1e4, low_open=True)
+    _num("extend", s.extend, 1, 100)
     _num("refine_levels", s.refine_levels, 0, 20, integer=True)
     _num("refine_tol", s.refine_tol, 0, 1, low_open=True)
     _num("min_dn", s.min_dn, 0, MAX_RPM, low_open=True)

@@ -143,6 +143,28 @@ def test_ungated_sweeps_follow_stable_hb_branches_and_fixed_points_find_every_hb
         assert a == pytest.approx(b, rel=5e-3)
 
 
+def test_converging_plateau_extends_past_its_cap_irregular_one_stops(fmu_path):
+    # From rest, contact-free (large gap): the transient decays regularly with tau = 2M/C0 = 0.22 s
+    # and needs more than a 0.4 s cap to reach rtol 1e-3 (its fitted decay says so): with extend 1
+    # it stops unconverged at the cap, with extend 5 it goes on, settles before 2 s (tau ln(1e4))
+    # and its amplitude is the closed form (tolerance as above). The base case at 5000 rpm with
+    # the tracked amplitude is irregular (no recurrence fits): it stops at the cap either way.
+    path, fhash = sw.fmu_identity(fmu_path)
+    free = validate({"d": 1e-2})
+    T = 60.0 / (3 * 4000.0)
+
+    def one(p, speed, extend):
+        s = sw.SweepSettings(refine_levels=0, max_time=0.4, extend=extend, rtol=1e-3)
+        return sw.run_chain(sw.ChainTask(p, (speed,), "up", s, path, fhash, None))[0]
+
+    capped, extended = one(free, 4000.0, 1.0), one(free, 4000.0, 5.0)
+    assert not capped["reached"] and capped["sim_time"] == pytest.approx(0.4, abs=T)
+    assert extended["reached"] and 0.4 < extended["sim_time"] < 2.0 and extended["t_settle"] < 2.0
+    assert extended["amplitude"] == pytest.approx(_linear_amplitude(free, 4000.0), rel=2e-3)
+    irregular = one(validate({}), 5000.0, 5.0)
+    assert not irregular["reached"] and irregular["sim_time"] <= 0.4 + 60.0 / (3 * 5000.0)
+
+
 def test_refinement_narrows_the_peak(fmu_path, tmp_path):
     # A coarse 500 rpm grid; the refined sweep must put a point within min_dn..2 min_dn of the
     # contact-free resonance (at large gap the peak is the EO-3 crossing of the Campbell diagram,
