@@ -139,7 +139,7 @@ def settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings,
     lookback = WINDOW + s.min_periods + 2  # periods before a decision's new ones that it needs
     p_soft = max(int(math.ceil(cap / period - 1e-9)), lookback + s.min_periods)  # whole periods
     p_hard = max(int(math.ceil(s.extend * cap / period - 1e-9)), p_soft)
-    limit = p_soft
+    limit = p_soft  # the periods the current plan allows
     p_done = 0
     n_next = min(lookback + s.min_periods, p_soft)
     last_decision = 0  # period count at the previous decision
@@ -174,12 +174,11 @@ def settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings,
             n_next = int(min(max(math.ceil(1.1 * need), s.min_periods + 1), s.chunk_periods))
         else:  # no decay fitted yet (strongly nonlinear start, irregular response): triple the chunk
             n_next = min(3 * n, s.chunk_periods)
+        # a response converging with a fitted decay that reaches rtol before extend x cap may run
+        # to that; anything else (irregular, too slow) stops at the cap
+        limit = p_hard if converging and p_done + need <= p_hard else p_soft
         if p_done >= limit:
-            # at the cap: a response converging with a fitted decay that reaches rtol before
-            # extend x cap goes on; anything else (irregular, too slow) stops here
-            if limit == p_hard or not (converging and p_done + need <= p_hard):
-                break
-            limit = p_hard
+            break
     ss = analyze(w["time"], w["tipDisplacement"], period, rtol=s.rtol, min_periods=s.min_periods,
                  velocity=w["tipVelocity"])
     data = np.concatenate(chunks)

@@ -251,10 +251,10 @@ def _distances(X: np.ndarray, floor: float, stop: float, first: int,
                extend: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """Estimated relative distance from the limit cycle of the periods that decide the final
     converged run (X: scaled period rows, shape (P, n)) and the fitted decay per period (nan where
-    not fitted). Evaluated backwards from the last period in blocks (`first` periods, then doubling;
-    only the first block unless `extend`) until a period's distance exceeds `stop` or the record
-    starts; earlier entries stay inf. A period needs WINDOW differences before it for a fit;
-    earlier ones count only when quiet."""
+    not fitted). Evaluated backwards from the last period: the last `first` periods, then (if they
+    are all within `stop` and `extend`) all earlier ones at once; where that first block fails,
+    earlier entries stay inf. A period needs WINDOW differences before it for a fit; earlier ones
+    count only when quiet."""
     P = X.shape[0]
     rel = np.full(P, np.inf)
     decay = np.full(P, np.nan)
@@ -273,7 +273,7 @@ def _distances(X: np.ndarray, floor: float, stop: float, first: int,
             rel[fit], decay[fit] = _distance(D[idx])
         if not extend or not np.all(rel[ks] <= stop):
             break
-        hi, block = ks[0], 2 * block
+        hi, block = ks[0], P  # the deciding periods converged: the run's start, in one batch
     return rel, decay
 
 
@@ -305,11 +305,13 @@ def decide(q_rows: np.ndarray, v_rows: np.ndarray | None, omega: float, *, rtol:
            min_periods: int) -> tuple[bool, float, float]:
     """The steady-state decision of `analyze` alone, for raw period rows (shape (P, M): M uniform
     samples per period starting at a period start; v_rows the velocity samples or None):
-    (reached, estimated relative distance of the last period from the limit, fitted decay per
-    period). Cheap: what a driver calls between chunks of simulation."""
+    (reached, the largest estimated relative distance from the limit over the last min_periods
+    periods (reached iff <= rtol; smoother than the last one alone, whose sampled sup norm varies
+    with the phase of a beating transient), fitted decay per period at the last period). Cheap:
+    what a driver calls between chunks of simulation."""
     X = _state_rows(q_rows, None if v_rows is None else v_rows / omega)
     rel, decay = _distances(X, NOISE * rtol, rtol, min_periods, extend=False)
-    return _run_length(rel, rtol) >= min_periods, float(rel[-1]), float(decay[-1])
+    return _run_length(rel, rtol) >= min_periods, float(np.max(rel[-min_periods:])), float(decay[-1])
 
 
 # ---------------------------------------------------------------------------------------------
