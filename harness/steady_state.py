@@ -1,29 +1,23 @@
 """Periodic steady state of a sampled response: is it reached, when, amplitude, phase, spectrum.
 
-The record is cut into whole excitation periods T from its first sample; period k becomes one
-vector x_k (the samples of q in that period, plus optional further state channels such as q' or a
-tracked amplitude, each scaled by its own maximum over the last period). Near a stable periodic
-limit x_inf the period map is linear, so x_k - x_inf = sum_j c_j lambda_j^k over the Floquet
-multipliers lambda_j of the transient, which are complex when the transient oscillates at a
-frequency other than the excitation (a free vibration at the natural frequency beats with the
-forced response: that is not a geometric decay of the period-to-period change). The differences
-D_k = x_k - x_{k-1} then obey a short linear recurrence D_{k+1} = a_1 D_k + ... + a_p D_{k-p+1}
-with the same multipliers as roots. It is fitted by least squares over the last few periods (all
-samples and channels at once, orders p = 1..4, the lowest order that explains the differences),
-and the distance from the limit is the exactly summed tail of the fitted recurrence,
-x_inf - x_k = sum_{m>k} D_m (minimal polynomial extrapolation), plus the unexplained part of the
-differences as a geometric tail. A fitted multiplier on or outside the unit circle (growth,
-subharmonic, quasi-periodic) or a recurrence that does not fit (irregular response) means: not
-converging. Period k is converged when the estimated distance is below `rtol` (sup norm over the
-samples, relative to each channel's maximum); the steady state is reached when the record ends
-with at least `min_periods` converged periods, and t_steady is the start of the first of them.
-Works with any whole number of raw samples per period (4 is enough, no interpolation); other
-sampling is resampled with a degree-7 spline. Amplitude = max |q| over the last period (cubic
-Hermite through q and q' when the velocity is given, else a cubic spline through q; with fewer
-than 3 samples per period and the velocity, the largest sqrt(q^2 + (q'/w)^2) of the last
-period's samples: exact for a harmonic response only), harmonic amplitude and phase by a
-least-squares fit of the first harmonic over whole periods (q' joins below 3 samples per period),
-spectrum by rfft over whole periods (harmonics up to M/2 only).
+The record is cut into whole excitation periods T; period k becomes a state vector x_k (its
+samples of q and, if given, q'/w, in units of the amplitude; further smooth state channels by
+their own maximum). Near a stable periodic limit x_inf the period map is linear: x_k - x_inf is a
+sum of c_j lambda_j^k over the transient's Floquet multipliers, complex when the transient
+oscillates at another frequency than the excitation (a free vibration beating with the forced
+response is not a geometric decay of the period-to-period change). So the differences
+D_k = x_k - x_{k-1} obey a short linear recurrence with those multipliers as roots; it is fitted by
+least squares over the last WINDOW periods (orders 1..4, the lowest that explains them), and the
+distance from the limit is its exactly summed tail, x_inf - x_k = sum_{m>k} D_m (minimal polynomial
+extrapolation), plus the unexplained rest as a geometric tail. A root on or outside the unit
+circle (growth, subharmonic, quasi-periodic) or no fitting recurrence (irregular) means: not
+converging. The steady state is reached when the record ends with `min_periods` periods whose
+estimated sup-norm distance is below `rtol`; t_steady is the start of the first of them. Any whole
+number of raw samples per period works (one, with q': the Poincare section of the period map);
+other sampling is resampled by a degree-7 spline. `decide` is the cheap decision alone (for
+drivers); `analyze` adds the amplitude (max |q| of the last period: Hermite through q, q' or a
+spline through q; below 3 samples per period the largest sqrt(q^2 + (q'/w)^2)), the first-harmonic
+fit and the spectrum over whole periods.
 """
 from __future__ import annotations
 
@@ -415,9 +409,11 @@ def analyze(time, q, period: float, *, rtol: float = 1e-4, min_periods: int = 3,
             states: Sequence | None = None) -> SteadyState:
     """Periodic steady state of q(time) at excitation period `period` [s] (see the module doc).
 
-    velocity: samples of dq/dt (optional): compared period to period like q and used for the exact
-    Hermite peak. states: further sampled state signals (e.g. a tracked amplitude) that must repeat
-    too. All channels are sampled at `time`."""
+    velocity: samples of dq/dt (optional, recommended): q'/w is compared period to period with q
+    (a transient at a multiple of the sampling rate is invisible in q alone) and gives the Hermite
+    peak. states: further sampled state signals that must repeat too; they must be smooth
+    functions of the state (a piecewise-constant period maximum such as the FMU's tracked
+    `amplitude` is not: it changes at its own instants). All channels are sampled at `time`."""
     time = np.asarray(time, dtype=float)
     q = np.asarray(q, dtype=float)
     if not (period > 0 and math.isfinite(period)):
