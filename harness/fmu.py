@@ -3,9 +3,11 @@
 `BladeFMU` extracts the FMU once, instantiates it once, and for every `run()` calls fmi2Reset,
 sets the (validated) parameters, initializes and steps over a fixed communication grid. The step
 loop is built for sweeps with millions of doSteps: input values and all input derivatives for the
-whole grid are computed with numpy before the loop; per step it makes only raw ctypes calls with
-prebuilt arrays: fmi2SetReal (both inputs), one fmi2SetRealInputDerivatives (all orders of both
-inputs), fmi2DoStep, and fmi2GetReal into a preallocated array on sampled steps. An FMU status
+whole grid are computed with numpy before the loop (`step_inputs`: the load's Taylor expansion at
+each step start, or its Chebyshev interpolant over the step, accurate at 2 steps per period); per
+step it makes only raw ctypes calls with prebuilt arrays: fmi2SetReal (both inputs; only before the
+first step with `carry_values`), one fmi2SetRealInputDerivatives (all orders of both inputs),
+fmi2DoStep, and fmi2GetReal into a preallocated array on sampled steps. An FMU status
 Discard/Error becomes `FMUError` carrying the FMU's log messages, the time reached and the partial
 result. The instance is always terminated and freed, and the extracted directory removed.
 """
