@@ -32,11 +32,6 @@ def outputs(fmu: Path) -> list[OutputVar]:
     return [OutputVar(v.name, v.valueReference, v.type) for v in md.modelVariables if v.causality == "output"]
 
 
-def inputs_by_name(fmu: Path) -> dict[str, int]:
-    md = read_model_description(str(fmu))
-    return {v.name: v.valueReference for v in md.modelVariables if v.causality == "input"}
-
-
 def variables_by_name(fmu: Path) -> dict[str, tuple[int, str]]:
     """name -> (value reference, type) for every variable."""
     md = read_model_description(str(fmu))

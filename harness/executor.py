@@ -22,7 +22,7 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Iterable, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
@@ -304,8 +304,3 @@ class Runner:
             results[index[f.key]] = f.result()
             bar.update(1)
         return [results[i] for i in range(len(tasks))]
-
-
-def chunked(seq: Iterable[Any], n: int) -> list[list[Any]]:
-    seq = list(seq)
-    return [seq[i:i + n] for i in range(0, len(seq), n)]
