@@ -14,9 +14,9 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from harness import params as _params
-from harness.fmu import INPUT_FITS, input_error
+from harness.fmu import INPUT_FITS, SPEED_RANGE, input_error
 
-MAX_RPM = 30000.0  # rotorSpeed range of the FMU (modelDescription.xml)
+MAX_RPM = SPEED_RANGE[1]  # highest rotorSpeed the FMU accepts [rpm]
 DIRECTIONS = ("up", "down")
 METHODS = ("time", "fixed", "hb")
 ALGO_VERSION = 3  # bump when a change alters cached point results
