@@ -105,13 +105,14 @@ def _inside(fmu: Any, fn, repeats: int) -> tuple[float, int]:
 def dostep_cost(fmu: Any, params: dict, repeats: int = 5) -> dict[str, Any]:
     """Cost of one doStep of BladeFMU.run at 5000 rpm for four communication steps; the last one
     as the sweeps step (Chebyshev-fitted load, values carried by the FMU, one sample per period)."""
+    from harness.plateau import PLATEAU_OUTPUTS
     from harness.sweep import SweepSettings
 
     out = {}
     T = 60.0 / (5000.0 * params["engineOrder"])
     spp = SweepSettings().steps_per_period
     plain = {"outputs": ["tipDisplacement", "amplitude"]}
-    sweep_like = {"outputs": ["tipDisplacement", "tipVelocity", "amplitude"], "input_fit": "chebyshev",
+    sweep_like = {"outputs": list(PLATEAU_OUTPUTS), "input_fit": "chebyshev",
                   "carry_values": True, "sample_every": spp}
     for label, h, t_stop, kw in (
             ("h = maxStep = 1e-5 s (1 internal step)", 1e-5, 0.2, plain),

@@ -21,7 +21,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from harness.executor import PointCache, point_key
-from harness.plateau import Start, omega_of, period_peak, settle, worker_fmu
+from harness.plateau import PLATEAU_OUTPUTS, Start, omega_of, period_peak, settle, worker_fmu
 from harness.sweep_config import ALGO_VERSION, SweepSettings, SweepSpec
 
 @dataclass(frozen=True)
@@ -32,9 +32,6 @@ class FixedPointTask:
     fmu_path: str
     fmu_hash: str
     cache_dir: str | None
-
-
-FIXED_OUTPUTS = ["tipDisplacement", "tipVelocity", "amplitude"]
 
 
 def amplitude_for(fmu: Any, cache: PointCache, fmu_hash: str, params: dict, speed: float, B: float,
@@ -51,7 +48,8 @@ def amplitude_for(fmu: Any, cache: PointCache, fmu_hash: str, params: dict, spee
         return rec
     p = dict(params, amplitudeMode=2 if tracked else 1, B=float(B))
     t0 = _time.perf_counter()
-    data, ss, t_end, phase = settle(fmu, p, speed, Start(), s, s.fixed_max_time * cap_factor, FIXED_OUTPUTS)
+    cap = s.fixed_max_time * cap_factor
+    data, ss, t_end, phase = settle(fmu, p, speed, Start(), s, cap, list(PLATEAU_OUTPUTS))
     if tracked:
         A, peak = float(data["amplitude"][-1]), float(np.max(data["amplitude"]))
     else:

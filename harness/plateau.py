@@ -99,6 +99,7 @@ class Start:
 
 
 SETTLE_OUTPUTS = ("tipDisplacement", "tipVelocity")  # the state the steady-state test compares
+PLATEAU_OUTPUTS = SETTLE_OUTPUTS + ("amplitude",)  # what sweep plateaus and fixed-point runs record
 PEAK_STEPS = 64  # samples of the extra period of `period_peak` (Hermite error <~1e-5 with contact)
 
 

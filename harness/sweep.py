@@ -29,12 +29,10 @@ from typing import Any, Iterable, Mapping, Sequence
 import numpy as np
 
 from harness.executor import PointCache, Runner, decode_bytes, encode_bytes, point_key
-from harness.plateau import PhasedSine, Start, fmu_identity, omega_of, settle, worker_fmu  # noqa: F401
+from harness.plateau import PLATEAU_OUTPUTS, PhasedSine, Start, fmu_identity, omega_of, settle, worker_fmu  # noqa: F401
 from harness.sweep_config import (ALGO_VERSION, DIRECTIONS, MAX_RPM, METHODS, ConfigError,  # noqa: F401
                                   SweepSettings, SweepSpec, parse_speed_range, validate_settings,
                                   validate_spec)
-
-TIME_OUTPUTS = ["tipDisplacement", "tipVelocity", "amplitude"]
 
 
 def plateau(fmu: Any, cache: PointCache, fmu_hash: str, params: dict, speed: float, start: Start,
@@ -48,7 +46,7 @@ def plateau(fmu: Any, cache: PointCache, fmu_hash: str, params: dict, speed: flo
         return rec
     p = dict(params, amplitudeMode=2)
     t0 = _time.perf_counter()
-    data, ss, t_end, phase = settle(fmu, p, speed, start, s, s.max_time, TIME_OUTPUTS)
+    data, ss, t_end, phase = settle(fmu, p, speed, start, s, s.max_time, list(PLATEAU_OUTPUTS))
     window = 3 * s.min_periods + 4  # periods (settle samples once per period)
     state = fmu.get_state()
     rec = {
