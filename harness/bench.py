@@ -23,7 +23,8 @@ from typing import Any
 
 import numpy as np
 
-from harness.executor import REPO_ROOT, atomic_write_text
+from harness.build import BUILD_DIR, REPO_ROOT
+from harness.executor import atomic_write_text
 
 BENCH_DIR = REPO_ROOT / "bench"
 
@@ -46,7 +47,7 @@ def machine() -> dict[str, Any]:
 
 def c_step_cost() -> dict[str, Any]:
     """Run build/bench_step (the core engineer's C benchmark) if present; its output verbatim."""
-    exe = REPO_ROOT / "build" / "bench_step"
+    exe = BUILD_DIR / "bench_step"
     if not exe.is_file():
         try:
             from harness.build import build

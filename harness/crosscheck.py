@@ -22,10 +22,10 @@ from pathlib import Path
 from typing import Callable
 
 from harness import crosscheck_fmpy as xfmpy
+from harness.build import REPO_ROOT
 from harness.crosscheck_common import Run, max_rel_diff, rel_diffs
 from harness.crosscheck_plan import SCENARIOS, InputPlan, Scenario, make_plan
 
-REPO_ROOT = Path(__file__).resolve().parent.parent
 AGREEMENT_FILE = REPO_ROOT / "crosscheck" / "agreement.md"
 TOOLS = ("fmpy", "libcosim", "ecos", "fmi4j")
 #: agreement target for a tool fed the same inputs, communication points and step sizes as fmpy

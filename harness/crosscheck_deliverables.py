@@ -28,10 +28,10 @@ import numpy as np
 from fmpy import simulate_fmu
 from fmpy.util import read_csv, read_ref_opt_file, validate_result, write_csv
 
+from harness.build import REPO_ROOT
 from harness.crosscheck_common import MODEL_NAME, as_float_result
 from harness.crosscheck_plan import Scenario
 
-REPO_ROOT = Path(__file__).resolve().parent.parent
 DEFAULT_ROOT = REPO_ROOT / "crosscheck"
 TOOL = MODEL_NAME  # the exporting "tool" is this project's own build
 #: <= 10 variables in the reference (cross-check rules); time is the first column on top of these.

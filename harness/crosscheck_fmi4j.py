@@ -18,10 +18,11 @@ from pathlib import Path
 
 import numpy as np
 
+from harness.build import REPO_ROOT
 from harness.crosscheck_common import Run, outputs, result_array
 from harness.crosscheck_plan import InputPlan, Scenario
 
-JAVA_DIR = Path(__file__).resolve().parent.parent / "crosscheck" / "java"
+JAVA_DIR = REPO_ROOT / "crosscheck" / "java"
 MAIN_CLASS = "shroudedblade.Fmi4jDriver"
 
 

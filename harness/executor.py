@@ -26,7 +26,8 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-REPO_ROOT = Path(__file__).resolve().parent.parent
+from harness.build import REPO_ROOT
+
 RESULTS_DIR = REPO_ROOT / "results"
 DEFAULT_CACHE_DIR = RESULTS_DIR / "cache"
 

@@ -12,10 +12,10 @@ import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from functools import lru_cache
-from pathlib import Path
 from typing import Any, Mapping
 
-REPO_ROOT = Path(__file__).resolve().parent.parent
+from harness.build import REPO_ROOT
+
 MODEL_DESCRIPTION = REPO_ROOT / "modelDescription.xml"
 
 
