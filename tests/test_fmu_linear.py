@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from fmi2raw import aero_derivatives
 from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 from scipy.integrate import quad
@@ -120,9 +121,9 @@ def run_sine(unzipped: tuple[str, str], formulation: int, rpm: float, duration: 
         E = np.zeros(n + 1)
         for k in range(n):
             tk = k * H_COMM
-            slave.setReal([VR_AERO], [FW0 * math.sin(omega * tk)])
-            slave.setRealInputDerivatives([VR_AERO] * 8, orders,
-                                          [FW0 * omega**j * math.sin(omega * tk + j * math.pi / 2) for j in orders])
+            load = aero_derivatives(tk, FW0, omega)  # value and derivatives 1..8 of FW0 sin(omega t)
+            slave.setReal([VR_AERO], load[:1])
+            slave.setRealInputDerivatives([VR_AERO] * 8, orders, load[1:])
             slave.doStep(tk, H_COMM)
             q[k + 1], E[k + 1] = slave.getReal([VR_Q, VR_E])
         freq, keq = slave.getReal([VR_FREQ, VR_KEQ])
