@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import io
 import itertools
 import math
 import sys
@@ -26,6 +27,7 @@ from typing import Any, Callable, Iterable
 import numpy as np
 
 from harness.excitation import AeroLoad, Constant, LinearRamp, Modulated, Piecewise, fmu_view
+from harness.executor import atomic_write_text
 
 TOL_DF = 1e-6  # describing-function models, no gating: smooth right-hand side
 TOL_SWITCHING = 1e-4  # gating (K_eq, C_eq switch at |q| = d) and the time-domain element
@@ -286,11 +288,12 @@ def run(args: argparse.Namespace) -> int:
                           max_step=args.max_step)
     failed = [r for r in rows if not r.passed]
     if args.output_file:
-        with open(args.output_file, "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(["scenario", "quantity", "max_error", "tolerance", "passed", "note"])
-            for r in rows:
-                w.writerow([r.scenario, r.quantity, f"{r.error:.6g}", f"{r.tolerance:g}", r.passed, r.note])
+        buf = io.StringIO(newline="")
+        w = csv.writer(buf)
+        w.writerow(["scenario", "quantity", "max_error", "tolerance", "passed", "note"])
+        for r in rows:
+            w.writerow([r.scenario, r.quantity, f"{r.error:.6g}", f"{r.tolerance:g}", r.passed, r.note])
+        atomic_write_text(args.output_file, buf.getvalue())  # never a half-written table
     print(f"{len(rows) - len(failed)} of {len(rows)} checks pass" + (f"; {len(failed)} FAIL" if failed else ""))
     return 1 if failed else 0
 
