@@ -298,6 +298,11 @@ fmi2Status instanceDoStep(Instance *inst, double tc, double h)
         instanceLogStatus(inst, fmi2Error, "%s: communicationStepSize = %g s must be > 0", fn, h);
         return fmi2Error;
     }
+    if (tc + h == tc) {
+        instanceLogStatus(inst, fmi2Error, "%s: communicationStepSize = %g s is below the time resolution at "
+                          "t = %.17g s (t + h == t): time would not advance", fn, h, tc);
+        return fmi2Error;
+    }
     if (fabs(tc - d->time) > tol) {
         instanceLogStatus(inst, fmi2Error, "%s: currentCommunicationPoint = %.17g s does not match the FMU time "
                           "%.17g s (tolerance %g s)", fn, tc, d->time, tol);
@@ -338,11 +343,13 @@ fmi2Status instanceDoStep(Instance *inst, double tc, double h)
         d->solver = backup;
         switch (st) {
         case SolverNonFinite:
+            /* low speed with a DF contact: C_eq ~ 1/omega makes the equation stiff */
             instanceLogStatus(inst, fmi2Discard, "%s: the state became non-finite near t = %.17g s (numerical "
-                              "instability: try a smaller maxStep = %g s; a describing-function contact at low "
-                              "rotorSpeed = %g rpm is stiff since C_eq grows like 1/omega); the step from "
-                              "t = %.17g s is discarded and the state restored", fn, tf, d->par[ParMaxStep],
-                              n0, tc);
+                              "instability: try a smaller maxStep = %g s%s); the step from t = %.17g s is "
+                              "discarded and the state restored", fn, tf, d->par[ParMaxStep],
+                              (d->model.friction != FrictionMacroslipTD && n0 < 100.0)
+                                  ? "; at low rotorSpeed a describing-function contact is stiff since C_eq "
+                                    "grows like 1/omega" : "", tc);
             break;
         case SolverChattering:
             instanceLogStatus(inst, fmi2Discard, "%s: more than %d switching events in one internal step near "

@@ -385,17 +385,17 @@ def _after_error_case() -> Case:
 
 def _step_case(label: str, t: float, h: float, expect: str = "refuse",
                setup_stop: float | None = None, needle: str | None = None,
-               steps_before: int = 0) -> Case:
+               steps_before: int = 0, start: float = 0.0) -> Case:
     def run(lib: Fmi2Library) -> Outcome:
         with Instance(lib) as c:
-            assert c.initialize(stop=setup_stop) == OK, c.log_text()
+            assert c.initialize(start=start, stop=setup_stop) == OK, c.log_text()
             if steps_before:
                 assert _steps(c, 0.0, steps_before) == OK, c.log_text()
             c.clear_log()
             out = Outcome(c.do_step(t, h), "fmi2DoStep", list(c.log))
             if out.status in REFUSED:
                 st, tl = c.get_real_status(F.LAST_SUCCESSFUL_TIME)
-                if st == OK and tl != steps_before * 1e-4:
+                if st == OK and tl != start + steps_before * 1e-4:
                     out.after = f"lastSuccessfulTime moved to {tl!r}"
             return out
     return Case("step", label, run, expect, needle=needle)
@@ -419,6 +419,8 @@ def step_cases() -> list[Case]:
         _step_case("communication point inf", math.inf, 1e-4),
         _step_case("step past the stop time 0.01 (h = 0.02)", 0.0, 0.02, setup_stop=0.01),
         _step_case("step landing on the stop time 0.01", 0.0, 0.01, "accept", setup_stop=0.01),
+        _step_case("h = 1e-4 at t = 1e308 (t + h == t: time would not advance)", 1e308, 1e-4,
+                   start=1e308, needle="time resolution"),
     ]
 
 
