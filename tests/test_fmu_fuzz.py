@@ -11,7 +11,7 @@ the enabled log categories, and checks after every call:
 - Real outputs are finite whenever fmi2GetReal returned fmi2OK;
 - fmi2DoStep is refused outside "step complete" (after an fmi2Error or fmi2Discard of a step, an
   fmi2Error of fmi2ExitInitializationMode, before initialization, after fmi2Terminate), and for a
-  wrong communication point or h <= 0; a valid step with valid inputs is never an fmi2Error;
+  wrong communication point, h <= 0 or t + h == t; a valid step with valid inputs is never an fmi2Error;
 - the logger is called only for enabled categories (fmi2SetDebugLogging(fmi2True, subset): only
   those, per FMI 2.0 section 2.1.5; fmi2SetDebugLogging(fmi2False, 0 categories) or loggingOn =
   fmi2False at instantiation: none), always with our instance name and a known category;
@@ -411,7 +411,8 @@ class FmuMachine(RuleBasedStateMachine):
             assert s == ERROR, f"fmi2DoStep in {self.phase} returned {s}"
             return
         tol = 1e-9 * max(1.0, abs(self.t))
-        if not (math.isfinite(t) and abs(t - self.t) <= tol) or not (h > 0.0) or not math.isfinite(h):
+        if not (math.isfinite(t) and abs(t - self.t) <= tol) or not (h > 0.0) or not math.isfinite(h) \
+                or t + h == t:  # below the time resolution at t: time would not advance
             assert s in (ERROR, DISCARD), f"bad step t={t!r} (now {self.t!r}) h={h!r}: {s}"
         elif self.stop is not None and math.isfinite(self.stop) and \
                 t + h > self.stop + 1e-9 * max(1.0, abs(self.stop)):
