@@ -19,6 +19,8 @@ from pathlib import Path
 import fmpy
 from fmpy.validation import validate_fmu
 
+from harness.build import rebuild_binary
+
 
 @dataclass
 class StaticResult:
@@ -65,8 +67,8 @@ def rebuild_from_sources(fmu: Path, out_fmu: Path, build_dir: Path | None = None
     """Rebuild the FMU's binary from its own `sources/` with fmpy.build.build_platform_binary.
 
     The archive is extracted, its binaries/ removed, fmpy's CMake project compiles the files listed
-    in <SourceFiles> with only sources/ and the FMI headers on the include path, and the result is
-    zipped to `out_fmu`. Runs in a subprocess so CMake's output is captured (shown on failure).
+    in <SourceFiles> with only sources/ and the FMI headers on the include path (linked with libm:
+    harness.build.REBUILD_CMAKE_OPTIONS), and the result is zipped to `out_fmu`.
     """
     import tempfile
     import zipfile
@@ -78,11 +80,7 @@ def rebuild_from_sources(fmu: Path, out_fmu: Path, build_dir: Path | None = None
         shutil.rmtree(unzipdir / "binaries", ignore_errors=True)
         bdir = Path(build_dir) if build_dir else Path(tmp) / "build"
         bdir.mkdir(parents=True, exist_ok=True)
-        code = ("import sys; from fmpy.build import build_platform_binary; "
-                "build_platform_binary(sys.argv[1], build_dir=sys.argv[2])")
-        proc = subprocess.run([sys.executable, "-c", code, str(unzipdir), str(bdir)], capture_output=True, text=True)
-        if proc.returncode != 0:
-            raise RuntimeError(f"fmpy.build.build_platform_binary failed:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
+        rebuild_binary(unzipdir, bdir)
         out_fmu = Path(out_fmu)
         out_fmu.parent.mkdir(parents=True, exist_ok=True)
         with zipfile.ZipFile(out_fmu, "w", zipfile.ZIP_DEFLATED) as z:

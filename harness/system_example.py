@@ -7,18 +7,14 @@ heavier shroud, m0 = 0.03 kg, and a wider gap, d = 4e-5 m). Connections: excitat
 each blade's aeroLoad, excitation.rotorSpeed -> each blade's rotorSpeed. Both masters use the same
 fixed-step Jacobi scheme (outputs at t_k are the inputs for [t_k, t_{k+1}], inputs held): a
 hand-written fmpy loop over FMU2Slave, and libcosim (libcosimpy) with `connect_real_variables`;
-both pass libcosim's integer-nanosecond communication points. The excitation FMU is built from its
-C source with fmpy.build.build_platform_binary (`build_excitation_fmu`). `python -m
+both pass libcosim's integer-nanosecond communication points. The excitation FMU is built by the
+project's CMake build with the blade (build/Excitation.fmu, `build_excitation_fmu`). `python -m
 harness.system_example` runs both masters and prints the largest relative difference.
 """
 from __future__ import annotations
 
 import argparse
 import shutil
-import subprocess
-import sys
-import tempfile
-import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
@@ -30,9 +26,7 @@ from fmpy.fmi2 import FMU2Slave
 from harness.crosscheck_common import max_rel_diff, outputs, result_array, variables_by_name
 from harness.crosscheck_libcosim import NS_PER_S, ns_time_grid, to_ns
 
-REPO_ROOT = Path(__file__).resolve().parent.parent
-EXCITATION_SRC = REPO_ROOT / "crosscheck" / "excitation"
-EXCITATION_FMU = REPO_ROOT / "build" / "Excitation.fmu"
+from harness.build import EXCITATION_FMU, build
 EXC = "excitation"
 
 
@@ -52,28 +46,9 @@ class System:
 
 
 def build_excitation_fmu(out: Path = EXCITATION_FMU) -> Path:
-    """Compile crosscheck/excitation/sources with fmpy.build.build_platform_binary and zip the FMU
-    (skipped when `out` is newer than the sources and the model description)."""
-    srcs = [EXCITATION_SRC / "modelDescription.xml", *sorted((EXCITATION_SRC / "sources").glob("*"))]
-    if out.exists() and out.stat().st_mtime > max(p.stat().st_mtime for p in srcs):
-        return out
-    with tempfile.TemporaryDirectory(prefix="sb-excitation-") as tmp:
-        stage = Path(tmp) / "fmu"
-        shutil.copytree(EXCITATION_SRC, stage)
-        code = ("import sys; from fmpy.build import build_platform_binary; "
-                "build_platform_binary(sys.argv[1], build_dir=sys.argv[2])")
-        (Path(tmp) / "build").mkdir()
-        proc = subprocess.run([sys.executable, "-c", code, str(stage), str(Path(tmp) / "build")],
-                              capture_output=True, text=True)
-        if proc.returncode != 0:
-            raise RuntimeError(f"building the excitation FMU failed:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
-        out.parent.mkdir(parents=True, exist_ok=True)
-        tmp_out = out.with_suffix(".fmu.tmp")
-        with zipfile.ZipFile(tmp_out, "w", zipfile.ZIP_DEFLATED) as z:
-            for f in sorted(stage.rglob("*")):
-                if f.is_file():
-                    z.write(f, f.relative_to(stage).as_posix())
-        tmp_out.replace(out)
+    """build/Excitation.fmu, built by CMake with the blade FMU (target excitation_fmu, linked with
+    libm), from crosscheck/excitation/sources; CMake rebuilds it when the sources changed."""
+    build(("excitation_fmu",))
     return out
 
 

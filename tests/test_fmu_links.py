@@ -1,0 +1,111 @@
+"""Every FMU binary links what it uses, so a C master without libm can load it (issue 13).
+
+For each FMU the build produces (ShroudedBlade, Excitation) and for the same FMU rebuilt from its
+own `sources/` by fmpy.build (harness.crosscheck_static.rebuild_from_sources):
+- `ldd -r` on the binary reports no undefined symbol;
+- tests/c/dlopen_step (a C program built here without -lm, checked to have no libm in its
+  DT_NEEDED) dlopens it with RTLD_NOW, instantiates, takes one step and prints an output, which
+  must equal what fmpy reads from the same binary after the same step (same code, same inputs:
+  equal to the last bit).
+Before the fix the Excitation binary failed both checks with `undefined symbol: sin`.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import zipfile
+from pathlib import Path
+
+import fmpy
+import pytest
+from fmpy import read_model_description
+from fmpy.fmi2 import FMU2Slave
+
+from harness import build as _build
+from harness.crosscheck_static import rebuild_from_sources
+
+LOADER_SRC = Path(__file__).parent / "c" / "dlopen_step.c"
+FMI_HEADERS = Path(fmpy.__file__).parent / "c-code"
+# (FMU, output read after the step): naturalFrequency of the blade, aeroLoad (a sine) of the excitation
+CASES = {"ShroudedBlade": (_build.FMU_PATH, "naturalFrequency"), "Excitation": (_build.EXCITATION_FMU, "aeroLoad")}
+
+
+def _needed(binary: Path) -> list[str]:
+    out = subprocess.run(["readelf", "-d", str(binary)], capture_output=True, text=True, check=True).stdout
+    return [line.split("[")[1].rstrip("]") for line in out.splitlines() if "(NEEDED)" in line]
+
+
+@pytest.fixture(scope="module")
+def loader(tmp_path_factory) -> Path:
+    exe = tmp_path_factory.mktemp("loader") / "dlopen_step"
+    subprocess.run(["cc", "-std=c99", "-Wall", "-Wextra", "-Werror", f"-I{FMI_HEADERS}", str(LOADER_SRC),
+                    "-o", str(exe), "-ldl"], check=True)
+    assert not any(n.startswith("libm.") for n in _needed(exe)), "the loader must not hold libm itself"
+    return exe
+
+
+@pytest.fixture(scope="module")
+def unpacked(tmp_path_factory) -> dict[tuple[str, str], Path]:
+    """(model, 'built' | 'rebuilt') -> extracted FMU directory."""
+    _build.build(("fmu", "excitation_fmu"))
+    root = tmp_path_factory.mktemp("fmus")
+    dirs = {}
+    for model, (fmu, _) in CASES.items():
+        rebuilt = rebuild_from_sources(fmu, root / f"{model}_rebuilt.fmu")
+        for flavour, path in (("built", fmu), ("rebuilt", rebuilt)):
+            d = root / f"{model}_{flavour}"
+            with zipfile.ZipFile(path) as z:
+                z.extractall(d)
+            dirs[model, flavour] = d
+    return dirs
+
+
+def _fmpy_one_step(unzipdir: Path, output: str) -> float:
+    md = read_model_description(str(unzipdir))
+    vr = next(v.valueReference for v in md.modelVariables if v.name == output)
+    fmu = FMU2Slave(guid=md.guid, unzipDirectory=str(unzipdir), modelIdentifier=md.coSimulation.modelIdentifier,
+                    instanceName="fmpy")
+    try:
+        fmu.instantiate()
+        fmu.setupExperiment(startTime=0.0, stopTime=1.0)
+        fmu.enterInitializationMode()
+        fmu.exitInitializationMode()
+        fmu.doStep(0.0, 1e-4)
+        return fmu.getReal([vr])[0]
+    finally:
+        fmu.terminate()
+        fmu.freeInstance()
+
+
+@pytest.mark.parametrize("flavour", ["built", "rebuilt"])
+@pytest.mark.parametrize("model", list(CASES))
+def test_binary_loads_in_a_c_master_without_libm(model, flavour, loader, unpacked):
+    unzipdir = unpacked[model, flavour]
+    binary = unzipdir / "binaries" / "linux64" / f"{model}.so"
+    ldd = subprocess.run(["ldd", "-r", str(binary)], capture_output=True, text=True)
+    assert "undefined symbol" not in ldd.stdout + ldd.stderr, ldd.stdout + ldd.stderr
+
+    md = read_model_description(str(unzipdir))
+    output = CASES[model][1]
+    vr = next(v.valueReference for v in md.modelVariables if v.name == output)
+    env = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
+    proc = subprocess.run([str(loader), str(binary), md.guid, (unzipdir / "resources").as_uri(), str(vr)],
+                          capture_output=True, text=True, env=env)
+    assert proc.returncode == 0, proc.stderr
+    value = float(proc.stdout.split()[1])
+    assert value == _fmpy_one_step(unzipdir, output)
+    assert value != 0.0  # the output is a computed one (a frequency, a sine), not an untouched start value
+
+
+def test_loader_catches_a_binary_without_libm(loader, tmp_path):
+    """The check can fail: the Excitation source compiled without -lm (as fmpy.build did before the
+    fix) is refused by the loader with an undefined symbol."""
+    src = _build.REPO_ROOT / "crosscheck" / "excitation" / "sources" / "excitation.c"
+    so = tmp_path / "Excitation.so"
+    subprocess.run(["cc", "-std=c99", "-shared", "-fPIC", "-O2", f"-I{FMI_HEADERS}", str(src), "-o", str(so)],
+                   check=True)
+    proc = subprocess.run([str(loader), str(so), "{x}", "file:///tmp", "10"], capture_output=True, text=True)
+    assert proc.returncode == 1
+    assert "undefined symbol" in proc.stderr
+    shutil.rmtree(tmp_path, ignore_errors=True)
