@@ -41,8 +41,11 @@
 #define vr_amplitude 56
 #define vr_dissipatedEnergy 57
 #define vr_naturalFrequency 58
+#define vr_jenkinsForce 59
 /* Integer outputs */
 #define vr_regime 60
 #define vr_contactState 61
+/* Real output after the Integer ones (60, 61 were taken) */
+#define vr_runningMaximum 62
 
 #endif

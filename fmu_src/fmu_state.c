@@ -106,7 +106,8 @@ fmi2Status instanceFreeState(Instance *inst, fmi2FMUstate *state)
 
 /* Serialization: versioned, pointer-free, little-endian.
  *   offset 0   8 bytes  magic "SBLDSTAT"
- *          8   int32    format version (1)
+ *          8   int32    format version (2: the start values of jenkinsForce and runningMaximum
+ *                       joined the parameters; version 1 blobs are refused)
  *         12   int32    total size in bytes
  *         16   uint64   FNV-1a 64 hash of the GUID
  *         24   int32    number of doubles (SER_NDOUBLE), int32 number of int32 (SER_NINT)
@@ -114,7 +115,7 @@ fmi2Status instanceFreeState(Instance *inst, fmi2FMUstate *state)
  *              int32    two's complement, little-endian
  *   size - 8   uint64   FNV-1a 64 checksum of all preceding bytes                             */
 
-#define SER_VERSION 1
+#define SER_VERSION 2 /* bump whenever walkFields changes */
 #define SER_HEADER 32
 #define SER_NDOUBLE (PAR_NUM + SOLVER_NUM_INPUTS * (SOLVER_MAX_ORDER + 1) + 3 + 8)
 #define SER_NINT (1 + IPAR_NUM + 3 + 4)

@@ -89,8 +89,43 @@ void instanceReset(Instance *inst) { setStartValues(inst); }
 /* ------------------------------------------------------------------------------------------- */
 /* Model construction                                                                          */
 
+/* The start value of jenkinsForce must fit the start state (model-notes s.7): 0 for the
+ * describing-function models and for an open contact, inside the friction cone [-L, L] (relative
+ * tolerance SOLVER_CONE_RTOL) otherwise. Cross-field, so checked here, not in fmi2SetReal. */
+static fmi2Status checkStartForce(Instance *inst, const char *fn)
+{
+    const InstanceData *d = &inst->d;
+    const double F0 = d->par[ParF0], q0 = d->par[ParQ0];
+    double L;
+    if (F0 == 0.0) return fmi2OK;
+    if (d->model.friction != FrictionMacroslipTD) {
+        instanceLogStatus(inst, fmi2Error,
+                          "%s: jenkinsForce = %.15g N: its start value applies only to frictionModel 3 (the "
+                          "time-domain Jenkins element), here frictionModel = %d: accepted range [0, 0] N",
+                          fn, F0, (int)d->ipar[IparFrictionModel]);
+        return fmi2Error;
+    }
+    L = solverStartForceLimit(&d->model, q0);
+    if (L < 0.0) {
+        instanceLogStatus(inst, fmi2Error,
+                          "%s: jenkinsForce = %.15g N, but the contact is open at the start value "
+                          "tipDisplacement = %.15g m (|q0| <= d = %g m), where the spring is unloaded: "
+                          "accepted range [0, 0] N", fn, F0, q0, d->model.d);
+        return fmi2Error;
+    }
+    if (!(fabs(F0) <= L * (1.0 + SOLVER_CONE_RTOL))) {
+        instanceLogStatus(inst, fmi2Error,
+                          "%s: jenkinsForce = %.15g N is outside the friction cone: accepted range "
+                          "[-%.15g, %.15g] N, from tipDisplacement = %.15g m (L = mu kn cos(gamma) "
+                          "(|q0| - d), mu = %g, kn = %g N/m, gamma = %g rad, d = %g m)", fn, F0, L, L, q0,
+                          d->par[ParMu], d->par[ParKn], d->par[ParGamma], d->par[ParD]);
+        return fmi2Error;
+    }
+    return fmi2OK;
+}
+
 /* Builds blade reduction and solver model from the parameters; if initState, also the initial
- * solver state (q0, v0, E0, B). Logs and returns fmi2Error on failure. */
+ * solver state (q0, v0, E0, F0, B, windowMax0). Logs and returns fmi2Error on failure. */
 fmi2Status instanceBuildModel(Instance *inst, const char *fn, int initState)
 {
     InstanceData *d = &inst->d;
@@ -130,7 +165,9 @@ fmi2Status instanceBuildModel(Instance *inst, const char *fn, int initState)
         return fmi2Error;
     }
     if (initState) {
-        st = solverInitState(&d->model, &d->solver, p[ParQ0], p[ParV0], p[ParE0], p[ParB]);
+        if (checkStartForce(inst, fn) != fmi2OK) return fmi2Error;
+        st = solverInitState(&d->model, &d->solver, p[ParQ0], p[ParV0], p[ParE0], p[ParF0], p[ParB],
+                             p[ParWindowMax0]);
     } else {
         st = solverUpdateDescribe(&d->model, &d->solver);
     }

@@ -39,7 +39,9 @@ const char *logCategoryName(int category);
 typedef enum {
     ParEI = 0, ParRho, ParA, ParL, ParC, ParM0, ParKn, ParKdRatio, ParMu, ParGamma, ParD, ParB,
     ParMaxStep,
-    ParQ0, ParV0, ParE0, /* start values of the initial="exact" outputs q, q', E */
+    ParQ0, ParV0, ParE0, /* start values of the initial="exact" outputs q [m], q' [m/s], E [J] */
+    ParF0,               /* start value of jenkinsForce: Jenkins spring force k_d (Delta_u - w) [N] */
+    ParWindowMax0,       /* start value of runningMaximum: max |q| over the running period [m] */
     PAR_NUM
 } RealParam;
 

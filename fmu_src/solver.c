@@ -108,8 +108,33 @@ static void enterContact(const SolverModel *m, SolverState *s, int side)
     }
 }
 
+double solverStartForceLimit(const SolverModel *m, double q0)
+{
+    const double sig = q0 >= 0.0 ? 1.0 : -1.0;
+    if (!(fabs(q0) > m->d)) return -1.0;
+    return m->muKnCos * (sig * q0 - m->d); /* L = mu |F_n| (eq. 3) */
+}
+
+/* Jenkins element starting in contact with spring force F0 (model-notes s.7). */
+static void initContactForce(const SolverModel *m, SolverState *s, double F0)
+{
+    const double L = solverStartForceLimit(m, s->q);
+    s->mode = ContactStick;
+    s->w = m->sinG * s->q - F0 / m->kd; /* F_f = kd (Delta_u - w) = F0 */
+    if (fabs(F0) >= L * (1.0 - SOLVER_CONE_RTOL)) {
+        /* on the cone: slip goes on while the slip rate is >= 0, the test of detect() for EvStick */
+        const int dir = F0 > 0.0 ? 1 : -1;
+        const double cs = dir * m->kd * m->sinG - s->side * m->muKnCos;
+        if (cs * s->v >= 0.0) {
+            s->mode = ContactSlip;
+            s->slipDir = dir;
+            s->w = m->sinG * s->q - dir * L / m->kd; /* F_f = s L exactly */
+        }
+    }
+}
+
 SolverStatus solverInitState(const SolverModel *m, SolverState *s, double q0, double v0, double E0,
-                             double B0)
+                             double F0, double B0, double windowMax0)
 {
     memset(s, 0, sizeof *s);
     s->q = q0;
@@ -118,14 +143,18 @@ SolverStatus solverInitState(const SolverModel *m, SolverState *s, double q0, do
     s->E = E0;
     s->w = m->sinG * q0;
     s->B = B0;
+    /* the period before the start may have reached further than |q0| (a restarted run) */
     s->windowMax = fabs(q0);
+    if (windowMax0 > s->windowMax) s->windowMax = windowMax0;
     s->periods = 0.0;
     s->side = q0 >= 0.0 ? 1 : -1;
     s->slipDir = s->side;
     s->vdir = v0 >= 0.0 ? 1 : -1;
     if (m->friction == FrictionMacroslipTD) {
-        /* starting inside the contact: the spring starts unloaded, so inside the cone: stick */
+        /* inside the contact with the spring unloaded (F0 = 0): inside the cone, so stick, even
+         * where an arriving contact would slip (kept as it was before F0 existed) */
         s->mode = fabs(q0) > m->d ? ContactStick : ContactOpen;
+        if (s->mode == ContactStick && F0 != 0.0) initContactForce(m, s, F0);
     } else {
         s->mode = (!m->gating || fabs(q0) > m->d) ? 1 : 0;
     }
@@ -531,21 +560,26 @@ void solverOutputs(const SolverModel *m, const SolverState *s, double nRpm, Solv
         case ContactStick:
             out->normalForce = m->knCos * (s->q - sig * m->d);
             out->frictionForce = m->kd * (m->sinG * s->q - s->w);
+            out->jenkinsForce = out->frictionForce;
             out->contactState = ContactStick;
             break;
         case ContactSlip:
             out->normalForce = m->knCos * (s->q - sig * m->d);
             out->frictionForce = s->slipDir * m->muKnCos * (sig * s->q - m->d);
+            /* the spring state itself (= s L up to rounding): a restart from it is consistent */
+            out->jenkinsForce = m->kd * (m->sinG * s->q - s->w);
             out->contactState = ContactSlip;
             break;
         default:
             out->normalForce = 0.0;
             out->frictionForce = 0.0;
+            out->jenkinsForce = 0.0;
             out->contactState = ContactOpen;
             break;
         }
     } else {
         const int g = gateOn(m, s);
+        out->jenkinsForce = 0.0; /* no Jenkins element in the describing-function models */
         out->normalForce = g ? s->df.pk * s->q : 0.0;
         out->frictionForce = g ? s->df.fk * s->q + fc * s->v : 0.0;
         out->Keq = g ? s->df.Keq : 0.0;

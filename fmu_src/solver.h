@@ -107,10 +107,21 @@ int solverBuildModel(SolverModel *m, const BladeReduction *r, const ContactParam
  * SolverOk or SolverDescribeFailed. */
 SolverStatus solverUpdateDescribe(const SolverModel *m, SolverState *s);
 
-/* Initial state at rest or at (q0, v0, E0): psi = 0, w = q0 sin(gamma) (unloaded spring), the
- * discrete state from the continuous one, B = B0, describing function at B0. */
+/* Initial state at rest or at (q0 [m], v0 [m/s], E0 [J]) (model-notes s.7): psi = 0, B = B0 [m],
+ * describing function at B0, windowMax = max(|q0|, windowMax0 [m]). Jenkins element (frictionModel
+ * 3) in contact (|q0| > d): spring force F0 [N], w = q0 sin(gamma) - F0 / kd; stick if |F0| < L,
+ * on the cone |F0| = L (relative 1e-12) slip in direction sign(F0) if the slip rate
+ * (s kd sin g - sigma mu kn cos g) v0 >= 0, else stick. F0 = 0 is the unloaded spring (stick).
+ * The caller checks F0 against the cone first (solverStartForceLimit). */
 SolverStatus solverInitState(const SolverModel *m, SolverState *s, double q0, double v0, double E0,
-                             double B0);
+                             double F0, double B0, double windowMax0);
+
+/* Friction limit L = mu kn cos(gamma) (|q0| - d) [N] of the Jenkins element at q0 [m]; -1 if the
+ * contact is open there (|q0| <= d). */
+double solverStartForceLimit(const SolverModel *m, double q0);
+
+/* Relative tolerance of |F0| = L at the start (rounding of a force read back from an output). */
+#define SOLVER_CONE_RTOL 1e-12
 
 /* Builds inputs from values and derivatives: deriv[i][j] = u_i^(j) (j = 0 value, 1..8). */
 void solverSetInputs(SolverInputs *in, const double deriv[SOLVER_NUM_INPUTS][SOLVER_MAX_ORDER + 1]);
@@ -130,6 +141,7 @@ SolverStatus solverAdvance(const SolverModel *m, SolverState *s, const SolverInp
 typedef struct {
     double normalForce;      /* [N] */
     double frictionForce;    /* [N] */
+    double jenkinsForce;     /* Jenkins spring force kd (sin g q - w) in contact, else 0 [N] */
     double Keq;              /* [N/m] */
     double Ceq;              /* [N s/m] */
     double naturalFrequency; /* [Hz] */

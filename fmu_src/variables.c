@@ -16,7 +16,7 @@ typedef enum { TypeReal, TypeInteger, TypeBoolean } VarType;
 typedef enum { CausParameter, CausInput, CausOutput } Causality;
 typedef enum {
     OutQ = 0, OutV, OutNormalForce, OutFrictionForce, OutKeq, OutCeq, OutAmplitude, OutEnergy,
-    OutFrequency, OutRegime, OutContactState
+    OutFrequency, OutJenkinsForce, OutRegime, OutContactState, OutRunningMaximum
 } OutputId;
 
 typedef struct {
@@ -67,8 +67,12 @@ static const VarInfo VARS[] = {
     {vr_amplitude, "amplitude", TypeReal, CausOutput, "m", 0.0, -INF, INF, 0, 0, OutAmplitude, -1},
     {vr_dissipatedEnergy, "dissipatedEnergy", TypeReal, CausOutput, "J", 0.0, -INF, INF, 0, 0, OutEnergy, ParE0},
     {vr_naturalFrequency, "naturalFrequency", TypeReal, CausOutput, "Hz", 0.0, -INF, INF, 0, 0, OutFrequency, -1},
+    /* its start value is checked against the friction cone at initialization (instance.c) */
+    {vr_jenkinsForce, "jenkinsForce", TypeReal, CausOutput, "N", 0.0, -INF, INF, 0, 0, OutJenkinsForce, ParF0},
     {vr_regime, "regime", TypeInteger, CausOutput, "", 0, -INF, INF, 0, 0, OutRegime, -1},
     {vr_contactState, "contactState", TypeInteger, CausOutput, "", 0, -INF, INF, 0, 0, OutContactState, -1},
+    {vr_runningMaximum, "runningMaximum", TypeReal, CausOutput, "m", 0.0, 0.0, INF, 0, 0, OutRunningMaximum,
+     ParWindowMax0},
 };
 #define NUM_VARS ((int)(sizeof VARS / sizeof VARS[0]))
 
@@ -134,6 +138,8 @@ static double outputValue(const Instance *inst, const VarInfo *v, const SolverOu
     case OutAmplitude: return s->B;
     case OutEnergy: return s->E;
     case OutFrequency: return o->naturalFrequency;
+    case OutJenkinsForce: return o->jenkinsForce;
+    case OutRunningMaximum: return s->windowMax;
     case OutRegime: return (double)o->regime;
     case OutContactState: return (double)o->contactState;
     }

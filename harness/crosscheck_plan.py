@@ -42,7 +42,7 @@ class Scenario:
         """Only the FMU parameters that differ from the modelDescription start values (set on the FMU)."""
         p = self.validated_params()
         d = _params.defaults()
-        return {k: v for k, v in _params.fmu_parameters(p).items() if v != d[k]}
+        return {k: v for k, v in _params.fmu_parameters(p).items() if k not in d or v != d[k]}
 
     def speed_signal(self) -> Piecewise:
         if isinstance(self.speed, tuple):

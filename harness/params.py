@@ -5,6 +5,13 @@ start values, min/max). This module reads it once and adds what the XML cannot s
 intervals, cross-parameter rules) plus the harness-only parameters (the aerodynamic load amplitude
 `Fw0`). `validate()` turns any user mapping into a complete, checked parameter dict or raises
 `ParameterError` naming the value, the accepted range and where the value came from.
+
+Start values of the state (the outputs with initial="exact": tipDisplacement, tipVelocity,
+dissipatedEnergy, jenkinsForce, runningMaximum; docs/model-notes.md s.7) are accepted too and set
+on the FMU before initialization, but they are not defaults: `validate()` returns them only when
+given, so a parameter set without them is what it always was (a run from rest). Their cross-field
+rules (jenkinsForce inside the friction cone, frictionModel 3 only) are checked by the FMU, whose
+message `BladeFMU` raises.
 """
 from __future__ import annotations
 
@@ -35,6 +42,7 @@ class ParamSpec:
     high_open: bool = False
     description: str = ""
     harness_only: bool = False  # not an FMU variable (e.g. Fw0)
+    start_value: bool = False  # start value of an initial="exact" output (not a default)
 
     def range_text(self) -> str:
         if self.type == "Boolean":
@@ -64,7 +72,8 @@ def specs() -> dict[str, ParamSpec]:
     root = ET.parse(MODEL_DESCRIPTION).getroot()
     out: dict[str, ParamSpec] = {}
     for sv in root.iter("ScalarVariable"):
-        if sv.get("causality") != "parameter":
+        start_value = sv.get("causality") == "output" and sv.get("initial") == "exact"
+        if sv.get("causality") != "parameter" and not start_value:
             continue
         name = sv.get("name")
         (typ,) = list(sv)
@@ -82,15 +91,22 @@ def specs() -> dict[str, ParamSpec]:
             name=name, type=kind, default=default, unit=typ.get("unit", ""),
             low=None if lo is None else float(lo), high=None if hi is None else float(hi),
             low_open=name in _OPEN_LOW, high_open=name in _OPEN_HIGH,
-            description=sv.get("description", ""))
+            description=sv.get("description", ""), start_value=start_value)
     for s in _HARNESS_ONLY:
         out[s.name] = s
     return out
 
 
 def defaults() -> dict[str, Any]:
-    """Paper Table 1 defaults (MODEL.md section 1) for every parameter, FMU and harness-only."""
-    return {name: s.default for name, s in specs().items()}
+    """Paper Table 1 defaults (MODEL.md section 1) for every parameter, FMU and harness-only (start
+    values of the state are not parameters: they are left out)."""
+    return {name: s.default for name, s in specs().items() if not s.start_value}
+
+
+def start_values(params: Mapping[str, Any]) -> dict[str, Any]:
+    """The start values of the state in a validated parameter dict (empty for a run from rest)."""
+    sp = specs()
+    return {k: v for k, v in params.items() if sp[k].start_value}
 
 
 def fmu_parameters(params: Mapping[str, Any]) -> dict[str, Any]:
@@ -140,7 +156,8 @@ def _check_one(spec: ParamSpec, value: Any, source: str) -> Any:
 
 
 def validate(params: Mapping[str, Any] | None = None, source: str = "") -> dict[str, Any]:
-    """Complete `params` with the defaults and check every value; returns a new dict.
+    """Complete `params` with the defaults and check every value; returns a new dict (start values
+    of the state only when given).
 
     Raises ParameterError for an unknown name (listing the known ones) or a bad value (naming the
     value, the accepted range and `source`, e.g. "command line" or "sweep.toml").

@@ -20,7 +20,7 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 from harness.reference_hybrid import run_segment
 
-from harness.params import validate
+from harness.params import ParameterError, start_values, validate
 from harness.reference_blade import Galerkin, galerkin
 from harness.reference_contact import (COULOMB_DF, MACROSLIP_DF, MACROSLIP_TD, ContactConsts, contact_consts,
                                        describing_function, loop_state)
@@ -144,6 +144,10 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
     tests; psi(start) = 0; the Jenkins element then starts unloaded).
     """
     p = validate(params or {})
+    moved = {k: v for k, v in start_values(p).items() if v != 0}
+    if moved:  # not modelled here: refuse rather than silently start at rest
+        raise ParameterError(f"start values {moved} are not supported by the reference, which starts at rest"
+                             " (use initial=(q0, q'0) for a displaced start)")
     gal: Galerkin = galerkin(p)
     cc = contact_consts(p)
     model, proj, gating = int(p["frictionModel"]), int(p["projection"]), bool(p["gating"])

@@ -202,14 +202,66 @@ def _start_value_case(name: str, value: float, expect: str) -> Case:
             if out.status in (OK, F.WARNING) and not np.all(np.isfinite(c.outputs()[1])):
                 out.after = "outputs not finite after an OK step"
             return out
-    return Case("start value", f"{name} = {value!r}", run, expect, name, value)
+    var = F.VARIABLES[name]
+    return Case("start value", f"{name} = {value!r}", run, expect, name, value, var.low, var.high)
+
+
+# The friction limit of the Jenkins element at the defaults (mu = 0.33, kn = 1e7 N/m, gamma = pi/3,
+# d = 3e-5 m) and q0 = 5e-5 m: L = mu kn cos(gamma) (|q0| - d) = 33 N (eq. 3, model-notes s.2).
+Q0_CONTACT = 5e-5  # [m] start in contact (|q0| > d)
+L_CONTACT = 0.33 * 1e7 * math.cos(math.pi / 3) * (Q0_CONTACT - 3e-5)  # [N]
+
+
+def _start_state_case(label: str, params: dict, starts: dict, expect: str = "refuse",
+                      name: str | None = None, low: float | None = None, high: float | None = None) -> Case:
+    """Start values that are valid one by one but not together with the rest of the start state
+    (model-notes s.7): checked at fmi2ExitInitializationMode."""
+    def run(lib: Fmi2Library) -> Outcome:
+        with Instance(lib) as c:
+            out = _sequence(c, [("fmi2SetupExperiment", lambda: c.setup()),
+                                ("fmi2SetInteger", lambda: c.set_params(params)),
+                                ("fmi2SetReal", lambda: c.set_real(list(starts), list(starts.values()))),
+                                ("fmi2EnterInitializationMode", c.enter_init),
+                                ("fmi2ExitInitializationMode", c.exit_init),
+                                ("fmi2DoStep x5", lambda: _steps(c, 0.0, 5))])
+            if out.status not in (OK, F.WARNING):  # the instance must not run with it afterwards
+                st = c.do_step(0.0, 1e-4)
+                out.after = f"later fmi2DoStep: fmi2{STATUS_NAMES.get(st, st)}"
+            elif not np.all(np.isfinite(c.outputs()[1])):
+                out.after = "outputs not finite after an OK step"
+            return out
+    text = ", ".join(f"{k} = {v!r}" for k, v in {**params, **starts}.items())
+    value = starts.get(name) if name else None
+    return Case("start value", f"{text}{label}", run, expect, name, value, low, high)
 
 
 def start_value_cases() -> list[Case]:
     cases = []
-    for name in ("tipDisplacement", "tipVelocity", "dissipatedEnergy"):
+    for name in ("tipDisplacement", "tipVelocity", "dissipatedEnergy", "jenkinsForce", "runningMaximum"):
         cases += [_start_value_case(name, v, "refuse") for v in (math.nan, math.inf, -math.inf)]
         cases += [_start_value_case(name, v, "either") for v in (-1.0, 1e300)]
+    L, td = L_CONTACT, {"frictionModel": 3}
+    cases += [
+        _start_value_case("runningMaximum", -1e-5, "refuse"),
+        # the Jenkins spring force: frictionModel 3 only, 0 with the contact open, inside the cone
+        _start_state_case(" (outside the cone [-33, 33] N)", td, {"tipDisplacement": Q0_CONTACT, "jenkinsForce": 50.0},
+                          name="jenkinsForce", low=-L, high=L),
+        _start_state_case(" (outside the cone [-33, 33] N)", td, {"tipDisplacement": -Q0_CONTACT, "jenkinsForce": -33.1},
+                          name="jenkinsForce", low=-L, high=L),
+        _start_state_case(" (contact open)", td, {"tipDisplacement": 1e-5, "jenkinsForce": 1.0},
+                          name="jenkinsForce", low=0.0, high=0.0),
+        _start_state_case(" (describing function)", {"frictionModel": 1}, {"jenkinsForce": 1.0},
+                          name="jenkinsForce", low=0.0, high=0.0),
+        _start_state_case(" (describing function)", {"frictionModel": 2},
+                          {"tipDisplacement": Q0_CONTACT, "jenkinsForce": -1e-3}, name="jenkinsForce", low=0.0, high=0.0),
+        # accepted: on the cone (also 1e-13 beyond it: rounding of a force read back), inside it
+        _start_state_case(" (on the cone)", td, {"tipDisplacement": Q0_CONTACT, "jenkinsForce": L}, "accept"),
+        _start_state_case(" (on the cone)", td, {"tipDisplacement": -Q0_CONTACT, "jenkinsForce": -L}, "accept"),
+        _start_state_case(" (1e-13 beyond the cone)", td,
+                          {"tipDisplacement": Q0_CONTACT, "jenkinsForce": L * (1 + 1e-13)}, "accept"),
+        _start_state_case(" (inside the cone)", td, {"tipDisplacement": Q0_CONTACT, "jenkinsForce": -0.5 * L}, "accept"),
+        _start_state_case("", {"amplitudeMode": 2}, {"tipDisplacement": Q0_CONTACT, "runningMaximum": 1e-4}, "accept"),
+    ]
     return cases
 
 
@@ -475,7 +527,7 @@ def _vr_case(label: str, fn: Callable[[Instance], int], call: str, expect: str =
 
 def vr_cases() -> list[Case]:
     cases = []
-    for vr in (0, 14, 25, 31, 42, 59, 62, 999, 2**32 - 1):
+    for vr in (0, 14, 25, 31, 42, 49, 63, 999, 2**32 - 1):
         cases.append(_vr_case(f"fmi2GetReal vr {vr}", lambda c, vr=vr: c.get_real([vr])[0],
                               "fmi2GetReal"))
         cases.append(_vr_case(f"fmi2SetReal vr {vr}", lambda c, vr=vr: c.set_real([vr], [1.0]),
@@ -813,8 +865,10 @@ def blob_cases() -> list[Case]:
         _blob_case("one extra byte", lambda b: b + b"\x00"),
         _blob_case("size argument larger than the blob header says", lambda b: b + b"\x00" * 64),
         _blob_case("first byte (magic) corrupted", flip(0)),
-        _blob_case("wrong version 2 (checksum recomputed)",
-                   lambda b: F.reseal(b[:8] + struct.pack("<i", 2) + b[12:])),
+        _blob_case("old format version 1 (checksum recomputed)",
+                   lambda b: F.reseal(b[:8] + struct.pack("<i", 1) + b[12:])),
+        _blob_case("future format version 3 (checksum recomputed)",
+                   lambda b: F.reseal(b[:8] + struct.pack("<i", 3) + b[12:])),
         _blob_case("one payload byte flipped (checksum mismatch)", flip(100, 0x01)),
         _blob_case("saved by another FMU (GUID hash differs, checksum recomputed)",
                    lambda b: F.reseal(b[:16] + struct.pack("<Q", F.fnv1a(b"{other}")) + b[24:])),

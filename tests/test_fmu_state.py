@@ -209,9 +209,9 @@ def blob(lib: Fmi2Library) -> bytes:
     with ready(lib, PARAM_SETS["jenkins-TD"]) as c:
         run(c, 0, 300)
         b = snapshot(c)
-    # the documented layout: magic, version 1, total size, ..., FNV-1a 64 trailer
+    # the documented layout: magic, version 2, total size, ..., FNV-1a 64 trailer
     assert b[:8] == b"SBLDSTAT"
-    assert struct.unpack_from("<i", b, 8)[0] == 1
+    assert struct.unpack_from("<i", b, 8)[0] == 2
     assert struct.unpack_from("<i", b, 12)[0] == len(b)
     assert reseal(b) == b
     return b
@@ -251,7 +251,7 @@ def test_every_single_byte_corruption_gives_error(lib: Fmi2Library, blob: bytes)
 
 
 def test_wrong_version_gives_error_naming_the_version(lib: Fmi2Library, blob: bytes) -> None:
-    for version in (0, 2, -1, 2**31 - 1):
+    for version in (0, 1, 3, -1, 2**31 - 1):  # 1: the format before the start values of issue 9
         bad = reseal(blob[:8] + struct.pack("<i", version) + blob[12:])
         st, c = deserialize(lib, bad)
         assert st == ERROR

@@ -27,9 +27,9 @@ enum {
     vrProjection = 22, vrAmplitudeMode = 23, vrEngineOrder = 24, vrGating = 30, vrAeroLoad = 40,
     vrRotorSpeed = 41
 };
-static const fmi2ValueReference realOutputs[] = {50, 51, 52, 53, 54, 55, 56, 57, 58};
+static const fmi2ValueReference realOutputs[] = {50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 62};
 static const fmi2ValueReference intOutputs[] = {60, 61};
-#define N_REAL_OUT 9
+#define N_REAL_OUT 11
 #define N_INT_OUT 2
 #define N_OUT (N_REAL_OUT + N_INT_OUT)
 
@@ -685,7 +685,7 @@ static void badSteps(const Api *api) {
 
 static void badReferencesAndPointers(const Api *api) {
     Inst in = readyInstance(api, "badRefs");
-    fmi2ValueReference bad[] = {0, 14, 25, 31, 42, 59, 62, 999, 0xFFFFFFFFu};
+    fmi2ValueReference bad[] = {0, 14, 25, 31, 42, 49, 63, 999, 0xFFFFFFFFu};
     fmi2ValueReference good = 50, ivr = 60, rvr = vrEI, bvr = vrGating, ovr = 50;
     double x = 0.0;
     fmi2Integer i = 0;
