@@ -210,6 +210,20 @@ def reproduce_cold(size: str, workers: int | None) -> dict[str, Any]:
     return {"size": size, "wall": wall, "workers": workers or os.cpu_count(), **tim}
 
 
+def continuation_studies(workers: int | None) -> dict[str, Any]:
+    """The four studies as periodic-orbit branches (fixed point and Jenkins element, every curve:
+    harness.periodic.studies), wall time against the time spent in the FMI calls."""
+    from harness.periodic.studies import run_studies
+
+    with tempfile.TemporaryDirectory() as tmp:
+        s = run_studies(Path(tmp), workers=workers or 2)
+    c = s["curves"]
+    return {"wall": s["wall"], "workers": s["workers"], "curves": len(c),
+            "branches": sum(x["branches"] for x in c), "points": sum(x["points"] for x in c),
+            "periods": sum(x["evaluations"] for x in c), "simulated_s": sum(x["simulated_s"] for x in c),
+            "fmi_s": sum(x["fmi_s"] for x in c), "curve_wall_s": sum(x["wall"] for x in c)}
+
+
 def write_results(path: Path, data: dict[str, Any]) -> None:
     m = data["machine"]
     L = ["# Benchmark results", "",
@@ -273,6 +287,23 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
               f"- section-4 Coulomb sweeps: {r.get('coulomb_wall', nan):.1f} s",
               f"- Fig. 2, 4/5, Campbell, the paper's iteration: {r.get('extras_wall', nan):.1f} s", "",
               f"Target: four studies in the time domain with fixed points <= 30 s on 2 cores: **{td:.1f} s**.", ""]
+    if "continuation" in data:
+        c = data["continuation"]
+        L += ["## The four studies as periodic-orbit branches (shooting + continuation)", "",
+              f"`python -m harness continue --studies`: {c['curves']} curves (the paper's fixed point B = A(B) and the "
+              f"Jenkins element, every study value, 3000..10000 rpm), {c['branches']} branches, {c['points']} points "
+              f"with Floquet multipliers, {c['workers']} worker processes: **{c['wall']:.1f} s wall**, "
+              f"{c['periods']} periods = {c['simulated_s']:.0f} s of blade time simulated. Time in the FMI calls "
+              f"(ctypes included) {c['fmi_s']:.1f} s of {c['curve_wall_s']:.1f} s worker time: "
+              f"**worker time / FMI time = {c['curve_wall_s'] / c['fmi_s']:.2f}**, "
+              f"wall x workers / FMI time = {c['wall'] * c['workers'] / c['fmi_s']:.2f}.", ""]
+        if "reproduce" in data:
+            r = data["reproduce"]
+            L += [f"Side by side with the transient path above (same run): four studies in the time domain + fixed "
+                  f"points {r.get('studies_wall', math.nan):.1f} s (fixed point, tracked time domain, HB; "
+                  f"{r.get('sim_time', 0):.0f} s simulated) vs branches {c['wall']:.1f} s (fixed point with "
+                  f"stability of every branch + the Jenkins element): "
+                  f"**{r.get('studies_wall', math.nan) / c['wall']:.2f}x** less wall time.", ""]
     atomic_write_text(path, "\n".join(L))
 
 
@@ -308,6 +339,8 @@ def run(args: argparse.Namespace) -> int:
     data["sweep_settings"] = asdict(SweepSettings())
     print("harmonic balance ...", flush=True)
     data["hb"] = hb_all()
+    print("studies as periodic-orbit branches ...", flush=True)
+    data["continuation"] = continuation_studies(args.workers)
     if not args.skip_reproduce:
         print(f"reproduce --size {args.size} from a cold cache ...", flush=True)
         data["reproduce"] = reproduce_cold(args.size, args.workers)

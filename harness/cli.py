@@ -26,6 +26,8 @@ COMMANDS: dict[str, str] = {
     "sweep": "harness.sweep_cmd",
     "reproduce": "harness.reproduce_cmd",
     "bench": "harness.bench",
+    "periodic": "harness.periodic_cmd",
+    "continue": "harness.continue_cmd",
 }
 
 EXIT_USAGE = 2

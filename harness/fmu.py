@@ -501,6 +501,21 @@ class BladeFMU:
             raise ExcitationError(f"rotorSpeed = {us[0, k]:g} rpm at t = {grid[k]:.9g} s is outside"
                                   f" [{lo:g}, {hi:g}] rpm")
 
+    # ---- raw access for drivers with their own hot loop (harness.periodic) ----
+    def raw(self) -> "RawFMI":
+        """The raw ctypes FMI functions of this instance (one reset + initialization + steps per
+        evaluation, without run()'s per-call setup). The wrapper forgets which state the FMU is in:
+        a later run() resets it, a later get_state() reads whatever the raw calls left."""
+        if self._phase in ("closed", "fatal"):
+            raise RuntimeError(f"BladeFMU is {self._phase}")
+        self._phase, self._held, self._params, self._time = "stepping", None, None, math.nan
+        return RawFMI(self)
+
+    def failure(self, what: str, status: int, t: float) -> FMUError:
+        """The FMUError for a raw call that returned `status` (> fmi2Warning) at time t, with the
+        FMU's log messages; marks the wrapper failed (the next run() resets)."""
+        return self._fail(what, status, t, None)
+
     # ---- FMU state ----
     def get_state(self) -> FMUState:
         """The current FMU state, serialized (fmi2SerializeFMUstate), with its time attached."""
@@ -542,3 +557,20 @@ class BladeFMU:
         self._time = getattr(state, "time", None) if getattr(state, "time", None) is not None else math.nan
         sp = getattr(state, "params", None)
         self._params = validate(sp, source="FMUState.params") if sp is not None else None
+
+
+class RawFMI:
+    """Raw ctypes entry points of one BladeFMU instance (argument types declared once) and its
+    component pointer `c`; statuses are returned as ints, nothing is checked here."""
+
+    def __init__(self, fmu: BladeFMU):
+        dll = fmu._slave.dll
+        P, D, I = ctypes.c_void_p, ctypes.c_double, ctypes.c_int
+        self.c = fmu._c
+        self.reset = _proto(I, P)(("fmi2Reset", dll))
+        self.setupExperiment = _proto(I, P, I, D, D, I, D)(("fmi2SetupExperiment", dll))
+        self.enterInitializationMode = _proto(I, P)(("fmi2EnterInitializationMode", dll))
+        self.exitInitializationMode = _proto(I, P)(("fmi2ExitInitializationMode", dll))
+        self.setReal, self.getReal, self.setDer, self.doStep = fmu._setReal, fmu._getReal, fmu._setDer, fmu._doStep
+        self.setInteger = _SET(("fmi2SetInteger", dll))
+        self.setBoolean = _SET(("fmi2SetBoolean", dll))

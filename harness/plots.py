@@ -177,3 +177,40 @@ def campbell(path: Path | str, speed: np.ndarray, fnat: np.ndarray, orders: Sequ
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     return _save(fig, path)
+
+
+def _stable_runs(stable: np.ndarray) -> list[tuple[int, int, bool]]:
+    """(start, stop, stable) of the runs of equal stability along a branch (neighbours share a point)."""
+    runs, i = [], 0
+    while i < len(stable):
+        j = i
+        while j + 1 < len(stable) and stable[j + 1] == stable[i]:
+            j += 1
+        runs.append((i, min(j + 2, len(stable)), bool(stable[i])))
+        i = j + 1
+    return runs
+
+
+def branches_figure(path: Path | str, models: dict[str, Sequence[Any]], title: str,
+                    hb: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None) -> Path:
+    """Periodic-orbit branches (harness.periodic.continuation.Branch) per model: max |q| [mm] over
+    speed, stable parts bold, unstable parts faint; optional HB branches (speed, B, stable) dashed."""
+    fig, ax = plt.subplots(figsize=(7.5, 4.8))
+    for color, (name, branches) in zip(_colors(len(models)), models.items()):
+        label = name
+        for b in branches:
+            n, a, st = b.speeds, b.amplitudes * 1e3, b.stable
+            for i0, i1, s in _stable_runs(st):
+                ax.plot(n[i0:i1], a[i0:i1], color=color, lw=2.2 if s else 0.9, alpha=1.0 if s else 0.45,
+                        ls="--" if "jenkins" in name else "-", label=label if s else None)
+                if s:
+                    label = None
+    if hb:
+        for k, (n, B, st) in enumerate(hb):
+            ax.plot(n, B * 1e3, "k--", lw=0.8, alpha=0.6, label="harmonic balance (gating off)" if k == 0 else None)
+    ax.set_xlabel("rotor speed [rpm]")
+    ax.set_ylabel("max |q| [mm]")
+    ax.set_title(title, fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, title="bold: stable, faint: unstable", title_fontsize=8)
+    return _save(fig, path)

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from functools import lru_cache
 from typing import Any, Mapping, Sequence
 
 import numpy as np
@@ -222,3 +223,22 @@ def tracked_map_radius(params: Mapping[str, Any] | None, speed_rpm: float, B: fl
         J[:, j] = (pmap(xp) - pmap(xm)) / (2 * h)
     del base
     return float(np.max(np.abs(np.linalg.eigvals(J))))
+
+
+@lru_cache(maxsize=32)
+def _hb_model(items: tuple) -> _HBModel:
+    """The HB model of a parameter set (its Galerkin constants take ~7 ms), cached per process."""
+    return _HBModel(dict(items))
+
+
+def linear_orbit(params: Mapping[str, Any] | None, speed_rpm: float, B: float | None) -> tuple[float, float]:
+    """(q, q') at load phase 0 of the T-periodic response of the blade linearised at amplitude B
+    (K0 + K_eq(B), C0 + C_eq(B), gating off; B None or <= d: contact-free): q = Im(Z e^{i w t}),
+    Z = F / (K0 + K_eq - M w^2 + i w (C0 + C_eq)). The exact periodic orbit of the ungated fixed-B
+    model (a linear ODE) and the one-harmonic guess that starts shooting elsewhere."""
+    hb = _hb_model(tuple(sorted(validate(params or {}).items())))
+    re0, im0 = hb.lin(np.array([float(speed_rpm)]))
+    K, Cw = hb.dfKC(np.array([float(B)])) if B is not None else (np.zeros(1), np.zeros(1))
+    Z = hb.F / complex(re0[0] + K[0], im0[0] + Cw[0])
+    w = hb.EO * 2 * math.pi * float(speed_rpm) / 60.0
+    return Z.imag, (1j * w * Z).imag

@@ -1,0 +1,259 @@
+"""Pseudo-arclength continuation of periodic orbits in rotor speed, with step control through folds.
+
+The branch is a curve H(x, n) = P(x; n) - x = 0 in (unknowns, speed). Coordinates are scaled,
+z = (x / sc, n / SPEED_SCALE) with sc the unknowns' scales at the branch start, so one unit of arc
+is about one branch amplitude or 1000 rpm. Predictor: tangent t (null vector of [H_x H_n], oriented
+along the previous one). Corrector: Newton on (H(z) = 0, t . (z - z_pred) = 0) with a
+forward-difference Jacobian. Step control: ds grows 1.4x after an easy corrector (<= 3 iterations),
+halves after a failure; the branch ends outside the speed range, after max_points, when ds falls
+below ds_min, or when it closes on itself (an isola). Each point keeps its Floquet multipliers (from
+the corrector's last Jacobian) and stability; changes of stability between neighbours are the
+branch's bifurcations: fold (det(DP - I) changes sign), period doubling (det(DP + I) changes sign),
+Neimark-Sacker (the number of complex multipliers outside the circle changes).
+"""
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from harness.fmu import FMUError
+from harness.params import ParameterError
+from harness.periodic.period_map import PeriodMap
+from harness.periodic.shooting import Orbit, _bounded, classify, fd_direction, multipliers
+
+SPEED_SCALE = 1000.0  # [rpm] per unit of arc
+
+
+@dataclass(frozen=True)
+class ContinuationSettings:
+    ds: float = 0.05  # first step (scaled arc)
+    ds_min: float = 1e-4
+    ds_max: float = 0.4
+    max_points: int = 400
+    max_corrector: int = 8
+
+
+@dataclass
+class BranchPoint:
+    speed: float  # [rpm]
+    x: np.ndarray
+    amplitude: float  # max |q| [m]
+    multipliers: np.ndarray
+    iterations: int = 0  # corrector iterations
+
+    @property
+    def stable(self) -> bool:
+        return bool(np.max(np.abs(self.multipliers)) < 1.0 - 1e-6)
+
+    @property
+    def label(self) -> str:
+        return classify(self.multipliers)
+
+
+@dataclass
+class Branch:
+    model: str
+    points: list[BranchPoint] = field(default_factory=list)
+    end_reasons: list[str] = field(default_factory=list)  # why each end of the branch stopped
+    closed: bool = False  # an isola that closed on itself
+
+    @property
+    def speeds(self) -> np.ndarray:
+        return np.array([p.speed for p in self.points])
+
+    @property
+    def amplitudes(self) -> np.ndarray:
+        return np.array([p.amplitude for p in self.points])
+
+    @property
+    def stable(self) -> np.ndarray:
+        return np.array([p.stable for p in self.points])
+
+    def bifurcations(self) -> list[tuple[int, str]]:
+        """(index of the first point after the change, kind) for every stability change."""
+        out = []
+        for i in range(1, len(self.points)):
+            a, b = self.points[i - 1].multipliers, self.points[i].multipliers
+            if self.points[i - 1].stable == self.points[i].stable and classify(a) == classify(b):
+                continue
+            kinds = []
+            if np.sign(np.prod(np.real(a - 1.0))) != np.sign(np.prod(np.real(b - 1.0))):
+                kinds.append("fold")
+            if np.sign(np.prod(np.real(a + 1.0))) != np.sign(np.prod(np.real(b + 1.0))):
+                kinds.append("period-doubling")
+            na = sum(1 for m in a if abs(m.imag) > 1e-9 and abs(m) > 1)
+            nb = sum(1 for m in b if abs(m.imag) > 1e-9 and abs(m) > 1)
+            if na != nb:
+                kinds.append("Neimark-Sacker")
+            out.append((i, "+".join(kinds) or "stability change"))
+        return out
+
+    def contains(self, speed: float, amplitude: float, rtol: float = 1e-3) -> bool:
+        """True if (speed, amplitude) lies on this branch: between two neighbouring points in speed,
+        within rtol of the linearly interpolated amplitude (relative to the larger amplitude)."""
+        pts = self.points
+        for a, b in zip(pts[:-1], pts[1:]):
+            lo, hi = min(a.speed, b.speed), max(a.speed, b.speed)
+            if lo - 1e-9 <= speed <= hi + 1e-9:
+                f = 0.0 if hi == lo else (speed - a.speed) / (b.speed - a.speed)
+                amp = a.amplitude + f * (b.amplitude - a.amplitude)
+                tol = rtol * max(a.amplitude, b.amplitude) + 0.5 * abs(b.amplitude - a.amplitude) * (hi > lo)
+                if abs(amplitude - amp) <= max(tol, rtol * amplitude):
+                    return True
+        return any(abs(p.speed - speed) <= 1e-6 * speed and abs(p.amplitude - amplitude) <= rtol * amplitude
+                   for p in pts)
+
+    def write_csv(self, path: Path, branch_id: int = 0) -> None:
+        write_branches_csv(path, [self])
+
+
+def write_branches_csv(path: Path, branches: list[Branch]) -> None:
+    """One row per point: branch, speed [rpm], amplitude [m], B [m] (or empty), stable, label,
+    |mu|max and the multipliers."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    with open(tmp, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["branch", "model", "speed_rpm", "amplitude_m", "B_m", "q0_m", "v0_m_s", "stable", "label",
+                    "mu_abs_max", "multipliers"])
+        for i, br in enumerate(branches):
+            for p in br.points:
+                B = "" if br.model in ("fixedB", "jenkins") else f"{p.x[2]:.12g}"
+                mus = " ".join(f"{m.real:.9g}{m.imag:+.9g}j" for m in p.multipliers)
+                w.writerow([i, br.model, f"{p.speed:.9g}", f"{p.amplitude:.12g}", B, f"{p.x[0]:.12g}",
+                            f"{p.x[1]:.12g}", int(p.stable), p.label, f"{np.max(np.abs(p.multipliers)):.9g}", mus])
+    tmp.replace(path)
+
+
+class _Problem:
+    """H(z) in scaled coordinates for one branch."""
+
+    def __init__(self, pm: PeriodMap, sc: np.ndarray):
+        self.pm, self.sc = pm, sc
+        self.m = pm.dim
+
+    def to_z(self, x: np.ndarray, n: float) -> np.ndarray:
+        return np.append(x / self.sc, n / SPEED_SCALE)
+
+    def from_z(self, z: np.ndarray) -> tuple[np.ndarray, float]:
+        return _bounded(self.pm, z[:-1] * self.sc), float(z[-1] * SPEED_SCALE)
+
+    def H(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+        """(H(z) scaled, P(x), amplitude). P is evaluated at z moved into the unknowns' domain and
+        compared with z itself, so a z outside (phi beyond the slip limit, phi != 0 while open) is
+        pulled back by the residual."""
+        x, n = self.from_z(z)
+        Px, A = self.pm(x, n)
+        return (Px - z[:-1] * self.sc) / self.sc, Px, A
+
+    def jac(self, z: np.ndarray, Hz: np.ndarray, Px: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(dH/dz (m x m+1), DP in physical units (m x m)) by forward differences."""
+        x, n = self.from_z(z)
+        eps = self.pm.s.fd_rel
+        Jz = np.empty((self.m, self.m + 1))
+        DP = np.empty((self.m, self.m))
+        for j in range(self.m + 1):
+            sgn = fd_direction(self.pm, x, j) if j < self.m else 1.0
+            h = eps * sgn * (self.pm.scales(x, n)[j] / self.sc[j] if j < self.m else max(abs(z[-1]), 1e-3))
+            zp = z.copy()
+            zp[j] += h
+            Hp = self.H(zp)[0]
+            Jz[:, j] = (Hp - Hz) / h
+            if j < self.m:
+                DP[:, j] = (Jz[:, j] + (np.arange(self.m) == j)) * self.sc / self.sc[j]
+        return Jz, DP
+
+
+def _tangent(Jz: np.ndarray, prev: np.ndarray | None) -> np.ndarray:
+    _, _, Vt = np.linalg.svd(Jz)
+    t = Vt[-1]
+    if prev is not None and float(t @ prev) < 0:
+        t = -t
+    return t / np.linalg.norm(t)
+
+
+def continue_branch(pm: PeriodMap, start: Orbit, speed_range: tuple[float, float],
+                    settings: ContinuationSettings = ContinuationSettings(), directions: tuple[int, ...] = (-1, 1)
+                    ) -> Branch:
+    """Trace the branch through `start` in both speed directions (or those in `directions`: -1 down,
+    +1 up at the start) until it leaves speed_range; returns the points ordered along the arc."""
+    lo, hi = speed_range
+    prob = _Problem(pm, pm.scales(start.x, start.speed))
+    z0 = prob.to_z(start.x, start.speed)
+    H0, P0, _ = prob.H(z0)
+    Jz0, _ = prob.jac(z0, H0, P0)
+    t0 = _tangent(Jz0, None)
+    if t0[-1] < 0:
+        t0 = -t0  # +1: the direction of increasing speed at the start
+    first = BranchPoint(start.speed, start.x.copy(), start.amplitude, start.multipliers, start.iterations)
+    down: list[BranchPoint] = []
+    up: list[BranchPoint] = []
+    reasons: list[str] = []
+    closed = False
+    for sgn in directions:
+        pts, reason, closed = _march(prob, z0, sgn * t0, (lo, hi), settings, z_first=z0)
+        if sgn < 0:
+            down = pts[::-1]
+        else:
+            up = pts
+        reasons.append(f"{'down' if sgn < 0 else 'up'}: {reason}")
+        if closed:
+            break  # an isola: one direction went all the way round
+    return Branch(pm.model, down + [first] + up, reasons, closed)
+
+
+def _march(prob: _Problem, z: np.ndarray, t: np.ndarray, rng: tuple[float, float], s: ContinuationSettings,
+           z_first: np.ndarray) -> tuple[list[BranchPoint], str, bool]:
+    pts: list[BranchPoint] = []
+    ds = s.ds
+    lo, hi = rng
+    while len(pts) < s.max_points:
+        ok, z_new, t_new, point = _step(prob, z, t, ds, s)
+        if not ok:
+            ds *= 0.5
+            if ds < s.ds_min:
+                return pts, f"step size below {s.ds_min:g} at {z[-1] * SPEED_SCALE:.1f} rpm", False
+            continue
+        pts.append(point)
+        if not lo <= point.speed <= hi:
+            return pts, f"left the speed range at {point.speed:.1f} rpm", False
+        if len(pts) > 5 and np.linalg.norm(z_new - z_first) < 0.75 * ds:
+            return pts, "closed on itself (isola)", True
+        z, t = z_new, t_new
+        ds = min(ds * (1.4 if point.iterations <= 3 else 1.0), s.ds_max)
+    return pts, f"{s.max_points} points", False
+
+
+def _step(prob: _Problem, z: np.ndarray, t: np.ndarray, ds: float, s: ContinuationSettings
+          ) -> tuple[bool, np.ndarray, np.ndarray, BranchPoint | None]:
+    zp = z + ds * t
+    zk = zp.copy()
+    for it in range(1, s.max_corrector + 1):
+        try:
+            Hz, Px, A = prob.H(zk)
+            Jz, DP = prob.jac(zk, Hz, Px)
+        except (FMUError, ParameterError):  # the FMU refused the start, or the speed left its range
+            return False, z, t, None
+        G = np.append(Hz, t @ (zk - zp))
+        if np.max(np.abs(Hz)) <= prob.pm.s.tol * 10 and it > 1:
+            t_new = _tangent(Jz, t)
+            x, n = prob.from_z(zk)
+            bp = BranchPoint(n, x, A, multipliers(DP), it)
+            # a corrector that jumped to another branch or fell back onto the last point: the new
+            # point must be about ds away
+            if not 0.2 * ds <= np.linalg.norm(zk - z) <= 3.0 * ds:
+                return False, z, t, None
+            return True, zk, t_new, bp
+        try:
+            dz = np.linalg.solve(np.vstack([Jz, t]), -G)
+        except np.linalg.LinAlgError:
+            return False, z, t, None
+        zk = zk + dz
+        if not np.all(np.isfinite(zk)):
+            return False, z, t, None
+    return False, z, t, None

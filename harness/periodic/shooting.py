@@ -1,0 +1,158 @@
+"""Newton shooting on the FMU's period map, Floquet multipliers and their labels.
+
+A periodic orbit is a fixed point x = P(x) of the period map (harness.periodic.period_map). Newton
+on R(x) = P(x) - x with a forward-difference Jacobian DP (one period per unknown), damped by
+halving while the scaled residual grows. The monodromy matrix is DP at the orbit (central
+differences once converged, one-sided where the unknown sits on a bound: the Jenkins element's
+slip limit |phi| = 1); its eigenvalues are the Floquet multipliers. An orbit is stable if every
+multiplier lies inside the unit circle; an unstable one is labelled by how it lost stability:
+"fold" (a real multiplier > 1), "period-doubling" (a real one < -1), "Neimark-Sacker" (a complex
+pair outside).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from harness.fmu import FMUError
+from harness.params import ParameterError
+from harness.periodic.period_map import PeriodMap, omega
+
+UNIT_CIRCLE_TOL = 1e-6  # |mu| within this of 1 counts as on the circle (finite-difference accuracy)
+
+
+@dataclass
+class Orbit:
+    """One periodic orbit at one speed."""
+
+    model: str
+    speed: float  # [rpm]
+    x: np.ndarray  # unknowns at load phase 0 (see period_map: q0 [m], q0' [m/s], B [m] or phi [-])
+    amplitude: float  # max |q| over the period [m]
+    B: float  # amplitude in use by the describing function [m] (nan for the Jenkins element)
+    multipliers: np.ndarray  # Floquet multipliers (complex), largest modulus first
+    residual: float  # max scaled |P(x) - x|
+    iterations: int
+    start_values: dict = field(default_factory=dict)  # FMU start values that start a run on the orbit
+
+    @property
+    def stable(self) -> bool:
+        return bool(np.max(np.abs(self.multipliers)) < 1.0 - UNIT_CIRCLE_TOL)
+
+    @property
+    def label(self) -> str:
+        return classify(self.multipliers)
+
+    def as_dict(self) -> dict:
+        return {"model": self.model, "speed_rpm": self.speed, "amplitude_m": self.amplitude,
+                "B_m": None if math.isnan(self.B) else self.B, "stable": self.stable, "label": self.label,
+                "multipliers": [{"re": float(m.real), "im": float(m.imag), "abs": float(abs(m))}
+                                for m in self.multipliers],
+                "start_values": self.start_values, "residual": self.residual, "iterations": self.iterations}
+
+
+def classify(mu: np.ndarray) -> str:
+    """'stable', or the kind of the multipliers outside the unit circle: 'fold' (real > 1),
+    'period-doubling' (real < -1), 'Neimark-Sacker' (complex pair); joined with '+' if several."""
+    out = []
+    for m in mu:
+        if abs(m) < 1.0 + UNIT_CIRCLE_TOL:
+            continue
+        if abs(m.imag) > UNIT_CIRCLE_TOL * abs(m):
+            kind = "Neimark-Sacker"
+        else:
+            kind = "fold" if m.real > 0 else "period-doubling"
+        if kind not in out:
+            out.append(kind)
+    return "+".join(out) if out else ("stable" if np.max(np.abs(mu)) < 1.0 - UNIT_CIRCLE_TOL else "marginal")
+
+
+def _bounded(pm: PeriodMap, x: np.ndarray) -> np.ndarray:
+    """x moved into the unknowns' domain: B > 0, |phi| <= 1 (and phi = 0 while open)."""
+    x = x.copy()
+    if pm.model == "jenkins":
+        x[2] = 0.0 if abs(x[0]) <= pm.d else float(np.clip(x[2], -1.0, 1.0))
+    elif pm.dim == 3:
+        x[2] = max(x[2], 1e-3 * max(pm.d, 1e-9))
+    return x
+
+
+def fd_direction(pm: PeriodMap, x: np.ndarray, j: int) -> float:
+    """+1, or -1 where a forward step would leave the domain (phi at +1, B near 0)."""
+    if pm.model == "jenkins" and j == 2 and x[2] > 0.0:
+        return -1.0
+    return 1.0
+
+
+def jacobian(pm: PeriodMap, x: np.ndarray, speed: float, Px: np.ndarray, central: bool = False) -> np.ndarray:
+    """DP at x (forward differences from the known P(x), or central ones) in physical units."""
+    sc = pm.scales(x, speed)
+    J = np.empty((pm.dim, pm.dim))
+    for j in range(pm.dim):
+        h = pm.s.fd_rel * sc[j] * fd_direction(pm, x, j)
+        xp = x.copy()
+        xp[j] += h
+        Pp = pm(xp, speed)[0]
+        at_bound = pm.model == "jenkins" and j == 2 and abs(x[2]) >= 1.0
+        if central and not at_bound:
+            xm = x.copy()
+            xm[j] -= h
+            J[:, j] = (Pp - pm(xm, speed)[0]) / (2.0 * h)
+        else:
+            J[:, j] = (Pp - Px) / h
+    return J
+
+
+def multipliers(J: np.ndarray) -> np.ndarray:
+    mu = np.linalg.eigvals(J)
+    return mu[np.argsort(-np.abs(mu))]
+
+
+def shoot(pm: PeriodMap, x0: np.ndarray, speed: float, *, final_monodromy: bool = True) -> Orbit | None:
+    """Newton from x0; the orbit, or None if Newton does not converge (or the FMU refuses every
+    damped step)."""
+    x = _bounded(pm, np.asarray(x0, dtype=float))
+    try:
+        Px, A = pm(x, speed)
+    except (FMUError, ParameterError):
+        return None
+    for it in range(1, pm.s.max_iter + 1):
+        sc = pm.scales(x, speed)
+        r = (Px - x) / sc
+        res = float(np.max(np.abs(r)))
+        if res <= pm.s.tol:
+            return _orbit(pm, x, speed, Px, A, res, it - 1, final_monodromy)
+        try:
+            J = jacobian(pm, x, speed, Px)
+            dx = np.linalg.solve(J - np.eye(pm.dim), -(Px - x))
+        except (FMUError, ParameterError, np.linalg.LinAlgError):
+            return None
+        lam = 1.0
+        for _ in range(8):  # damping: halve while the residual grows or the FMU refuses the start
+            xn = _bounded(pm, x + lam * dx)
+            try:
+                Pn, An = pm(xn, speed)
+                rn = float(np.max(np.abs((Pn - xn) / pm.scales(xn, speed))))
+            except (FMUError, ParameterError):
+                rn = math.inf
+            if rn < res or lam < 0.02:
+                break
+            lam *= 0.5
+        if not math.isfinite(rn):
+            return None
+        x, Px, A = xn, Pn, An
+    return None
+
+
+def _orbit(pm: PeriodMap, x: np.ndarray, speed: float, Px: np.ndarray, A: float, res: float, it: int,
+           final_monodromy: bool) -> Orbit:
+    J = jacobian(pm, x, speed, Px, central=final_monodromy)
+    B = math.nan if pm.model == "jenkins" else (pm.B if pm.dim == 2 else float(x[2]))
+    return Orbit(pm.model, float(speed), x.copy(), float(A), B, multipliers(J), res, it, pm.start_values(x))
+
+
+def period_of(pm: PeriodMap, speed: float) -> float:
+    """The excitation period 2 pi / omega [s] at `speed`."""
+    return 2.0 * math.pi / omega(pm.p, speed)
