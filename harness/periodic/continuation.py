@@ -107,9 +107,6 @@ class Branch:
         return any(abs(p.speed - speed) <= 1e-6 * speed and abs(p.amplitude - amplitude) <= rtol * amplitude
                    for p in pts)
 
-    def write_csv(self, path: Path, branch_id: int = 0) -> None:
-        write_branches_csv(path, [self])
-
 
 def write_branches_csv(path: Path, branches: list[Branch]) -> None:
     """One row per point: branch, speed [rpm], amplitude [m], B [m] (or empty), stable, label,

@@ -152,7 +152,3 @@ def _orbit(pm: PeriodMap, x: np.ndarray, speed: float, Px: np.ndarray, A: float,
     B = math.nan if pm.model == "jenkins" else (pm.B if pm.dim == 2 else float(x[2]))
     return Orbit(pm.model, float(speed), x.copy(), float(A), B, multipliers(J), res, it, pm.start_values(x))
 
-
-def period_of(pm: PeriodMap, speed: float) -> float:
-    """The excitation period 2 pi / omega [s] at `speed`."""
-    return 2.0 * math.pi / omega(pm.p, speed)
