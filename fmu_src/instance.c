@@ -407,6 +407,23 @@ fmi2Status instanceDoStep(Instance *inst, double tc, double h)
         d->lastDoStepStatus = fmi2Discard;
         return fmi2Discard;
     }
+    {   /* the state is finite, but a derived force may overflow (q' ~ 1e206 times C_eq ~ 1e214) */
+        SolverOutputs o;
+        const char *bad;
+        solverOutputs(&d->model, &d->solver, n1, &o);
+        bad = solverNonFiniteOutput(&o);
+        if (bad != NULL) {
+            d->solver = backup;
+            instanceLogStatus(inst, fmi2Discard, "%s: the output %s is not finite at the step end t = %.17g s "
+                              "(numerical instability: try a smaller maxStep = %g s%s); the step from t = %.17g s "
+                              "is discarded and the state restored", fn, bad, tc + h, d->par[ParMaxStep],
+                              (d->model.friction != FrictionMacroslipTD && n0 < 100.0)
+                                  ? "; at low rotorSpeed a describing-function contact is stiff since C_eq "
+                                    "grows like 1/omega" : "", tc);
+            d->lastDoStepStatus = fmi2Discard;
+            return fmi2Discard;
+        }
+    }
     d->time = tc + h; /* model-notes s.6: the master's communication point plus h */
     shiftInputs(inst, &in, h);
     d->lastDoStepStatus = warnFullStickOnce(inst, fn);

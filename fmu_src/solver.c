@@ -596,3 +596,14 @@ void solverOutputs(const SolverModel *m, const SolverState *s, double nRpm, Solv
         }
     }
 }
+
+const char *solverNonFiniteOutput(const SolverOutputs *o)
+{
+    if (!isfinite(o->normalForce)) return "normalForce";
+    if (!isfinite(o->frictionForce)) return "frictionForce";
+    if (!isfinite(o->jenkinsForce)) return "jenkinsForce";
+    if (!isfinite(o->Keq)) return "Keq";
+    if (!isfinite(o->Ceq)) return "Ceq";
+    if (!isfinite(o->naturalFrequency)) return "naturalFrequency";
+    return NULL;
+}

@@ -152,4 +152,8 @@ typedef struct {
 /* Outputs for state s at rotor speed nRpm [rpm]. */
 void solverOutputs(const SolverModel *m, const SolverState *s, double nRpm, SolverOutputs *out);
 
+/* Name of the first output of o that is not finite (a force of a huge state times a huge
+ * coefficient overflows), or NULL if all are finite. */
+const char *solverNonFiniteOutput(const SolverOutputs *o);
+
 #endif

@@ -213,6 +213,13 @@ static fmi2Status getValues(Instance *inst, const char *fn, const fmi2ValueRefer
             haveOutputs = 1;
         }
         writeValue(type, out, i, variableValue(inst, v, &o));
+        if (v->causality == CausOutput && !isfinite(variableValue(inst, v, &o))) {
+            /* only after a rotorSpeed set since the step (fmi2DoStep checks its own end) */
+            instanceLogStatus(inst, fmi2Warning, "%s: %s = %g is not finite at rotorSpeed = %g rpm (a "
+                              "describing-function coefficient ~ 1/omega overflows)", fn, v->name,
+                              variableValue(inst, v, &o), inst->d.in[SOLVER_INPUT_SPEED][0]);
+            if (status == fmi2OK) status = fmi2Warning;
+        }
     }
     return status;
 }

@@ -314,6 +314,30 @@ def _input_case(name: str, value: float, low: float | None, high: float | None,
     return Case("input", f"{name} = {value!r}{label}", run, expect, name, value, low, high)
 
 
+def _overflowing_output_case() -> Case:
+    """The state stays finite (q' ~ 2e206 after one step) but frictionForce = f_c q' overflows:
+    found by the slow fuzz test (EI = 200 N m^2, d = 0, gating off, engine order 1, ~1e-208 rpm,
+    aeroLoad 0 with a slope of ~5e-207 N/m/s). The step must be refused or give finite outputs."""
+    speed = 1.5757704027479749e-208
+    params = {"EI": 200.0, "gating": False, "frictionModel": 1, "engineOrder": 1, "amplitudeMode": 1,
+              "projection": 1, "formulation": 1, "maxStep": 1e-3, "B": 1.875708501412549e-4, "d": 0.0}
+
+    def run(lib: Fmi2Library) -> Outcome:
+        load = F.aero_derivatives(0.0, 100.0, 2 * math.pi * speed / 60.0, 1)
+        with _ready(lib, params) as c:
+            out = _sequence(c, [("fmi2SetReal", lambda: c.set_real(["aeroLoad", "rotorSpeed"], [load[0], speed])),
+                                ("fmi2SetRealInputDerivatives",
+                                 lambda: c.set_input_derivatives(["aeroLoad"], [1], [load[1]])),
+                                ("fmi2DoStep", lambda: c.do_step(0.0, 1e-4))])
+            if out.status == OK:
+                st, y = c.outputs()
+                if not np.all(np.isfinite(y)):
+                    out.after = "outputs not finite after an OK step"
+            return out
+    return Case("input", f"rotorSpeed = {speed!r}, EI = 200, d = 0, gating off: f_c q' overflows", run,
+                "either", "rotorSpeed", speed, 0.0, 30000.0)
+
+
 def _derivative_case(label: str, vr: str | int, order: int, value: float, n0: float | None = None,
                      h: float = 1e-4, name: str | None = None) -> Case:
     def run(lib: Fmi2Library) -> Outcome:
@@ -341,6 +365,7 @@ def input_cases() -> list[Case]:
                           f" with frictionModel {fm}") for fm in (1, 3)]
     cases += [_input_case("rotorSpeed", 1e-308, 0.0, 30000.0, "either",
                           {"frictionModel": 1, "gating": False}, " with frictionModel 1, gating off")]
+    cases.append(_overflowing_output_case())
     cases += [
         _derivative_case("rotorSpeed 29999 rpm, slope 1e7 rpm/s: leaves [0, 30000] inside the step",
                          "rotorSpeed", 1, 1e7, n0=29999.0, h=1e-3, name="rotorSpeed"),
@@ -1135,3 +1160,24 @@ if __name__ == "__main__":
             _build.build(("fmu",))
         n = write_doc()
         print(f"wrote docs/invalid-inputs.md ({n} rows)")
+
+
+def test_an_overflowing_output_is_a_warning_not_a_silent_inf(lib: Fmi2Library) -> None:
+    """frictionForce = f_k q + f_c q' with f_c = (f_c omega) / omega: a rotorSpeed set after the
+    last step can make f_c finite but f_c q' overflow. fmi2GetReal then says so (fmi2Warning and
+    a message naming the output); fmi2OK always comes with finite outputs."""
+    params = {"gating": False, "frictionModel": 1, "B": 1e-4, "d": 2e-5,
+              "tipDisplacement": 1e-4, "tipVelocity": 100.0}
+    warned = 0
+    for speed in np.logspace(-310, -290, 81):
+        with _ready(lib, params) as c:
+            assert c.set_real(["rotorSpeed"], [speed]) == OK
+            st, y = c.get_real(F.REAL_OUTPUTS)
+            if st == OK:
+                assert np.all(np.isfinite(y)), f"{speed!r}: {y}"
+            else:
+                assert st == F.WARNING and not np.all(np.isfinite(y)), f"{speed!r}: {st} {y}"
+                assert any("frictionForce" in (r.message or "") and r.status == F.WARNING
+                           for r in c.log), c.log_text()
+                warned += 1
+    assert warned > 0, "no speed made f_c q' overflow: the test does not reach the case it checks"
