@@ -83,6 +83,12 @@ typedef struct {
     int logOn[LOG_NUM_CATEGORIES];      /* enabled categories */
     StateBlob *states;                  /* FMU states allocated for this instance (freed with it) */
     SolverCounters counters;            /* work statistics (not part of the FMU state) */
+    /* the last Galerkin reduction and what it was built from (not part of the FMU state): a
+     * master that resets and restarts with the same blade (shooting) skips eq. 19-26 */
+    int32_t bladeCacheValid;
+    int32_t bladeCacheFormulation;
+    BladeParams bladeCacheParams;
+    BladeReduction bladeCache;
     char message[1024];                 /* formatting buffer of the logger */
     char escaped[2100];
 } Instance;

@@ -184,6 +184,26 @@ def test_reset_restores_start_values(lib: Fmi2Library) -> None:
         assert np.array_equal(run(c, 0, 300), defaults)
 
 
+@pytest.mark.parametrize("change", [{"EI": 300.0}, {"m0": 0.05}, {"l": 0.11}, {"c": 2.0},
+                                    {"formulation": 2}, {"rho": 7000.0}, {"A": 1.1e-4}])
+def test_reset_with_another_blade_equals_a_fresh_instance(lib: Fmi2Library, change: dict) -> None:
+    # the instance keeps its last Galerkin reduction across fmi2Reset (shooting restarts the same
+    # blade thousands of times): a changed blade parameter or formulation must not reuse it
+    with ready(lib) as c:
+        first = run(c, 0, 200)
+        assert c.reset() == OK
+        assert c.initialize(change) == OK
+        changed = run(c, 0, 200)
+        assert c.reset() == OK
+        assert c.initialize() == OK
+        again = run(c, 0, 200)
+    with ready(lib, change) as fresh:
+        expected = run(fresh, 0, 200)
+    assert np.array_equal(changed, expected)
+    assert not np.array_equal(changed, first)
+    assert np.array_equal(again, first)
+
+
 def test_restore_after_an_error(lib: Fmi2Library) -> None:
     # fmi2SetFMUstate is the standard's way out of an fmi2Error: continue as if nothing happened
     with ready(lib) as c:
