@@ -94,6 +94,7 @@ class PeriodMap:
         self.evaluations = 0
         self.simulated = 0.0  # blade seconds simulated [s]
         self.fmi_seconds = 0.0  # wall time spent in the FMI calls of the evaluations (ctypes included) [s]
+        self.account: PeriodMap = self  # whose counters the evaluations add to (see with_model)
         self._raw = fmu.raw()
         v = fmu.variables
         fixed = {k: x for k, x in fmu_parameters(self.p).items() if k != "B"}
@@ -158,8 +159,9 @@ class PeriodMap:
         r, i = self._raw, self._iB
         c, val = r.c, self._rval
         val[i], val[i + 1], val[i + 2], val[i + 3], val[i + 4] = B, q0, v0, F0, 0.0
-        self.evaluations += 1
-        self.simulated += self.T
+        acct = self.account
+        acct.evaluations += 1
+        acct.simulated += self.T
         t_in = time.perf_counter()
         st = r.reset(c)
         st = max(st, r.setReal(c, ctypes.addressof(self._rvr), len(val), ctypes.addressof(val)))
@@ -183,7 +185,7 @@ class PeriodMap:
                 raise self.fmu.failure("fmi2DoStep", st, t)
         o = self._oval
         st = r.getReal(c, ctypes.addressof(self._ovr), len(o), ctypes.addressof(o))
-        self.fmi_seconds += time.perf_counter() - t_in
+        acct.fmi_seconds += time.perf_counter() - t_in
         if st > 1:
             raise self.fmu.failure("fmi2GetReal", st, self.T)
         q, v, F, run_max, amp = o[0], o[1], o[2], o[3], o[4]
@@ -196,6 +198,13 @@ class PeriodMap:
             L = self.slip_limit(q)
             return np.array([q, v, F / L if L > 0.0 else 0.0]), A
         return np.array([q, v, A]), A
+
+    def with_model(self, model: str) -> "PeriodMap":
+        """A period map of another model on the same FMU and parameters, whose evaluations count
+        in this map's counters."""
+        other = PeriodMap(self.fmu, self.p, model, self.s)
+        other.account = self.account
+        return other
 
     def start_values(self, x: np.ndarray) -> dict[str, float]:
         """The FMU start values (and B) that start a run on the state x at load phase 0."""

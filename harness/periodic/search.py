@@ -91,7 +91,7 @@ def orbits_at(pm: PeriodMap, speed: float, s: SearchSettings = SearchSettings())
 
 def fixed_b_map(pm: PeriodMap) -> PeriodMap:
     """A fixedB period map with the same FMU and parameters (its B is set per scan point)."""
-    return PeriodMap(pm.fmu, pm.p, "fixedB", pm.s)
+    return pm.with_model("fixedB")
 
 
 def fixed_point_candidates(pm: PeriodMap, speed: float, s: SearchSettings) -> list[np.ndarray]:

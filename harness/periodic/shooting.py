@@ -20,6 +20,7 @@ from harness.fmu import FMUError
 from harness.params import ParameterError
 from harness.periodic.period_map import PeriodMap, omega
 
+MAX_UPHILL = 3  # Newton steps that raise the residual even at the smallest damping, then give up
 UNIT_CIRCLE_TOL = 1e-6  # |mu| within this of 1 counts as on the circle (finite-difference accuracy)
 
 
@@ -118,6 +119,7 @@ def shoot(pm: PeriodMap, x0: np.ndarray, speed: float, *, final_monodromy: bool 
         Px, A = pm(x, speed)
     except (FMUError, ParameterError):
         return None
+    uphill = 0  # accepted steps that did not lower the residual (give up after MAX_UPHILL)
     for it in range(1, pm.s.max_iter + 1):
         sc = pm.scales(x, speed)
         r = (Px - x) / sc
@@ -142,6 +144,10 @@ def shoot(pm: PeriodMap, x0: np.ndarray, speed: float, *, final_monodromy: bool 
             lam *= 0.5
         if not math.isfinite(rn):
             return None
+        if rn >= res:
+            uphill += 1
+            if uphill > MAX_UPHILL:
+                return None  # Newton crawls away from a root it cannot reach from here
         x, Px, A = xn, Pn, An
     return None
 
