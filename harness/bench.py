@@ -4,8 +4,9 @@ Measured in one run on this machine: the FMU's internal step cost (the C benchma
 build/bench_step when it exists), the cost of one fmi2DoStep through the harness loop on fmpy
 (small and large communication steps), the Python overhead of a time-domain sweep against the
 FMU's own compute for the same work (time spent inside fmi2DoStep), the same stepped-speed run
-through the Python reference as a ratio, harmonic balance for all studies, and the wall time of
-`reproduce` from a cold cache with its breakdown against the issue's targets.
+through the Python reference as a ratio, harmonic balance for all studies, the wall time of
+`reproduce` (the studies as periodic-orbit branches) with its breakdown and the time spent in the
+FMI calls, and side by side the former transient path of the same studies.
 """
 from __future__ import annotations
 
@@ -198,30 +199,40 @@ def hb_all() -> dict[str, Any]:
 
 
 def reproduce_cold(size: str, workers: int | None) -> dict[str, Any]:
+    """`reproduce` as `make run` does it: the studies as periodic-orbit branches, plus extras."""
     from harness.executor import Runner
     from harness.studies import reproduce
 
     with tempfile.TemporaryDirectory() as tmp:
         t = time.perf_counter()
         with Runner(workers=workers, progress=False) as runner:
-            rep = reproduce(Path(tmp) / "results", size, runner=runner, cache_dir=Path(tmp) / "cache")
+            rep = reproduce(Path(tmp) / "results", size, runner=runner)
         wall = time.perf_counter() - t
     tim = rep.summary["timing"]
     return {"size": size, "wall": wall, "workers": workers or os.cpu_count(), **tim}
 
 
-def continuation_studies(workers: int | None) -> dict[str, Any]:
-    """The four studies as periodic-orbit branches (fixed point and Jenkins element, every curve:
-    harness.periodic.studies), wall time against the time spent in the FMI calls."""
-    from harness.periodic.studies import run_studies
+def transient_studies(size: str, workers: int | None) -> dict[str, Any]:
+    """The former path of the same studies from a cold cache: time-domain up/down sweeps, fixed
+    points A(B) = B from transients and HB for Figs. 6-9, time-domain + HB Coulomb curves."""
+    from harness.executor import Runner
+    from harness.studies import SIZES, STUDIES, base_params, study_specs
+    from harness.sweep import SweepSpec, run_sweeps
 
+    sz, base = SIZES[size], base_params()
+    specs = [e[2] for e in study_specs(sz, list(STUDIES), base)]
+    for name in ("kn", "angle"):
+        st = STUDIES[name]
+        specs += [SweepSpec(dict(base, frictionModel=2, **{st.param: v}), sz.speeds, label=f"Coulomb {st.label(v)}",
+                            methods=("time", "hb"), hb_speeds=sz.hb_speeds, settings=sz.settings) for v in st.values]
     with tempfile.TemporaryDirectory() as tmp:
-        s = run_studies(Path(tmp), workers=workers or 2)
-    c = s["curves"]
-    return {"wall": s["wall"], "workers": s["workers"], "curves": len(c),
-            "branches": sum(x["branches"] for x in c), "points": sum(x["points"] for x in c),
-            "periods": sum(x["evaluations"] for x in c), "simulated_s": sum(x["simulated_s"] for x in c),
-            "fmi_s": sum(x["fmi_s"] for x in c), "curve_wall_s": sum(x["wall"] for x in c)}
+        t = time.perf_counter()
+        with Runner(workers=workers, progress=False) as runner:
+            res = run_sweeps(specs, runner, cache_dir=Path(tmp) / "cache")
+        wall = time.perf_counter() - t
+    return {"wall": wall, "curves": len(specs), "plateaus": sum(len(r.time) for r in res),
+            "sim_time": float(sum(r.stats.get("sim_time", 0.0) for r in res)),
+            "fixed_evals": int(sum(r.stats.get("fixed_evals", 0) for r in res)), "workers": workers or os.cpu_count()}
 
 
 def write_results(path: Path, data: dict[str, Any]) -> None:
@@ -276,34 +287,31 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
     if "reproduce" in data:
         r = data["reproduce"]
         nan = math.nan
-        td = r.get("time_domain_wall", nan) + r.get("fixed_point_wall", nan)
-        L += ["## `reproduce` from a cold cache", "",
+        fmi, worker = r.get("branches_fmi_s", nan), r.get("branches_worker_s", nan)
+        L += ["## `make run` (`reproduce`): the studies as periodic-orbit branches", "",
               f"Size `{r['size']}`, all studies and extras, {r.get('workers')} worker processes: "
               f"**{r['wall']:.1f} s wall**.", "",
-              f"- four parameter studies: {r.get('studies_wall', nan):.1f} s = time-domain sweeps "
-              f"{r.get('time_domain_wall', nan):.1f} s ({r.get('plateaus', 0):.0f} plateaus, {r.get('sim_time', 0):.0f} s "
-              f"simulated) + fixed points {r.get('fixed_point_wall', nan):.1f} s ({r.get('fixed_evals', 0):.0f} A(B) runs) "
-              f"+ harmonic balance {r.get('hb_wall', nan):.2f} s",
-              f"- section-4 Coulomb sweeps: {r.get('coulomb_wall', nan):.1f} s",
-              f"- Fig. 2, 4/5, Campbell, the paper's iteration: {r.get('extras_wall', nan):.1f} s", "",
-              f"Target: four studies in the time domain with fixed points <= 30 s on 2 cores: **{td:.1f} s**.", ""]
-    if "continuation" in data:
-        c = data["continuation"]
-        L += ["## The four studies as periodic-orbit branches (shooting + continuation)", "",
-              f"`python -m harness continue --studies`: {c['curves']} curves (the paper's fixed point B = A(B) and the "
-              f"Jenkins element, every study value, 3000..10000 rpm), {c['branches']} branches, {c['points']} points "
-              f"with Floquet multipliers, {c['workers']} worker processes: **{c['wall']:.1f} s wall**, "
-              f"{c['periods']} periods = {c['simulated_s']:.0f} s of blade time simulated. Time in the FMI calls "
-              f"(ctypes included) {c['fmi_s']:.1f} s of {c['curve_wall_s']:.1f} s worker time: "
-              f"**worker time / FMI time = {c['curve_wall_s'] / c['fmi_s']:.2f}**, "
-              f"wall x workers / FMI time = {c['wall'] * c['workers'] / c['fmi_s']:.2f}.", ""]
-        if "reproduce" in data:
-            r = data["reproduce"]
-            L += [f"Side by side with the transient path above (same run): four studies in the time domain + fixed "
-                  f"points {r.get('studies_wall', math.nan):.1f} s (fixed point, tracked time domain, HB; "
-                  f"{r.get('sim_time', 0):.0f} s simulated) vs branches {c['wall']:.1f} s (fixed point with "
-                  f"stability of every branch + the Jenkins element): "
-                  f"**{r.get('studies_wall', math.nan) / c['wall']:.2f}x** less wall time.", ""]
+              f"- branches: {r.get('curves', 0):.0f} curves (fixed point B = A(B) and Jenkins element for every "
+              f"study value, Coulomb fixed point for kn and angle), {r.get('branches_evaluations', 0):.0f} periods = "
+              f"{r.get('branches_simulated_s', 0):.0f} s of blade time: {r.get('branches_wall', nan):.1f} s wall; "
+              f"time in the FMI calls (ctypes included) {fmi:.1f} s of {worker:.1f} s worker time: "
+              f"**worker time / FMI time = {worker / fmi:.2f}**, wall x workers / FMI time = "
+              f"{r.get('branches_wall', nan) * r.get('workers', 1) / fmi:.2f}",
+              f"- harmonic balance: {r.get('hb_wall', nan):.2f} s",
+              f"- Fig. 2, 4/5, Campbell, the paper's iteration: {r.get('extras_wall', nan):.1f} s", ""]
+        if "transient" in data:
+            t = data["transient"]
+            studies = r.get("branches_wall", nan) + r.get("hb_wall", 0.0)
+            L += ["### Side by side: the same studies by transients (the former `make run`, same run)", "",
+                  f"{t['curves']} curves (Figs. 6-9: up/down time-domain sweeps, fixed points A(B) = B from "
+                  f"transients, HB; section 4: Coulomb time domain + HB), cold cache, {t['workers']} workers: "
+                  f"**{t['wall']:.1f} s wall**, {t['plateaus']} plateaus + {t['fixed_evals']} A(B) transients = "
+                  f"{t['sim_time']:.0f} s of blade time.", "",
+                  f"Studies: transients {t['wall']:.1f} s vs branches {studies:.1f} s (HB included): "
+                  f"**{t['wall'] / studies:.2f}x less wall time**, with every branch, its stability and the "
+                  f"Jenkins element in addition. Whole reproduction (the extras are the same code in both): "
+                  f"{t['wall'] + r.get('extras_wall', 0.0):.1f} s vs {r['wall']:.1f} s: "
+                  f"**{(t['wall'] + r.get('extras_wall', 0.0)) / r['wall']:.2f}x**.", ""]
     atomic_write_text(path, "\n".join(L))
 
 
@@ -339,11 +347,11 @@ def run(args: argparse.Namespace) -> int:
     data["sweep_settings"] = asdict(SweepSettings())
     print("harmonic balance ...", flush=True)
     data["hb"] = hb_all()
-    print("studies as periodic-orbit branches ...", flush=True)
-    data["continuation"] = continuation_studies(args.workers)
     if not args.skip_reproduce:
-        print(f"reproduce --size {args.size} from a cold cache ...", flush=True)
+        print(f"reproduce --size {args.size} (branches) ...", flush=True)
         data["reproduce"] = reproduce_cold(args.size, args.workers)
+        print("the same studies by transients from a cold cache (the former path) ...", flush=True)
+        data["transient"] = transient_studies(args.size, args.workers)
     out = Path(args.output_file)
     write_results(out, data)
     atomic_write_text(out.with_suffix(".json"), json.dumps(data, indent=1, default=str))

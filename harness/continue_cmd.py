@@ -4,7 +4,8 @@
 [--start-values NAME VALUE ...] [--seed-step RPM] [--output-file branches.csv] [--plot branches.png]`
 traces every branch found from the seed speeds (harness.periodic.branches) through its folds and
 writes one CSV row per point (branch, speed, amplitude, B, state, stability, label, multipliers);
-the plot draws stable parts bold and unstable parts faint.
+the plot draws stable parts bold and unstable parts faint. The paper's studies as branches are part
+of `python -m harness run` (harness.studies).
 """
 from __future__ import annotations
 
@@ -27,9 +28,6 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                    help="search every orbit at seed speeds this far apart (default 500 rpm)")
     p.add_argument("--output-file", default="branches.csv", metavar="CSV", help="branch CSV (default branches.csv)")
     p.add_argument("--plot", metavar="PNG", help="also plot the branches to this PNG file")
-    p.add_argument("--studies", metavar="DIR", help="instead: the paper's studies (Figs. 6-9), fixed point and Jenkins"
-                   " element, every curve, to DIR (CSV + PNG per study, summary.json)")
-    p.add_argument("--workers", type=int, default=2, metavar="N", help="processes for --studies (default 2)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -39,8 +37,6 @@ def run(args: argparse.Namespace) -> int:
     from harness.simulate_cmd import parse_start_values
 
     overrides = parse_start_values(args.start_values)
-    if args.studies:
-        return _studies(args)
     lo, hi = args.speed_range
     if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi <= 30000.0):
         raise ParameterError(f"--speed-range {lo!r} {hi!r} rpm: need 0 < LO < HI <= 30000")
@@ -59,22 +55,3 @@ def run(args: argparse.Namespace) -> int:
               f"{b.amplitudes.max() * 1e3:.5f} mm; stability changes: {bif}")
     return 0
 
-
-def _studies(args: argparse.Namespace) -> int:
-    import json
-
-    from harness.periodic.studies import run_studies
-
-    if not (isinstance(args.workers, int) and 1 <= args.workers <= 64):
-        raise ParameterError(f"--workers {args.workers!r}: need an integer in [1, 64]")
-    out = Path(args.studies)
-    summary = run_studies(out, workers=args.workers, speed_range=tuple(args.speed_range))
-    (out / "summary.json").write_text(json.dumps(summary, indent=1, default=float))
-    periods = sum(c["evaluations"] for c in summary["curves"])
-    print(f"{len(summary['curves'])} curves in {summary['wall']:.1f} s on {args.workers} workers,"
-          f" {periods} periods simulated -> {out}")
-    for r in summary["peaks"]:
-        print(f"  {r['study']} {r['value']:g}: peak fixed point {r['fixedPoint_peak_m'] * 1e3:.4f} mm at "
-              f"{r['fixedPoint_speed_rpm']:.0f} rpm, Jenkins {r['jenkins_peak_m'] * 1e3:.4f} mm at "
-              f"{r['jenkins_speed_rpm']:.0f} rpm ({100 * r['peak_rel_diff']:+.1f} %)")
-    return 0

@@ -1,7 +1,7 @@
 """Figures of the reproduced studies, drawn with matplotlib's Agg backend straight to PNG files.
 
-One function per figure kind: response curves of a parameter study (time-domain up/down sweeps,
-fixed-point roots, harmonic-balance branches with stability), the time response and spectrum
+One function per figure kind: response curves of a parameter study (branches of periodic orbits
+with stability over the harmonic-balance branches), the time response and spectrum
 (paper Fig. 4/5), the hysteresis loop (Fig. 2), the Coulomb comparison (section 4) and the
 Campbell diagram. Nothing is ever shown on screen; every function returns the path it wrote.
 """
@@ -33,6 +33,41 @@ def _save(fig: Any, path: Path | str) -> Path:
 def _colors(n: int) -> list:
     cmap = plt.get_cmap("viridis")
     return [cmap(x) for x in np.linspace(0.0, 0.9, max(n, 1))]
+
+
+def study_branches(path: Path | str, title: str, curves: Sequence[dict]) -> Path:
+    """Amplitude vs speed of a parameter study, one colour per value: left the fixed point B = A(B),
+    right the Jenkins element (periodic orbits: stable bold, unstable faint), both over the
+    harmonic-balance branches (thin dotted: stable, faint dots: unstable). Each curve dict: label,
+    branches {"fixedPoint": [Branch], "jenkins": [Branch]}, hb (speed, B, stable), d [m]."""
+    fig, axes = plt.subplots(1, 2, figsize=(13, 4.8), sharey=True)
+    for c, col in zip(curves, _colors(len(curves))):
+        for ax, model in zip(axes, ("fixedPoint", "jenkins")):
+            label = c["label"]
+            for b in c["branches"][model]:
+                n, a = b.speeds, b.amplitudes * MM
+                for i0, i1, s in _stable_runs(b.stable):
+                    ax.plot(n[i0:i1], a[i0:i1], color=col, lw=2.0 if s else 0.8, alpha=1.0 if s else 0.4,
+                            label=label if s else None)
+                    if s:
+                        label = None
+            h = c["hb"]
+            if len(h):
+                st, un = h[h["stable"]], h[~h["stable"]]
+                ax.plot(st["speed"], st["B"] * MM, ".", color=col, ms=1.2, alpha=0.7)
+                ax.plot(un["speed"], un["B"] * MM, ".", color=col, ms=0.6, alpha=0.25)
+            ax.axhline(c["d"] * MM, color=col, lw=0.6, ls=":")
+    axes[0].set_title("fixed point B = A(B): periodic orbits of the tracked-amplitude FMU\n"
+                      "bold stable, faint unstable; dots: harmonic balance (gating off); dotted: gap d", fontsize=8)
+    axes[1].set_title("time-domain Jenkins element (frictionModel 3): periodic orbits of the FMU\n"
+                      "bold stable, faint unstable; dots: harmonic balance of the describing function", fontsize=8)
+    for ax in axes:
+        ax.set_xlabel("rotor speed n [rpm]")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, loc="upper left")
+    axes[0].set_ylabel("max |q| over a period [mm]")
+    fig.suptitle(title)
+    return _save(fig, path)
 
 
 def study_curves(path: Path | str, title: str, curves: Sequence[dict], gap: Sequence[float] | None = None) -> Path:
@@ -142,8 +177,8 @@ def coulomb(path: Path | str, rows: dict[str, dict]) -> Path:
     for j, (name, r) in enumerate(rows.items()):
         x = np.asarray(r["x"])
         for key, style, lab in (("macroslip", "o-", "macroslip (paper)"), ("coulomb", "s--", "Coulomb")):
-            axes[0, j].plot(x, np.asarray(r[key]["peak"]) * MM, style, label=f"{lab}, time domain")
-            axes[1, j].plot(x, r[key]["speed"], style, label=f"{lab}, time domain")
+            axes[0, j].plot(x, np.asarray(r[key]["peak"]) * MM, style, label=f"{lab}, fixed point (orbits)")
+            axes[1, j].plot(x, r[key]["speed"], style, label=f"{lab}, fixed point (orbits)")
             if "hb_peak" in r[key]:
                 axes[0, j].plot(x, np.asarray(r[key]["hb_peak"]) * MM, style[0] + ":", alpha=0.6, label=f"{lab}, HB")
                 axes[1, j].plot(x, r[key]["hb_speed"], style[0] + ":", alpha=0.6, label=f"{lab}, HB")
@@ -152,8 +187,8 @@ def coulomb(path: Path | str, rows: dict[str, dict]) -> Path:
             axes[i, j].grid(alpha=0.3)
             if r.get("log"):
                 axes[i, j].set_xscale("log")
-        axes[0, j].set_ylabel("peak amplitude [mm]")
-        axes[1, j].set_ylabel("resonant speed [rpm]")
+        axes[0, j].set_ylabel("largest stable max|q| [mm]")
+        axes[1, j].set_ylabel("its speed [rpm]")
         axes[0, j].legend(fontsize=7)
     fig.suptitle("Section 4: macroslip (eq. 4) vs traditional Coulomb model")
     return _save(fig, path)

@@ -2,8 +2,8 @@
 
 `python -m harness reproduce [--size quick|default|full] [--studies gap mass angle kn]
 [--output-dir results] [--workers N | --scheduler ADDRESS]`. Writes one PNG and CSV files per
-figure, summary.json and claims.md (paper claim | ours | settings | verdict). Points are cached,
-so an interrupted run resumes; files are replaced atomically.
+figure, summary.json and claims.md (paper claim | ours | settings | verdict); files are replaced
+atomically. The studies are branches of periodic orbits (harness.study_branches).
 """
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-extras", action="store_true",
                    help="only the parameter studies (skip Fig. 2, 4/5, Campbell, Coulomb, paper iteration)")
     p.add_argument("--output-dir", default=str(RESULTS_DIR), metavar="DIR", help=f"where to write (default {RESULTS_DIR})")
-    add_execution_options(p)
+    add_execution_options(p, cache=False)
 
 
 def reproduce_and_report(args: argparse.Namespace, size: str, studies, extras: bool) -> int:
@@ -36,18 +36,17 @@ def reproduce_and_report(args: argparse.Namespace, size: str, studies, extras: b
     out = Path(args.output_dir)
     t0 = time.perf_counter()
     with make_runner(args) as runner:
-        rep = reproduce(out, size, studies, runner=runner, cache_dir=None if args.no_cache else args.cache_dir,
-                        fmu_path=args.fmu, extras=extras)
+        rep = reproduce(out, size, studies, runner=runner, fmu_path=args.fmu, extras=extras)
     wall = time.perf_counter() - t0
     rows = write_claims(out / "claims.md", rep.summary)
     from harness.studies import STUDIES
 
     for name, st in rep.summary["studies"].items():
-        print(f"{st['figure']} ({name}): peak amplitude and its speed per method")
+        print(f"{st['figure']} ({name}): largest stable max|q| and its speed per model")
         for r in st["rows"]:
-            print(f"  {STUDIES[name].label(r['value']):<18s} {r['time_peak'] * 1e3:8.5f} mm at {r['time_speed']:6.0f} rpm"
-                  f" (time), {r['fixed_peak'] * 1e3:8.5f} mm at {r['fixed_speed']:6.0f} rpm (fixed),"
-                  f" {r['hb_peak'] * 1e3:8.5f} mm at {r['hb_speed']:6.0f} rpm (HB)")
+            print(f"  {STUDIES[name].label(r['value']):<18s} {r['fp_peak'] * 1e3:8.5f} mm at {r['fp_speed']:6.0f} rpm"
+                  f" (fixed point, jumps down at {r['fp_jump']:6.0f}), {r['jenkins_peak'] * 1e3:8.5f} mm at"
+                  f" {r['jenkins_speed']:6.0f} rpm (Jenkins), {r['hb_peak'] * 1e3:8.5f} mm at {r['hb_speed']:6.0f} rpm (HB)")
     counts = ", ".join(f"{v} {k}" for k, v in verdict_counts(rows).items())
     print(f"claims: {counts} -> {out / 'claims.md'}")
     print(f"wall time {wall:.1f} s; results in {out}/")

@@ -1,21 +1,23 @@
 """The paper's studies, reproduced with the FMU (and the reference), written to results/.
 
-`reproduce()` runs, for a chosen size ("quick" for tests, "default" for `make run`, "full"):
-Fig. 4/5 (time response and spectrum at 5000 rpm), the four parameter studies of Fig. 6-9 (gap,
-shroud mass, contact angle, normal stiffness) each as time-domain up/down sweeps of the FMU,
-fixed points of the paper's procedure and harmonic-balance branches of the reference, the
-hysteresis loop of Fig. 2 (eq. 4 closed form against the FMU's time-domain macroslip element and
-the reference Jenkins element driven harmonically), the section-4 comparison with the Coulomb
-model, the paper's own iteration B <- A(B) at 5000 rpm (it 2-cycles, MODEL.md s.4) and a Campbell
-diagram. Each figure is a PNG plus CSV files; `summary.json` holds the numbers `claims.py` turns
-into the claims table. All sweeps of all studies are validated first, then mapped at once.
+`reproduce()` runs, for a chosen size ("quick" for tests, "default" for `make run`, "full"): the
+four parameter studies of Fig. 6-9 (gap, shroud mass, contact angle, normal stiffness) as branches
+of periodic orbits of the FMU with their stability (the paper's fixed point B = A(B) and the
+time-domain Jenkins element; harness.study_branches) over the reference's harmonic-balance
+branches; the section-4 comparison with the Coulomb model (branches too); Fig. 4/5 (time response
+and spectrum at 5000 rpm), the hysteresis loop of Fig. 2 (eq. 4 closed form against the FMU's
+time-domain macroslip element and the reference Jenkins element driven harmonically), the paper's
+own iteration B <- A(B) at 5000 rpm (it 2-cycles, MODEL.md s.4) and a Campbell diagram. Each
+figure is a PNG plus CSV files; `summary.json` holds the numbers `claims.py` turns into the claims
+table. `study_specs` gives the former transient path (time-domain up/down sweeps + fixed points
+from transients + HB) that `make bench` times side by side.
 """
 from __future__ import annotations
 
 import json
 import math
 import time as _time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
@@ -23,9 +25,8 @@ import numpy as np
 
 from harness import params as _params
 from harness import plots
-from harness.executor import DEFAULT_CACHE_DIR, RESULTS_DIR, Runner, atomic_write_text, write_csv
-from harness.sweep import (ConfigError, SweepResult, SweepSettings, SweepSpec, omega_of, run_sweeps,
-                           validate_spec)
+from harness.executor import RESULTS_DIR, Runner, atomic_write_text, write_csv
+from harness.sweep import ConfigError, SweepSettings, SweepSpec, omega_of
 
 PI = math.pi
 
@@ -69,6 +70,8 @@ class Size:
     fig45_time: float = 1.0  # [s] simulated for Fig. 4/5
     coulomb: bool = True
     iteration_steps: int = 12  # the paper's iteration B <- A_0.2s(B)
+    speed_range: tuple[float, float] = (3000.0, 10000.0)  # branches of periodic orbits [rpm]
+    seed_step: float = 500.0  # [rpm] between the speeds where every orbit is searched
 
 
 def _grid(a: float, b: float, step: float) -> tuple[float, ...]:
@@ -81,14 +84,14 @@ SIZES: dict[str, Size] = {
                   values={"gap": (2e-5, 6e-5), "mass": (0.02, 0.1), "angle": (PI / 3, PI / 7), "kn": (1e5, 1e7)},
                   settings=SweepSettings(refine_levels=3, min_dn=60.0, max_time=0.5, fixed_max_time=0.4,
                                          n_scan=10),
-                  fig45_time=0.6, coulomb=False, iteration_steps=6),
+                  fig45_time=0.6, coulomb=False, iteration_steps=6, seed_step=1000.0),
     "default": Size("default", speeds=_grid(3000, 10000, 500), fixed_speeds=_grid(3000, 10000, 500),
                     hb_speeds=_grid(2000, 10000, 40)),
     "full": Size("full", speeds=_grid(2000, 10000, 250), fixed_speeds=_grid(2000, 10000, 250),
                  hb_speeds=_grid(100, 10000, 20),
                  settings=SweepSettings(rtol=1e-3, max_time=2.5, refine_levels=6, min_dn=5.0, n_scan=20,
                                         fixed_max_time=1.5),
-                 fig45_time=2.0),
+                 fig45_time=2.0, speed_range=(2000.0, 10000.0), seed_step=250.0),
 }
 
 
@@ -101,6 +104,7 @@ def base_params() -> dict[str, Any]:
 # Building and running the sweeps
 # ---------------------------------------------------------------------------------------------
 def study_specs(size: Size, names: Sequence[str], base: Mapping[str, Any]) -> list[tuple[str, float, SweepSpec]]:
+    """The studies as transient sweeps (time domain up/down, fixed points from transients, HB)."""
     out = []
     for name in names:
         st = STUDIES[name]
@@ -111,109 +115,6 @@ def study_specs(size: Size, names: Sequence[str], base: Mapping[str, Any]) -> li
                                            methods=("time", "fixed", "hb"), fixed_speeds=size.fixed_speeds,
                                            hb_speeds=size.hb_speeds, settings=size.settings)))
     return out
-
-
-def coulomb_specs(size: Size, base: Mapping[str, Any]) -> list[tuple[str, float, SweepSpec]]:
-    out = []
-    for name in ("kn", "angle"):
-        st = STUDIES[name]
-        for v in (size.values or {}).get(name, st.values):
-            p = dict(base, frictionModel=2, **{st.param: v})
-            out.append((name, v, SweepSpec(p, size.speeds, label=f"Coulomb {st.label(v)}",
-                                           directions=("up", "down"), methods=("time", "hb"),
-                                           hb_speeds=size.hb_speeds, settings=size.settings)))
-    return out
-
-
-def _peak(arr: np.ndarray, col: str) -> tuple[float, float]:
-    if len(arr) == 0:
-        return math.nan, math.nan
-    i = int(np.argmax(arr[col]))
-    return float(arr["speed"][i]), float(arr[col][i])
-
-
-def _at(res: SweepResult, speed: float) -> float:
-    """Time-domain amplitude at `speed` (up sweep; nan if that speed was not computed)."""
-    b = res.branch("up")
-    hit = b[np.isclose(b["speed"], speed)]
-    return float(hit["amp_hi"][0]) if len(hit) else math.nan
-
-
-def contact_edge(res: SweepResult) -> float:
-    """Highest speed of the up sweep where the response still touches (envelope > d): the end of
-    the contact branch, where a run-up jumps down (nan without contact)."""
-    b = res.branch("up")
-    hit = b["speed"][b["amp_hi"] > res.spec.params["d"]]
-    return float(np.max(hit)) if len(hit) else math.nan
-
-
-def summarize(res: SweepResult) -> dict[str, Any]:
-    """Peaks per method. Time domain: the envelope amp_hi (largest period amplitude over the final
-    window of a plateau; equals the amplitude where the response is steady), over both sweeps."""
-    sp_t, a_t = _peak(res.time, "amp_hi")
-    sp_u, a_u = _peak(res.branch("up"), "amp_hi")
-    sp_d, a_d = _peak(res.branch("down"), "amp_hi")
-    fx = res.fixed[np.isin(res.fixed["kind"], ["open", "contact"])] if len(res.fixed) else res.fixed
-    sp_f, a_f = _peak(fx, "B")
-    hb_st = res.hb[res.hb["stable"]] if len(res.hb) else res.hb
-    sp_h, a_h = _peak(hb_st, "B")
-    irregular = (res.time["amp_hi"] - res.time["amp_lo"] > 0.05 * res.time["amp_hi"]) if len(res.time) else []
-    return {
-        "time_peak": a_t, "time_speed": sp_t, "up_peak": a_u, "up_speed": sp_u, "down_peak": a_d,
-        "down_speed": sp_d, "time_edge": contact_edge(res), "fixed_peak": a_f, "fixed_speed": sp_f,
-        "hb_peak": a_h, "hb_speed": sp_h,
-        "amp_5000": _at(res, 5000.0), "plateaus": int(len(res.time)),
-        "not_steady": int(np.sum(~res.time["reached"])) if len(res.time) else 0,
-        "irregular": int(np.sum(irregular)),
-        "fixed_roots": int(len(fx)), "fixed_jumps": int(np.sum(res.fixed["kind"] == "jump")) if len(res.fixed) else 0,
-        "fixed_not_converged": int(np.sum(~fx["reached"])) if len(fx) else 0,
-        "hb_multi_speeds": int(len(np.unique(res.hb["speed"][_multi(res.hb)]))) if len(res.hb) else 0,
-    }
-
-
-def _multi(hb: np.ndarray) -> np.ndarray:
-    sp, counts = np.unique(hb["speed"], return_counts=True)
-    many = set(sp[counts > 1].tolist())
-    return np.array([s in many for s in hb["speed"]], dtype=bool)
-
-
-def _stack(rows: list[tuple[float, np.ndarray]], dtype_extra: list[tuple[str, str]] | None = None) -> np.ndarray:
-    if not rows:
-        return np.zeros(0)
-    first = rows[0][1]
-    dt = [("value", "f8")] + list(first.dtype.descr)
-    out = np.zeros(sum(len(a) for _, a in rows), dtype=dt)
-    i = 0
-    for v, a in rows:
-        out["value"][i:i + len(a)] = v
-        for n in a.dtype.names:
-            out[n][i:i + len(a)] = a[n]
-        i += len(a)
-    return out
-
-
-def write_study(out: Path, st: Study, results: list[tuple[float, SweepResult]]) -> dict[str, Any]:
-    stem = f"{st.figure}_{st.key}"
-    write_csv(out / f"{stem}_time.csv", _stack([(v, r.time) for v, r in results]),
-              f"{st.figure}: FMU time-domain sweeps (tracked amplitude), value = {st.param}; amplitude [m]")
-    write_csv(out / f"{stem}_fixed.csv", _stack([(v, r.fixed) for v, r in results]),
-              f"{st.figure}: roots of A(B) = B (paper's fixed point, FMU amplitudeMode 1); B [m]")
-    write_csv(out / f"{stem}_hb.csv", _stack([(v, r.hb) for v, r in results]),
-              f"{st.figure}: harmonic balance (reference, gating off), every branch; B [m]")
-    rows = []
-    for v, r in results:
-        s = summarize(r)
-        s["value"] = v
-        rows.append(s)
-    keys = ["value", "time_peak", "time_speed", "up_peak", "up_speed", "down_peak", "down_speed", "time_edge",
-            "fixed_peak", "fixed_speed", "hb_peak", "hb_speed", "amp_5000", "plateaus", "not_steady", "irregular",
-            "fixed_roots", "fixed_jumps", "fixed_not_converged", "hb_multi_speeds"]
-    tab = np.array([tuple(r[k] for k in keys) for r in rows], dtype=[(k, "f8") for k in keys])
-    write_csv(out / f"{stem}_summary.csv", tab, f"{st.figure}: peak amplitude [m] and resonant speed [rpm] per method")
-    curves = [{"label": st.label(v), "time": r.time, "fixed": r.fixed, "hb": r.hb} for v, r in results]
-    gaps = [r.spec.params["d"] for _, r in results]
-    plots.study_curves(out / f"{stem}.png", f"Paper {st.figure.replace('fig', 'Fig. ')}: {st.xlabel}", curves, gaps)
-    return {"param": st.param, "figure": st.figure, "values": [v for v, _ in results], "rows": rows}
 
 
 # ---------------------------------------------------------------------------------------------
@@ -288,16 +189,14 @@ def fig45(fmu: Any, out: Path, params: Mapping[str, Any], speed: float, t_stop: 
     return out_d
 
 
-def _root_at(params: Mapping[str, Any], speed: float, settings: SweepSettings, path: str,
-             cache_dir: Path | str | None) -> float:
-    """The largest fixed point A(B) = B at `speed` (FMU, paper's procedure; cached like the studies)."""
-    from harness.fixed_point import FixedPointTask, run_fixed_point
-    from harness.plateau import fmu_identity
+def _root_at(params: Mapping[str, Any], speed: float, fmu: Any) -> float:
+    """The largest fixed point B = A(B) at `speed`: the largest B of every periodic orbit of the
+    tracked-amplitude FMU found there (harness.periodic.search), 2 d if there is none."""
+    from harness.periodic.period_map import PeriodMap
+    from harness.periodic.search import orbits_at
 
-    r = run_fixed_point(FixedPointTask(dict(params), speed, settings, *fmu_identity(path),
-                                       None if cache_dir is None else str(cache_dir)))
-    roots = [x["B"] for x in r["roots"] if x["kind"] in ("open", "contact")]
-    return max(roots) if roots else 2.0 * float(params["d"])
+    orbits = orbits_at(PeriodMap(fmu, params, "fixedPoint"), speed)
+    return max((o.B for o in orbits), default=2.0 * float(params["d"]))
 
 
 def paper_iteration(fmu: Any, params: Mapping[str, Any], speed: float, B0: float, steps: int,
@@ -398,7 +297,6 @@ def campbell(fmu: Any, out: Path, params: Mapping[str, Any], peaks: Sequence[tup
 @dataclass
 class Reproduction:
     summary: dict[str, Any]
-    results: dict[str, list[tuple[float, SweepResult]]] = field(default_factory=dict)
 
 
 def validate_request(size: str | Size, studies: Sequence[str] | None) -> tuple[Size, list[str]]:
@@ -414,20 +312,24 @@ def validate_request(size: str | Size, studies: Sequence[str] | None) -> tuple[S
 
 
 def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studies: Sequence[str] | None = None,
-              runner: Runner | None = None, cache_dir: Path | str | None = DEFAULT_CACHE_DIR,
-              fmu_path: Path | str | None = None, extras: bool = True, base: Mapping[str, Any] | None = None) -> Reproduction:
-    """Run the studies (and, with `extras`, Fig. 2, 4/5, Campbell, Coulomb, paper iteration)."""
+              runner: Runner | None = None, fmu_path: Path | str | None = None, extras: bool = True, base: Mapping[str, Any] | None = None) -> Reproduction:
+    """Run the studies as branches of periodic orbits over the harmonic-balance branches (and, with
+    `extras`, the Coulomb comparison, Fig. 2, 4/5, Campbell, the paper's iteration). Nothing is
+    cached: a curve takes about a second."""
     from harness.fmu import BladeFMU
-    from harness.sweep import fmu_identity
+    from harness.periodic.studies import trace_curve
+    from harness.sweep import fmu_identity, hb_curve
+    from harness.study_branches import curve_tasks, write_coulomb, write_study
 
     size, names = validate_request(size, studies)
     out = Path(out)
     base_p = _params.validate(base or {}, source="reproduce base parameters")
-    entries = study_specs(size, names, base_p)
-    cent = coulomb_specs(size, base_p) if (extras and size.coulomb) else []
-    for _, _, spec in entries + cent:  # everything is checked before any work starts
-        validate_spec(spec)
+    values = {n: tuple((size.values or {}).get(n, STUDIES[n].values)) for n in names}
+    for n in names:  # every parameter set is checked before any work starts
+        for v in values[n]:
+            _params.validate(dict(base_p, **{STUDIES[n].param: v}), source=f"{STUDIES[n].figure} {STUDIES[n].label(v)}")
     path, _ = fmu_identity(fmu_path)
+    tasks = curve_tasks(STUDIES, values, base_p, size.speed_range, size.seed_step, path, extras and size.coulomb)
     out.mkdir(parents=True, exist_ok=True)
     own_runner = runner is None
     runner = runner or Runner()
@@ -436,38 +338,34 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
     rep = Reproduction(summary)
     try:
         t0 = _time.perf_counter()
-        main_res = run_sweeps([e[2] for e in entries], runner, fmu_path=path, cache_dir=cache_dir, desc="studies")
-        timing["studies_wall"] = _time.perf_counter() - t0  # the four studies: time domain + fixed points + HB
-        if main_res:
-            timing["hb_wall"] = main_res[0].stats.get("wall_hb_all", math.nan)
-            timing["time_domain_wall"] = main_res[0].stats.get("wall_time_all", math.nan)
-            timing["fixed_point_wall"] = main_res[0].stats.get("wall_fixed_all", math.nan)
-        timing["plateaus"] = float(sum(len(r.time) for r in main_res))
-        timing["fixed_evals"] = float(sum(r.stats.get("fixed_evals", 0) for r in main_res))
-        timing["sim_time"] = float(sum(r.stats.get("sim_time", 0.0) for r in main_res))
+        hb = {n: {v: hb_curve(dict(base_p, **{STUDIES[n].param: v}), size.hb_speeds) for v in values[n]}
+              for n in names}
+        timing["hb_wall"] = _time.perf_counter() - t0
         t0 = _time.perf_counter()
-        coul_res = run_sweeps([e[2] for e in cent], runner, fmu_path=path, cache_dir=cache_dir,
-                              desc="Coulomb") if cent else []
-        timing["coulomb_wall"] = _time.perf_counter() - t0
+        done = runner.map(trace_curve, tasks, desc="periodic-orbit branches", unit="curve")
+        timing["branches_wall"] = _time.perf_counter() - t0
+        timing["curves"] = float(len(done))
+        for k, name in (("evaluations", "evaluations"), ("simulated_s", "simulated_s"), ("fmi_s", "fmi_s"),
+                        ("wall", "worker_s")):  # summed over the curves
+            timing[f"branches_{name}"] = float(sum(c.stats[k] for c in done))
+        curves: dict[str, dict[float, dict[str, Any]]] = {}
+        for c in done:
+            curves.setdefault(c.task.key, {}).setdefault(c.task.value, {})[c.task.model] = c
         for name in names:
-            st = STUDIES[name]
-            pairs = [(v, r) for (n, v, _), r in zip(entries, main_res) if n == name]
-            rep.results[name] = pairs
-            summary["studies"][name] = write_study(out, st, pairs)
-        if cent:
-            summary["coulomb"] = write_coulomb(out, summary, cent, coul_res)
+            summary["studies"][name] = write_study(out, STUDIES[name], curves[name], hb[name])
+        if extras and size.coulomb:
+            summary["coulomb"] = write_coulomb(out, STUDIES, summary, curves)
         if extras:
             t0 = _time.perf_counter()
             with BladeFMU(path) as fmu:
-                summary["fig45"] = fig45(fmu, out, base_p, 5000.0, size.fig45_time,
-                                         _root_at(base_p, 5000.0, size.settings, path, cache_dir))
+                summary["fig45"] = fig45(fmu, out, base_p, 5000.0, size.fig45_time, _root_at(base_p, 5000.0, fmu))
                 summary["hysteresis"] = hysteresis(fmu, out, base_p)
                 peaks = []
                 if "kn" in summary["studies"]:
                     for row in summary["studies"]["kn"]["rows"]:
-                        if math.isfinite(row["hb_speed"]):
-                            peaks.append((row["hb_speed"], base_p["engineOrder"] * row["hb_speed"] / 60,
-                                          f"HB peak with contact, kn = {row['value']:.0e} N/m"))
+                        if math.isfinite(row["fp_speed"]):
+                            peaks.append((row["fp_speed"], base_p["engineOrder"] * row["fp_speed"] / 60,
+                                          f"fixed-point peak, kn = {row['value']:.0e} N/m"))
                 summary["campbell"] = campbell(fmu, out, base_p, peaks)
                 seq = paper_iteration(fmu, base_p, 5000.0, 2 * base_p["d"], size.iteration_steps)
                 summary["paper_iteration"] = {"speed": 5000.0, "t_int": 0.2, "B": seq}
@@ -492,35 +390,4 @@ def _json_default(o: Any) -> Any:
     raise TypeError(type(o).__name__)
 
 
-def write_coulomb(out: Path, summary: dict, cent: list, coul_res: list[SweepResult]) -> dict[str, Any]:
-    rows: dict[str, dict] = {}
-    table = []
-    for name in ("kn", "angle"):
-        if name not in summary["studies"]:
-            continue
-        st = STUDIES[name]
-        mac = {r["value"]: r for r in summary["studies"][name]["rows"]}
-        cou = {v: summarize(r) for (n, v, _), r in zip(cent, coul_res) if n == name}
-        xs = [v for v in mac if v in cou]
-        x_plot = xs if name == "kn" else [PI / v for v in xs]
-        rows[name] = {
-            "x": x_plot, "xlabel": st.xlabel if name == "kn" else "contact angle = pi / x", "log": name == "kn",
-            "macroslip": {"peak": [mac[v]["time_peak"] for v in xs], "speed": [mac[v]["time_speed"] for v in xs],
-                          "hb_peak": [mac[v]["hb_peak"] for v in xs], "hb_speed": [mac[v]["hb_speed"] for v in xs]},
-            "coulomb": {"peak": [cou[v]["time_peak"] for v in xs], "speed": [cou[v]["time_speed"] for v in xs],
-                        "hb_peak": [cou[v]["hb_peak"] for v in xs], "hb_speed": [cou[v]["hb_speed"] for v in xs]},
-        }
-        for v in xs:
-            table.append((name, v, mac[v]["time_peak"], mac[v]["time_speed"], cou[v]["time_peak"], cou[v]["time_speed"],
-                          mac[v]["hb_peak"], mac[v]["hb_speed"], cou[v]["hb_peak"], cou[v]["hb_speed"]))
-    tab = np.array(table, dtype=[("study", "U5"), ("value", "f8"), ("macroslip_peak", "f8"), ("macroslip_speed", "f8"),
-                                 ("coulomb_peak", "f8"), ("coulomb_speed", "f8"), ("macroslip_hb_peak", "f8"),
-                                 ("macroslip_hb_speed", "f8"), ("coulomb_hb_peak", "f8"), ("coulomb_hb_speed", "f8")])
-    write_csv(out / "section4_coulomb.csv", tab, "Section 4: peak amplitude [m] and resonant speed [rpm], macroslip vs Coulomb")
-    if rows:
-        plots.coulomb(out / "section4_coulomb.png", rows)
-    return {name: r for name, r in rows.items()}
-
-
-__all__ = ["STUDIES", "SIZES", "Size", "Study", "reproduce", "study_specs", "summarize", "settling_time",
-           "paper_iteration"]
+__all__ = ["STUDIES", "SIZES", "Size", "Study", "reproduce", "study_specs", "settling_time", "paper_iteration"]

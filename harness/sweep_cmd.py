@@ -20,16 +20,18 @@ OUT_DTYPE = [("speed", "f8"), ("method", "U9"), ("amplitude", "f8"), ("band_lo",
              ("steady", "i4"), ("stable", "i4")]
 
 
-def add_execution_options(p: argparse.ArgumentParser) -> None:
-    """Options shared by sweep / reproduce / run: where and how the work runs."""
+def add_execution_options(p: argparse.ArgumentParser, cache: bool = True) -> None:
+    """Options shared by sweep / reproduce / run: where and how the work runs (with `cache`, the
+    per-point result cache of the transient sweeps)."""
     p.add_argument("--fmu", metavar="PATH", help="FMU file (default: build/ShroudedBlade.fmu, built if needed)")
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="local worker processes (default: number of CPUs; 1 = in this process)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on a dask.distributed cluster, e.g. tcp://10.0.0.5:8786 (one FMU per worker)")
-    p.add_argument("--cache-dir", default=str(DEFAULT_CACHE_DIR), metavar="DIR",
-                   help=f"per-point result cache, makes interrupted runs resumable (default {DEFAULT_CACHE_DIR})")
-    p.add_argument("--no-cache", action="store_true", help="compute every point again, store nothing")
+    if cache:
+        p.add_argument("--cache-dir", default=str(DEFAULT_CACHE_DIR), metavar="DIR",
+                       help=f"per-point result cache, makes interrupted runs resumable (default {DEFAULT_CACHE_DIR})")
+        p.add_argument("--no-cache", action="store_true", help="compute every point again, store nothing")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
 
 

@@ -108,21 +108,24 @@ class Branch:
                    for p in pts)
 
 
-def write_branches_csv(path: Path, branches: list[Branch]) -> None:
-    """One row per point: branch, speed [rpm], amplitude [m], B [m] (or empty), stable, label,
-    |mu|max and the multipliers."""
+def write_branches_csv(path: Path, branches: list[Branch], columns: dict[str, list] | None = None) -> None:
+    """One row per point: [extra columns,] branch, model, speed [rpm], amplitude [m], B [m] (or
+    empty), q0 [m], q0' [m/s], stable, label, |mu|max and the multipliers. `columns` maps a leading
+    column's name to one value per branch (e.g. the study value)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(path.suffix + ".tmp")
+    columns = columns or {}
     with open(tmp, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["branch", "model", "speed_rpm", "amplitude_m", "B_m", "q0_m", "v0_m_s", "stable", "label",
-                    "mu_abs_max", "multipliers"])
+        w.writerow(list(columns) + ["branch", "model", "speed_rpm", "amplitude_m", "B_m", "q0_m", "v0_m_s",
+                                    "stable", "label", "mu_abs_max", "multipliers"])
         for i, br in enumerate(branches):
+            lead = [f"{columns[c][i]:.9g}" if isinstance(columns[c][i], float) else columns[c][i] for c in columns]
             for p in br.points:
                 B = "" if br.model in ("fixedB", "jenkins") else f"{p.x[2]:.12g}"
                 mus = " ".join(f"{m.real:.9g}{m.imag:+.9g}j" for m in p.multipliers)
-                w.writerow([i, br.model, f"{p.speed:.9g}", f"{p.amplitude:.12g}", B, f"{p.x[0]:.12g}",
+                w.writerow(lead + [i, br.model, f"{p.speed:.9g}", f"{p.amplitude:.12g}", B, f"{p.x[0]:.12g}",
                             f"{p.x[1]:.12g}", int(p.stable), p.label, f"{np.max(np.abs(p.multipliers)):.9g}", mus])
     tmp.replace(path)
 

@@ -1,79 +1,103 @@
-"""The paper's studies (Figs. 6-9) as branches of periodic orbits: fixed point and Jenkins element.
+"""The paper's studies as branches of periodic orbits: one curve = one model at one study value.
 
-For every study value (harness.studies.STUDIES) the branches of the paper's fixed point B = A(B)
-(the tracked-amplitude model's periodic solutions, with their stability) and of the time-domain
-Jenkins element are traced over the speed range (harness.periodic.branches), one curve per task on
-a process pool (one FMU instance per worker). Written per study: `<fig>_<key>_branches.csv` (one
-row per point) and `<fig>_<key>_branches.png` (stable bold, unstable faint), plus a
-summary per curve: peak amplitude and speed of each model and their difference (how far the
-describing-function model can be trusted).
+A curve is every branch of one model (fixedPoint: the paper's B = A(B), i.e. the tracked-amplitude
+model's periodic solutions with their stability; jenkins: the time-domain Jenkins element; coulomb:
+the Coulomb describing function's fixed point) over the speed range, traced by
+harness.periodic.branches in one worker with one FMU instance. `trace_curve` is the picklable task
+harness.studies maps over a Runner; `curve_summary` turns a curve into the numbers the claims table
+and the study CSVs use.
 """
 from __future__ import annotations
 
 import math
 import time
-from concurrent.futures import ProcessPoolExecutor
-from pathlib import Path
-from typing import Any
+from dataclasses import dataclass, field
+from typing import Any, Mapping
 
-from harness.periodic.continuation import Branch, write_branches_csv
-
-MODELS_DRAWN = ("fixedPoint", "jenkins")
-SPEED_RANGE = (3000.0, 10000.0)
+from harness.periodic.branches import BranchSettings
+from harness.periodic.continuation import Branch
 
 
-def _curve(task: tuple[str, float, str, tuple[float, float]]) -> tuple[str, float, str, list[Branch], dict]:
+@dataclass(frozen=True)
+class CurveTask:
+    key: str  # study key (gap | mass | angle | kn)
+    value: float  # the study parameter's value
+    model: str  # fixedPoint | jenkins | coulomb
+    params: Mapping[str, Any]  # full parameter set (validated by the PeriodMap)
+    speed_range: tuple[float, float]  # [rpm]
+    fmu_path: str | None = None
+    settings: BranchSettings = field(default_factory=BranchSettings)
+
+
+@dataclass
+class Curve:
+    task: CurveTask
+    branches: list[Branch]
+    stats: dict
+
+
+def trace_curve(task: CurveTask) -> Curve:
     from harness.fmu import BladeFMU
     from harness.periodic.branches import trace_branches
-    from harness.studies import STUDIES
 
-    key, value, model, rng = task
     t0 = time.perf_counter()
-    with BladeFMU() as fmu:
-        branches, stats = trace_branches(fmu, {STUDIES[key].param: value}, model, rng)
+    with BladeFMU(task.fmu_path) as fmu:
+        branches, stats = trace_branches(fmu, dict(task.params), task.model, task.speed_range, task.settings)
     stats["wall"] = time.perf_counter() - t0
-    return key, value, model, branches, stats
+    return Curve(task, branches, stats)
 
 
-def peak(branches: list[Branch]) -> tuple[float, float]:
-    """(largest max |q| on a stable part [m], its speed [rpm]); nan if no stable contact point."""
+def peak(branches: list[Branch], stable_only: bool = True,
+         speed_range: tuple[float, float] = (0.0, math.inf)) -> tuple[float, float]:
+    """(largest max |q| [m], its speed [rpm]) over the (stable) points inside speed_range (a
+    branch's last point may lie just outside); nan if there is none."""
+    lo, hi = speed_range
     best = (math.nan, math.nan)
     for b in branches:
         for p in b.points:
-            if p.stable and not p.amplitude <= best[0]:
+            if (p.stable or not stable_only) and lo <= p.speed <= hi and not p.amplitude <= best[0]:
                 best = (p.amplitude, p.speed)
     return best
 
 
-def run_studies(out: Path, workers: int = 2, keys: tuple[str, ...] = ("gap", "mass", "angle", "kn"),
-                speed_range: tuple[float, float] = SPEED_RANGE) -> dict[str, Any]:
-    from harness.plots import branches_figure
-    from harness.studies import STUDIES
+def jump_speed(branches: list[Branch], speed_range: tuple[float, float] = (0.0, math.inf)) -> float:
+    """Speed [rpm] where the stable orbit of largest amplitude ends at a fold: the speed at which a
+    slow run-up on it jumps down (nan if the peak's stable part does not end in a fold)."""
+    a_pk, _ = peak(branches, speed_range=speed_range)
+    for b in branches:
+        pts = b.points
+        for i, p in enumerate(pts):
+            if not (p.stable and p.amplitude == a_pk):
+                continue
+            for step in (1, -1):  # walk along the stable part in both directions to its ends
+                j = i
+                while 0 <= j + step < len(pts) and pts[j + step].stable:
+                    j += step
+                if 0 <= j + step < len(pts) and "fold" in pts[j + step].label:
+                    return 0.5 * (pts[j].speed + pts[j + step].speed)
+    return math.nan
 
-    out.mkdir(parents=True, exist_ok=True)
-    tasks = [(k, v, m, speed_range) for k in keys for v in STUDIES[k].values for m in MODELS_DRAWN]
-    t0 = time.perf_counter()
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        results = list(pool.map(_curve, tasks))
-    wall = time.perf_counter() - t0
-    summary: dict[str, Any] = {"wall": wall, "workers": workers, "curves": []}
-    for k in keys:
-        st = STUDIES[k]
-        rows = [r for r in results if r[0] == k]
-        per_value: dict[float, dict[str, list[Branch]]] = {}
-        for _, v, m, br, stats in rows:
-            per_value.setdefault(v, {})[m] = br
-            summary["curves"].append({"study": k, "value": v, "model": m, "branches": len(br),
-                                      "points": sum(len(b.points) for b in br), **stats})
-        all_br = [b for v in per_value for m in MODELS_DRAWN for b in per_value[v][m]]
-        write_branches_csv(out / f"{st.figure}_{k}_branches.csv", all_br)
-        for v, models in per_value.items():
-            (a_fp, n_fp), (a_j, n_j) = peak(models["fixedPoint"]), peak(models["jenkins"])
-            summary.setdefault("peaks", []).append({
-                "study": k, "value": v, "fixedPoint_peak_m": a_fp, "fixedPoint_speed_rpm": n_fp,
-                "jenkins_peak_m": a_j, "jenkins_speed_rpm": n_j,
-                "peak_rel_diff": (a_fp - a_j) / a_j if a_j > 0 else math.nan, "speed_diff_rpm": n_fp - n_j})
-        branches_figure(out / f"{st.figure}_{k}_branches.png",
-                        {f"{m} ({st.label(v)})": per_value[v][m] for v in per_value for m in MODELS_DRAWN},
-                        f"{st.figure}: periodic orbits by shooting + continuation")
-    return summary
+
+def unstable_ranges(branches: list[Branch], d: float) -> list[tuple[float, float, str]]:
+    """(low, high [rpm], kind) of every unstable stretch of orbits with contact (max |q| > d)."""
+    out = []
+    for b in branches:
+        run: list = []
+        for p in b.points + [None]:
+            if p is not None and not p.stable and p.amplitude > d:
+                run.append(p)
+                continue
+            if run:
+                kinds = sorted({q.label for q in run})
+                out.append((min(q.speed for q in run), max(q.speed for q in run), "/".join(kinds)))
+                run = []
+    return out
+
+
+def curve_summary(curve: Curve) -> dict[str, Any]:
+    d, rng = float(curve.task.params["d"]), curve.task.speed_range
+    a, n = peak(curve.branches, speed_range=rng)
+    a_any, n_any = peak(curve.branches, stable_only=False, speed_range=rng)
+    return {"peak": a, "speed": n, "peak_any": a_any, "speed_any": n_any, "jump": jump_speed(curve.branches, rng),
+            "branches": len(curve.branches), "points": sum(len(b.points) for b in curve.branches),
+            "unstable_contact": unstable_ranges(curve.branches, d), **curve.stats}
