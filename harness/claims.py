@@ -273,7 +273,7 @@ def write_claims(path: Path | str, summary: Mapping[str, Any]) -> list[dict[str,
         "62.8 % within 10 points; trends must hold at every step of the study (\"trend only\": the end "
         "points agree, a step does not, or the direction agrees but the number does not); the mass leaves "
         "the resonant speed unchanged if the spread is <= 5 %. Peak = the largest max|q| of a stable "
-        "periodic orbit over 3000..10000 rpm: of the fixed point B = A(B) (the tracked-amplitude FMU's "
+        "periodic orbit over the branches' speed range (3000..12000 rpm in `make run`): of the fixed point B = A(B) (the tracked-amplitude FMU's "
         "periodic solutions, by shooting and continuation), of the Jenkins element, or of the stable "
         "harmonic-balance branches; resonant speed = the speed of that peak; jump = the speed where "
         "that stable branch ends in a fold. Figures: results/fig6..9_*.png (stable bold, unstable faint).",

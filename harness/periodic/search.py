@@ -52,8 +52,10 @@ def _guesses(pm: PeriodMap, speed: float, s: SearchSettings) -> list[np.ndarray]
     for B in levels:
         q0, v0 = linear_orbit(p, speed, B if pm.model != "fixedB" else (pm.B if B is not None else None))
         states.append((q0, v0, B if B is not None else math.hypot(q0, v0 / w)))
-        if pm.model == "fixedB" and B is not None:
-            break  # fixed B: one linearised guess (at pm.B) besides the contact-free one
+        if pm.model != "jenkins" and B is not None:
+            # fixed B: one linearised guess (at pm.B) besides the contact-free one; fixed point:
+            # the B scan of fixed_point_candidates covers every amplitude level systematically
+            break
     if pm.model != "fixedB":
         for sol in harmonic_balance(p, speed):
             states.append((sol.B * math.sin(sol.phase), sol.B * w * math.cos(sol.phase), sol.B))
