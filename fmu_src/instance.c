@@ -334,6 +334,14 @@ static void shiftInputs(Instance *inst, const SolverInputs *in, double h)
     }
 }
 
+/* Addendum to an instability message: why a low speed makes a describing-function contact stiff. */
+static const char *stiffHint(const InstanceData *d, double n0)
+{
+    return (d->model.friction != FrictionMacroslipTD && n0 < 100.0)
+               ? "; at low rotorSpeed a describing-function contact is stiff since C_eq grows like 1/omega"
+               : "";
+}
+
 #define MAX_INTERNAL_STEPS 1e7
 
 /* Tolerance of a time comparison at time t [s] (model-notes s.6): 1e-9 max(1, |t|). */
@@ -407,9 +415,7 @@ fmi2Status instanceDoStep(Instance *inst, double tc, double h)
             instanceLogStatus(inst, fmi2Discard, "%s: the state became non-finite near t = %.17g s (numerical "
                               "instability: try a smaller maxStep = %g s%s); the step from t = %.17g s is "
                               "discarded and the state restored", fn, tf, d->par[ParMaxStep],
-                              (d->model.friction != FrictionMacroslipTD && n0 < 100.0)
-                                  ? "; at low rotorSpeed a describing-function contact is stiff since C_eq "
-                                    "grows like 1/omega" : "", tc);
+                              stiffHint(d, n0), tc);
             break;
         case SolverChattering:
             instanceLogStatus(inst, fmi2Discard, "%s: more than %d switching events in one internal step near "
@@ -440,9 +446,7 @@ fmi2Status instanceDoStep(Instance *inst, double tc, double h)
             instanceLogStatus(inst, fmi2Discard, "%s: the output %s is not finite at the step end t = %.17g s "
                               "(numerical instability: try a smaller maxStep = %g s%s); the step from t = %.17g s "
                               "is discarded and the state restored", fn, bad, tc + h, d->par[ParMaxStep],
-                              (d->model.friction != FrictionMacroslipTD && n0 < 100.0)
-                                  ? "; at low rotorSpeed a describing-function contact is stiff since C_eq "
-                                    "grows like 1/omega" : "", tc);
+                              stiffHint(d, n0), tc);
             d->lastDoStepStatus = fmi2Discard;
             return fmi2Discard;
         }

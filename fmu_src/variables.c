@@ -202,6 +202,7 @@ static fmi2Status getValues(Instance *inst, const char *fn, const fmi2ValueRefer
     memset(&o, 0, sizeof o);
     for (size_t i = 0; i < nvr; ++i) {
         const VarInfo *v = lookup(inst, fn, vr[i], type);
+        double x;
         if (v == NULL) {
             status = fmi2Error;
             writeValue(type, out, i, 0.0);
@@ -212,12 +213,13 @@ static fmi2Status getValues(Instance *inst, const char *fn, const fmi2ValueRefer
             solverOutputs(&inst->d.model, &inst->d.solver, inst->d.in[SOLVER_INPUT_SPEED][0], &o);
             haveOutputs = 1;
         }
-        writeValue(type, out, i, variableValue(inst, v, &o));
-        if (v->causality == CausOutput && !isfinite(variableValue(inst, v, &o))) {
+        x = variableValue(inst, v, &o);
+        writeValue(type, out, i, x);
+        if (v->causality == CausOutput && !isfinite(x)) {
             /* only after a rotorSpeed set since the step (fmi2DoStep checks its own end) */
             instanceLogStatus(inst, fmi2Warning, "%s: %s = %g is not finite at rotorSpeed = %g rpm (a "
-                              "describing-function coefficient ~ 1/omega overflows)", fn, v->name,
-                              variableValue(inst, v, &o), inst->d.in[SOLVER_INPUT_SPEED][0]);
+                              "describing-function coefficient ~ 1/omega overflows)", fn, v->name, x,
+                              inst->d.in[SOLVER_INPUT_SPEED][0]);
             if (status == fmi2OK) status = fmi2Warning;
         }
     }

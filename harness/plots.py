@@ -43,14 +43,7 @@ def study_branches(path: Path | str, title: str, curves: Sequence[dict]) -> Path
     fig, axes = plt.subplots(1, 2, figsize=(13, 4.8), sharey=True)
     for c, col in zip(curves, _colors(len(curves))):
         for ax, model in zip(axes, ("fixedPoint", "jenkins")):
-            label = c["label"]
-            for b in c["branches"][model]:
-                n, a = b.speeds, b.amplitudes * MM
-                for i0, i1, s in _stable_runs(b.stable):
-                    ax.plot(n[i0:i1], a[i0:i1], color=col, lw=2.0 if s else 0.8, alpha=1.0 if s else 0.4,
-                            label=label if s else None)
-                    if s:
-                        label = None
+            _draw_branches(ax, c["branches"][model], col, c["label"])
             h = c["hb"]
             if len(h):
                 st, un = h[h["stable"]], h[~h["stable"]]
@@ -226,20 +219,25 @@ def _stable_runs(stable: np.ndarray) -> list[tuple[int, int, bool]]:
     return runs
 
 
+def _draw_branches(ax: Any, branches: Sequence[Any], color: Any, label: str, ls: str = "-") -> None:
+    """Branches (harness.periodic.continuation.Branch) as max |q| [mm] over speed: stable parts
+    bold, unstable parts faint; the label on the first stable part."""
+    for b in branches:
+        n, a = b.speeds, b.amplitudes * MM
+        for i0, i1, s in _stable_runs(b.stable):
+            ax.plot(n[i0:i1], a[i0:i1], color=color, lw=2.0 if s else 0.8, alpha=1.0 if s else 0.4, ls=ls,
+                    label=label if s else None)
+            if s:
+                label = None
+
+
 def branches_figure(path: Path | str, models: dict[str, Sequence[Any]], title: str,
                     hb: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None) -> Path:
     """Periodic-orbit branches (harness.periodic.continuation.Branch) per model: max |q| [mm] over
     speed, stable parts bold, unstable parts faint; optional HB branches (speed, B, stable) dashed."""
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
     for color, (name, branches) in zip(_colors(len(models)), models.items()):
-        label = name
-        for b in branches:
-            n, a, st = b.speeds, b.amplitudes * 1e3, b.stable
-            for i0, i1, s in _stable_runs(st):
-                ax.plot(n[i0:i1], a[i0:i1], color=color, lw=2.2 if s else 0.9, alpha=1.0 if s else 0.45,
-                        ls="--" if "jenkins" in name else "-", label=label if s else None)
-                if s:
-                    label = None
+        _draw_branches(ax, branches, color, name, ls="--" if "jenkins" in name else "-")
     if hb:
         for k, (n, B, st) in enumerate(hb):
             ax.plot(n, B * 1e3, "k--", lw=0.8, alpha=0.6, label="harmonic balance (gating off)" if k == 0 else None)

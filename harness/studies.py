@@ -357,7 +357,7 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
         for name in names:
             summary["studies"][name] = write_study(out, STUDIES[name], curves[name], hb[name])
         if extras and size.coulomb:
-            summary["coulomb"] = write_coulomb(out, STUDIES, summary, curves)
+            summary["coulomb"] = write_coulomb(out, STUDIES, summary)
         if extras:
             t0 = _time.perf_counter()
             with BladeFMU(path) as fmu:

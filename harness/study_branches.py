@@ -110,8 +110,7 @@ def write_study(out: Any, st: Any, curves: Mapping[float, Mapping[str, Curve]],
     return {"param": st.param, "figure": st.figure, "values": values, "rows": rows}
 
 
-def write_coulomb(out: Any, studies: Mapping[str, Any], summary: Mapping[str, Any],
-                  curves: Mapping[str, Mapping[float, Mapping[str, Curve]]]) -> dict[str, Any]:
+def write_coulomb(out: Any, studies: Mapping[str, Any], summary: Mapping[str, Any]) -> dict[str, Any]:
     """Section 4: peak and resonant speed of the macroslip and the Coulomb fixed point (branches)."""
     rows: dict[str, dict] = {}
     table = []
@@ -119,17 +118,18 @@ def write_coulomb(out: Any, studies: Mapping[str, Any], summary: Mapping[str, An
         if name not in summary["studies"]:
             continue
         st = studies[name]
-        mac = {r["value"]: r for r in summary["studies"][name]["rows"]}
-        cou = {v: curve_summary(m["coulomb"]) for v, m in curves[name].items() if "coulomb" in m}
-        xs = sorted(v for v in mac if v in cou)
+        # the study rows hold every model traced at the value, the Coulomb fixed point included
+        mac = {r["value"]: r for r in summary["studies"][name]["rows"] if "coulomb_peak" in r}
+        xs = sorted(mac)
         rows[name] = {
             "x": xs if name == "kn" else [math.pi / v for v in xs],
             "xlabel": st.xlabel if name == "kn" else "contact angle = pi / x", "log": name == "kn",
             "macroslip": {"peak": [mac[v]["fp_peak"] for v in xs], "speed": [mac[v]["fp_speed"] for v in xs]},
-            "coulomb": {"peak": [cou[v]["peak"] for v in xs], "speed": [cou[v]["speed"] for v in xs]},
+            "coulomb": {"peak": [mac[v]["coulomb_peak"] for v in xs], "speed": [mac[v]["coulomb_speed"] for v in xs]},
         }
         for v in xs:
-            table.append((name, v, mac[v]["fp_peak"], mac[v]["fp_speed"], cou[v]["peak"], cou[v]["speed"]))
+            table.append((name, v, mac[v]["fp_peak"], mac[v]["fp_speed"], mac[v]["coulomb_peak"],
+                          mac[v]["coulomb_speed"]))
     tab = np.array(table, dtype=[("study", "U5"), ("value", "f8"), ("macroslip_peak", "f8"),
                                  ("macroslip_speed", "f8"), ("coulomb_peak", "f8"), ("coulomb_speed", "f8")])
     write_csv(out / "section4_coulomb.csv", tab, "Section 4: largest stable max|q| [m] and its speed [rpm] of the "

@@ -60,10 +60,9 @@ def peak(branches: list[Branch], stable_only: bool = True,
     return best
 
 
-def jump_speed(branches: list[Branch], speed_range: tuple[float, float] = (0.0, math.inf)) -> float:
-    """Speed [rpm] where the stable orbit of largest amplitude ends at a fold: the speed at which a
-    slow run-up on it jumps down (nan if the peak's stable part does not end in a fold)."""
-    a_pk, _ = peak(branches, speed_range=speed_range)
+def jump_speed(branches: list[Branch], a_pk: float) -> float:
+    """Speed [rpm] where the stable part holding the peak orbit (max |q| = a_pk, from `peak`) ends at
+    a fold: where a slow run-up on it jumps down (nan if that stable part does not end in a fold)."""
     for b in branches:
         pts = b.points
         for i, p in enumerate(pts):
@@ -98,6 +97,6 @@ def curve_summary(curve: Curve) -> dict[str, Any]:
     d, rng = float(curve.task.params["d"]), curve.task.speed_range
     a, n = peak(curve.branches, speed_range=rng)
     a_any, n_any = peak(curve.branches, stable_only=False, speed_range=rng)
-    return {"peak": a, "speed": n, "peak_any": a_any, "speed_any": n_any, "jump": jump_speed(curve.branches, rng),
+    return {"peak": a, "speed": n, "peak_any": a_any, "speed_any": n_any, "jump": jump_speed(curve.branches, a),
             "branches": len(curve.branches), "points": sum(len(b.points) for b in curve.branches),
             "unstable_contact": unstable_ranges(curve.branches, d), **curve.stats}
