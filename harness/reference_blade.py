@@ -64,7 +64,7 @@ def first_root(R: float) -> float:
     if R < 0.0:
         raise ValueError("R = m0/(rho A l) must be >= 0")
     xs = np.linspace(1e-3, math.pi, 4001)
-    vals = np.array([frequency_equation(x, R) for x in xs])
+    vals = 1.0 + np.cos(xs) * np.cosh(xs) + R * xs * (np.cos(xs) * np.sinh(xs) - np.sin(xs) * np.cosh(xs))  # eq. 21
     idx = np.nonzero(np.sign(vals[1:]) != np.sign(vals[:-1]))[0]
     if idx.size == 0:
         raise ValueError(f"no root of eq. 21 found in (0, pi] for R = {R}")

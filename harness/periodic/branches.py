@@ -1,6 +1,6 @@
 """All branches of periodic orbits of one model over a speed range.
 
-Every orbit found at the seed speeds (harness.periodic.search.orbits_at: the lowest speed of the
+Every orbit found at the seed speeds (harness.periodic.search.solutions_at: the lowest speed of the
 range, then every `seed_step` rpm) that does not lie on a branch traced so far starts a new
 continuation (both directions, through folds), so the main branch is traced from below to above
 resonance and isolated branches are picked up wherever a seed finds one of their orbits.
@@ -16,7 +16,7 @@ import numpy as np
 from harness.fmu import BladeFMU
 from harness.periodic.continuation import Branch, ContinuationSettings, continue_branch
 from harness.periodic.period_map import PeriodMap, ShootingSettings
-from harness.periodic.search import SearchSettings, orbits_at
+from harness.periodic.search import SearchSettings, solutions_at
 from harness.params import ParameterError
 
 
@@ -45,10 +45,10 @@ def trace_branches(fmu: BladeFMU, params: Mapping[str, Any] | None, model: str, 
     branches: list[Branch] = []
     seeds = 0
     for n in seed_speeds(lo, hi, s.seed_step):
-        for orb in orbits_at(pm, n, s.search):
+        for sol in solutions_at(pm, n, s.search):
             seeds += 1
-            if any(b.contains(orb.speed, orb.amplitude) for b in branches):
+            if any(b.contains(n, sol.amplitude) for b in branches):
                 continue
-            branches.append(continue_branch(pm, orb, (lo, hi), s.continuation))
+            branches.append(continue_branch(pm, sol.x, n, (lo, hi), s.continuation))
     return branches, {"evaluations": pm.evaluations, "seeds": seeds, "simulated_s": pm.simulated,
                       "fmi_s": pm.fmi_seconds}

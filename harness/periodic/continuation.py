@@ -23,9 +23,10 @@ import numpy as np
 from harness.fmu import FMUError
 from harness.params import ParameterError
 from harness.periodic.period_map import PeriodMap
-from harness.periodic.shooting import Orbit, _bounded, classify, fd_direction, multipliers
+from harness.periodic.shooting import _bounded, at_bound, classify, fd_direction, multipliers
 
 SPEED_SCALE = 1000.0  # [rpm] per unit of arc
+EASY_CORRECTOR = 6  # ds grows after a step whose corrector took at most this many iterations
 
 
 @dataclass(frozen=True)
@@ -152,20 +153,26 @@ class _Problem:
         return (Px - z[:-1] * self.sc) / self.sc, Px, A
 
     def jac(self, z: np.ndarray, Hz: np.ndarray, Px: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(dH/dz (m x m+1), DP in physical units (m x m)) by forward differences."""
+        """(dH/dz (m x m+1), DP in physical units (m x m)): central differences in the unknowns
+        (one-sided where an unknown sits on its bound, as in shooting.jacobian), forward in speed.
+        Central, because max |q| is a kink at every half-wave symmetric orbit (the positive and the
+        negative peak are equal): a one-sided DP picks one peak and misplaces the multipliers."""
         x, n = self.from_z(z)
         eps = self.pm.s.fd_rel
         Jz = np.empty((self.m, self.m + 1))
-        DP = np.empty((self.m, self.m))
         for j in range(self.m + 1):
             sgn = fd_direction(self.pm, x, j) if j < self.m else 1.0
             h = eps * sgn * (self.pm.scales(x, n)[j] / self.sc[j] if j < self.m else max(abs(z[-1]), 1e-3))
             zp = z.copy()
             zp[j] += h
             Hp = self.H(zp)[0]
-            Jz[:, j] = (Hp - Hz) / h
-            if j < self.m:
-                DP[:, j] = (Jz[:, j] + (np.arange(self.m) == j)) * self.sc / self.sc[j]
+            if j < self.m and not at_bound(self.pm, x, j):
+                zm = z.copy()
+                zm[j] -= h
+                Jz[:, j] = (Hp - self.H(zm)[0]) / (2.0 * h)
+            else:
+                Jz[:, j] = (Hp - Hz) / h
+        DP = (Jz[:, :-1] + np.eye(self.m)) * self.sc[:, None] / self.sc[None, :]
         return Jz, DP
 
 
@@ -177,26 +184,27 @@ def _tangent(Jz: np.ndarray, prev: np.ndarray | None) -> np.ndarray:
     return t / np.linalg.norm(t)
 
 
-def continue_branch(pm: PeriodMap, start: Orbit, speed_range: tuple[float, float],
+def continue_branch(pm: PeriodMap, x: np.ndarray, speed: float, speed_range: tuple[float, float],
                     settings: ContinuationSettings = ContinuationSettings(), directions: tuple[int, ...] = (-1, 1)
                     ) -> Branch:
-    """Trace the branch through `start` in both speed directions (or those in `directions`: -1 down,
-    +1 up at the start) until it leaves speed_range; returns the points ordered along the arc."""
+    """Trace the branch through the periodic orbit x at `speed` (a converged root of the period
+    map) in both speed directions (or those in `directions`: -1 down, +1 up at the start) until it
+    leaves speed_range; returns the points ordered along the arc."""
     lo, hi = speed_range
-    prob = _Problem(pm, pm.scales(start.x, start.speed))
-    z0 = prob.to_z(start.x, start.speed)
-    H0, P0, _ = prob.H(z0)
-    Jz0, _ = prob.jac(z0, H0, P0)
+    prob = _Problem(pm, pm.scales(x, speed))
+    z0 = prob.to_z(x, speed)
+    H0, P0, A0 = prob.H(z0)
+    Jz0, DP0 = prob.jac(z0, H0, P0)
     t0 = _tangent(Jz0, None)
     if t0[-1] < 0:
         t0 = -t0  # +1: the direction of increasing speed at the start
-    first = BranchPoint(start.speed, start.x.copy(), start.amplitude, start.multipliers, start.iterations)
+    first = BranchPoint(float(speed), np.array(x, dtype=float), A0, multipliers(DP0), 0)
     down: list[BranchPoint] = []
     up: list[BranchPoint] = []
     reasons: list[str] = []
     closed = False
     for sgn in directions:
-        pts, reason, closed = _march(prob, z0, sgn * t0, (lo, hi), settings, z_first=z0)
+        pts, reason, closed = _march(prob, z0, sgn * t0, Jz0, (lo, hi), settings, z_first=z0)
         if sgn < 0:
             down = pts[::-1]
         else:
@@ -207,13 +215,13 @@ def continue_branch(pm: PeriodMap, start: Orbit, speed_range: tuple[float, float
     return Branch(pm.model, down + [first] + up, reasons, closed)
 
 
-def _march(prob: _Problem, z: np.ndarray, t: np.ndarray, rng: tuple[float, float], s: ContinuationSettings,
-           z_first: np.ndarray) -> tuple[list[BranchPoint], str, bool]:
+def _march(prob: _Problem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, rng: tuple[float, float],
+           s: ContinuationSettings, z_first: np.ndarray) -> tuple[list[BranchPoint], str, bool]:
     pts: list[BranchPoint] = []
     ds = s.ds
     lo, hi = rng
     while len(pts) < s.max_points:
-        ok, z_new, t_new, point = _step(prob, z, t, ds, s)
+        ok, z_new, t_new, Jz_new, point = _step(prob, z, t, Jz, ds, s)
         if not ok:
             ds *= 0.5
             if ds < s.ds_min:
@@ -224,36 +232,63 @@ def _march(prob: _Problem, z: np.ndarray, t: np.ndarray, rng: tuple[float, float
             return pts, f"left the speed range at {point.speed:.1f} rpm", False
         if len(pts) > 5 and np.linalg.norm(z_new - z_first) < 0.75 * ds:
             return pts, "closed on itself (isola)", True
-        z, t = z_new, t_new
-        ds = min(ds * (1.4 if point.iterations <= 3 else 1.0), s.ds_max)
+        z, t, Jz = z_new, t_new, Jz_new
+        if point.iterations <= EASY_CORRECTOR:
+            ds = min(ds * 1.4, s.ds_max)
     return pts, f"{s.max_points} points", False
 
 
-def _step(prob: _Problem, z: np.ndarray, t: np.ndarray, ds: float, s: ContinuationSettings
-          ) -> tuple[bool, np.ndarray, np.ndarray, BranchPoint | None]:
+def _step(prob: _Problem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, ds: float, s: ContinuationSettings
+          ) -> tuple[bool, np.ndarray, np.ndarray, np.ndarray, BranchPoint | None]:
+    """One predictor-corrector step from the branch point z (tangent t, dH/dz Jz there). The
+    corrector is first quasi-Newton: Jz updated by Broyden after every iteration (one period per
+    iteration); where that fails (a kink of the map: an event appears or vanishes) Newton with a
+    fresh finite-difference Jacobian per iteration. The Jacobian at the new point gives its
+    multipliers and the next tangent."""
+    fail = (False, z, t, Jz, None)
     zp = z + ds * t
-    zk = zp.copy()
-    for it in range(1, s.max_corrector + 1):
+    for quasi in (True, False):
         try:
-            Hz, Px, A = prob.H(zk)
-            Jz, DP = prob.jac(zk, Hz, Px)
+            done = _correct(prob, zp, t, Jz, s, quasi)
         except (FMUError, ParameterError):  # the FMU refused the start, or the speed left its range
-            return False, z, t, None
+            done = None
+        # a corrector that jumped to another branch or fell back onto the last point: the new
+        # point must be about ds away
+        if done is not None and 0.2 * ds <= np.linalg.norm(done[0] - z) <= 3.0 * ds:
+            break
+    else:
+        return fail
+    zk, Hz, Px, A, it = done
+    try:
+        Jz_new, DP = prob.jac(zk, Hz, Px)
+    except (FMUError, ParameterError):
+        return fail
+    x, n = prob.from_z(zk)
+    return True, zk, _tangent(Jz_new, t), Jz_new, BranchPoint(n, x, A, multipliers(DP), it)
+
+
+def _correct(prob: _Problem, zp: np.ndarray, t: np.ndarray, Jz: np.ndarray, s: ContinuationSettings, quasi: bool
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, int] | None:
+    """Newton on (H(z) = 0, t . (z - zp) = 0) from the predictor zp: (z, H, P, amplitude,
+    iterations) or None. quasi: Jz, Broyden-updated; else a fresh Jacobian every iteration."""
+    zk = zp.copy()
+    Hz, Px, A = prob.H(zk)
+    J = Jz.copy()
+    for it in range(1, s.max_corrector + 1):
+        if not quasi:
+            J = prob.jac(zk, Hz, Px)[0]
         G = np.append(Hz, t @ (zk - zp))
-        if np.max(np.abs(Hz)) <= prob.pm.s.tol * 10 and it > 1:
-            t_new = _tangent(Jz, t)
-            x, n = prob.from_z(zk)
-            bp = BranchPoint(n, x, A, multipliers(DP), it)
-            # a corrector that jumped to another branch or fell back onto the last point: the new
-            # point must be about ds away
-            if not 0.2 * ds <= np.linalg.norm(zk - z) <= 3.0 * ds:
-                return False, z, t, None
-            return True, zk, t_new, bp
         try:
-            dz = np.linalg.solve(np.vstack([Jz, t]), -G)
+            dz = np.linalg.solve(np.vstack([J, t]), -G)
         except np.linalg.LinAlgError:
-            return False, z, t, None
-        zk = zk + dz
-        if not np.all(np.isfinite(zk)):
-            return False, z, t, None
-    return False, z, t, None
+            return None
+        zn = zk + dz
+        if not np.all(np.isfinite(zn)):
+            return None
+        Hn, Px, A = prob.H(zn)
+        if quasi:
+            J = J + np.outer(Hn - Hz - J @ dz, dz) / float(dz @ dz)  # Broyden, in scaled coordinates
+        zk, Hz = zn, Hn
+        if np.max(np.abs(Hz)) <= prob.pm.s.tol * 10:
+            return zk, Hz, Px, A, it
+    return None

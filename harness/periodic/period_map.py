@@ -116,8 +116,22 @@ class PeriodMap:
         self._dord = (ctypes.c_int * (2 * K))(*(list(range(1, K + 1)) * 2))
         self._invr = (ctypes.c_uint * 2)(VR_AERO, VR_SPEED)
         self._speed: float | None = None
+        self._unit: np.ndarray | None = None
 
     # ---- inputs of one period at a speed (cached for the last speed) ----
+    def _unit_load(self) -> np.ndarray:
+        """Value and derivatives 1..K per step of the load's Chebyshev interpolant for a period of
+        T = 1 s, shape (K + 1, N). In load phase the steps are the same at every speed, so the
+        derivatives at period T are these times T^-j (computed once, not per speed)."""
+        if self._unit is None:
+            N = self.s.steps_per_period
+            speed = 60.0 / int(self.p["engineOrder"])  # T = 1 s
+            grid = np.arange(N + 1) / N
+            grid[-1] = 1.0
+            self._unit = step_inputs(AeroLoad(self.p["Fw0"], self.p["engineOrder"], Constant(speed)), grid,
+                                     MAX_ORDER, "chebyshev")
+        return self._unit
+
     def _prepare(self, speed: float) -> None:
         if speed == self._speed:
             return
@@ -127,7 +141,7 @@ class PeriodMap:
         T = 2.0 * math.pi / omega(self.p, speed)
         grid = T * np.arange(N + 1) / N
         grid[-1] = T
-        ua = step_inputs(AeroLoad(self.p["Fw0"], self.p["engineOrder"], Constant(speed)), grid, K, "chebyshev")
+        ua = self._unit_load() * (1.0 / T) ** np.arange(K + 1)[:, None]
         self._der = np.ascontiguousarray(np.concatenate([ua[1:].T, np.zeros((N, K))], axis=1))
         self._val = (ctypes.c_double * 2)(float(ua[0, 0]), float(speed))
         self._steps = list(zip(grid[:-1].tolist(), np.diff(grid).tolist(),

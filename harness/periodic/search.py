@@ -20,8 +20,11 @@ import numpy as np
 
 from harness.fixed_point import linear_bound
 from harness.periodic.period_map import PeriodMap, omega
-from harness.periodic.shooting import Orbit, shoot
+from harness.periodic.shooting import Orbit, Solution, newton, orbit
 from harness.reference_hb import harmonic_balance, linear_orbit
+
+SCAN_TOL = 1e-7  # Newton tolerance of the fixed-B orbits of the B scan (they only place the roots of
+#                  g(B), which Newton on the augmented problem then refines to the shooting tolerance)
 
 
 @dataclass(frozen=True)
@@ -66,29 +69,32 @@ def _guesses(pm: PeriodMap, speed: float, s: SearchSettings) -> list[np.ndarray]
     return out
 
 
-def _same(pm: PeriodMap, a: Orbit, b: Orbit, speed: float, rtol: float) -> bool:
-    sc = np.maximum(pm.scales(a.x, speed), pm.scales(b.x, speed))
+def _same(pm: PeriodMap, xa: np.ndarray, xb: np.ndarray, speed: float, rtol: float) -> bool:
+    sc = np.maximum(pm.scales(xa, speed), pm.scales(xb, speed))
     if pm.model == "jenkins":  # phi is free while open or in stick at the section: compare q, q'
-        sc, xa, xb = sc[:2], a.x[:2], b.x[:2]
-    else:
-        xa, xb = a.x, b.x
+        sc, xa, xb = sc[:2], xa[:2], xb[:2]
     return bool(np.max(np.abs(xa - xb) / sc) <= rtol)
 
 
-def _add(pm: PeriodMap, found: list[Orbit], orb: Orbit | None, speed: float, s: SearchSettings) -> None:
-    if orb is not None and not any(_same(pm, orb, f, speed, s.same_rtol) for f in found):
-        found.append(orb)
+def _add(pm: PeriodMap, found: list[Solution], sol: Solution | None, speed: float, s: SearchSettings) -> None:
+    if sol is not None and not any(_same(pm, sol.x, f.x, speed, s.same_rtol) for f in found):
+        found.append(sol)
+
+
+def solutions_at(pm: PeriodMap, speed: float, s: SearchSettings = SearchSettings()) -> list[Solution]:
+    """Every root of the period map found at `speed` (no multipliers), sorted by amplitude."""
+    found: list[Solution] = []
+    for x0 in _guesses(pm, speed, s):
+        _add(pm, found, newton(pm, x0, speed), speed, s)
+    if pm.model in ("fixedPoint", "coulomb") and pm.d > 0:
+        for x0 in fixed_point_candidates(pm, speed, s):
+            _add(pm, found, newton(pm, x0, speed), speed, s)
+    return sorted(found, key=lambda o: o.amplitude)
 
 
 def orbits_at(pm: PeriodMap, speed: float, s: SearchSettings = SearchSettings()) -> list[Orbit]:
-    """Every periodic orbit found at `speed`, sorted by amplitude."""
-    found: list[Orbit] = []
-    for x0 in _guesses(pm, speed, s):
-        _add(pm, found, shoot(pm, x0, speed), speed, s)
-    if pm.model in ("fixedPoint", "coulomb") and pm.d > 0:
-        for x0 in fixed_point_candidates(pm, speed, s):
-            _add(pm, found, shoot(pm, x0, speed), speed, s)
-    return sorted(found, key=lambda o: o.amplitude)
+    """Every periodic orbit found at `speed`, with its multipliers, sorted by amplitude."""
+    return [orbit(pm, sol, speed) for sol in solutions_at(pm, speed, s)]
 
 
 def fixed_b_map(pm: PeriodMap) -> PeriodMap:
@@ -103,20 +109,18 @@ def fixed_point_candidates(pm: PeriodMap, speed: float, s: SearchSettings) -> li
     p = _df_params(pm)
     grid = np.geomspace(pm.d * (1 + 1e-6), max(_b_max(pm, speed), 2 * pm.d), s.n_scan)
     xs, g, Bs = [], [], []
-    prev = None
+    prev = None  # the previous B's orbit: its state and DP start the next B's quasi-Newton
     for B in grid:
         fb.B = float(B)
-        orb = None
-        for x0 in ([prev] if prev is not None else []) + [np.array(linear_orbit(p, speed, float(B)))]:
-            orb = shoot(fb, x0, speed, final_monodromy=False)
-            if orb is not None and orb.amplitude > pm.d:
-                break
-        if orb is None:
+        sol = newton(fb, prev[0], speed, prev[1], SCAN_TOL) if prev is not None else None
+        if sol is None or not sol.amplitude > pm.d:  # else from the linearised orbit at B
+            sol = newton(fb, np.array(linear_orbit(p, speed, float(B))), speed, tol=SCAN_TOL)
+        if sol is None:
             prev = None
             continue
-        prev = orb.x
-        xs.append(orb.x)
-        g.append(orb.amplitude - B)
+        prev = (sol.x, sol.J)
+        xs.append(sol.x)
+        g.append(sol.amplitude - B)
         Bs.append(B)
     out = []
     for i in range(len(g) - 1):

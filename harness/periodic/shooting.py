@@ -87,6 +87,12 @@ def fd_direction(pm: PeriodMap, x: np.ndarray, j: int) -> float:
     return 1.0
 
 
+def at_bound(pm: PeriodMap, x: np.ndarray, j: int) -> bool:
+    """True if unknown j sits on its bound (the Jenkins element's slip limit |phi| = 1), where only
+    a one-sided difference stays in the domain."""
+    return pm.model == "jenkins" and j == 2 and abs(x[2]) >= 1.0
+
+
 def jacobian(pm: PeriodMap, x: np.ndarray, speed: float, Px: np.ndarray, central: bool = False) -> np.ndarray:
     """DP at x (forward differences from the known P(x), or central ones) in physical units."""
     sc = pm.scales(x, speed)
@@ -96,8 +102,7 @@ def jacobian(pm: PeriodMap, x: np.ndarray, speed: float, Px: np.ndarray, central
         xp = x.copy()
         xp[j] += h
         Pp = pm(xp, speed)[0]
-        at_bound = pm.model == "jenkins" and j == 2 and abs(x[2]) >= 1.0
-        if central and not at_bound:
+        if central and not at_bound(pm, x, j):
             xm = x.copy()
             xm[j] -= h
             J[:, j] = (Pp - pm(xm, speed)[0]) / (2.0 * h)
@@ -111,23 +116,48 @@ def multipliers(J: np.ndarray) -> np.ndarray:
     return mu[np.argsort(-np.abs(mu))]
 
 
-def shoot(pm: PeriodMap, x0: np.ndarray, speed: float, *, final_monodromy: bool = True) -> Orbit | None:
-    """Newton from x0; the orbit, or None if Newton does not converge (or the FMU refuses every
-    damped step)."""
+def broyden(J: np.ndarray, dx: np.ndarray, dP: np.ndarray, sc: np.ndarray) -> np.ndarray:
+    """Broyden's ("good") rank-one update of a Jacobian J ~ DP after the step dx moved P by dP:
+    the least change (in the unknowns' scales sc) with J dx = dP."""
+    w = dx / sc ** 2
+    den = float(dx @ w)
+    return J + np.outer(dP - J @ dx, w) / den if den > 0.0 else J
+
+
+@dataclass
+class Solution:
+    """A converged root of P(x) = x (no multipliers): what newton() returns."""
+
+    x: np.ndarray
+    Px: np.ndarray
+    amplitude: float
+    residual: float
+    iterations: int
+    J: np.ndarray | None  # DP near x, Broyden-updated (an estimate, not the monodromy); None if none was needed
+
+
+def newton(pm: PeriodMap, x0: np.ndarray, speed: float, J0: np.ndarray | None = None,
+           tol: float | None = None, quasi: bool = True) -> Solution | None:
+    """Damped Newton on R(x) = P(x) - x from x0, or None. With quasi (default) it is a quasi-Newton
+    method: DP from J0 (DP of a nearby problem, e.g. the previous point of a scan) or forward
+    differences (one period per unknown), updated by Broyden after every step, a fresh DP only when
+    a step fails to halve the residual. Without quasi every step takes a fresh DP."""
+    tol = pm.s.tol if tol is None else tol
     x = _bounded(pm, np.asarray(x0, dtype=float))
     try:
         Px, A = pm(x, speed)
     except (FMUError, ParameterError):
         return None
-    uphill = 0  # accepted steps that did not lower the residual (give up after MAX_UPHILL)
+    J, fresh = (None, False) if J0 is None else (np.array(J0, dtype=float), False)
+    uphill = 0  # steps with a fresh DP that did not lower the residual (give up after MAX_UPHILL)
     for it in range(1, pm.s.max_iter + 1):
         sc = pm.scales(x, speed)
-        r = (Px - x) / sc
-        res = float(np.max(np.abs(r)))
-        if res <= pm.s.tol:
-            return _orbit(pm, x, speed, Px, A, res, it - 1, final_monodromy)
+        res = float(np.max(np.abs((Px - x) / sc)))
+        if res <= tol:
+            return Solution(x, Px, float(A), res, it - 1, J)
         try:
-            J = jacobian(pm, x, speed, Px)
+            if J is None:
+                J, fresh = jacobian(pm, x, speed, Px), True
             dx = np.linalg.solve(J - np.eye(pm.dim), -(Px - x))
         except (FMUError, ParameterError, np.linalg.LinAlgError):
             return None
@@ -139,22 +169,37 @@ def shoot(pm: PeriodMap, x0: np.ndarray, speed: float, *, final_monodromy: bool 
                 rn = float(np.max(np.abs((Pn - xn) / pm.scales(xn, speed))))
             except (FMUError, ParameterError):
                 rn = math.inf
-            if rn < res or lam < 0.02:
+            if rn < res or lam < 0.02 or not fresh:
                 break
             lam *= 0.5
+        if not fresh and not rn < 0.5 * res:
+            J = None  # the updated DP no longer points the way: a fresh one, from x again
+            if not rn < res:
+                continue
         if not math.isfinite(rn):
             return None
         if rn >= res:
             uphill += 1
             if uphill > MAX_UPHILL:
                 return None  # Newton crawls away from a root it cannot reach from here
+        if J is not None:
+            J, fresh = (broyden(J, xn - x, Pn - Px, sc), False) if quasi else (None, False)
         x, Px, A = xn, Pn, An
     return None
 
 
-def _orbit(pm: PeriodMap, x: np.ndarray, speed: float, Px: np.ndarray, A: float, res: float, it: int,
-           final_monodromy: bool) -> Orbit:
-    J = jacobian(pm, x, speed, Px, central=final_monodromy)
-    B = math.nan if pm.model == "jenkins" else (pm.B if pm.dim == 2 else float(x[2]))
-    return Orbit(pm.model, float(speed), x.copy(), float(A), B, multipliers(J), res, it, pm.start_values(x))
+def shoot(pm: PeriodMap, x0: np.ndarray, speed: float) -> Orbit | None:
+    """newton() from x0; the orbit with its multipliers, or None if Newton does not converge (or
+    the FMU refuses every damped step)."""
+    sol = newton(pm, x0, speed)
+    return None if sol is None else orbit(pm, sol, speed)
 
+
+def orbit(pm: PeriodMap, sol: Solution, speed: float, central: bool = True) -> Orbit:
+    """The Orbit of a converged root: its monodromy matrix taken afresh (central differences, or
+    forward ones), its multipliers and the FMU start values that start a run on it."""
+    x = sol.x
+    J = jacobian(pm, x, speed, sol.Px, central=central)
+    B = math.nan if pm.model == "jenkins" else (pm.B if pm.dim == 2 else float(x[2]))
+    return Orbit(pm.model, float(speed), x.copy(), sol.amplitude, B, multipliers(J), sol.residual, sol.iterations,
+                 pm.start_values(x))

@@ -1,0 +1,77 @@
+"""Branches of periodic orbits by continuation (harness.periodic.branches / continuation), each
+against an independent computation.
+
+- Gating off, the fixed point B = A(B) is exactly the one-harmonic balance (the fixed-B ODE is
+  linear, its orbit has no higher harmonic): every traced point equals an HB root of the reference
+  (harness.reference_hb, Illinois on the closed-form residual) at its speed, 1e-7 of B (the FMU's
+  RK4 at maxStep 2.5e-6 s is ~1e-10); every HB root on a speed grid lies on a traced branch
+  (nothing missed, the folds of the multi-solution region passed); the stability of each point
+  equals the reference's tracked-amplitude map radius (< 1 or > 1, away from |mu| = 1).
+- Jenkins element, d = 0.06 mm, 3000..12000 rpm as in `make run`: the stable upper branch reaches
+  ~7250 rpm. A continuation that stopped at the kink near 6776 rpm (an event appears) and
+  re-started on the unstable side would miss 6780..7247 rpm; an orbit of that piece is checked by
+  a 200-period FMU transient started on it, which must stay on it.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from harness.fmu import BladeFMU
+from harness.periodic.branches import trace_branches
+from harness.periodic.period_map import PeriodMap
+from harness.periodic.shooting import shoot
+from harness.reference_hb import harmonic_balance
+from test_periodic import _period_end_states
+
+FINE = {"maxStep": 2.5e-6}
+
+
+@pytest.fixture(scope="module")
+def fmu():
+    with BladeFMU() as f:
+        yield f
+
+
+@pytest.fixture(scope="module")
+def ungated(fmu):
+    p = dict(FINE, gating=False)
+    branches, _ = trace_branches(fmu, p, "fixedPoint", (6000.0, 9000.0))
+    return p, branches
+
+
+def test_every_ungated_branch_point_is_a_harmonic_balance_root_with_its_stability(ungated):
+    p, branches = ungated
+    pts = [q for b in branches for q in b.points if 6000.0 <= q.speed <= 9000.0]
+    assert len(pts) > 20
+    hb = harmonic_balance(p, np.array([q.speed for q in pts]), tracked=True)
+    for q, sols in zip(pts, hb):
+        s = min(sols, key=lambda s: abs(q.x[2] - s.B))
+        assert abs(q.x[2] - s.B) <= 1e-7 * s.B, (q.speed, q.x[2], [s.B for s in sols])
+        if abs(s.tracked_radius - 1.0) > 0.02:  # clear of the stability boundary
+            assert q.stable == (s.tracked_radius < 1.0), (q.speed, s.B, s.tracked_radius, q.multipliers)
+
+
+def test_every_ungated_harmonic_balance_root_lies_on_a_branch(ungated):
+    p, branches = ungated
+    speeds = np.arange(6100.0, 9000.0, 100.0)
+    n_multi = 0
+    for n, sols in zip(speeds, harmonic_balance(p, speeds)):
+        n_multi += len(sols) >= 3
+        for s in sols:
+            assert any(b.contains(n, s.B) for b in branches), (n, s.B)
+    assert n_multi >= 3  # the grid crosses the multi-solution region (three roots, two folds)
+
+
+def test_jenkins_stable_upper_branch_is_traced_past_the_kink(fmu):
+    d = 6e-5
+    branches, _ = trace_branches(fmu, {"d": d}, "jenkins", (3000.0, 12000.0))
+    piece = [q for b in branches for q in b.points if q.stable and 7100.0 <= q.speed <= 7245.0 and q.amplitude > d]
+    assert piece, "the stable upper branch between the kink and its fold is missing"
+    q = piece[len(piece) // 2]
+    pm = PeriodMap(fmu, {"d": d}, "jenkins")
+    o = shoot(pm, q.x, q.speed)
+    assert o is not None and o.stable
+    assert abs(o.amplitude - q.amplitude) <= 1e-8 * q.amplitude
+    r = _period_end_states(fmu, dict(o.start_values, d=d, frictionModel=3), q.speed, 200)
+    assert np.max(np.abs(r["tipDisplacement"] - o.x[0])) <= 1e-6 * o.amplitude
