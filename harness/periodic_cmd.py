@@ -30,7 +30,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from harness.fmu import BladeFMU
     from harness.periodic.period_map import PeriodMap
-    from harness.periodic.search import orbits_at
+    from harness.periodic.branches import orbits_at
     from harness.simulate_cmd import parse_start_values
 
     overrides = parse_start_values(args.start_values)

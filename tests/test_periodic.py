@@ -26,7 +26,7 @@ from scipy.optimize import brentq
 
 from harness.fmu import BladeFMU
 from harness.periodic.period_map import PeriodMap, omega
-from harness.periodic.search import orbits_at
+from harness.periodic.branches import orbits_at
 from harness.periodic.shooting import shoot
 from harness.reference_blade import galerkin
 from harness.reference_contact import contact_consts, describing_function
@@ -157,14 +157,17 @@ def _reference_roots(params, n, n_grid=160):
     return roots
 
 
-CASES = [({}, 6250.0), ({}, 7000.0), ({}, 8000.0), ({"d": 2e-5}, 7000.0), ({"gamma": math.pi / 5}, 7000.0),
-         ({"kn": 1e6}, 6000.0)]
+# 8500 and 9000 rpm: two roots in a window of B a few per cent wide below the fold at 9431 rpm,
+# between the points of the search's B scan (found on the branch traced around the speed)
+CASES = [({}, 6250.0), ({}, 7000.0), ({}, 8000.0), ({}, 8500.0), ({}, 9000.0), ({"d": 2e-5}, 7000.0),
+         ({"gamma": math.pi / 5}, 7000.0), ({"kn": 1e6}, 6000.0)]
 
 
 @pytest.mark.parametrize("over,n", CASES, ids=[f"{o or 'base'}-{n:g}" for o, n in CASES])
 def test_every_contact_root_of_the_fixed_point_is_found(fmu, over, n):
     pm = PeriodMap(fmu, dict(FINE, **over), "fixedPoint")
-    found = [o.B for o in orbits_at(pm, n) if o.B > pm.d * (1 + 1e-6)]
+    orbits = orbits_at(pm, n)
+    found = [o.B for o in orbits if o.B > pm.d * (1 + 1e-6)]
     ref_params = dict(pm.p, amplitudeMode=1)
     ref = _reference_roots(ref_params, n)
     assert ref, "the reference must find a contact root here (else the case tests nothing)"
@@ -172,7 +175,7 @@ def test_every_contact_root_of_the_fixed_point_is_found(fmu, over, n):
         assert any(abs(f - B) <= 1e-5 * B for f in found), f"root B = {B:.9e} m missed; found {found}"
     # and each root found is one of the exact model: the exact fixed-B orbit from the FMU's state
     # at that B has max |q| = B (roots on a second fixed-B orbit family are not in the scan above)
-    for o in orbits_at(pm, n):
+    for o in orbits:
         if o.B > pm.d * (1 + 1e-6):
             x, A = _exact_orbit(ref_params, n, o.B, o.x[:2])
             assert x is not None and abs(A - o.B) <= 1e-5 * o.B, f"B = {o.B:.9e} m: exact A(B) = {A:.9e} m"
@@ -209,3 +212,23 @@ def test_ungated_fixed_point_equals_harmonic_balance_with_tracked_stability(fmu,
     for o, h in zip(orbs, hb):
         assert abs(o.B - h.B) <= 1e-8 * h.B
         assert abs(np.max(np.abs(o.multipliers)) - h.tracked_radius) <= 1e-5
+
+
+# ---- the multipliers of the tracked map are its growth rate in the FMU ----
+@pytest.mark.parametrize("n", [7500.0, 7700.0])
+def test_multiplier_modulus_equals_the_fmu_growth_rate_near_the_contact_orbit(fmu, n):
+    """max |q| over a period is a kink at a half-wave symmetric orbit (equal positive and negative
+    peaks), so the tracked map has no derivative there; the reported multipliers (central
+    differences) must still be the rate at which a small perturbation grows or decays in the
+    tracked FMU itself: |mu| ~ 1.015 at 7500 rpm (unstable), ~ 0.987 at 7700 rpm (stable), where
+    one-sided differences give 1.08 and 1.04. Rate from the envelope of |q(kT) - q0| over 200
+    periods, 1e-4 of the amplitude off the orbit: within 3e-3 of |mu|."""
+    pm = PeriodMap(fmu, {}, "fixedPoint")
+    o = max(orbits_at(pm, n), key=lambda o: o.amplitude)
+    mu = float(np.max(np.abs(o.multipliers)))
+    assert abs(mu - 1.0) > 0.01  # clear of the boundary, so the rate can tell stable from unstable
+    p = dict(o.start_values, amplitudeMode=2, tipDisplacement=o.x[0] + 1e-4 * o.amplitude)
+    dev = np.abs(_period_end_states(fmu, p, n, 301)["tipDisplacement"] - o.x[0])
+    early, late = np.max(dev[50:100]), np.max(dev[250:300])
+    rate = (late / early) ** (1.0 / 200.0)
+    assert abs(rate - mu) <= 3e-3, (rate, mu)

@@ -1,4 +1,4 @@
-"""Every periodic orbit of a model at one speed.
+"""Every periodic orbit of a model that a search at one speed finds (the seeds of the branches).
 
 Seeds, each refined by Newton shooting (harness.periodic.shooting), duplicates merged:
 - the contact-free linear orbit and the one-harmonic orbits of the blade linearised at amplitudes
@@ -20,7 +20,7 @@ import numpy as np
 
 from harness.fixed_point import linear_bound
 from harness.periodic.period_map import PeriodMap, omega
-from harness.periodic.shooting import Orbit, Solution, newton, orbit
+from harness.periodic.shooting import Solution, newton
 from harness.reference_hb import harmonic_balance, linear_orbit
 
 SCAN_TOL = 1e-7  # Newton tolerance of the fixed-B orbits of the B scan (they only place the roots of
@@ -90,11 +90,6 @@ def solutions_at(pm: PeriodMap, speed: float, s: SearchSettings = SearchSettings
         for x0 in fixed_point_candidates(pm, speed, s):
             _add(pm, found, newton(pm, x0, speed), speed, s)
     return sorted(found, key=lambda o: o.amplitude)
-
-
-def orbits_at(pm: PeriodMap, speed: float, s: SearchSettings = SearchSettings()) -> list[Orbit]:
-    """Every periodic orbit found at `speed`, with its multipliers, sorted by amplitude."""
-    return [orbit(pm, sol, speed) for sol in solutions_at(pm, speed, s)]
 
 
 def fixed_b_map(pm: PeriodMap) -> PeriodMap:
