@@ -1,4 +1,4 @@
-"""`python -m harness ...`: see harness/cli.py."""
-from harness.cli import main
+"""`python -m harness ...`: see harness/cli/main.py."""
+from harness.cli.main import main
 
 raise SystemExit(main())

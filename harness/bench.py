@@ -24,8 +24,8 @@ from typing import Any
 
 import numpy as np
 
-from harness.build import BUILD_DIR, REPO_ROOT
-from harness.executor import atomic_write_text
+from harness.fmu.build import BUILD_DIR, REPO_ROOT
+from harness.sweep.executor import atomic_write_text
 
 BENCH_DIR = REPO_ROOT / "bench"
 
@@ -51,7 +51,7 @@ def c_step_cost() -> dict[str, Any]:
     exe = BUILD_DIR / "bench_step"
     if not exe.is_file():
         try:
-            from harness.build import build
+            from harness.fmu.build import build
 
             build(("bench_step",))
         except Exception:
@@ -107,8 +107,8 @@ def _inside(fmu: Any, fn, repeats: int) -> tuple[float, int]:
 def dostep_cost(fmu: Any, params: dict, repeats: int = 5) -> dict[str, Any]:
     """Cost of one doStep of BladeFMU.run at 5000 rpm for four communication steps; the last one
     as the sweeps step (Chebyshev-fitted load, values carried by the FMU, one sample per period)."""
-    from harness.plateau import PLATEAU_OUTPUTS
-    from harness.sweep import SweepSettings
+    from harness.sweep.plateau import PLATEAU_OUTPUTS
+    from harness.sweep.curves import SweepSettings
 
     out = {}
     T = 60.0 / (5000.0 * params["engineOrder"])
@@ -138,8 +138,8 @@ def dostep_cost(fmu: Any, params: dict, repeats: int = 5) -> dict[str, Any]:
 def sweep_overhead(fmu_path: str, repeats: int = 3) -> dict[str, Any]:
     """One up sweep (base case, 3000..10000 rpm every 500, no refinement, no cache): the wall and
     CPU time of the Python-driven sweep against the time spent inside fmi2DoStep for the same work."""
-    from harness import sweep as sw
-    from harness.studies import base_params
+    from harness.sweep import curves as sw
+    from harness.paper.studies import base_params
 
     out = {}
     for spp in (sw.SweepSettings().steps_per_period, 8):
@@ -161,7 +161,7 @@ def reference_ratio(fmu: Any, params: dict) -> dict[str, Any]:
     through the FMU and through the Python reference (DOP853 with located events), fed
     the same piecewise Taylor input."""
     from harness import reference as ref
-    from harness.excitation import AeroLoad, Stepped, fmu_view
+    from harness.model.excitation import AeroLoad, Stepped, fmu_view
 
     # kn = 1e6 and B fixed at 2 d (paper's formulation): a regular response, so the two codes can
     # agree point by point; at kn = 1e7 the contact response is sensitive (nearby trajectories
@@ -183,8 +183,8 @@ def reference_ratio(fmu: Any, params: dict) -> dict[str, Any]:
 
 
 def hb_all() -> dict[str, Any]:
-    from harness.studies import SIZES, STUDIES, base_params
-    from harness.sweep import hb_curve
+    from harness.paper.studies import SIZES, STUDIES, base_params
+    from harness.sweep.curves import hb_curve
 
     base = base_params()
     size = SIZES["default"]
@@ -200,8 +200,8 @@ def hb_all() -> dict[str, Any]:
 
 def reproduce_cold(size: str, workers: int | None) -> dict[str, Any]:
     """`reproduce` as `make run` does it: the studies as periodic-orbit branches, plus extras."""
-    from harness.executor import Runner
-    from harness.studies import reproduce
+    from harness.sweep.executor import Runner
+    from harness.paper.studies import reproduce
 
     with tempfile.TemporaryDirectory() as tmp:
         t = time.perf_counter()
@@ -215,9 +215,9 @@ def reproduce_cold(size: str, workers: int | None) -> dict[str, Any]:
 def transient_studies(size: str, workers: int | None) -> dict[str, Any]:
     """The former path of the same studies from a cold cache: time-domain up/down sweeps, fixed
     points A(B) = B from transients and HB for Figs. 6-9, time-domain + HB Coulomb curves."""
-    from harness.executor import Runner
-    from harness.studies import SIZES, STUDIES, base_params, study_specs
-    from harness.sweep import SweepSpec, run_sweeps
+    from harness.sweep.executor import Runner
+    from harness.paper.studies import SIZES, STUDIES, base_params, study_specs
+    from harness.sweep.curves import SweepSpec, run_sweeps
 
     sz, base = SIZES[size], base_params()
     specs = [e[2] for e in study_specs(sz, list(STUDIES), base)]
@@ -324,9 +324,9 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from harness.fmu import BladeFMU
-    from harness.studies import base_params
-    from harness.sweep import fmu_identity
+    from harness.fmu.blade import BladeFMU
+    from harness.paper.studies import base_params
+    from harness.sweep.curves import fmu_identity
 
     path, _ = fmu_identity(None)
     data: dict[str, Any] = {"machine": machine(), "date": time.strftime("%Y-%m-%d %H:%M")}
@@ -342,7 +342,7 @@ def run(args: argparse.Namespace) -> int:
     data["sweep"] = sweep_overhead(path)
     from dataclasses import asdict
 
-    from harness.sweep import SweepSettings
+    from harness.sweep.curves import SweepSettings
 
     data["sweep_settings"] = asdict(SweepSettings())
     print("harmonic balance ...", flush=True)

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from harness import build as _build
+from harness.fmu import build as _build
 
 
 @pytest.fixture(scope="session")

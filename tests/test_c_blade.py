@@ -1,6 +1,6 @@
-"""Tests of fmu_src/blade.c (Galerkin reduction, paper eq. 19-27, MODEL.md s.2) through ctypes.
+"""Tests of fmu_src/blade.c (Galerkin reduction, paper eq. 19-27, docs/model.md s.2) through ctypes.
 
-Two independent references: (1) the check values printed in MODEL.md s.2, compared to half a unit
+Two independent references: (1) the check values printed in docs/model.md s.2, compared to half a unit
 of their last printed digit (the strictest comparison the printed digits allow); (2) a numpy/scipy
 computation written here: scipy.optimize.brentq on eq. 21 in its plain cos/cosh form,
 scipy.integrate.quad of phi (eq. 20) and its analytic derivatives, compared at several tip masses to
@@ -30,7 +30,7 @@ def phys(physics_lib) -> PhysicsLib:
 
 
 def reference(EI: float, rho: float, A: float, l: float, c: float, m0: float) -> dict[str, dict[str, float]]:
-    """Independent reduction: brentq on eq. 21, quad of eq. 20 expressions (MODEL.md s.2)."""
+    """Independent reduction: brentq on eq. 21, quad of eq. 20 expressions (docs/model.md s.2)."""
     R = m0 / (rho * A * l)
 
     def freq(a: float) -> float:  # eq. 21, as printed
@@ -78,7 +78,7 @@ def rel_err(a: float, b: float) -> float:
     return abs(a - b) / abs(b)
 
 
-# MODEL.md s.2 check values, as printed (strings keep the printed digits).
+# docs/model.md s.2 check values, as printed (strings keep the printed digits).
 CHECK_PRINTED = {"lambdaL": "1.7898556", "U1": "0.239957", "U2": "4864.53", "U3": "0.364953", "U4": "0.154610",
                  "U5": "9.92558", "u1": "14.8207", "u2": "2.542784", "M": "0.309149", "C0": "2.81216",
                  "K0static": "656184", "K0omega2": "0.355953"}

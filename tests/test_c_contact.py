@@ -1,4 +1,4 @@
-"""Tests of fmu_src/contact.c (paper eq. 3-13, MODEL.md s.3, docs/model-notes.md s.4-5) via ctypes.
+"""Tests of fmu_src/contact.c (paper eq. 3-13, docs/model.md s.3, docs/model-notes.md s.4-5) via ctypes.
 
 The reference is an independent Python version of the contact loop written here from the paper
 (class `LoopCase`: the ten intervals of eq. 4 over the whole period, no half-wave symmetry; the
@@ -65,7 +65,7 @@ class LoopCase:
         return self.mu * self.kn * math.cos(self.gamma) * self.eps
 
     @property
-    def full_stick(self) -> bool:  # MODEL.md s.3
+    def full_stick(self) -> bool:  # docs/model.md s.3
         return self.kind == "macroslip" and self.kd * math.tan(self.gamma) < self.mu * self.kn
 
     # --- eq. 3, eq. 4 pieces (theta is the phase; v = B cos theta, Delta_u = v sin g) ---
@@ -165,7 +165,7 @@ class LoopCase:
                 return st
         return 2
 
-    # --- describing functions by quadrature (MODEL.md s.3: per unit v) ---
+    # --- describing functions by quadrature (docs/model.md s.3: per unit v) ---
     def integral(self, f, epsabs: float = 0.0) -> float:
         val, _ = quad(f, 0.0, TWO_PI, points=self.breakpoints(), epsabs=epsabs, epsrel=1e-13, limit=400)
         return val

@@ -1,9 +1,9 @@
-"""Branches of periodic orbits by continuation (harness.periodic.branches / continuation), each
+"""Branches of periodic orbits by continuation (harness.sweep.periodic.branches / continuation), each
 against an independent computation.
 
 - Gating off, the fixed point B = A(B) is exactly the one-harmonic balance (the fixed-B ODE is
   linear, its orbit has no higher harmonic): every traced point equals an HB root of the reference
-  (harness.reference_hb, Illinois on the closed-form residual) at its speed, 1e-7 of B (the FMU's
+  (harness.reference.hb, Illinois on the closed-form residual) at its speed, 1e-7 of B (the FMU's
   RK4 at maxStep 2.5e-6 s is ~1e-10); every HB root on a speed grid lies on a traced branch
   (nothing missed, the folds of the multi-solution region passed); the stability of each point
   equals the reference's tracked-amplitude map radius (< 1 or > 1, away from |mu| = 1).
@@ -17,11 +17,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from harness.fmu import BladeFMU
-from harness.periodic.branches import trace_branches
-from harness.periodic.period_map import PeriodMap
-from harness.periodic.shooting import shoot
-from harness.reference_hb import harmonic_balance
+from harness.fmu.blade import BladeFMU
+from harness.sweep.periodic.branches import trace_branches
+from harness.sweep.periodic.period_map import PeriodMap
+from harness.sweep.periodic.shooting import shoot
+from harness.reference.hb import harmonic_balance
 from test_periodic import _period_end_states
 
 FINE = {"maxStep": 2.5e-6}

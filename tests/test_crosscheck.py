@@ -1,7 +1,7 @@
 """Cross-tool agreement: the FMU in fmpy, libcosim and Ecos; static checkers; cross-check deliverables.
 
 Every importer gets the very same input numbers at the same communication points (the plan of
-`harness.crosscheck_plan`, held inputs). Tolerances:
+`harness.crosscheck.plan`, held inputs). Tolerances:
 - same inputs, same (t_k, h_k): the FMU is deterministic, so the results must be identical up to
   1e-12 relative (margin for nothing; we expect exactly 0);
 - the tool's own time grid vs fmpy's (libcosim: integer ns; Ecos: accumulated t, constant h): the
@@ -23,13 +23,13 @@ import numpy as np
 import pytest
 from fmpy.util import read_csv
 
-from harness import crosscheck_deliverables as xd
-from harness import crosscheck_ecos as xe
-from harness import crosscheck_fmpy as xf
-from harness import crosscheck_libcosim as xl
-from harness import crosscheck_static as xs
-from harness.crosscheck_common import max_rel_diff, rel_diffs
-from harness.crosscheck_plan import SCENARIOS, make_plan
+from harness.crosscheck import deliverables as xd
+from harness.crosscheck.importers import ecos as xe
+from harness.crosscheck.importers import fmpy as xf
+from harness.crosscheck.importers import libcosim as xl
+from harness.crosscheck import static as xs
+from harness.crosscheck.common import max_rel_diff, rel_diffs
+from harness.crosscheck.plan import SCENARIOS, make_plan
 
 SAME_INPUTS_TOL = 1e-12
 TARGET = 1e-10
@@ -220,7 +220,7 @@ def test_rebuild_from_sources_gives_the_same_results(fmu_path, tmp_path):
 @pytest.mark.slow
 def test_fmi4j_agrees(fmu_path):
     """FMI4j through the Maven-built Java driver (slow: JVM start-up, Maven)."""
-    from harness import crosscheck_fmi4j as xj
+    from harness.crosscheck.importers import fmi4j as xj
 
     sc = SCENARIOS["steady"].shortened(SHORT)
     plan = make_plan(sc, 8)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from harness.excitation import (AeroLoad, Constant, ExcitationError, LinearRamp, Modulated, Stepped, fmu_view,
+from harness.model.excitation import (AeroLoad, Constant, ExcitationError, LinearRamp, Modulated, Stepped, fmu_view,
                                 sin_series)
 
 OMEGA_5000 = 3 * 5000 * 2 * math.pi / 60  # EO 3 at 5000 rpm [rad/s]

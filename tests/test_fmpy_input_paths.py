@@ -24,8 +24,8 @@ import pytest
 from fmpy import extract, instantiate_fmu, read_model_description, simulate_fmu
 
 from harness import reference
-from harness.excitation import AeroLoad, Constant, LinearRamp
-from harness.params import fmu_parameters, validate
+from harness.model.excitation import AeroLoad, Constant, LinearRamp
+from harness.model.params import fmu_parameters, validate
 
 STOP = 0.03  # run length [s]: contact starts after ~7 ms, several hundred switching events
 H_FINE, H_COARSE = 1e-4, 2e-4  # communication steps [s]; omega h = 0.31..0.38 at H_COARSE

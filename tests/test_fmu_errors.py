@@ -34,7 +34,7 @@ from fmi2raw import (DISCARD, ERROR, OK, STATUS_NAMES, Fmi2Library, Instance,  #
                      message_names_value_and_range)
 
 sys.path.insert(0, str(F.REPO_ROOT))
-from harness.params import specs  # noqa: E402
+from harness.model.params import specs  # noqa: E402
 
 REFUSED = (ERROR, DISCARD)
 NULL_INSTANCE = -1  # pseudo status: fmi2Instantiate returned NULL
@@ -1154,7 +1154,7 @@ if __name__ == "__main__":
     if len(sys.argv) == 3 and sys.argv[1] == "--case":
         _child(sys.argv[2])
     else:
-        from harness import build as _build
+        from harness.fmu import build as _build
         if not os.environ.get("SB_FMU_BINARY"):
             _build.build(("fmu",))
         n = write_doc()

@@ -4,7 +4,7 @@ With the gap d = 1 m no contact force ever acts and the amplitude is fixed (ampl
 so the FMU integrates M q'' + C0 q' + K0(Omega) q = G F sin(omega t), whose steady amplitude is
 G F / |K0 - M omega^2 + i omega C0|. M, C0, K0 and G are computed here independently of blade.c
 (scipy quadrature of the mode of eq. 20 with lambda from brentq on eq. 21, both formulations of
-MODEL.md s.2) and checked against MODEL.md's printed check values. The load F sin(omega t) is passed
+docs/model.md s.2) and checked against docs/model.md's printed check values. The load F sin(omega t) is passed
 as value plus Taylor derivatives of orders 1..8 at every communication point (model-notes s.1), the
 run lasts 18.5 decay times (envelope e^{-t C0 / (2 M)}), and the amplitude is a least-squares sine
 fit over the last 10 whole periods. Tolerance 1e-6 relative, from the error budget: RK4 with
@@ -30,7 +30,7 @@ VR_FRICTION, VR_FORMULATION, VR_AMPMODE = 20, 21, 23
 VR_AERO, VR_SPEED = 40, 41
 VR_Q, VR_E, VR_FREQ, VR_KEQ = 50, 57, 58, 54
 
-TABLE1 = dict(EI=343.0, rho=7800.0, A=4.2e-4, l=0.15, c=29.8, m0=0.025)  # MODEL.md s.1
+TABLE1 = dict(EI=343.0, rho=7800.0, A=4.2e-4, l=0.15, c=29.8, m0=0.025)  # docs/model.md s.1
 FW0 = 100.0  # load amplitude [N/m]
 MAX_STEP = 5e-6  # [s]
 H_COMM = 2e-4  # communication step [s]
@@ -38,7 +38,7 @@ REL_TOL = 1e-6
 
 
 def reduction(formulation: int, EI: float, rho: float, A: float, l: float, c: float, m0: float) -> dict:
-    """M [kg], C0 [N s/m], K0 = K0s + K0w Omega^2 [N/m], G [m] of MODEL.md s.2, by quadrature."""
+    """M [kg], C0 [N s/m], K0 = K0s + K0w Omega^2 [N/m], G [m] of docs/model.md s.2, by quadrature."""
     R = m0 / (rho * A * l)
 
     def eq21(a: float) -> float:
@@ -81,7 +81,7 @@ def reductions() -> dict[int, dict]:
 
 
 def test_independent_reduction_matches_model_md(reductions: dict[int, dict]) -> None:
-    """The test's own M, C0, K0 agree with MODEL.md s.2's check values to their printed digits."""
+    """The test's own M, C0, K0 agree with docs/model.md s.2's check values to their printed digits."""
     printed, consistent = reductions[1], reductions[2]
     assert printed["lambdaL"] == pytest.approx(1.7898556, abs=1e-7)
     assert printed["M"] == pytest.approx(0.309149, abs=1e-6)

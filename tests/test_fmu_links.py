@@ -1,7 +1,7 @@
 """Every FMU binary links what it uses, so a C master without libm can load it (issue 13).
 
 For each FMU the build produces (ShroudedBlade, Excitation) and for the same FMU rebuilt from its
-own `sources/` by fmpy.build (harness.crosscheck_static.rebuild_from_sources):
+own `sources/` by fmpy.build (harness.crosscheck.static.rebuild_from_sources):
 - `ldd -r` on the binary reports no undefined symbol;
 - tests/c/dlopen_step (a C program built here without -lm, checked to have no libm in its
   DT_NEEDED) dlopens it with RTLD_NOW, instantiates, takes one step and prints an output, which
@@ -22,8 +22,8 @@ import pytest
 from fmpy import read_model_description
 from fmpy.fmi2 import FMU2Slave
 
-from harness import build as _build
-from harness.crosscheck_static import rebuild_from_sources
+from harness.fmu import build as _build
+from harness.crosscheck.static import rebuild_from_sources
 
 LOADER_SRC = Path(__file__).parent / "c" / "dlopen_step.c"
 FMI_HEADERS = Path(fmpy.__file__).parent / "c-code"

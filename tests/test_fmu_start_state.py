@@ -19,8 +19,8 @@ import math
 import numpy as np
 import pytest
 
-from harness.fmu import BladeFMU, FMUError
-from harness.params import ParameterError
+from harness.fmu.blade import BladeFMU, FMUError
+from harness.model.params import ParameterError
 
 RPM = 5000.0  # rotorSpeed [rpm] (the default)
 EO = 3  # engineOrder (the default)

@@ -1,4 +1,4 @@
-"""harness.fmu.BladeFMU: lifecycle, validation before the FMU is touched, reset and continuation,
+"""harness.fmu.blade.BladeFMU: lifecycle, validation before the FMU is touched, reset and continuation,
 FMU state round trips, sampling, errors with partial results, and the held-input path against
 fmpy's own simulate_fmu (an independent master)."""
 from __future__ import annotations
@@ -11,9 +11,9 @@ import pytest
 from fmpy import simulate_fmu
 from fmpy.validation import validate_fmu
 
-from harness.excitation import AeroLoad, Constant, ExcitationError, LinearRamp, Stepped
-from harness.fmu import BladeFMU, FMUError, FMUNotFoundError, input_error, step_inputs
-from harness.params import ParameterError
+from harness.model.excitation import AeroLoad, Constant, ExcitationError, LinearRamp, Stepped
+from harness.fmu.blade import BladeFMU, FMUError, FMUNotFoundError, input_error, step_inputs
+from harness.model.params import ParameterError
 
 FAST = {"gating": False}  # smooth runs
 

@@ -1,9 +1,9 @@
-"""The Fourier content of periodic orbits (harness.periodic.harmonics) against independent sources.
+"""The Fourier content of periodic orbits (harness.sweep.periodic.harmonics) against independent sources.
 
 - Gating off, the fixed-B ODE is linear: the orbit is one harmonic (higher ones below 1e-8 of the
   amplitude) and its amplitude is the reference's harmonic balance root (1e-8).
 - Gated (the paper's model), the FMU's samples of the orbit and the reference's exact piecewise-
-  linear solution (harness.reference_fixedpoint.PiecewiseStepper, own event location) from the
+  linear solution (harness.reference.fixedpoint.PiecewiseStepper, own event location) from the
   same state give the same first and third harmonic (1e-6 of the amplitude: RK4 at maxStep
   2.5e-6 s vs exact, through the located switchings).
 """
@@ -14,11 +14,11 @@ import math
 import numpy as np
 import pytest
 
-from harness.fmu import BladeFMU
-from harness.periodic.branches import orbits_at
-from harness.periodic.harmonics import SAMPLES, fourier_amplitudes, harmonic_row, hb_parameters
-from harness.periodic.period_map import PeriodMap, omega
-from harness.reference_fixedpoint import PiecewiseStepper
+from harness.fmu.blade import BladeFMU
+from harness.sweep.periodic.branches import orbits_at
+from harness.sweep.periodic.harmonics import SAMPLES, fourier_amplitudes, harmonic_row, hb_parameters
+from harness.sweep.periodic.period_map import PeriodMap, omega
+from harness.reference.fixedpoint import PiecewiseStepper
 
 FINE = {"maxStep": 2.5e-6}
 

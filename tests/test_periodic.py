@@ -1,8 +1,8 @@
-"""Periodic orbits by shooting through the FMU (harness.periodic): each result against an
+"""Periodic orbits by shooting through the FMU (harness.sweep.periodic): each result against an
 independent computation.
 
 - ungated fixed B (a linear ODE): the orbit equals the closed-form harmonic response
-  (harness.reference_hb.linear_orbit, complex arithmetic) and the multipliers equal
+  (harness.reference.hb.linear_orbit, complex arithmetic) and the multipliers equal
   exp(lambda T), lambda the eigenvalues of M s^2 + (C0 + C_eq) s + K0 + K_eq (reference Galerkin
   constants and describing function): 1e-8 at maxStep 2.5e-6 s (RK4 error ~1e-10);
 - orbits equal long transient runs of the FMU that settle onto them (1e-8 of the amplitude, same
@@ -10,7 +10,7 @@ independent computation.
   started 1 % off it;
 - every root of A(B) = B (fixedPoint) at several speeds of the base case above 6000 rpm and at
   points of the gap, angle and k_n studies equals a root found independently: the reference's
-  exact piecewise-linear period map (harness.reference_fixedpoint.PiecewiseStepper) with its own
+  exact piecewise-linear period map (harness.reference.fixedpoint.PiecewiseStepper) with its own
   Newton for the fixed-B orbit on a dense B grid and brentq on A(B) - B (1e-5 relative: the
   FMU's RK4 vs the exact solution, through the slope of A(B) - B);
 - the FMU started on each reported stable orbit (tracked amplitude, Jenkins element) stays on it.
@@ -24,14 +24,14 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from harness.fmu import BladeFMU
-from harness.periodic.period_map import PeriodMap, omega
-from harness.periodic.branches import orbits_at
-from harness.periodic.shooting import shoot
-from harness.reference_blade import galerkin
-from harness.reference_contact import contact_consts, describing_function
-from harness.reference_fixedpoint import PiecewiseStepper
-from harness.reference_hb import harmonic_balance, linear_orbit
+from harness.fmu.blade import BladeFMU
+from harness.sweep.periodic.period_map import PeriodMap, omega
+from harness.sweep.periodic.branches import orbits_at
+from harness.sweep.periodic.shooting import shoot
+from harness.reference.blade import galerkin
+from harness.reference.contact import contact_consts, describing_function
+from harness.reference.fixedpoint import PiecewiseStepper
+from harness.reference.hb import harmonic_balance, linear_orbit
 
 FINE = {"maxStep": 2.5e-6}
 
@@ -137,7 +137,7 @@ def _reference_roots(params, n, n_grid=160):
         x, m = orbit(B, x0)
         return (m - B if x is not None and m > d else math.nan), x
 
-    from harness.fixed_point import linear_bound
+    from harness.sweep.fixed_point import linear_bound
     grid = np.geomspace(d * (1 + 1e-6), 1.5 * linear_bound(params, n), n_grid)
     vals, xs, prev = [], [], None
     for B in grid:

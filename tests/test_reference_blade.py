@@ -1,6 +1,6 @@
-"""Reference Galerkin reduction (harness.reference_blade) against MODEL.md s.2 and independent checks.
+"""Reference Galerkin reduction (harness.reference.blade) against docs/model.md s.2 and independent checks.
 
-The MODEL.md check values are an independent computation printed with 6-8 significant digits; we
+The docs/model.md check values are an independent computation printed with 6-8 significant digits; we
 compare with a tolerance of half a unit in the last printed digit (i.e. the printed digits must be
 exactly the rounded value), which is 1e-7..2e-6 relative depending on the number. The other checks
 are physics identities that do not use the reduction's own formulas: the classical cantilever root,
@@ -17,7 +17,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from harness.reference_blade import ModeShape, first_root, frequency_equation, galerkin
+from harness.reference.blade import ModeShape, first_root, frequency_equation, galerkin
 
 
 def half_ulp(printed: str) -> float:
@@ -26,7 +26,7 @@ def half_ulp(printed: str) -> float:
     return 0.5 * 10.0 ** int(exp)
 
 
-PRINTED = {  # MODEL.md s.2, formulation 1 (printed)
+PRINTED = {  # docs/model.md s.2, formulation 1 (printed)
     "lambdaL": "1.7898556", "U1": "0.239957", "U2": "4864.53", "U3": "0.364953", "U4": "0.154610",
     "U5": "9.92558", "u2": "2.542784", "M": "0.309149", "C0": "2.81216", "K0static": "656184",
     "K0omega2": "0.355953",
@@ -54,7 +54,7 @@ def test_consistent_check_values(name: str) -> None:
 
 @pytest.mark.parametrize("formulation,rpm", [(1, "4966"), (2, "4979")])
 def test_resonance_crossing(formulation: int, rpm: str) -> None:
-    """3 Omega = omega_1(Omega): MODEL.md gives the crossing to the nearest rpm."""
+    """3 Omega = omega_1(Omega): docs/model.md gives the crossing to the nearest rpm."""
     g = galerkin({}, formulation)
     f = lambda n: 3 * 2 * math.pi * n / 60 - math.sqrt(g.K0(2 * math.pi * n / 60) / g.M)  # noqa: E731
     assert abs(brentq(f, 1000, 10000) - float(rpm)) <= 0.5

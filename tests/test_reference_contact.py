@@ -1,4 +1,4 @@
-"""Reference contact model (harness.reference_contact): closed forms against quadrature and geometry.
+"""Reference contact model (harness.reference.contact): closed forms against quadrature and geometry.
 
 Tolerances: the closed forms (eq. 7, 8 fixed, 10 rewritten with half-angle identities so that
 nothing cancels as B -> d+) and the Gauss-Legendre quadrature of the piecewise loop (eq. 3/4,
@@ -22,7 +22,7 @@ import warnings
 import numpy as np
 import pytest
 
-from harness.reference_contact import (contact_consts, describing_function, loop_angles, loop_friction, loop_state,
+from harness.reference.contact import (contact_consts, describing_function, loop_angles, loop_friction, loop_state,
                                        normal_force, regime)
 
 KD = [0.608695652173913, 0.8235294117647058]
@@ -57,7 +57,7 @@ def test_closed_form_matches_quadrature(kdr: float, gamma: float, kn: float, mod
 
 def _printed(p: dict, B: float, model: int) -> tuple[float, float, float]:
     """f_k, f_c omega, p_k evaluated literally as printed: eq. 5 angles by arccos, eq. 7, eq. 8 with the
-    MODEL.md fix (4 cos theta1), eq. 10; Coulomb f_c omega = 4 N* (1 - d/B) / (pi B) (model-notes s.5)."""
+    docs/model.md fix (4 cos theta1), eq. 10; Coulomb f_c omega = 4 N* (1 - d/B) / (pi B) (model-notes s.5)."""
     cc = contact_consts(p)
     kd, kn, mu, d, g = cc.kd, cc.kn, cc.mu, cc.d, cc.gamma
     sg, cg, kdt, mkn = math.sin(g), math.cos(g), kd * math.tan(g), mu * kn
@@ -122,7 +122,7 @@ def _loop_area(p: dict, B: float, model: int) -> float:
                                              (KD[0], math.pi / 3, 2), (KD[1], math.pi / 4, 2)])
 @pytest.mark.parametrize("r", [1.05, 1.5, 4.0, 50.0])
 def test_energy_identity(kdr: float, gamma: float, model: int, r: float) -> None:
-    """closed integral of F_f dv = pi omega B^2 f_c (MODEL.md s.3), the loop run in the direction of
+    """closed integral of F_f dv = pi omega B^2 f_c (docs/model.md s.3), the loop run in the direction of
     increasing theta (the direction of motion); it is the work done against friction, > 0."""
     p = _params(kdr, gamma, 1e7)
     B = r * 3e-5
@@ -155,7 +155,7 @@ def test_fc_fix_of_eq8_matters() -> None:
 def test_regime_boundary() -> None:
     """Full stick iff k_d tan g < mu k_n: gamma* = atan(mu / kdRatio). At gamma* the eq.-5 angles
     degenerate continuously (theta1 -> theta2, theta3 -> pi) but the paper's loop still encloses an
-    area there (it starts each stroke at +-N* and jumps N* -> 0 at separation), while MODEL.md's
+    area there (it starts each stroke at +-N* and jumps N* -> 0 at separation), while docs/model.md's
     full-stick regime is elastic (f_c = 0, f_k = (k_d tan g / k_n) p_k): the describing function
     jumps across gamma*. We check both sides against their own definitions and record the jump."""
     for kdr in KD:
@@ -177,7 +177,7 @@ def test_regime_boundary() -> None:
         assert math.pi * 6e-5 ** 2 * a.fcOmega == pytest.approx(_loop_area(above, 6e-5, 1), rel=1e-9)
         assert math.pi * 6e-5 ** 2 * a.fcOmega == pytest.approx(Ns * (6e-5 - cc.d), rel=1e-7)  # gamma* (1 + 1e-9)
         assert a.fcOmega > 0.05 * a.pk and Ns > 0
-    # the printed kdRatio puts pi/7 in full stick, Mindlin's value does not (MODEL.md s.3)
+    # the printed kdRatio puts pi/7 in full stick, Mindlin's value does not (docs/model.md s.3)
     assert regime(_params(KD[0], math.pi / 7, 1e7), 6e-5) == 2
     assert regime(_params(KD[1], math.pi / 7, 1e7), 6e-5) == 1
 

@@ -1,10 +1,10 @@
-"""Reference time simulation (harness.reference_dynamics) against closed forms and conservation laws.
+"""Reference time simulation (harness.reference.dynamics) against closed forms and conservation laws.
 
 Tolerances: DOP853 at rtol 1e-11 with events located to ~1e-16 s reproduces linear steady states
 to ~1e-8 relative after 5 s from rest (the start transient decays like exp(-C0 t / 2M), 1e-10 after
 5 s), so 1e-6 leaves margin. Energy balances are exact identities of the model; at rtol 1e-11
 they hold to 3e-11..7e-11 of the input work (tolerance 1e-9). The Jenkins element driven by a
-prescribed motion must reproduce its own closed-form loop (harness.reference_contact
+prescribed motion must reproduce its own closed-form loop (harness.reference.contact
 .jenkins_cycle_dissipation) to integration accuracy (1e-9). The exact piecewise stepper of
 reference_fixedpoint is a second, independent integrator for the fixed-B describing-function model.
 """
@@ -15,12 +15,12 @@ import math
 import numpy as np
 import pytest
 
-from harness.reference_blade import galerkin
-from harness.reference_contact import (contact_consts, describing_function, jenkins_cycle_dissipation, loop_angles,
+from harness.reference.blade import galerkin
+from harness.reference.contact import (contact_consts, describing_function, jenkins_cycle_dissipation, loop_angles,
                                        loop_friction, loop_state)
-from harness.reference_dynamics import SimulationError, jenkins_prescribed, simulate
-from harness.reference_fixedpoint import PiecewiseStepper
-from harness.reference_hb import harmonic_balance
+from harness.reference.dynamics import SimulationError, jenkins_prescribed, simulate
+from harness.reference.fixedpoint import PiecewiseStepper
+from harness.reference.hb import harmonic_balance
 
 EO = 3
 
@@ -282,7 +282,7 @@ def test_segment_runner_finds_an_excursion_inside_one_step() -> None:
     """q = cos(t) (q'' = -q from t = -0.1): q exceeds 1 - 1e-6 only for |t| < 1.414e-3, far inside
     one DOP853 step at rtol 1e-6 (steps ~0.1). Checking signs at step ends alone misses it; the
     runner's extremum knots must find the upward crossing at t = -acos(1 - 1e-6)."""
-    from harness.reference_hybrid import run_segment
+    from harness.reference.hybrid import run_segment
 
     level = 1 - 1e-6
     y0 = np.array([math.cos(-0.1), -math.sin(-0.1)])

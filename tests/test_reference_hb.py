@@ -1,4 +1,4 @@
-"""Reference harmonic balance and fixed point (harness.reference_hb, harness.reference_fixedpoint).
+"""Reference harmonic balance and fixed point (harness.reference.hb, harness.reference.fixedpoint).
 
 HB roots are checked against the HB equation evaluated with the describing function by quadrature
 (not the closed forms the solver uses), relative residual <= 1e-9. Completeness is checked against
@@ -15,11 +15,11 @@ import math
 import numpy as np
 import pytest
 
-from harness.reference_blade import galerkin
-from harness.reference_contact import describing_function
-from harness.reference_dynamics import simulate
-from harness.reference_fixedpoint import fixed_point, naive_iteration, steady_amplitude
-from harness.reference_hb import harmonic_balance
+from harness.reference.blade import galerkin
+from harness.reference.contact import describing_function
+from harness.reference.dynamics import simulate
+from harness.reference.fixedpoint import fixed_point, naive_iteration, steady_amplitude
+from harness.reference.hb import harmonic_balance
 
 SPEEDS = np.linspace(3000, 10000, 36)
 CASES = [{}, {"frictionModel": 2}, {"projection": 2}, {"gamma": math.pi / 7}, {"kn": 1e6}, {"formulation": 2}]
@@ -196,7 +196,7 @@ def test_subharmonic_steady_state_is_detected() -> None:
 
 @pytest.mark.slow
 def test_fixed_point_5000rpm_and_the_paper_two_cycle() -> None:
-    """MODEL.md s.4: A(B) = B has a root near 0.035 mm at 5000 rpm with dA/dB < -1, so the naive
+    """docs/model.md s.4: A(B) = B has a root near 0.035 mm at 5000 rpm with dA/dB < -1, so the naive
     procedure (0.2 s runs) falls into a 2-cycle ~0.03 mm <-> 0.4..0.8 mm."""
     res = fixed_point({}, 5000.0, n_scan=12, horizon=0.2)
     contact = [r for r in res.roots if not r.open]

@@ -1,4 +1,4 @@
-"""A reduced `reproduce` (extremes of each study, coarse refined grid) checks the trends MODEL.md
+"""A reduced `reproduce` (extremes of each study, coarse refined grid) checks the trends docs/model.md
 section 6 expects from the data it produced, and that every figure and table was written."""
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from harness.claims import build_claims, write_claims
-from harness.executor import Runner, read_csv
-from harness.studies import reproduce
+from harness.paper.claims import build_claims, write_claims
+from harness.sweep.executor import Runner, read_csv
+from harness.paper.studies import reproduce
 
 
 @pytest.fixture(scope="module")
@@ -26,7 +26,7 @@ def _rows(summary, study):
     return sorted(rows, key=lambda r: r["value"])
 
 
-# MODEL.md section 6 trends. Methods: the paper's describing-function model solved two ways, the
+# docs/model.md section 6 trends. Methods: the paper's describing-function model solved two ways, the
 # fixed point B = A(B) as periodic orbits of the FMU (shooting + continuation, gating on; largest
 # stable orbit) and the reference harmonic balance (gating off); the Jenkins element's orbits
 # where the trend is a property of the contact rather than of the describing function.
@@ -56,7 +56,7 @@ def test_resonant_speed_rises_with_kn(quick):
 
 
 def test_impact_oscillator_amplitudes_near_the_gap(quick):
-    # MODEL.md s.6: with kn = 1e7 the describing-function amplitudes stay near 1..1.5 d (harmonic
+    # docs/model.md s.6: with kn = 1e7 the describing-function amplitudes stay near 1..1.5 d (harmonic
     # balance; 1.7 d as the bound) and the peaks bend to 7000..9000 rpm with jumps. The fixed
     # point's stable contact branch, complete now, reaches further (about 1.9 d, up to the fold
     # near 9400 rpm in the base case); it must touch (> d) and end in a fold above 7000 rpm.
@@ -102,7 +102,7 @@ def test_campbell_crossing_matches_reference_galerkin(quick):
     # constants (independent code): 3 Omega = sqrt(K0(Omega)/M). The FMU curve is sampled every
     # 10 rpm and interpolated linearly: tolerance 1 rpm.
     from harness.reference import galerkin
-    from harness.studies import base_params
+    from harness.paper.studies import base_params
 
     _, s = quick
     g = galerkin(base_params(), 1)

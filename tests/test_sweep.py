@@ -9,10 +9,10 @@ import sys
 import numpy as np
 import pytest
 
-from harness import sweep as sw
-from harness.excitation import AeroLoad, Stepped
-from harness.executor import Runner
-from harness.params import ParameterError, validate
+from harness.sweep import curves as sw
+from harness.model.excitation import AeroLoad, Stepped
+from harness.sweep.executor import Runner
+from harness.model.params import ParameterError, validate
 from harness.reference import galerkin, harmonic_balance
 
 # The contact-free blade is lightly damped (tau = 2M/C0 ~ 0.2 s): plateaus need a few seconds to be
@@ -111,7 +111,7 @@ def test_contact_free_plateaus_match_closed_form(fmu_path, tmp_path):
 
 
 def test_ungated_sweeps_follow_stable_hb_branches_and_fixed_points_find_every_hb_root(fmu_path, tmp_path):
-    # gating off: with B given, the describing-function model is linear, so (MODEL.md s.3) the
+    # gating off: with B given, the describing-function model is linear, so (docs/model.md s.3) the
     # tracked steady state is a one-harmonic solution and A(B) = B holds exactly at the harmonic-
     # balance amplitudes. The reference's harmonic balance (independent code) gives every root.
     p = validate({"gating": False, "kn": 1e6})

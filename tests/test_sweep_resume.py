@@ -14,9 +14,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from harness import executor as ex
-from harness import sweep as sw
-from harness.params import validate
+from harness.sweep import executor as ex
+from harness.sweep import curves as sw
+from harness.model.params import validate
 from test_sweep import assert_same
 
 SETTINGS = sw.SweepSettings(refine_levels=1, max_time=0.25, rtol=1e-3)

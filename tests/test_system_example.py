@@ -1,7 +1,7 @@
 """System example: the Excitation FMU driving a tuned and a mistuned blade, in fmpy and in libcosim.
 
 Checks, each against something computed independently of the code under test:
-- the excitation FMU's outputs equal harness.excitation's closed-form run-up (phase ~ 400 rad,
+- the excitation FMU's outputs equal harness.model.excitation's closed-form run-up (phase ~ 400 rad,
   so double rounding of the phase gives ~1e-13 relative; tolerance 1e-11 of F_w0);
 - libcosim and the fmpy master loop give the same trajectories for every recorded variable (same
   Jacobi scheme, same t_k and h_k, so identical up to 1e-12 relative);
@@ -16,13 +16,13 @@ import math
 import numpy as np
 import pytest
 
-from harness import system_example as se
-from harness.crosscheck_common import max_rel_diff
-from harness.crosscheck_fmpy import SlaveLoop
-from harness.crosscheck_libcosim import ns_time_grid
-from harness.crosscheck_plan import InputPlan
-from harness.excitation import AeroLoad, LinearRamp
-from harness.params import validate
+from harness.system import example as se
+from harness.crosscheck.common import max_rel_diff
+from harness.crosscheck.importers.fmpy import SlaveLoop
+from harness.crosscheck.importers.libcosim import ns_time_grid
+from harness.crosscheck.plan import InputPlan
+from harness.model.excitation import AeroLoad, LinearRamp
+from harness.model.params import validate
 from harness.reference import galerkin
 
 SYSTEM = se.System(stop_time=0.05)

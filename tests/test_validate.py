@@ -1,4 +1,4 @@
-"""FMU vs the independent reference (harness.validate) on a reduced matrix, and the input path:
+"""FMU vs the independent reference (harness.reference.validate) on a reduced matrix, and the input path:
 input derivatives bring the FMU closer to the exact-signal reference than held inputs."""
 from __future__ import annotations
 
@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from harness import reference
-from harness.excitation import AeroLoad, Constant, LinearRamp
-from harness.fmu import BladeFMU
-from harness.params import validate
-from harness.validate import TOL_DF, TOL_HB, TOL_SWITCHING, Case, compare_hb, compare_time
+from harness.model.excitation import AeroLoad, Constant, LinearRamp
+from harness.fmu.blade import BladeFMU
+from harness.model.params import validate
+from harness.reference.validate import TOL_DF, TOL_HB, TOL_SWITCHING, Case, compare_hb, compare_time
 
 
 @pytest.fixture(scope="module")

@@ -1,0 +1,1 @@
+"""Argument parsing, one module per `python -m harness` command (main: the dispatcher)."""

@@ -1,0 +1,57 @@
+"""Reproduce the paper's figures and claims into results/ (figures 2 and 4-9, section 4, Campbell diagram).
+
+`python -m harness reproduce [--size quick|default|full] [--studies gap mass angle kn]
+[--output-dir results] [--workers N | --scheduler ADDRESS]`. Writes one PNG and CSV files per
+figure, summary.json and claims.md (paper claim | ours | settings | verdict); files are replaced
+atomically. The studies are branches of periodic orbits (harness.paper.study_branches).
+"""
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+from harness.sweep.executor import RESULTS_DIR
+from harness.cli.sweep import add_execution_options, make_runner
+
+
+def configure_parser(p: argparse.ArgumentParser) -> None:
+    from harness.paper.studies import SIZES, STUDIES
+
+    p.add_argument("--size", default="default", choices=list(SIZES),
+                   help="quick (a test run: extremes only, coarse grid), default (make run), full (fine grids)")
+    p.add_argument("--studies", nargs="+", choices=list(STUDIES), metavar="STUDY",
+                   help=f"parameter studies to run (default all: {' '.join(STUDIES)})")
+    p.add_argument("--no-extras", action="store_true",
+                   help="only the parameter studies (skip Fig. 2, 4/5, Campbell, Coulomb, paper iteration)")
+    p.add_argument("--output-dir", default=str(RESULTS_DIR), metavar="DIR", help=f"where to write (default {RESULTS_DIR})")
+    add_execution_options(p, cache=False)
+
+
+def reproduce_and_report(args: argparse.Namespace, size: str, studies, extras: bool) -> int:
+    from harness.paper.claims import verdict_counts, write_claims
+    from harness.paper.studies import reproduce, validate_request
+
+    validate_request(size, studies)
+    out = Path(args.output_dir)
+    t0 = time.perf_counter()
+    with make_runner(args) as runner:
+        rep = reproduce(out, size, studies, runner=runner, fmu_path=args.fmu, extras=extras)
+    wall = time.perf_counter() - t0
+    rows = write_claims(out / "claims.md", rep.summary)
+    from harness.paper.studies import STUDIES
+
+    for name, st in rep.summary["studies"].items():
+        print(f"{st['figure']} ({name}): largest stable max|q| and its speed per model")
+        for r in st["rows"]:
+            print(f"  {STUDIES[name].label(r['value']):<18s} {r['fp_peak'] * 1e3:8.5f} mm at {r['fp_speed']:6.0f} rpm"
+                  f" (fixed point, jumps down at {r['fp_jump']:6.0f}), {r['jenkins_peak'] * 1e3:8.5f} mm at"
+                  f" {r['jenkins_speed']:6.0f} rpm (Jenkins), {r['hb_peak'] * 1e3:8.5f} mm at {r['hb_speed']:6.0f} rpm (HB)")
+    counts = ", ".join(f"{v} {k}" for k, v in verdict_counts(rows).items())
+    print(f"claims: {counts} -> {out / 'claims.md'}")
+    print(f"wall time {wall:.1f} s; results in {out}/")
+    return 0
+
+
+def run(args: argparse.Namespace) -> int:
+    return reproduce_and_report(args, args.size, args.studies, not args.no_extras)

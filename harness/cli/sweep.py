@@ -1,0 +1,118 @@
+"""Sweep the rotor speed for one parameter set: amplitude-speed curves from the FMU and the reference.
+
+`python -m harness sweep [--speeds 3000:10000:250] [--direction up down] [--method time fixed hb]
+[--start-values NAME VALUE ...] [--workers N | --scheduler ADDRESS] [--output-file sweep.csv]
+[--plot sweep.png]`. `time` = FMU up/down sweeps carrying the state from speed to speed (tracked
+amplitude, grid refined near peaks and jumps), `fixed` = the paper's fixed point A(B) = B per speed
+(every root), `hb` = harmonic balance of the reference (every branch, stability). Every point is
+cached (results/cache by default), so an interrupted sweep continues where it stopped when the
+same command is run again. The configuration is checked completely before any work starts.
+"""
+from __future__ import annotations
+
+import argparse
+import numpy as np
+
+from harness.sweep.executor import DEFAULT_CACHE_DIR, write_csv
+from harness.sweep.config import SweepSettings
+
+OUT_DTYPE = [("speed", "f8"), ("method", "U9"), ("amplitude", "f8"), ("band_lo", "f8"), ("band_hi", "f8"),
+             ("steady", "i4"), ("stable", "i4")]
+
+
+def add_execution_options(p: argparse.ArgumentParser, cache: bool = True) -> None:
+    """Options shared by sweep / reproduce / run: where and how the work runs (with `cache`, the
+    per-point result cache of the transient sweeps)."""
+    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: build/ShroudedBlade.fmu, built if needed)")
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="local worker processes (default: number of CPUs; 1 = in this process)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run on a dask.distributed cluster, e.g. tcp://10.0.0.5:8786 (one FMU per worker)")
+    if cache:
+        p.add_argument("--cache-dir", default=str(DEFAULT_CACHE_DIR), metavar="DIR",
+                       help=f"per-point result cache, makes interrupted runs resumable (default {DEFAULT_CACHE_DIR})")
+        p.add_argument("--no-cache", action="store_true", help="compute every point again, store nothing")
+    p.add_argument("--quiet", action="store_true", help="no progress bars")
+
+
+def make_runner(args: argparse.Namespace):
+    from harness.sweep.executor import Runner
+    from harness.sweep.curves import ConfigError
+
+    if args.workers is not None and args.workers < 1:
+        raise ConfigError(f"--workers {args.workers} must be >= 1")
+    return Runner(workers=args.workers, scheduler=args.scheduler, progress=not args.quiet)
+
+
+_DEFAULTS = SweepSettings()
+
+
+def configure_parser(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--speeds", default="3000:10000:250", metavar="RANGE",
+                   help="coarse speed grid [rpm], start:stop:step or a comma list (default 3000:10000:250)")
+    p.add_argument("--direction", nargs="+", default=["up", "down"], choices=["up", "down"],
+                   help="time-domain sweep directions (default: up down)")
+    p.add_argument("--method", nargs="+", default=["time", "hb"], choices=["time", "fixed", "hb"],
+                   help="time (FMU, tracked amplitude), fixed (paper's fixed point), hb (reference); default time hb")
+    p.add_argument("--fixed-speeds", metavar="RANGE", help="speeds for --method fixed (default: --speeds)")
+    p.add_argument("--start-values", nargs="+", default=[], metavar="NAME VALUE",
+                   help="parameter name-value pairs, e.g. `--start-values d 4e-5 kn 1e6`")
+    p.add_argument("--rtol", type=float, default=_DEFAULTS.rtol,
+                   help="steady-state tolerance per plateau: estimated relative distance from the periodic "
+                        f"limit (default {_DEFAULTS.rtol:g})")
+    p.add_argument("--max-time", type=float, default=_DEFAULTS.max_time, metavar="S",
+                   help=f"simulated-time cap per speed plateau [s] (default {_DEFAULTS.max_time:g})")
+    p.add_argument("--refine", type=int, default=4, metavar="LEVELS",
+                   help="bisection rounds near peaks and jumps (default 4, 0 = fixed grid)")
+    p.add_argument("--steps-per-period", type=int, default=_DEFAULTS.steps_per_period, metavar="N",
+                   help="communication steps per excitation period, >= 4 (default "
+                        f"{_DEFAULTS.steps_per_period}, with 8 input derivatives)")
+    p.add_argument("--output-file", default="sweep.csv", metavar="CSV", help="result table (default sweep.csv)")
+    p.add_argument("--plot", metavar="PNG", help="also plot the curves to this PNG file")
+    add_execution_options(p)
+
+
+def to_table(res) -> np.ndarray:
+    nan = float("nan")
+    rows = [(r["speed"], f"time-{r['direction']}", r["amplitude"], r["amp_lo"], r["amp_hi"], int(r["reached"]), -1)
+            for r in res.time]
+    rows += [(r["speed"], "fixed" if r["kind"] != "jump" else "fixed-jmp", r["B"], nan, nan, int(r["reached"]), -1)
+             for r in res.fixed]
+    rows += [(r["speed"], "hb", r["B"], nan, nan, -1, int(r["stable"])) for r in res.hb]
+    return np.array(sorted(rows, key=lambda r: (r[1], r[0])), dtype=OUT_DTYPE)
+
+
+def run(args: argparse.Namespace) -> int:
+    from harness.paper import plots
+    from harness.model.params import validate
+    from harness.cli.simulate import parse_start_values
+    from harness.sweep.curves import SweepSpec, parse_speed_range, sweep, validate_spec
+
+    params = validate(parse_start_values(args.start_values), source="--start-values")
+    settings = SweepSettings(rtol=args.rtol, max_time=args.max_time, refine_levels=args.refine,
+                             steps_per_period=args.steps_per_period)
+    spec = SweepSpec(params, parse_speed_range(args.speeds), label="--speeds", directions=args.direction,
+                     methods=args.method,
+                     fixed_speeds=parse_speed_range(args.fixed_speeds) if args.fixed_speeds else None,
+                     settings=settings)
+    spec = validate_spec(spec)  # before any work
+    runner = make_runner(args)
+    with runner:
+        res = sweep(spec, runner, fmu_path=args.fmu, cache_dir=None if args.no_cache else args.cache_dir)
+    table = to_table(res)
+    write_csv(args.output_file, table, "speed [rpm], amplitude [m] (time-up/down: last period, band_lo..band_hi: range over the final periods; fixed: root of A(B) = B,"
+              " fixed-jmp: A(B) jumps across B there, no root; hb: harmonic balance); steady: 1/0 (-1 n/a);"
+              " stable: 1/0 (-1 n/a)")
+    print(f"wrote {len(table)} rows to {args.output_file}")
+    for m in ("time", "fixed", "hb"):
+        if m in spec.methods:
+            sp, a = res.peak(m)
+            print(f"{m:5s}: peak {a * 1e3:.5f} mm at {sp:.0f} rpm")
+    if len(res.time):
+        nr = int(np.sum(~res.time["reached"]))
+        print(f"time domain: {len(res.time)} plateaus, {nr} without a periodic steady state within the cap")
+    if args.plot:
+        plots.study_curves(args.plot, "sweep", [{"label": "sweep", "time": res.time, "fixed": res.fixed, "hb": res.hb}],
+                           [params["d"]])
+        print(f"wrote {args.plot}")
+    return 0

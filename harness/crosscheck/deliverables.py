@@ -1,0 +1,246 @@
+"""The FMI cross-check deliverables of ShroudedBlade, generated from the built FMU (never by hand).
+
+Layout (modelica/fmi-cross-check rules, `fmus/2.0/cs/linux64/<Tool>/<version>/<Model>/`):
+`ShroudedBlade.fmu` (a copy of build/ShroudedBlade.fmu), `ShroudedBlade_in.csv` (time, aeroLoad,
+rotorSpeed on the communication grid, quoted header), `ShroudedBlade_ref.csv` (time + 7 outputs,
+quoted header, < 1 MB), `ShroudedBlade_ref.opt` (StartTime, StopTime, StepSize, RelTol) and
+README.md. The reference is what fmpy, the cross-check's own reference importer, computes:
+`simulate_fmu` with the `_in.csv` table read back from the file, one communication step per row,
+inputs held over each step (co-simulation without input derivatives, as libcosim, Ecos and the
+FMI4j driver do too). The reference variables are the outputs that fmpy's band check
+(`fmpy.util.validate_result`, a 1000-point band) resolves: outputs with jumps shorter than the band
+spacing (frictionForce, Keq, Ceq, contactState) fail even against themselves and are left out.
+Importer results are filed under `results/.../<Importer>/<ver>/ShroudedBlade/<ver>/ShroudedBlade/`
+with `_out.csv` and `passed`/`failed`; `python -m fmpy.cross_check.validate_vendor_repo <root>`
+checks the whole tree.
+"""
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from fmpy import simulate_fmu
+from fmpy.util import read_csv, read_ref_opt_file, validate_result, write_csv
+
+from harness.fmu.build import REPO_ROOT
+from harness.crosscheck.common import MODEL_NAME, as_float_result
+from harness.crosscheck.plan import Scenario
+
+DEFAULT_ROOT = REPO_ROOT / "crosscheck"
+TOOL = MODEL_NAME  # the exporting "tool" is this project's own build
+#: <= 10 variables in the reference (cross-check rules); time is the first column on top of these.
+#: Only outputs that pass validate_result against themselves (see the module docstring).
+REF_VARIABLES = ["tipDisplacement", "tipVelocity", "normalForce", "amplitude", "dissipatedEnergy",
+                 "naturalFrequency", "regime"]
+INTEGER_VARIABLES = ["regime"]
+REL_TOL = 1e-6  # reported in _ref.opt; the FMU's fixed-step RK4 does not use it
+
+
+def fmu_version(fmu: Path) -> str:
+    with zipfile.ZipFile(fmu) as z:
+        root = ET.fromstring(z.read("modelDescription.xml"))
+    return root.get("version") or "0"
+
+
+def model_dir(root: Path, version: str) -> Path:
+    return Path(root) / "fmus" / "2.0" / "cs" / "linux64" / TOOL / version / MODEL_NAME
+
+
+@dataclass
+class Deliverables:
+    directory: Path
+    fmu: Path
+    in_csv: Path
+    ref_csv: Path
+    ref_opt: Path
+    readme: Path
+
+
+def generate(fmu: Path, scenario: Scenario, root: Path = DEFAULT_ROOT) -> Deliverables:
+    """Write the deliverables of `scenario` for `fmu` under `root`; returns the paths."""
+    from harness.crosscheck.plan import make_plan
+
+    if scenario.fmu_overrides():
+        raise ValueError("the cross-check FMU runs with its default parameters: pick a scenario without overrides")
+    version = fmu_version(fmu)
+    d = model_dir(root, version)
+    if d.exists():
+        shutil.rmtree(d)
+    d.mkdir(parents=True)
+    out = Deliverables(d, d / f"{MODEL_NAME}.fmu", d / f"{MODEL_NAME}_in.csv", d / f"{MODEL_NAME}_ref.csv",
+                       d / f"{MODEL_NAME}_ref.opt", d / "README.md")
+    shutil.copyfile(fmu, out.fmu)
+
+    write_csv(out.in_csv, make_plan(scenario, 0).input_table())
+    table = read_csv(out.in_csv)  # the reference uses exactly the numbers in the file
+    res = simulate_fmu(str(out.fmu), start_time=scenario.start_time, stop_time=scenario.stop_time,
+                       output_interval=scenario.step, input=table, output=REF_VARIABLES)
+    write_csv(out.ref_csv, as_float_result(res, REF_VARIABLES))
+    _integer_columns(out.ref_csv, INTEGER_VARIABLES)
+
+    out.ref_opt.write_text(f"StartTime, {scenario.start_time!r}\nStopTime, {scenario.stop_time!r}\n"
+                           f"StepSize, {scenario.step!r}\nRelTol, {REL_TOL!r}\n")
+    out.readme.write_text(_readme(scenario, version))
+    return out
+
+
+def _integer_columns(csv: Path, names: list[str]) -> None:
+    lines = csv.read_text().splitlines()
+    header = [h.strip('"') for h in lines[0].split(",")]
+    idx = [header.index(n) for n in names]
+    rows = [lines[0]]
+    for ln in lines[1:]:
+        f = ln.split(",")
+        for i in idx:
+            f[i] = str(int(round(float(f[i]))))
+        rows.append(",".join(f))
+    csv.write_text("\n".join(rows) + "\n")
+
+
+def _readme(scenario: Scenario, version: str) -> str:
+    return f"""# {MODEL_NAME} {version}: FMI 2.0 co-simulation, linux64
+
+Reduced-order model of a shrouded turbine blade rubbing/impacting its neighbours (one-mode Galerkin
+model, macroslip friction; Nan et al., Shock and Vibration 2020). Hand-written C99, fixed-step RK4
+with located switching events; `canInterpolateInputs` (input derivatives up to order 8),
+`canHandleVariableCommunicationStepSize`, `canGetAndSetFMUstate`, `canSerializeFMUstate`.
+The archive carries its C sources (`sources/`).
+
+Experiment: {scenario.description}; start values are the FMU defaults (paper Table 1).
+Inputs (`{MODEL_NAME}_in.csv`): `aeroLoad` [N/m] = F_w0 sin(3 Omega t) with F_w0 = 100 N/m and
+`rotorSpeed` [rpm], sampled at every communication point (step {scenario.step!r} s).
+
+Reference (`{MODEL_NAME}_ref.csv`): fmpy.simulate_fmu with `_in.csv`, communication step
+{scenario.step!r} s from {scenario.start_time!r} s to {scenario.stop_time!r} s, the inputs set at each communication
+point and held over the step (no input derivatives). Reproduce with
+`python -m fmpy simulate {MODEL_NAME}.fmu --input-file {MODEL_NAME}_in.csv --output-interval {scenario.step!r}
+--stop-time {scenario.stop_time!r}`.
+
+Note: with its default parameters (tracked amplitude, describing-function contact) the response is
+irregular and sensitive: a change of the step sizes by one ulp grows to ~1e-8 relative by
+t = 0.3 s, and an importer that interpolates the inputs inside the step (input derivatives) sees a
+different input and follows a visibly different trajectory after a few excitation periods.
+
+Generated by `make crosscheck` (harness/crosscheck/deliverables.py) from build/ShroudedBlade.fmu;
+do not edit by hand.
+"""
+
+
+def validate_tree(root: Path) -> tuple[int, str]:
+    """`python -m fmpy.cross_check.validate_vendor_repo <root>`: (exit code = number of problems, output)."""
+    proc = subprocess.run([sys.executable, "-m", "fmpy.cross_check.validate_vendor_repo", str(root)],
+                          capture_output=True, text=True)
+    return proc.returncode, proc.stdout + proc.stderr
+
+
+def check_result(result: np.ndarray, deliverables: Deliverables, stop_time: bool = True) -> float:
+    """fmpy.util.validate_result of a result against the reference CSV: the fraction of samples
+    outside the band (0 = pass; 1 also when the result ends before StopTime, unless `stop_time` is
+    False). `result` needs `time` and the reference's variable names."""
+    ref = read_csv(deliverables.ref_csv)
+    opt = read_ref_opt_file(deliverables.ref_opt)
+    return float(validate_result(result, ref, stop_time=opt["StopTime"] if stop_time else None))
+
+
+def write_result(root: Path, deliverables: Deliverables, importer: str, importer_version: str,
+                 result: np.ndarray, how: str) -> tuple[Path, float]:
+    """File an importer's result under results/ with `passed` or `failed` from `check_result`."""
+    version = deliverables.directory.parent.name
+    safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in importer)
+    safe_ver = "".join(c if c.isalnum() or c in "-_." else "_" for c in importer_version.split(" ")[0])
+    d = (Path(root) / "results" / "2.0" / "cs" / "linux64" / safe / safe_ver / TOOL / version / MODEL_NAME)
+    if d.exists():
+        shutil.rmtree(d)
+    d.mkdir(parents=True)
+    res = as_float_result(result, REF_VARIABLES)
+    write_csv(d / f"{MODEL_NAME}_out.csv", res)
+    _integer_columns(d / f"{MODEL_NAME}_out.csv", INTEGER_VARIABLES)
+    rel_out = check_result(res, deliverables)
+    values_out = check_result(res, deliverables, stop_time=False)
+    (d / ("passed" if rel_out == 0 else "failed")).write_text("")
+    note = ""
+    if rel_out != 0 and values_out == 0:
+        note = (f"\nThe values are inside the band everywhere (fraction outside = 0 when the stop-time test is "
+                f"left out), but the last communication point {res['time'][-1]!r} s is short of StopTime: "
+                f"the tool accumulates time (t += h), so validate_result rejects the run before comparing.\n")
+    (d / "README.md").write_text(f"# {MODEL_NAME} {version} imported with {importer} {importer_version}\n\n{how}\n\n"
+                                 f"fmpy.util.validate_result against {MODEL_NAME}_ref.csv: {rel_out:g} "
+                                 f"(fraction of samples outside the band; 1 also means 'stop time not reached')."
+                                 f"\n{note}\nGenerated by `make crosscheck`.\n")
+    return d, rel_out, values_out
+
+
+IMPORTER_IDS = {"fmpy": ("FMPy", "fmpy.simulate_fmu with the input table (inputs held over each step)"),
+                "libcosim": ("libcosim", "libcosimpy: fixed-step execution, inputs set through an override "
+                             "manipulator before every step (held)"),
+                "ecos": ("Ecos", "ecospy: fixed-step simulation, inputs set with set_real before every step (held)"),
+                "fmi4j": ("FMI4j", "crosscheck/java Fmi4jDriver: inputs set before every step (held)")}
+
+
+def make_all(fmu: Path, scenario: Scenario, tools: tuple[str, ...], root: Path = DEFAULT_ROOT,
+             rebuild: bool = True) -> tuple[str, bool]:
+    """Regenerate the deliverables, file every importer's result, rebuild from sources, validate the
+    tree; returns a Markdown section and whether everything passed."""
+    from harness.crosscheck.common import max_rel_diff
+    from harness.crosscheck.plan import make_plan
+
+    shutil.rmtree(Path(root) / "fmus", ignore_errors=True)
+    shutil.rmtree(Path(root) / "results", ignore_errors=True)
+    dl = generate(fmu, scenario, root)
+    ok = True
+    lines = [f"### Cross-check deliverables ({dl.directory.relative_to(Path(root).parent)})", "",
+             "| importer | version | validate_result (fraction outside band) | same, without the stop-time test | filed |",
+             "|---|---|---|---|---|"]
+    table = read_csv(dl.in_csv)
+    plan = make_plan(scenario, 0)
+    if not np.array_equal(plan.input_table()["aeroLoad"], table["aeroLoad"]):
+        raise RuntimeError("the written _in.csv does not read back to the plan's inputs")
+    runs = []
+    for tool in tools:
+        name, how = IMPORTER_IDS[tool]
+        try:
+            if tool == "fmpy":
+                from harness.crosscheck.importers.fmpy import run_simulate_fmu as fn
+            elif tool == "libcosim":
+                from harness.crosscheck.importers.libcosim import run as fn
+            elif tool == "ecos":
+                from harness.crosscheck.importers.ecos import run as fn
+            else:
+                from harness.crosscheck.importers.fmi4j import run as fn
+            r = fn(dl.fmu, scenario, plan)
+        except Exception as exc:  # report, do not stop the others
+            lines.append(f"| {name} | - | FAILED: {type(exc).__name__}: {exc} | - | - |")
+            ok = False
+            continue
+        runs.append(r)
+        d, rel_out, values_out = write_result(root, dl, name, r.version, r.result, how)
+        ok &= values_out == 0  # a run short of StopTime (accumulated time) is filed as failed, and explained
+        lines.append(f"| {name} | {r.version} | {rel_out:g} | {values_out:g} | {d.relative_to(Path(root).parent)} |")
+    rc, out = validate_tree(root)
+    ok &= rc == 0
+    summary = [ln for ln in out.splitlines() if "problems found" in ln or "Validated" in ln]
+    lines += ["", f"`python -m fmpy.cross_check.validate_vendor_repo {root.name}`: exit {rc}; "
+              + "; ".join(s.strip() for s in summary)]
+    size = dl.ref_csv.stat().st_size
+    lines.append(f"`{dl.ref_csv.name}`: {size / 1e6:.2f} MB, {len(read_csv(dl.ref_csv).dtype.names) - 1} variables.")
+    if rebuild:
+        import tempfile
+
+        from harness.crosscheck.importers.fmpy import run_slave_loop
+        from harness.crosscheck.static import rebuild_from_sources
+        with tempfile.TemporaryDirectory(prefix="sb-rebuilt-") as tmp:
+            rebuilt = rebuild_from_sources(dl.fmu, Path(tmp) / f"{MODEL_NAME}.fmu")
+            p8 = make_plan(scenario, 8)
+            a = run_slave_loop(dl.fmu, scenario, p8)
+            b = run_slave_loop(rebuilt, scenario, p8)
+            diff, worst = max_rel_diff(b.result, a.result)
+        ok &= diff <= 1e-10
+        lines.append(f"Rebuilt from `sources/` with fmpy.build.build_platform_binary: max rel. diff to the shipped "
+                     f"binary {diff:.2e} ({worst}).")
+    return "\n".join(lines), ok

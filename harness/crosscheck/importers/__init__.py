@@ -1,0 +1,1 @@
+"""One module per FMI importer driven by the cross-check."""

@@ -1,0 +1,576 @@
+"""Locate/build the ShroudedBlade FMU and drive it fast: a context-managed wrapper over fmpy's FMU2Slave.
+
+`BladeFMU` extracts the FMU once, instantiates it once, and for every `run()` calls fmi2Reset,
+sets the (validated) parameters, initializes and steps over a fixed communication grid. The step
+loop is built for sweeps with millions of doSteps: input values and all input derivatives for the
+whole grid are computed with numpy before the loop (`step_inputs`: the load's Taylor expansion at
+each step start, or its Chebyshev interpolant over the step, accurate at 2 steps per period); per
+step it makes only raw ctypes calls with prebuilt arrays: fmi2SetReal (both inputs; only before the
+first step with `carry_values`), one fmi2SetRealInputDerivatives (all orders of both inputs),
+fmi2DoStep, and fmi2GetReal into a preallocated array on sampled steps. An FMU status
+Discard/Error becomes `FMUError` carrying the FMU's log messages, the time reached and the partial
+result. The instance is always terminated and freed, and the extracted directory removed.
+"""
+from __future__ import annotations
+
+import collections
+import ctypes
+import math
+import shutil
+import sys
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+
+from harness.fmu import build as _build
+from harness.model.excitation import MAX_ORDER, AeroLoad, ExcitationError, Signal, as_speed
+from harness.model.params import ParameterError, fmu_parameters, validate
+
+VR_AERO, VR_SPEED = 40, 41  # modelDescription.xml: aeroLoad, rotorSpeed
+SPEED_RANGE = (0.0, 30000.0)  # rotorSpeed min/max [rpm] (modelDescription.xml)
+STATUS = ("OK", "Warning", "Discard", "Error", "Fatal", "Pending")
+_ERROR_CATEGORIES = ["logStatusWarning", "logStatusDiscard", "logStatusError", "logStatusFatal"]
+
+
+class FMUNotFoundError(FileNotFoundError):
+    """No FMU file where expected; the message says how to build or point to one."""
+
+
+class FMUError(RuntimeError):
+    """The FMU returned Discard/Error/Fatal. Carries `time` (last communication point reached),
+    `partial` (results up to it), `messages` (the FMU's log) and `status`."""
+
+    def __init__(self, message: str, *, time: float = math.nan, partial: np.ndarray | None = None,
+                 messages: Sequence[str] = (), status: int = 3, function: str = ""):
+        super().__init__(message)
+        self.time, self.partial, self.messages = time, partial, list(messages)
+        self.status, self.function = status, function
+
+
+class FMUState(bytes):
+    """A serialized FMU state (the bytes of fmi2SerializeFMUstate) that remembers its time."""
+    time: float | None = None
+    params: dict[str, Any] | None = None
+
+
+def fmu_path(build: bool = True) -> Path:
+    """build/ShroudedBlade.fmu, built (if out of date) when `build` and the C sources are present."""
+    sources = list((_build.REPO_ROOT / "fmu_src").glob("*.c"))
+    if build and sources and shutil.which("cmake"):
+        try:
+            return _build.build(("fmu",))
+        except _build.BuildError as exc:
+            first = str(exc).splitlines()[0] if str(exc) else "cmake failed"
+            raise FMUNotFoundError(f"building {_build.FMU_PATH} failed ({first}): run `make fmu` to see the"
+                                   " compiler output") from exc
+    if not _build.FMU_PATH.is_file():
+        raise FMUNotFoundError(f"{_build.FMU_PATH} not found: build it with `make fmu`"
+                               " (needs cmake and a C compiler) or pass the path of an FMU")
+    return _build.FMU_PATH
+
+
+def _proto(restype, *argtypes):
+    return ctypes.CFUNCTYPE(restype, *argtypes)
+
+
+_SET = _proto(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p)
+_SETDER = _proto(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p,
+                 ctypes.c_void_p)
+_DOSTEP = _proto(ctypes.c_int, ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int)
+
+
+INPUT_FITS = ("taylor", "chebyshev")
+
+
+def input_error(omega_h: float, order: int, fit: str = "taylor") -> float:
+    """Bound of the relative error of a sine input over one communication step of phase length
+    omega_h [rad] represented by a polynomial of degree `order`: Taylor at the step start
+    (omega h)^(K+1)/(K+1)!, Chebyshev interpolation 2 (omega h / 4)^(K+1)/(K+1)!."""
+    if fit not in INPUT_FITS:
+        raise ParameterError(f"input_fit = {fit!r}: choose from {', '.join(INPUT_FITS)}")
+    x = omega_h / 4.0 if fit == "chebyshev" else omega_h
+    return (2.0 if fit == "chebyshev" else 1.0) * x ** (order + 1) / math.factorial(order + 1)
+
+
+_CHEB: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+
+def _cheb(order: int) -> tuple[np.ndarray, np.ndarray]:
+    """Chebyshev nodes s_i of [0, 1] and the inverse Vandermonde matrix mapping the values at them
+    to the monomial coefficients of the interpolant in s (condition number 7e5 at degree 8)."""
+    if order not in _CHEB:
+        i = np.arange(order + 1)
+        s = 0.5 * (1.0 - np.cos((2 * i + 1) * math.pi / (2 * (order + 1))))
+        _CHEB[order] = (s, np.linalg.inv(s[:, None] ** np.arange(order + 1)[None, :]))
+    return _CHEB[order]
+
+
+def step_inputs(signal: Signal, grid: np.ndarray, order: int, fit: str = "taylor") -> np.ndarray:
+    """Value and derivatives 1..order the master sets at the start of each step of `grid`, shape
+    (order + 1, len(grid) - 1). "taylor": the signal's derivatives at the step start. "chebyshev":
+    the derivatives at the step start of the degree-`order` polynomial interpolating the signal at
+    the Chebyshev nodes of the step (the FMU evaluates exactly that polynomial over the step; its
+    value at the step start differs from the signal by the interpolation error)."""
+    if fit not in INPUT_FITS:
+        raise ParameterError(f"input_fit = {fit!r}: choose from {', '.join(INPUT_FITS)}")
+    if fit == "taylor" or order == 0:
+        return np.asarray(signal.derivatives(grid[:-1], order), dtype=float)
+    s, Vinv = _cheb(order)
+    t0, h = grid[:-1], np.diff(grid)
+    tt = t0[:, None] + h[:, None] * s[None, :]
+    F = np.asarray(signal(tt.ravel()), dtype=float).reshape(tt.shape)  # (N, order + 1): signals take 1-D t
+    c = F @ Vinv.T  # c_j: coefficient of s^j, s = (t - t0) / h
+    j = np.arange(order + 1)
+    fact = np.array([math.factorial(int(k)) for k in j], dtype=float)
+    return (c * fact[None, :] / h[:, None] ** j[None, :]).T
+
+
+class BladeFMU:
+    """The ShroudedBlade FMU, extracted and instantiated once; use as a context manager.
+
+    log=True: enable all FMU log categories and echo messages to stderr (errors and warnings are
+    always captured). fmi_logging=True: print every FMI call of the step loop to stderr (slow).
+    """
+
+    def __init__(self, path: str | Path | None = None, log: bool = False, fmi_logging: bool = False):
+        self.path = Path(path) if path is not None else fmu_path(build=True)
+        if not self.path.is_file():
+            raise FMUNotFoundError(f"FMU file {self.path} not found: check the path or build it with `make fmu`")
+        self.log, self.fmi_logging = log, fmi_logging
+        self.messages: collections.deque[str] = collections.deque(maxlen=1000)
+        self._run_messages: collections.deque[str] = collections.deque(maxlen=200)
+        try:
+            self.md = read_model_description(str(self.path))
+        except Exception as exc:  # not a zip, no or bad modelDescription.xml
+            raise FMUNotFoundError(f"{self.path} is not a readable FMU ({exc}): rebuild it with `make fmu`") from None
+        self.variables = {v.name: v for v in self.md.modelVariables}
+        self.output_names = [v.name for v in self.md.modelVariables if v.causality == "output"]
+        self._unzip: str | None = extract(str(self.path))
+        self._slave: FMU2Slave | None = None
+        self._phase = "closed"  # instantiated | stepping | failed | closed
+        self._time = math.nan
+        self._params: dict[str, Any] | None = None
+        self._held: bytes | None = None  # the serialized state the FMU is in (None: unknown/moved)
+        try:
+            self._instantiate()
+        except BaseException:
+            self.close()
+            raise
+
+    # ---- lifecycle ----
+    def _instantiate(self) -> None:
+        self._slave = FMU2Slave(guid=self.md.guid, unzipDirectory=self._unzip,
+                                modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName="blade",
+                                fmiCallLogger=(lambda m: print(m, file=sys.stderr)) if self.fmi_logging else None)
+        cb = fmi2CallbackFunctions()
+        cb.logger = fmi2CallbackLoggerTYPE(self._on_log)
+        from fmpy import calloc, free
+        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        # No fmpy logger proxy: it keeps ONE process-global Python logger, so a second instance
+        # would steal (and, once freed, crash) the first one's messages. Our FMU formats every
+        # message itself and passes it as a printf format with '%' escaped as '%%', so a plain
+        # per-instance ctypes callback receives it complete.
+        self._callbacks = cb  # kept alive until after fmi2FreeInstance
+        self._slave.instantiate(callbacks=cb, loggingOn=True)
+        self._phase = "instantiated"
+        if not self.log:  # loggingOn enabled every category: keep only the status ones
+            self._slave.setDebugLogging(False, [])
+            self._slave.setDebugLogging(True, _ERROR_CATEGORIES)
+        dll = self._slave.dll
+        self._c = self._slave.component
+        self._setReal = _SET(("fmi2SetReal", dll))
+        self._getReal = _SET(("fmi2GetReal", dll))
+        self._getInteger = _SET(("fmi2GetInteger", dll))
+        self._setDer = _SETDER(("fmi2SetRealInputDerivatives", dll))
+        self._doStep = _DOSTEP(("fmi2DoStep", dll))
+        if self.fmi_logging:
+            for name in ("_setReal", "_getReal", "_getInteger", "_setDer", "_doStep"):
+                setattr(self, name, self._logged(name[1:], getattr(self, name)))
+
+    def _logged(self, name: str, f):
+        """Wrap a raw FMI function so each call is printed with its values (for --fmi-logging)."""
+        D, U, I = ctypes.c_double, ctypes.c_uint, ctypes.c_int
+
+        def arr(ctype, addr: int, n: int) -> list:
+            return list((ctype * n).from_address(addr)) if n else []
+
+        def call(*args):
+            st = f(*args)
+            if name == "doStep":
+                shown = f"t={args[1]:.17g}, h={args[2]:.17g}"
+            elif name == "setDer":
+                n = args[2]
+                shown = (f"vr={arr(U, args[1], n)}, order={arr(I, args[3], n)}, "
+                         f"value={[float(f'{v:.6g}') for v in arr(D, args[4], n)]}")
+            else:
+                n = args[2]
+                vals = arr(I if name == "getInteger" else D, args[3], n)
+                shown = f"vr={arr(U, args[1], n)}, value={vals}"
+            label = {"setDer": "SetRealInputDerivatives"}.get(name, name[0].upper() + name[1:])
+            print(f"fmi2{label}({shown}) -> {STATUS[st] if 0 <= st < 6 else st}", file=sys.stderr)
+            return st
+        return call
+
+    def _on_log(self, env, instance, status, category, message) -> None:
+        text = (f"[{STATUS[status] if 0 <= status < 6 else status}] "
+                f"{(category or b'').decode(errors='replace')}: "
+                f"{(message or b'').decode(errors='replace').replace('%%', '%')}")
+        self.messages.append(text)
+        self._run_messages.append(text)
+        if self.log:
+            print(text, file=sys.stderr)
+
+    def close(self) -> None:
+        """Terminate (if initialized), free the instance, unload the library, remove the extract."""
+        try:
+            if self._slave is not None and self._phase != "closed":
+                if self._phase == "stepping":
+                    try:
+                        self._slave.terminate()
+                    except FMICallException:
+                        pass
+                if self._phase != "fatal":
+                    self._slave.freeInstance()
+        finally:
+            self._slave, self._phase = None, "closed"
+            if self._unzip is not None:
+                shutil.rmtree(self._unzip, ignore_errors=True)
+                self._unzip = None
+
+    def __enter__(self) -> "BladeFMU":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def __del__(self) -> None:
+        try:
+            self.close()
+        except Exception:
+            pass
+
+    # ---- errors ----
+    def _fail(self, what: str, status: int, t: float, partial: np.ndarray | None) -> FMUError:
+        self._phase = "fatal" if status >= 4 else "failed"
+        msgs = list(self._run_messages)
+        detail = ("; FMU log: " + " | ".join(msgs[-5:])) if msgs else " (the FMU logged nothing)"
+        return FMUError(f"{what} returned {STATUS[status] if 0 <= status < 6 else status} at t = {t:.9g} s{detail}",
+                        time=t, partial=partial, messages=msgs, status=status, function=what)
+
+    def _guard(self, what: str, t: float, fn, *args):
+        try:
+            return fn(*args)
+        except FMICallException as exc:
+            raise self._fail(what, exc.status, t, None) from None
+
+    # ---- parameters and setup ----
+    def _set_parameters(self, p: Mapping[str, Any], start: float, u0: tuple[float, float]) -> None:
+        s = self._slave
+        if self._phase != "instantiated":
+            self._guard("fmi2Reset", start, s.reset)
+            self._phase = "instantiated"
+        by_type: dict[str, tuple[list[int], list[Any]]] = {"Real": ([], []), "Integer": ([], []), "Boolean": ([], [])}
+        for name, value in fmu_parameters(p).items():
+            v = self.variables[name]
+            by_type[v.type][0].append(v.valueReference)
+            by_type[v.type][1].append(value)
+        self._guard("fmi2SetReal (parameters)", start, s.setReal, *by_type["Real"])
+        self._guard("fmi2SetInteger (parameters)", start, s.setInteger, *by_type["Integer"])
+        self._guard("fmi2SetBoolean (parameters)", start, s.setBoolean, *by_type["Boolean"])
+        self._guard("fmi2SetupExperiment", start, s.setupExperiment, None, start, None)
+        self._guard("fmi2EnterInitializationMode", start, s.enterInitializationMode)
+        self._guard("fmi2SetReal (inputs)", start, s.setReal, [VR_AERO, VR_SPEED], list(u0))
+        self._guard("fmi2ExitInitializationMode", start, s.exitInitializationMode)
+        self._phase = "stepping"
+
+    @staticmethod
+    def _grid(start: float, stop: float, step: float) -> np.ndarray:
+        for name, v in (("start_time", start), ("stop_time", stop), ("step", step)):
+            if not math.isfinite(v):
+                raise ParameterError(f"{name} = {v!r} is not a finite number")
+        if not step > 0:
+            raise ParameterError(f"communication step = {step!r} s must be > 0")
+        if not stop > start:
+            raise ParameterError(f"stop time {stop!r} s must be after the start time {start!r} s")
+        n = (stop - start) / step
+        N = int(round(n))
+        if N < 1 or abs(n - N) > 1e-9 * max(1.0, n):
+            N = int(math.ceil(n))  # the last step is shorter (canHandleVariableCommunicationStepSize)
+        grid = start + step * np.arange(N + 1, dtype=float)
+        grid[-1] = stop
+        return grid
+
+    def _select(self, outputs: Sequence[str] | None) -> tuple[list[str], list[str]]:
+        names = list(self.output_names if outputs is None else outputs)
+        unknown = [n for n in names if n not in self.variables or self.variables[n].type not in ("Real", "Integer")]
+        if unknown:
+            raise ParameterError(f"unknown output(s) {unknown}; available: {', '.join(self.output_names)}")
+        real = [n for n in names if self.variables[n].type == "Real"]
+        ints = [n for n in names if self.variables[n].type == "Integer"]
+        return real, ints
+
+    # ---- the run ----
+    def run(self, params: Mapping[str, Any] | None, stop_time: float, step: float, *,
+            aero: Signal | None = None, speed: float | Signal = 5000.0,
+            outputs: Sequence[str] | None = None, derivative_order: int = MAX_ORDER,
+            start_time: float | None = None, reset: bool = True, sample_every: int = 1,
+            input_fit: str = "taylor", carry_values: bool = False) -> np.ndarray:
+        """Simulate from start_time (default 0, or the current FMU time when reset=False) to
+        stop_time with communication step `step`; returns a structured array ('time' + outputs)
+        sampled every `sample_every` steps (plus the start and the end).
+
+        input_fit: how the aero load's value and derivatives per step are chosen (`step_inputs`):
+        "taylor" (its exact derivatives at the step start: what `excitation.fmu_view` reproduces) or
+        "chebyshev" (the derivatives of its interpolant at the Chebyshev nodes of the step: far
+        smaller error for large steps, e.g. 6e-7 instead of 8e-2 of the amplitude at 2 steps per
+        period of a sine).
+        carry_values: set the input values (fmi2SetReal) only before the first step of this call;
+        later steps set the derivatives only and the FMU carries each value over from its
+        polynomial of the previous step (docs/model-notes.md s.7): one FMI call less per step.
+        Only for inputs without breakpoints inside the grid (else ParameterError): the carried
+        value then differs from the signal by at most the fit error at the step end.
+
+        The inputs of the whole grid are precomputed: 8 (2K + 2) bytes per step (144 B at K = 8),
+        so split runs of many millions of steps into chunks (reset=False continues)."""
+        if self._phase == "closed":
+            raise RuntimeError("BladeFMU is closed")
+        self._held = None  # whatever happens below, the FMU moves (or fails)
+        if reset:
+            p = validate(params or {}, source="BladeFMU.run")
+            start = 0.0 if start_time is None else float(start_time)
+        else:
+            if self._phase != "stepping":
+                raise RuntimeError("reset=False needs an FMU in stepping mode (run once with reset=True or"
+                                   " set_state first; after an FMU error, reset)")
+            p = dict(self._params or validate({}))
+            if params is not None and validate(params, source="BladeFMU.run") != p:
+                raise ParameterError("parameters cannot change without a reset (they are fixed during a run)")
+            if start_time is None:
+                if not math.isfinite(self._time):
+                    raise ParameterError("the FMU time is unknown after set_state: pass start_time")
+                start = self._time
+            else:
+                start = float(start_time)
+                if math.isfinite(self._time) and abs(start - self._time) > 1e-9 * max(1.0, abs(start)):
+                    raise ParameterError(f"start_time {start} differs from the FMU time {self._time}")
+        if not (isinstance(sample_every, (int, np.integer)) and sample_every >= 1):
+            raise ParameterError(f"sample_every = {sample_every!r} must be an integer >= 1")
+        K = int(derivative_order)
+        if not 0 <= K <= MAX_ORDER:
+            raise ParameterError(f"derivative_order = {derivative_order!r} outside [0, {MAX_ORDER}]")
+        grid = self._grid(start, float(stop_time), float(step))
+        real, ints = self._select(outputs)
+        speed_sig = as_speed(speed)
+        aero_sig = aero if aero is not None else AeroLoad(p["Fw0"], p["engineOrder"], speed_sig)
+        if carry_values:
+            inner = [b for sig in (aero_sig, speed_sig) for b in np.atleast_1d(getattr(sig, "breakpoints", []))
+                     if grid[0] < b < grid[-1]]
+            if inner or K == 0:
+                raise ParameterError("carry_values needs inputs without breakpoints inside the run and "
+                                     "derivative_order >= 1" + (f" (breakpoint at t = {inner[0]:.9g} s)" if inner else ""))
+
+        # inputs and their derivatives for the whole grid, before the loop
+        N = len(grid) - 1
+        ua = step_inputs(aero_sig, grid, K, input_fit)
+        us = np.asarray(speed_sig.derivatives(grid, K), dtype=float)
+        self._check_inputs(grid, ua, us)
+        us = us[:, :-1]
+        values = np.ascontiguousarray(np.stack([ua[0], us[0]], axis=1))
+        derivs = np.ascontiguousarray(np.concatenate([ua[1:].T, us[1:].T], axis=1))
+        u0 = (float(aero_sig(grid[0])), float(us[0, 0]))
+
+        self._run_messages.clear()
+        if reset:
+            self._params = None
+            self._set_parameters(p, start, u0)
+            self._params = p
+            self._time = start
+
+        # preallocated results; sampled steps
+        rec = np.zeros(N + 1, dtype=bool)
+        rec[::sample_every] = True
+        rec[0] = rec[N] = True
+        S = int(rec.sum())
+        nr, ni = len(real), len(ints)
+        out_r = np.zeros((S, max(nr, 1)))
+        out_i = np.zeros((S, max(ni, 1)), dtype=np.int32)
+        times = grid[rec]
+
+        def result(n_done: int) -> np.ndarray:
+            dt = np.dtype([("time", float)] + [(n, float) for n in real] + [(n, np.int32) for n in ints])
+            res = np.zeros(n_done, dtype=dt)
+            res["time"] = times[:n_done]
+            for j, n in enumerate(real):
+                res[n] = out_r[:n_done, j]
+            for j, n in enumerate(ints):
+                res[n] = out_i[:n_done, j]
+            return res
+
+        vr_out = (ctypes.c_uint * max(nr, 1))(*[self.variables[n].valueReference for n in real])
+        vr_int = (ctypes.c_uint * max(ni, 1))(*[self.variables[n].valueReference for n in ints])
+        vr_in = (ctypes.c_uint * 2)(VR_AERO, VR_SPEED)
+        vr_der = (ctypes.c_uint * (2 * K + 1))(*([VR_AERO] * K + [VR_SPEED] * K))
+        order = (ctypes.c_int * (2 * K + 1))(*(list(range(1, K + 1)) * 2))
+        a_vr_out, a_vr_int, a_vr_in = ctypes.addressof(vr_out), ctypes.addressof(vr_int), ctypes.addressof(vr_in)
+        a_vr_der, a_order = ctypes.addressof(vr_der), ctypes.addressof(order)
+        a_val, a_der = values.ctypes.data, derivs.ctypes.data
+        a_or, a_oi = out_r.ctypes.data, out_i.ctypes.data
+        sr, si = 8 * out_r.shape[1], 4 * out_i.shape[1]
+        setReal, setDer, doStep, getReal, getInt = (self._setReal, self._setDer, self._doStep,
+                                                    self._getReal, self._getInteger)
+        c = self._c
+
+        def sample(j: int, t: float) -> None:
+            st = getReal(c, a_vr_out, nr, a_or + sr * j) if nr else 0
+            st2 = getInt(c, a_vr_int, ni, a_oi + si * j) if ni else 0
+            if (st | st2) > 1:
+                raise self._fail("fmi2GetReal/fmi2GetInteger", max(st, st2), t, result(j))
+
+        sample(0, grid[0])
+        # per-step addresses precomputed: the loop makes only the raw calls (this is the hot path)
+        nd = 2 * K
+        ks = np.arange(N)
+        tl, hl = grid[:-1].tolist(), np.diff(grid).tolist()
+        val_a = (a_val + 16 * ks).tolist()
+        der_a = (a_der + 16 * K * ks).tolist()
+        rows = np.cumsum(rec[1:])  # the result row written after step k (if sampled)
+        done = np.concatenate([[1], 1 + rows]).tolist()  # rows filled before step k
+        real_a = np.where(rec[1:], a_or + sr * rows, 0).tolist() if nr else [0] * N
+        int_a = np.where(rec[1:], a_oi + si * rows, 0).tolist() if ni else [0] * N
+        if not nd:
+            def setDer(*_):  # noqa: N802 (held inputs: no derivatives to set)
+                return 0
+        def fail_inputs(k: int, st: int) -> FMUError:
+            return self._fail("fmi2SetReal/fmi2SetRealInputDerivatives (inputs)", st, tl[k], result(done[k]))
+
+        def fail_step(k: int, st: int) -> FMUError:
+            self._time = tl[k]
+            return self._fail("fmi2DoStep", st, tl[k], result(done[k]))
+
+        def fail_outputs(k: int, st: int) -> FMUError:
+            return self._fail("fmi2GetReal/fmi2GetInteger", st, tl[k] + hl[k], result(done[k]))
+
+        # the sweeps' case: values carried, every step sampled, real outputs only: three FMI
+        # calls per step after the first, nothing else in the loop
+        lean = carry_values and nd and nr and not ni and sample_every == 1
+        for k, (tk, hk, va, da, ra, ia) in enumerate(zip(tl, hl, val_a, der_a, real_a, int_a)):
+            st, st2 = setReal(c, a_vr_in, 2, va) if (k == 0 or not carry_values) else 0, setDer(c, a_vr_der, nd, a_order, da)
+            if (st | st2) > 1:  # statuses are 0..4: the OR exceeds 1 iff one of them does
+                raise fail_inputs(k, max(st, st2))
+            st = doStep(c, tk, hk, 1)
+            if st > 1:
+                raise fail_step(k, st)
+            if ra or ia:
+                st = getReal(c, a_vr_out, nr, ra) if ra else 0
+                st2 = getInt(c, a_vr_int, ni, ia) if ia else 0
+                if (st | st2) > 1:
+                    raise fail_outputs(k, max(st, st2))
+            if lean:
+                break
+        if lean:
+            for k, tk, hk, da, ra in zip(range(1, N), tl[1:], hl[1:], der_a[1:], real_a[1:]):
+                st = setDer(c, a_vr_der, nd, a_order, da)
+                if st > 1:
+                    raise fail_inputs(k, st)
+                st = doStep(c, tk, hk, 1)
+                if st > 1:
+                    raise fail_step(k, st)
+                st = getReal(c, a_vr_out, nr, ra)
+                if st > 1:
+                    raise fail_outputs(k, st)
+        self._time = float(grid[-1])
+        return result(done[N])
+
+    def _check_inputs(self, grid: np.ndarray, ua: np.ndarray, us: np.ndarray) -> None:
+        if not np.all(np.isfinite(ua)):
+            k = int(np.argwhere(~np.isfinite(ua))[0, 1])
+            raise ExcitationError(f"aeroLoad (or a derivative) is not finite at t = {grid[k]:.9g} s")
+        if not np.all(np.isfinite(us)):
+            k = int(np.argwhere(~np.isfinite(us))[0, 1])
+            raise ExcitationError(f"rotorSpeed (or a derivative) is not finite at t = {grid[k]:.9g} s")
+        lo, hi = SPEED_RANGE
+        bad = np.nonzero((us[0] < lo) | (us[0] > hi))[0]
+        if len(bad):
+            k = int(bad[0])
+            raise ExcitationError(f"rotorSpeed = {us[0, k]:g} rpm at t = {grid[k]:.9g} s is outside"
+                                  f" [{lo:g}, {hi:g}] rpm")
+
+    # ---- raw access for drivers with their own hot loop (harness.sweep.periodic) ----
+    def raw(self) -> "RawFMI":
+        """The raw ctypes FMI functions of this instance (one reset + initialization + steps per
+        evaluation, without run()'s per-call setup). The wrapper forgets which state the FMU is in:
+        a later run() resets it, a later get_state() reads whatever the raw calls left."""
+        if self._phase in ("closed", "fatal"):
+            raise RuntimeError(f"BladeFMU is {self._phase}")
+        self._phase, self._held, self._params, self._time = "stepping", None, None, math.nan
+        return RawFMI(self)
+
+    def failure(self, what: str, status: int, t: float) -> FMUError:
+        """The FMUError for a raw call that returned `status` (> fmi2Warning) at time t, with the
+        FMU's log messages; marks the wrapper failed (the next run() resets)."""
+        return self._fail(what, status, t, None)
+
+    # ---- FMU state ----
+    def get_state(self) -> FMUState:
+        """The current FMU state, serialized (fmi2SerializeFMUstate), with its time attached."""
+        if self._phase not in ("stepping", "instantiated"):
+            raise RuntimeError(f"cannot get the FMU state in phase {self._phase}")
+        s = self._slave
+        st = self._guard("fmi2GetFMUstate", self._time, s.getFMUstate)
+        try:
+            raw = self._guard("fmi2SerializeFMUstate", self._time, s.serializeFMUstate, st)
+        finally:
+            s.freeFMUstate(st)
+        out = FMUState(raw)
+        out.time, out.params = self._time, dict(self._params) if self._params else None
+        self._held = bytes(raw)
+        return out
+
+    def holds(self, state: bytes) -> bool:
+        """True if the FMU is in exactly this serialized state: it was taken (get_state) or
+        restored (set_state) and nothing has run since. A driver continuing a chain of runs then
+        needs no set_state."""
+        return self._held is not None and self._phase == "stepping" and self._held == bytes(state)
+
+    def set_state(self, state: bytes) -> None:
+        """Restore a serialized state (from this or another instance/process); continue with
+        run(..., reset=False)."""
+        if self._phase in ("closed", "fatal"):
+            raise RuntimeError(f"cannot set the FMU state in phase {self._phase}")
+        s = self._slave
+        if self._phase == "failed":
+            self._guard("fmi2Reset", self._time, s.reset)
+            self._phase = "instantiated"
+        st = self._guard("fmi2DeSerializeFMUstate", self._time, s.deSerializeFMUstate, bytes(state))
+        try:
+            self._guard("fmi2SetFMUstate", self._time, s.setFMUstate, st)
+        finally:
+            s.freeFMUstate(st)
+        self._phase = "stepping"
+        self._held = bytes(state)
+        self._time = getattr(state, "time", None) if getattr(state, "time", None) is not None else math.nan
+        sp = getattr(state, "params", None)
+        self._params = validate(sp, source="FMUState.params") if sp is not None else None
+
+
+class RawFMI:
+    """Raw ctypes entry points of one BladeFMU instance (argument types declared once) and its
+    component pointer `c`; statuses are returned as ints, nothing is checked here."""
+
+    def __init__(self, fmu: BladeFMU):
+        dll = fmu._slave.dll
+        P, D, I = ctypes.c_void_p, ctypes.c_double, ctypes.c_int
+        self.c = fmu._c
+        self.reset = _proto(I, P)(("fmi2Reset", dll))
+        self.setupExperiment = _proto(I, P, I, D, D, I, D)(("fmi2SetupExperiment", dll))
+        self.enterInitializationMode = _proto(I, P)(("fmi2EnterInitializationMode", dll))
+        self.exitInitializationMode = _proto(I, P)(("fmi2ExitInitializationMode", dll))
+        self.setReal, self.getReal, self.setDer, self.doStep = fmu._setReal, fmu._getReal, fmu._setDer, fmu._doStep
+        self.setInteger = _SET(("fmi2SetInteger", dll))
+        self.setBoolean = _SET(("fmi2SetBoolean", dll))

@@ -1,0 +1,173 @@
+"""Parameter sets for the ShroudedBlade FMU and the reference: names, defaults, units, validation.
+
+The FMU's modelDescription.xml is the single source of truth for the FMU parameters (names, types,
+start values, min/max). This module reads it once and adds what the XML cannot say (open
+intervals, cross-parameter rules) plus the harness-only parameters (the aerodynamic load amplitude
+`Fw0`). `validate()` turns any user mapping into a complete, checked parameter dict or raises
+`ParameterError` naming the value, the accepted range and where the value came from.
+
+Start values of the state (the outputs with initial="exact": tipDisplacement, tipVelocity,
+dissipatedEnergy, jenkinsForce, runningMaximum; docs/model-notes.md s.7) are accepted too and set
+on the FMU before initialization, but they are not defaults: `validate()` returns them only when
+given, so a parameter set without them is what it always was (a run from rest). Their cross-field
+rules (jenkinsForce inside the friction cone, frictionModel 3 only) are checked by the FMU, whose
+message `BladeFMU` raises.
+"""
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any, Mapping
+
+from harness.fmu.build import REPO_ROOT
+
+MODEL_DESCRIPTION = REPO_ROOT / "modelDescription.xml"
+
+
+class ParameterError(ValueError):
+    """A parameter value or name is not acceptable; the message says which, why and what to do."""
+
+
+@dataclass(frozen=True)
+class ParamSpec:
+    name: str
+    type: str  # "Real", "Integer", "Boolean"
+    default: Any
+    unit: str
+    low: float | None  # lower bound
+    high: float | None  # upper bound
+    low_open: bool = False  # True: value must be > low (not >=)
+    high_open: bool = False
+    description: str = ""
+    harness_only: bool = False  # not an FMU variable (e.g. Fw0)
+    start_value: bool = False  # start value of an initial="exact" output (not a default)
+
+    def range_text(self) -> str:
+        if self.type == "Boolean":
+            return "true or false"
+        lo = "-inf" if self.low is None else f"{self.low:g}"
+        hi = "inf" if self.high is None else f"{self.high:g}"
+        lb = "(" if (self.low is None or self.low_open) else "["
+        rb = ")" if (self.high is None or self.high_open) else "]"
+        unit = f" {self.unit}" if self.unit and self.unit != "1" else ""
+        return f"{lb}{lo}, {hi}{rb}{unit}"
+
+
+# Bounds the XML min/max cannot express: strictly positive quantities and open intervals.
+_OPEN_LOW = {"EI", "rho", "A", "l", "kn", "kdRatio", "gamma", "B"}
+_OPEN_HIGH = {"gamma"}
+
+# Harness-only parameters (docs/model.md section 1: F_w0 is applied by the harness through aeroLoad).
+_HARNESS_ONLY = [
+    ParamSpec("Fw0", "Real", 100.0, "N/m", 0.0, None, description="aerodynamic load amplitude (eq. 17)",
+              harness_only=True),
+]
+
+
+@lru_cache(maxsize=1)
+def specs() -> dict[str, ParamSpec]:
+    """All parameters by name: the FMU's (from modelDescription.xml) and the harness-only ones."""
+    root = ET.parse(MODEL_DESCRIPTION).getroot()
+    out: dict[str, ParamSpec] = {}
+    for sv in root.iter("ScalarVariable"):
+        start_value = sv.get("causality") == "output" and sv.get("initial") == "exact"
+        if sv.get("causality") != "parameter" and not start_value:
+            continue
+        name = sv.get("name")
+        (typ,) = list(sv)
+        kind = typ.tag
+        start = typ.get("start")
+        if kind == "Real":
+            default: Any = float(start)
+        elif kind == "Integer":
+            default = int(start)
+        else:
+            default = start == "true"
+        lo = typ.get("min")
+        hi = typ.get("max")
+        out[name] = ParamSpec(
+            name=name, type=kind, default=default, unit=typ.get("unit", ""),
+            low=None if lo is None else float(lo), high=None if hi is None else float(hi),
+            low_open=name in _OPEN_LOW, high_open=name in _OPEN_HIGH,
+            description=sv.get("description", ""), start_value=start_value)
+    for s in _HARNESS_ONLY:
+        out[s.name] = s
+    return out
+
+
+def defaults() -> dict[str, Any]:
+    """Paper Table 1 defaults (docs/model.md section 1) for every parameter, FMU and harness-only (start
+    values of the state are not parameters: they are left out)."""
+    return {name: s.default for name, s in specs().items() if not s.start_value}
+
+
+def start_values(params: Mapping[str, Any]) -> dict[str, Any]:
+    """The start values of the state in a validated parameter dict (empty for a run from rest)."""
+    sp = specs()
+    return {k: v for k, v in params.items() if sp[k].start_value}
+
+
+def fmu_parameters(params: Mapping[str, Any]) -> dict[str, Any]:
+    """The subset of a validated parameter dict that is set on the FMU."""
+    sp = specs()
+    return {k: v for k, v in params.items() if not sp[k].harness_only}
+
+
+def _check_one(spec: ParamSpec, value: Any, source: str) -> Any:
+    where = f" (from {source})" if source else ""
+    if spec.type == "Boolean":
+        if isinstance(value, bool):
+            return value
+        if isinstance(value, str) and value.lower() in ("true", "false", "1", "0"):
+            return value.lower() in ("true", "1")
+        if isinstance(value, (int, float)) and value in (0, 1):
+            return bool(value)
+        raise ParameterError(f"{spec.name} = {value!r}{where} is not a Boolean; accepted: {spec.range_text()}")
+    try:
+        if spec.type == "Integer":
+            if isinstance(value, bool):
+                raise TypeError
+            fv = float(value)
+            if not fv.is_integer():
+                raise ParameterError(f"{spec.name} = {value!r}{where} must be an integer in {spec.range_text()}")
+            num: Any = int(fv)
+        else:
+            if isinstance(value, bool):
+                raise TypeError
+            num = float(value)
+    except (TypeError, ValueError) as exc:
+        if isinstance(exc, ParameterError):
+            raise
+        raise ParameterError(f"{spec.name} = {value!r}{where} is not a number; accepted: {spec.range_text()}") from None
+    if isinstance(num, float) and not math.isfinite(num):
+        raise ParameterError(f"{spec.name} = {value!r}{where} is not finite; accepted: {spec.range_text()}")
+    bad = False
+    if spec.low is not None and (num < spec.low or (spec.low_open and num == spec.low)):
+        bad = True
+    if spec.high is not None and (num > spec.high or (spec.high_open and num == spec.high)):
+        bad = True
+    if bad:
+        unit = f" {spec.unit}" if spec.unit and spec.unit != "1" else ""
+        raise ParameterError(f"{spec.name} = {value!r}{unit}{where} is out of range; accepted: {spec.range_text()}"
+                             f" ({spec.description})")
+    return num
+
+
+def validate(params: Mapping[str, Any] | None = None, source: str = "") -> dict[str, Any]:
+    """Complete `params` with the defaults and check every value; returns a new dict (start values
+    of the state only when given).
+
+    Raises ParameterError for an unknown name (listing the known ones) or a bad value (naming the
+    value, the accepted range and `source`, e.g. "command line" or "sweep.toml").
+    """
+    sp = specs()
+    out = defaults()
+    for name, value in (params or {}).items():
+        if name not in sp:
+            where = f" (from {source})" if source else ""
+            known = ", ".join(sorted(sp))
+            raise ParameterError(f"unknown parameter {name!r}{where}; known parameters: {known}")
+        out[name] = _check_one(sp[name], value, source)
+    return out

@@ -1,0 +1,1 @@
+"""The paper's studies, the claims table and the figures."""

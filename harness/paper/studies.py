@@ -1,0 +1,423 @@
+"""The paper's studies, reproduced with the FMU (and the reference), written to results/.
+
+`reproduce()` runs, for a chosen size ("quick" for tests, "default" for `make run`, "full"): the
+four parameter studies of Fig. 6-9 (gap, shroud mass, contact angle, normal stiffness) as branches
+of periodic orbits of the FMU with their stability (the paper's fixed point B = A(B) and the
+time-domain Jenkins element; harness.paper.study_branches) over the reference's harmonic-balance
+branches; the section-4 comparison with the Coulomb model (branches too); Fig. 4/5 (time response
+and spectrum at 5000 rpm), the hysteresis loop of Fig. 2 (eq. 4 closed form against the FMU's
+time-domain macroslip element and the reference Jenkins element driven harmonically), the paper's
+own iteration B <- A(B) at 5000 rpm (it 2-cycles, docs/model.md s.4) and a Campbell diagram. Each
+figure is a PNG plus CSV files; `summary.json` holds the numbers `claims.py` turns into the claims
+table. `study_specs` gives the former transient path (time-domain up/down sweeps + fixed points
+from transients + HB) that `make bench` times side by side.
+"""
+from __future__ import annotations
+
+import json
+import math
+import time as _time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from harness.model import params as _params
+from harness.paper import plots
+from harness.sweep.executor import RESULTS_DIR, Runner, atomic_write_text, write_csv
+from harness.sweep.curves import ConfigError, SweepSettings, SweepSpec, omega_of
+
+PI = math.pi
+
+
+@dataclass(frozen=True)
+class Study:
+    key: str  # gap | mass | angle | kn
+    figure: str  # paper figure
+    param: str  # FMU parameter varied
+    values: tuple[float, ...]
+    xlabel: str
+    unit_scale: float  # value * unit_scale for labels
+    unit: str
+
+    def label(self, v: float) -> str:
+        if self.param == "gamma":
+            return f"gamma = pi/{PI / v:.0f}"
+        if self.param == "kn":
+            return f"kn = {v:.0e} N/m"
+        return f"{self.param} = {v * self.unit_scale:g} {self.unit}"
+
+
+STUDIES: dict[str, Study] = {
+    "gap": Study("gap", "fig6", "d", (2e-5, 3e-5, 4e-5, 5e-5, 6e-5), "gap d [mm]", 1e3, "mm"),
+    "mass": Study("mass", "fig7", "m0", (0.02, 0.04, 0.06, 0.08, 0.1), "shroud mass m0 [kg]", 1.0, "kg"),
+    "angle": Study("angle", "fig8", "gamma", (PI / 3, PI / 4, PI / 5, PI / 6, PI / 7), "contact angle [rad]", 1.0, "rad"),
+    "kn": Study("kn", "fig9", "kn", (1e5, 3e5, 1e6, 3e6, 1e7), "normal stiffness kn [N/m]", 1.0, "N/m"),
+}
+
+
+@dataclass(frozen=True)
+class Size:
+    """How much work `reproduce` does."""
+
+    name: str
+    speeds: tuple[float, ...]  # coarse time-domain grid [rpm] (refined near peaks and jumps)
+    fixed_speeds: tuple[float, ...]  # speeds of the fixed-point procedure [rpm]
+    hb_speeds: tuple[float, ...]  # harmonic-balance speeds [rpm]
+    values: Mapping[str, tuple[float, ...]] | None = None  # per-study values (None: all of STUDIES)
+    settings: SweepSettings = SweepSettings()
+    fig45_time: float = 1.0  # [s] simulated for Fig. 4/5
+    coulomb: bool = True
+    iteration_steps: int = 12  # the paper's iteration B <- A_0.2s(B)
+    speed_range: tuple[float, float] = (3000.0, 10000.0)  # branches of periodic orbits [rpm]
+    seed_step: float = 500.0  # [rpm] between the speeds where every orbit is searched
+
+
+def _grid(a: float, b: float, step: float) -> tuple[float, ...]:
+    return tuple(float(x) for x in np.arange(a, b + 0.5 * step, step))
+
+
+SIZES: dict[str, Size] = {
+    "quick": Size("quick", speeds=_grid(3000, 10000, 1000), fixed_speeds=_grid(4000, 9000, 500),
+                  hb_speeds=_grid(3000, 10000, 100),
+                  values={"gap": (2e-5, 6e-5), "mass": (0.02, 0.1), "angle": (PI / 3, PI / 7), "kn": (1e5, 1e7)},
+                  settings=SweepSettings(refine_levels=3, min_dn=60.0, max_time=0.5, fixed_max_time=0.4,
+                                         n_scan=10),
+                  fig45_time=0.6, coulomb=False, iteration_steps=6, seed_step=1000.0),
+    # branches to 12000 rpm: with kn = 1e7 the stable contact branches of the fixed point end in
+    # their fold above 10000 rpm for d = 0.02 mm and gamma = pi/6..pi/4 (a peak at the range end
+    # would be a missed solution); the transient path (bench) keeps its 3000..10000 rpm grid
+    "default": Size("default", speeds=_grid(3000, 10000, 500), fixed_speeds=_grid(3000, 10000, 500),
+                    hb_speeds=_grid(2000, 12000, 40), speed_range=(3000.0, 12000.0)),
+    "full": Size("full", speeds=_grid(2000, 10000, 250), fixed_speeds=_grid(2000, 10000, 250),
+                 hb_speeds=_grid(100, 12000, 20),
+                 settings=SweepSettings(rtol=1e-3, max_time=2.5, refine_levels=6, min_dn=5.0, n_scan=20,
+                                        fixed_max_time=1.5),
+                 fig45_time=2.0, speed_range=(2000.0, 12000.0), seed_step=250.0),
+}
+
+
+def base_params() -> dict[str, Any]:
+    """The paper's base case: Table 1 with d = 0.03 mm, gamma = pi/3, m0 = 0.025 kg, kn = 1e7."""
+    return _params.validate({}, source="paper Table 1")
+
+
+# ---------------------------------------------------------------------------------------------
+# Building and running the sweeps
+# ---------------------------------------------------------------------------------------------
+def study_specs(size: Size, names: Sequence[str], base: Mapping[str, Any]) -> list[tuple[str, float, SweepSpec]]:
+    """The studies as transient sweeps (time domain up/down, fixed points from transients, HB)."""
+    out = []
+    for name in names:
+        st = STUDIES[name]
+        vals = (size.values or {}).get(name, st.values)
+        for v in vals:
+            p = dict(base, **{st.param: v})
+            out.append((name, v, SweepSpec(p, size.speeds, label=f"{st.figure} {st.label(v)}",
+                                           methods=("time", "fixed", "hb"), fixed_speeds=size.fixed_speeds,
+                                           hb_speeds=size.hb_speeds, settings=size.settings)))
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# Single runs with the FMU in this process
+# ---------------------------------------------------------------------------------------------
+def settling_time(time: np.ndarray, amp: np.ndarray, band: float = 0.02) -> float:
+    """First time after which the amplitude stays within `band` of its final value; nan if it only
+    enters the band in the last fifth of the record (never settles: irregular response)."""
+    final = amp[-1]
+    out = np.abs(amp - final) > band * abs(final)
+    if not np.any(out):
+        return float(time[0])
+    last = int(np.nonzero(out)[0][-1])
+    if last + 1 >= 0.8 * len(time):
+        return math.nan
+    return float(time[last + 1])
+
+
+def _response(fmu: Any, p: Mapping[str, Any], speed: float, t_stop: float) -> dict[str, Any]:
+    """Run from rest, per-period max |q|, 2 % settling time, and the Hann spectrum of the last half
+    (a whole number of periods, so the EO line falls on a bin)."""
+    from harness.sweep.steady_state import analyze
+
+    om = omega_of(p, speed)
+    T = 2 * PI / om
+    n_per = 64
+    P = int(math.ceil(t_stop / T))
+    res = fmu.run(dict(p), P * T, T / n_per, speed=speed, outputs=["tipDisplacement", "amplitude"])
+    q = res["tipDisplacement"]
+    per_max = np.abs(q[1:]).reshape(P, n_per).max(axis=1)
+    t_per = T * (np.arange(P) + 1)
+    ss = analyze(res["time"], q, T, rtol=1e-3, min_periods=3)
+    half = q[-(P // 2) * n_per:]
+    win = np.hanning(len(half))
+    amp = np.abs(np.fft.rfft(half * win)) * 2.0 / np.sum(win)
+    freq = np.fft.rfftfreq(len(half), T / n_per)
+    k = int(np.argmax(amp[1:])) + 1
+    return {"res": res, "per_max": per_max, "t_per": t_per, "ss": ss, "freq": freq, "amp": amp,
+            "t_settle": settling_time(t_per, per_max, 0.02), "f_peak": float(freq[k]),
+            "final": float(per_max[-1]), "band": (float(per_max[-P // 5:].min()), float(per_max[-P // 5:].max()))}
+
+
+def fig45(fmu: Any, out: Path, params: Mapping[str, Any], speed: float, t_stop: float, B_root: float) -> dict[str, Any]:
+    """Paper Fig. 4/5: response from rest at `speed` and the spectrum of its second half, for the
+    paper's formulation (amplitude fixed at the fixed-point root B_root, amplitudeMode 1) and for the
+    tracked amplitude (amplitudeMode 2)."""
+    p = dict(params)
+    runs = {"paper": _response(fmu, dict(p, amplitudeMode=1, B=B_root), speed, t_stop),
+            "tracked": _response(fmu, dict(p, amplitudeMode=2), speed, t_stop)}
+    a, b = runs["paper"], runs["tracked"]
+    tab = np.zeros(len(a["res"]), dtype=[("time", "f8"), ("q_paper", "f8"), ("q_tracked", "f8")])
+    tab["time"], tab["q_paper"], tab["q_tracked"] = a["res"]["time"], a["res"]["tipDisplacement"], b["res"]["tipDisplacement"]
+    write_csv(out / "fig4_time_response.csv", tab,
+              f"Fig. 4: FMU tip displacement q [m] from rest at {speed:g} rpm; paper = amplitude fixed at the "
+              f"fixed-point root B = {B_root:.6g} m (amplitudeMode 1), tracked = amplitudeMode 2")
+    spec = np.zeros(len(a["freq"]), dtype=[("frequency", "f8"), ("amp_paper", "f8"), ("amp_tracked", "f8")])
+    spec["frequency"], spec["amp_paper"], spec["amp_tracked"] = a["freq"], a["amp"], b["amp"]
+    write_csv(out / "fig5_spectrum.csv", spec, f"Fig. 5: single-sided amplitude spectrum [m] (Hann window) of the "
+              f"second half of the runs at {speed:g} rpm")
+    plots.time_response(out / "fig4_5_time_spectrum.png",
+                        f"Paper Fig. 4/5 at {speed:g} rpm, d = {p['d'] * 1e3:g} mm",
+                        [("paper: B fixed at the fixed-point root", a), ("tracked amplitude", b)], p["d"],
+                        p["engineOrder"] * speed / 60)
+    f_exp = p["engineOrder"] * speed / 60.0
+    out_d: dict[str, Any] = {"speed": speed, "d": p["d"], "f_expected": f_exp, "B_root": B_root}
+    for name, r in runs.items():
+        out_d[name] = {"t_settle_2pct": r["t_settle"], "reached": bool(r["ss"].reached),
+                       "t_steady_rtol1e-3": r["ss"].t_steady, "f_peak": r["f_peak"], "amplitude": r["final"],
+                       "band_last_fifth": r["band"], "max_abs_q": float(np.max(np.abs(r["res"]["tipDisplacement"]))),
+                       "line_at_f_expected": float(r["amp"][int(np.argmin(np.abs(r["freq"] - f_exp)))]),
+                       "largest_line": float(np.max(r["amp"][1:]))}
+    return out_d
+
+
+def hb_vs_orbit(fmu: Any, out: Path, params: Mapping[str, Any], curves: Sequence[Any]) -> dict[str, Any]:
+    """The one-harmonic balance against the exact orbits of the base case's branches (fixed point
+    and Jenkins element): Fourier content of each contact orbit (harness.sweep.periodic.harmonics), to
+    `hb_vs_orbit.csv`; returns the ranges per model."""
+    from harness.sweep.periodic.harmonics import branch_harmonics, summarize
+
+    rows = []
+    for model in ("fixedPoint", "jenkins"):
+        base = [c for c in curves if c.task.model == model and dict(c.task.params) == dict(params)]
+        if base:
+            rows += branch_harmonics(fmu, params, model, base[0].branches)
+    names = ["model", "speed", "stable", "amplitude", "a1", "higher", "a3", "hb", "higher_rel", "hb_vs_a1",
+             "hb_vs_amplitude"]
+    tab = np.zeros(len(rows), dtype=[("model", "U10"), ("stable", "i4")] + [(n, "f8") for n in names
+                                                                              if n not in ("model", "stable")])
+    for i, r in enumerate(rows):
+        for n, v in r.as_dict().items():
+            tab[n][i] = v
+    write_csv(out / "hb_vs_orbit.csv", tab[names],
+              "base case: exact periodic orbits (contact, >= 250 rpm apart along each branch) vs the one-harmonic "
+              "balance (reference, gating off)\namplitude = max|q| [m]; a1, a3 = first, third harmonic [m]; higher = "
+              "sqrt(sum_k>=2 a_k^2) [m]; hb = HB contact root nearest a1 [m] (nan: HB has none at that speed); higher_rel = higher / amplitude; "
+              "hb_vs_a1 = (hb - a1) / a1; hb_vs_amplitude = (hb - amplitude) / amplitude")
+    return summarize(rows)
+
+
+def _root_at(params: Mapping[str, Any], speed: float, fmu: Any) -> float:
+    """The largest fixed point B = A(B) at `speed`: the largest B of every periodic orbit of the
+    tracked-amplitude FMU found there (harness.sweep.periodic.search), 2 d if there is none."""
+    from harness.sweep.periodic.period_map import PeriodMap
+    from harness.sweep.periodic.branches import orbits_at
+
+    orbits = orbits_at(PeriodMap(fmu, params, "fixedPoint"), speed)
+    return max((o.B for o in orbits), default=2.0 * float(params["d"]))
+
+
+def paper_iteration(fmu: Any, params: Mapping[str, Any], speed: float, B0: float, steps: int,
+                    t_int: float = 0.2) -> list[float]:
+    """The paper's section-3 procedure: B_{k+1} = max |q| over the last period of a t_int run from
+    rest with the amplitude fixed at B_k (docs/model.md s.4: it falls into a 2-cycle near resonance)."""
+    om = omega_of(params, speed)
+    T = 2 * PI / om
+    seq = [B0]
+    for _ in range(steps):
+        p = dict(params, amplitudeMode=1, B=seq[-1])
+        res = fmu.run(p, T * math.ceil(t_int / T), T / 64, speed=speed, outputs=["tipDisplacement"])
+        last = res[res["time"] >= res["time"][-1] - T * (1 + 1e-9)]
+        seq.append(float(np.max(np.abs(last["tipDisplacement"]))))
+    return seq
+
+
+def _loop_area(x: np.ndarray, F: np.ndarray) -> float:
+    """|closed integral F dx| (trapezoid) of a sampled loop, closed from the last to the first point."""
+    xc, Fc = np.append(x, x[0]), np.append(F, F[0])
+    return float(abs(np.sum(0.5 * (Fc[1:] + Fc[:-1]) * np.diff(xc))))
+
+
+def hysteresis(fmu: Any, out: Path, base: Mapping[str, Any]) -> dict[str, Any]:
+    """Fig. 2: the loop of eq. 4 at amplitude B against (a) the reference Jenkins element driven by
+    v = B cos(theta) and (b) the FMU's time-domain element (frictionModel 3) in a steady run."""
+    from harness import reference as ref
+
+    panels, rows, info = [], [], {}
+    theta = np.linspace(0, 2 * PI, 721)
+    for label, kn, speed in (("kn = 1e7 N/m (paper)", 1e7, 5000.0), ("kn = 1e5 N/m (soft)", 1e5, 4950.0)):
+        p = _params.validate(dict(base, kn=kn, frictionModel=3))
+        om = omega_of(p, speed)
+        T = 2 * PI / om
+        r = fmu.run(p, T * math.ceil(0.6 / T), T / 256, speed=speed,
+                    outputs=["tipDisplacement", "frictionForce", "normalForce", "dissipatedEnergy", "tipVelocity"])
+        last = r[r["time"] >= r["time"][-1] - T * (1 + 1e-9)]
+        B = float(np.max(np.abs(last["tipDisplacement"])))
+        sg = math.sin(p["gamma"])
+        Ff_eq4 = np.array([ref.loop_friction(p, B, th, 1) for th in theta[:-1]] + [math.nan])
+        du_eq4 = B * sg * np.cos(theta)
+        du_fmu = last["tipDisplacement"] * sg
+        E_fmu = _loop_area(du_fmu, last["frictionForce"])
+        E_eq4 = _loop_area(du_eq4[:-1], Ff_eq4[:-1])
+        df = ref.describing_function(p, B, om, model=1)
+        E_df = float(PI * om * B * B * float(df.fc))
+        jp = ref.jenkins_prescribed(p, B, om, n_cycles=2, samples_per_cycle=720)
+        du_j = B * sg * np.cos(jp["theta"])
+        panels.append({"title": f"{label}, {speed:g} rpm, B = {B * 1e3:.4f} mm (FMU steady amplitude)",
+                       "eq4": (du_eq4, Ff_eq4), "fmu": (du_fmu, last["frictionForce"])})
+        order = np.argsort(jp["theta"])
+        panels[-1]["jenkins"] = (du_j[order], jp["Ff"][order])
+        panels[-1]["energy"] = {"eq4": E_eq4, "jenkins": float(jp["cycle_work"][-1]), "fmu": E_fmu}
+        info[label] = {"kn": kn, "speed": speed, "B": B, "E_loop_fmu": E_fmu, "E_loop_eq4": E_eq4,
+                       "E_pi_omega_B2_fc": E_df, "E_jenkins_prescribed": float(jp["cycle_work"][-1])}
+        for th, du, F in zip(theta[:-1], du_eq4[:-1], Ff_eq4[:-1]):
+            rows.append((kn, 0, th, du, F))
+        for du, F in zip(du_fmu, last["frictionForce"]):
+            rows.append((kn, 1, math.nan, du, F))
+        for th, du, F in zip(jp["theta"], du_j, jp["Ff"]):
+            rows.append((kn, 2, th, du, F))
+    tab = np.array(rows, dtype=[("kn", "f8"), ("source", "i4"), ("theta", "f8"), ("du", "f8"), ("Ff", "f8")])
+    write_csv(out / "fig2_hysteresis.csv", tab,
+              "Fig. 2: friction loop; source 0 = eq. 4 closed form, 1 = FMU frictionModel 3 (last period of a "
+              "steady run), 2 = reference Jenkins element driven by v = B cos(theta); du [m], Ff [N]")
+    plots.hysteresis(out / "fig2_hysteresis.png", panels)
+    return info
+
+
+def campbell(fmu: Any, out: Path, params: Mapping[str, Any], peaks: Sequence[tuple[float, float, str]] = ()) -> dict[str, Any]:
+    """naturalFrequency of the FMU along a 0..10000 rpm run-up (no load) with the EO lines."""
+    from harness.model.excitation import LinearRamp
+
+    r = fmu.run(dict(params), 1.0, 1e-3, speed=LinearRamp(0.0, 10000.0, 0.0, 1.0),
+                aero=LinearRamp(0.0, 0.0, 0.0, 1.0), outputs=["naturalFrequency"])
+    n = 10000.0 * r["time"]
+    f = r["naturalFrequency"]
+    eo = int(params["engineOrder"])
+    g = f - eo * n / 60.0
+    idx = np.nonzero(np.sign(g[:-1]) != np.sign(g[1:]))[0]
+    cross = math.nan
+    if len(idx):
+        i = int(idx[0])
+        cross = float(n[i] - g[i] * (n[i + 1] - n[i]) / (g[i + 1] - g[i]))
+    tab = np.zeros(len(n), dtype=[("time", "f8"), ("speed", "f8"), ("naturalFrequency", "f8")] +
+                   [(f"EO{k}", "f8") for k in range(1, 7)])
+    tab["time"], tab["speed"], tab["naturalFrequency"] = r["time"], n, f
+    for k in range(1, 7):
+        tab[f"EO{k}"] = k * n / 60.0
+    write_csv(out / "campbell.csv", tab, "Campbell diagram: FMU naturalFrequency [Hz] along a run-up, EO lines k n/60")
+    plots.campbell(out / "campbell.png", n, f, range(1, 7), eo, cross, peaks)
+    return {"eo_crossing_rpm": cross, "f_rest_hz": float(f[0]), "f_at_crossing_hz": eo * cross / 60.0}
+
+
+# ---------------------------------------------------------------------------------------------
+# Everything
+# ---------------------------------------------------------------------------------------------
+@dataclass
+class Reproduction:
+    summary: dict[str, Any]
+
+
+def validate_request(size: str | Size, studies: Sequence[str] | None) -> tuple[Size, list[str]]:
+    if isinstance(size, str):
+        if size not in SIZES:
+            raise ConfigError(f"size {size!r} is unknown; choose from {', '.join(SIZES)}")
+        size = SIZES[size]
+    names = list(studies) if studies else list(STUDIES)
+    for n in names:
+        if n not in STUDIES:
+            raise ConfigError(f"study {n!r} is unknown; choose from {', '.join(STUDIES)}")
+    return size, names
+
+
+def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studies: Sequence[str] | None = None,
+              runner: Runner | None = None, fmu_path: Path | str | None = None, extras: bool = True, base: Mapping[str, Any] | None = None) -> Reproduction:
+    """Run the studies as branches of periodic orbits over the harmonic-balance branches (and, with
+    `extras`, the Coulomb comparison, Fig. 2, 4/5, Campbell, the paper's iteration). Nothing is
+    cached: a curve takes about a second."""
+    from harness.fmu.blade import BladeFMU
+    from harness.sweep.periodic.studies import trace_curve
+    from harness.sweep.curves import fmu_identity, hb_curve
+    from harness.paper.study_branches import curve_tasks, write_coulomb, write_study
+
+    size, names = validate_request(size, studies)
+    out = Path(out)
+    base_p = _params.validate(base or {}, source="reproduce base parameters")
+    values = {n: tuple((size.values or {}).get(n, STUDIES[n].values)) for n in names}
+    for n in names:  # every parameter set is checked before any work starts
+        for v in values[n]:
+            _params.validate(dict(base_p, **{STUDIES[n].param: v}), source=f"{STUDIES[n].figure} {STUDIES[n].label(v)}")
+    path, _ = fmu_identity(fmu_path)
+    tasks = curve_tasks(STUDIES, values, base_p, size.speed_range, size.seed_step, path, extras and size.coulomb)
+    out.mkdir(parents=True, exist_ok=True)
+    own_runner = runner is None
+    runner = runner or Runner()
+    timing: dict[str, float] = {}
+    summary: dict[str, Any] = {"size": size.name, "base": base_p, "studies": {}}
+    rep = Reproduction(summary)
+    try:
+        t0 = _time.perf_counter()
+        hb = {n: {v: hb_curve(dict(base_p, **{STUDIES[n].param: v}), size.hb_speeds) for v in values[n]}
+              for n in names}
+        timing["hb_wall"] = _time.perf_counter() - t0
+        t0 = _time.perf_counter()
+        done = runner.map(trace_curve, tasks, desc="periodic-orbit branches", unit="curve")
+        timing["branches_wall"] = _time.perf_counter() - t0
+        timing["curves"] = float(len(done))
+        for k, name in (("evaluations", "evaluations"), ("simulated_s", "simulated_s"), ("fmi_s", "fmi_s"),
+                        ("wall", "worker_s")):  # summed over the curves
+            timing[f"branches_{name}"] = float(sum(c.stats[k] for c in done))
+        curves: dict[str, dict[float, dict[str, Any]]] = {}
+        for c in done:
+            curves.setdefault(c.task.key, {}).setdefault(c.task.value, {})[c.task.model] = c
+        for name in names:
+            summary["studies"][name] = write_study(out, STUDIES[name], curves[name], hb[name])
+        if extras and size.coulomb:
+            summary["coulomb"] = write_coulomb(out, STUDIES, summary)
+        if extras:
+            t0 = _time.perf_counter()
+            with BladeFMU(path) as fmu:
+                summary["fig45"] = fig45(fmu, out, base_p, 5000.0, size.fig45_time, _root_at(base_p, 5000.0, fmu))
+                summary["hysteresis"] = hysteresis(fmu, out, base_p)
+                summary["hb_vs_orbit"] = hb_vs_orbit(fmu, out, base_p, done)
+                peaks = []
+                if "kn" in summary["studies"]:
+                    for row in summary["studies"]["kn"]["rows"]:
+                        if math.isfinite(row["fp_speed"]):
+                            peaks.append((row["fp_speed"], base_p["engineOrder"] * row["fp_speed"] / 60,
+                                          f"fixed-point peak, kn = {row['value']:.0e} N/m"))
+                summary["campbell"] = campbell(fmu, out, base_p, peaks)
+                seq = paper_iteration(fmu, base_p, 5000.0, 2 * base_p["d"], size.iteration_steps)
+                summary["paper_iteration"] = {"speed": 5000.0, "t_int": 0.2, "B": seq}
+                it = np.zeros(len(seq), dtype=[("iteration", "i4"), ("B", "f8")])
+                it["iteration"], it["B"] = np.arange(len(seq)), seq
+                write_csv(out / "paper_iteration.csv", it,
+                          "the paper's section-3 iteration B <- max|q| of a 0.2 s run with B fixed, 5000 rpm, base case")
+            timing["extras_wall"] = _time.perf_counter() - t0
+    finally:
+        if own_runner:
+            runner.close()
+    summary["timing"] = timing
+    atomic_write_text(out / "summary.json", json.dumps(summary, indent=1, sort_keys=True, default=_json_default))
+    return rep
+
+
+def _json_default(o: Any) -> Any:
+    if isinstance(o, (np.floating, np.integer)):
+        return o.item()
+    if isinstance(o, np.bool_):
+        return bool(o)
+    raise TypeError(type(o).__name__)
+
+
+__all__ = ["STUDIES", "SIZES", "Size", "Study", "reproduce", "study_specs", "settling_time", "paper_iteration"]

@@ -1,0 +1,307 @@
+"""Run many independent tasks: atomic files, a per-point result cache, a local pool or dask.
+
+Sweeps and studies are split into tasks (one speed chain, one fixed-point speed) that are mapped
+over a pool of worker processes (`concurrent.futures`, the default) or a dask.distributed cluster
+(`scheduler="tcp://host:8786"`). Every finished point is stored at once as one JSON file under the
+cache directory, written atomically (temporary file + `os.replace`), so an interrupted run (SIGINT,
+a killed worker, a killed master) loses at most the points that were being computed: running the
+same command again finds the finished points by their key and continues. A pool whose worker died
+is rebuilt and the unfinished tasks are resubmitted (they resume from the cache).
+"""
+from __future__ import annotations
+
+import base64
+import hashlib
+import json
+import os
+import sys
+import tempfile
+import time
+import warnings
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Sequence
+
+import numpy as np
+
+from harness.fmu.build import REPO_ROOT
+
+RESULTS_DIR = REPO_ROOT / "results"
+DEFAULT_CACHE_DIR = RESULTS_DIR / "cache"
+
+
+# ---------------------------------------------------------------------------------------------
+# Atomic files
+# ---------------------------------------------------------------------------------------------
+def atomic_write_bytes(path: Path | str, data: bytes) -> None:
+    """Write `data` to `path` so that readers see either the old file or the complete new one."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.chmod(tmp, 0o644)  # mkstemp creates 0600; results are meant to be read by others
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+
+
+def atomic_write_text(path: Path | str, text: str) -> None:
+    atomic_write_bytes(path, text.encode("utf-8"))
+
+
+def write_csv(path: Path | str, table: np.ndarray, header_comment: str = "") -> None:
+    """Write a structured array as CSV (quoted header, `repr`-exact floats), atomically."""
+    names = table.dtype.names or ()
+    lines = []
+    if header_comment:
+        lines += [f"# {ln}" for ln in header_comment.splitlines()]
+    lines.append(",".join(f'"{n}"' for n in names))
+    for row in table:
+        cells = []
+        for n in names:
+            v = row[n]
+            if isinstance(v, (bytes, np.bytes_)):
+                v = v.decode()
+            if isinstance(v, (float, np.floating)):
+                cells.append(repr(float(v)))
+            elif isinstance(v, (bool, np.bool_)):
+                cells.append("1" if v else "0")
+            else:
+                cells.append(str(v))
+        lines.append(",".join(cells))
+    atomic_write_text(path, "\n".join(lines) + "\n")
+
+
+def read_csv(path: Path | str) -> np.ndarray:
+    """Read a CSV written by `write_csv` back into a structured array (numbers as float)."""
+    with open(path) as fh:
+        rows = [ln for ln in fh if not ln.startswith("#")]
+    names = [n.strip().strip('"') for n in rows[0].strip().split(",")]
+    cols: list[list[str]] = [[] for _ in names]
+    for ln in rows[1:]:
+        for i, cell in enumerate(ln.strip().split(",")):
+            cols[i].append(cell)
+    arrays = []
+    for c in cols:
+        try:
+            arrays.append(np.array([float(x) for x in c]))
+        except ValueError:
+            arrays.append(np.array(c))
+    dtype = [(n, a.dtype) for n, a in zip(names, arrays)]
+    out = np.zeros(len(rows) - 1, dtype=dtype)
+    for n, a in zip(names, arrays):
+        out[n] = a
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# Point cache
+# ---------------------------------------------------------------------------------------------
+def _canonical(obj: Any) -> Any:
+    """A JSON-able, deterministic form of `obj` (floats by repr, dict keys sorted)."""
+    if isinstance(obj, dict):
+        return {str(k): _canonical(v) for k, v in sorted(obj.items())}
+    if isinstance(obj, (list, tuple)):
+        return [_canonical(v) for v in obj]
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        return repr(float(obj))
+    if isinstance(obj, bytes):
+        return hashlib.sha256(obj).hexdigest()
+    if obj is None or isinstance(obj, str):
+        return obj
+    raise TypeError(f"cannot hash {type(obj).__name__} into a cache key")
+
+
+def point_key(**parts: Any) -> str:
+    """Hex digest identifying one computed point (parameters, scenario, start state, code version)."""
+    text = json.dumps(_canonical(parts), sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()[:32]
+
+
+def encode_bytes(data: bytes) -> str:
+    return base64.b64encode(data).decode("ascii")
+
+
+def decode_bytes(text: str) -> bytes:
+    return base64.b64decode(text.encode("ascii"))
+
+
+@dataclass
+class PointCache:
+    """One JSON file per point, `<dir>/<key[:2]>/<key>.json`; `None` directory disables caching."""
+
+    directory: Path | None = DEFAULT_CACHE_DIR
+    hits: int = 0
+    misses: int = 0
+
+    def _path(self, key: str) -> Path:
+        assert self.directory is not None
+        return Path(self.directory) / key[:2] / f"{key}.json"
+
+    def get(self, key: str) -> dict | None:
+        if self.directory is None:
+            self.misses += 1
+            return None
+        try:
+            with open(self._path(key)) as fh:
+                rec = json.load(fh)
+        except (FileNotFoundError, json.JSONDecodeError, UnicodeDecodeError):
+            self.misses += 1
+            return None
+        self.hits += 1
+        return rec
+
+    def put(self, key: str, record: dict) -> None:
+        if self.directory is None:
+            return
+        atomic_write_text(self._path(key), json.dumps(record, sort_keys=True))
+
+    def count(self) -> int:
+        if self.directory is None or not Path(self.directory).exists():
+            return 0
+        return sum(1 for _ in Path(self.directory).glob("*/*.json"))
+
+
+# ---------------------------------------------------------------------------------------------
+# Parallel map
+# ---------------------------------------------------------------------------------------------
+@dataclass
+class Runner:
+    """Maps a picklable function over tasks: in-process, on a local process pool, or on dask.
+
+    `workers=1` runs in the calling process (tests, debugging). `scheduler` (a dask.distributed
+    address such as "tcp://10.0.0.5:8786", or an existing `distributed.Client`) sends the same
+    function to a cluster. The pool is created on first use and kept until `close()`.
+    """
+
+    workers: int | None = None
+    scheduler: Any = None
+    progress: bool = True
+    retries: int = 2
+    stats: dict = field(default_factory=dict)
+    _pool: ProcessPoolExecutor | None = None
+    _client: Any = None
+    _own_client: bool = False
+
+    def __enter__(self) -> "Runner":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
+
+    @property
+    def n_workers(self) -> int:
+        if self.scheduler is not None:
+            client = self._dask_client()
+            return max(1, len(client.scheduler_info().get("workers", {})))
+        return self.workers or os.cpu_count() or 1
+
+    def _dask_client(self) -> Any:
+        if self._client is None:
+            from distributed import Client
+
+            if isinstance(self.scheduler, Client):
+                self._client = self.scheduler
+            else:
+                self._client = Client(self.scheduler, timeout="20s")
+                self._own_client = True
+        return self._client
+
+    def _local_pool(self) -> ProcessPoolExecutor:
+        if self._pool is None:
+            import multiprocessing as mp
+
+            self._pool = ProcessPoolExecutor(max_workers=self.n_workers, mp_context=mp.get_context("spawn"))
+        return self._pool
+
+    def close(self, kill: bool = False) -> None:
+        if self._pool is not None:
+            if kill:
+                # Stop workers that are still computing (SIGINT sent only to the master): they
+                # lose only their current point, everything finished is already on disk.
+                for proc in list(getattr(self._pool, "_processes", {}).values()):
+                    proc.terminate()
+            self._pool.shutdown(wait=not kill, cancel_futures=True)
+            self._pool = None
+        if self._client is not None and self._own_client:
+            self._client.close()
+        self._client = None
+
+    def map(self, func: Callable[[Any], Any], tasks: Sequence[Any], desc: str = "",
+            unit: str = "task") -> list[Any]:
+        """`[func(t) for t in tasks]`, in parallel, with a progress bar; order preserved."""
+        from tqdm.auto import tqdm
+
+        tasks = list(tasks)
+        t0 = time.perf_counter()
+        bar = tqdm(total=len(tasks), desc=desc, unit=unit, disable=not self.progress or not tasks,
+                   dynamic_ncols=True, leave=False)
+        try:
+            if self.scheduler is not None:
+                out = self._map_dask(func, tasks, bar)
+            elif self.n_workers <= 1 or len(tasks) <= 1:
+                out = []
+                for t in tasks:
+                    out.append(func(t))
+                    bar.update(1)
+            else:
+                out = self._map_pool(func, tasks, bar)
+        except KeyboardInterrupt:
+            self.close(kill=True)
+            print("interrupted: every finished point is stored in the cache; run the same command "
+                  "again to resume", file=sys.stderr)
+            raise
+        finally:
+            bar.close()
+        self.stats[desc or "map"] = self.stats.get(desc or "map", 0.0) + time.perf_counter() - t0
+        return out
+
+    def _map_pool(self, func: Callable[[Any], Any], tasks: list[Any], bar: Any) -> list[Any]:
+        results: dict[int, Any] = {}
+        attempts = 0
+        while len(results) < len(tasks):
+            pool = self._local_pool()
+            todo = [i for i in range(len(tasks)) if i not in results]
+            futures = {pool.submit(func, tasks[i]): i for i in todo}
+            try:
+                pending = set(futures)
+                while pending:
+                    done, pending = wait(pending, return_when=FIRST_COMPLETED)
+                    for f in done:
+                        results[futures[f]] = f.result()
+                        bar.update(1)
+            except BrokenProcessPool:
+                attempts += 1
+                self._pool = None
+                if attempts > self.retries:
+                    raise
+                warnings.warn(f"a worker process died; restarting the pool and resuming "
+                              f"{len(tasks) - len(results)} unfinished task(s) from the cache "
+                              f"(attempt {attempts}/{self.retries})", RuntimeWarning, stacklevel=2)
+        return [results[i] for i in range(len(tasks))]
+
+    def _map_dask(self, func: Callable[[Any], Any], tasks: list[Any], bar: Any) -> list[Any]:
+        from distributed import as_completed
+
+        client = self._dask_client()
+        futures = client.map(func, tasks, pure=False)
+        index = {f.key: i for i, f in enumerate(futures)}
+        results: dict[int, Any] = {}
+        for f in as_completed(futures):
+            results[index[f.key]] = f.result()
+            bar.update(1)
+        return [results[i] for i in range(len(tasks))]

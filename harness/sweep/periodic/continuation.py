@@ -1,0 +1,294 @@
+"""Pseudo-arclength continuation of periodic orbits in rotor speed, with step control through folds.
+
+The branch is a curve H(x, n) = P(x; n) - x = 0 in (unknowns, speed). Coordinates are scaled,
+z = (x / sc, n / SPEED_SCALE) with sc the unknowns' scales at the branch start, so one unit of arc
+is about one branch amplitude or 1000 rpm. Predictor: tangent t (null vector of [H_x H_n], oriented
+along the previous one). Corrector: Newton on (H(z) = 0, t . (z - z_pred) = 0) with a
+forward-difference Jacobian. Step control: ds grows 1.4x after an easy corrector (<= 3 iterations),
+halves after a failure; the branch ends outside the speed range, after max_points, when ds falls
+below ds_min, or when it closes on itself (an isola). Each point keeps its Floquet multipliers (from
+the corrector's last Jacobian) and stability; changes of stability between neighbours are the
+branch's bifurcations: fold (det(DP - I) changes sign), period doubling (det(DP + I) changes sign),
+Neimark-Sacker (the number of complex multipliers outside the circle changes).
+"""
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from harness.fmu.blade import FMUError
+from harness.model.params import ParameterError
+from harness.sweep.periodic.period_map import PeriodMap
+from harness.sweep.periodic.shooting import _bounded, at_bound, classify, fd_direction, multipliers
+
+SPEED_SCALE = 1000.0  # [rpm] per unit of arc
+EASY_CORRECTOR = 6  # ds grows after a step whose corrector took at most this many iterations
+
+
+@dataclass(frozen=True)
+class ContinuationSettings:
+    ds: float = 0.05  # first step (scaled arc)
+    ds_min: float = 1e-4
+    ds_max: float = 0.4
+    max_points: int = 400
+    max_corrector: int = 8
+
+
+@dataclass
+class BranchPoint:
+    speed: float  # [rpm]
+    x: np.ndarray
+    amplitude: float  # max |q| [m]
+    multipliers: np.ndarray
+    iterations: int = 0  # corrector iterations
+
+    @property
+    def stable(self) -> bool:
+        return bool(np.max(np.abs(self.multipliers)) < 1.0 - 1e-6)
+
+    @property
+    def label(self) -> str:
+        return classify(self.multipliers)
+
+
+@dataclass
+class Branch:
+    model: str
+    points: list[BranchPoint] = field(default_factory=list)
+    end_reasons: list[str] = field(default_factory=list)  # why each end of the branch stopped
+    closed: bool = False  # an isola that closed on itself
+
+    @property
+    def speeds(self) -> np.ndarray:
+        return np.array([p.speed for p in self.points])
+
+    @property
+    def amplitudes(self) -> np.ndarray:
+        return np.array([p.amplitude for p in self.points])
+
+    @property
+    def stable(self) -> np.ndarray:
+        return np.array([p.stable for p in self.points])
+
+    def bifurcations(self) -> list[tuple[int, str]]:
+        """(index of the first point after the change, kind) for every stability change."""
+        out = []
+        for i in range(1, len(self.points)):
+            a, b = self.points[i - 1].multipliers, self.points[i].multipliers
+            if self.points[i - 1].stable == self.points[i].stable and classify(a) == classify(b):
+                continue
+            kinds = []
+            if np.sign(np.prod(np.real(a - 1.0))) != np.sign(np.prod(np.real(b - 1.0))):
+                kinds.append("fold")
+            if np.sign(np.prod(np.real(a + 1.0))) != np.sign(np.prod(np.real(b + 1.0))):
+                kinds.append("period-doubling")
+            na = sum(1 for m in a if abs(m.imag) > 1e-9 and abs(m) > 1)
+            nb = sum(1 for m in b if abs(m.imag) > 1e-9 and abs(m) > 1)
+            if na != nb:
+                kinds.append("Neimark-Sacker")
+            out.append((i, "+".join(kinds) or "stability change"))
+        return out
+
+    def contains(self, speed: float, amplitude: float, rtol: float = 1e-3) -> bool:
+        """True if (speed, amplitude) lies on this branch: between two neighbouring points in speed,
+        within rtol of the linearly interpolated amplitude (relative to the larger amplitude)."""
+        pts = self.points
+        for a, b in zip(pts[:-1], pts[1:]):
+            lo, hi = min(a.speed, b.speed), max(a.speed, b.speed)
+            if lo - 1e-9 <= speed <= hi + 1e-9:
+                f = 0.0 if hi == lo else (speed - a.speed) / (b.speed - a.speed)
+                amp = a.amplitude + f * (b.amplitude - a.amplitude)
+                tol = rtol * max(a.amplitude, b.amplitude) + 0.5 * abs(b.amplitude - a.amplitude) * (hi > lo)
+                if abs(amplitude - amp) <= max(tol, rtol * amplitude):
+                    return True
+        return any(abs(p.speed - speed) <= 1e-6 * speed and abs(p.amplitude - amplitude) <= rtol * amplitude
+                   for p in pts)
+
+
+def write_branches_csv(path: Path, branches: list[Branch], columns: dict[str, list] | None = None) -> None:
+    """One row per point: [extra columns,] branch, model, speed [rpm], amplitude [m], B [m] (or
+    empty), q0 [m], q0' [m/s], stable, label, |mu|max and the multipliers. `columns` maps a leading
+    column's name to one value per branch (e.g. the study value)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    columns = columns or {}
+    with open(tmp, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(list(columns) + ["branch", "model", "speed_rpm", "amplitude_m", "B_m", "q0_m", "v0_m_s",
+                                    "stable", "label", "mu_abs_max", "multipliers"])
+        for i, br in enumerate(branches):
+            lead = [f"{columns[c][i]:.9g}" if isinstance(columns[c][i], float) else columns[c][i] for c in columns]
+            for p in br.points:
+                B = "" if br.model in ("fixedB", "jenkins") else f"{p.x[2]:.12g}"
+                mus = " ".join(f"{m.real:.9g}{m.imag:+.9g}j" for m in p.multipliers)
+                w.writerow(lead + [i, br.model, f"{p.speed:.9g}", f"{p.amplitude:.12g}", B, f"{p.x[0]:.12g}",
+                            f"{p.x[1]:.12g}", int(p.stable), p.label, f"{np.max(np.abs(p.multipliers)):.9g}", mus])
+    tmp.replace(path)
+
+
+class _Problem:
+    """H(z) in scaled coordinates for one branch."""
+
+    def __init__(self, pm: PeriodMap, sc: np.ndarray):
+        self.pm, self.sc = pm, sc
+        self.m = pm.dim
+
+    def to_z(self, x: np.ndarray, n: float) -> np.ndarray:
+        return np.append(x / self.sc, n / SPEED_SCALE)
+
+    def from_z(self, z: np.ndarray) -> tuple[np.ndarray, float]:
+        return _bounded(self.pm, z[:-1] * self.sc), float(z[-1] * SPEED_SCALE)
+
+    def H(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+        """(H(z) scaled, P(x), amplitude). P is evaluated at z moved into the unknowns' domain and
+        compared with z itself, so a z outside (phi beyond the slip limit, phi != 0 while open) is
+        pulled back by the residual."""
+        x, n = self.from_z(z)
+        Px, A = self.pm(x, n)
+        return (Px - z[:-1] * self.sc) / self.sc, Px, A
+
+    def jac(self, z: np.ndarray, Hz: np.ndarray, Px: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(dH/dz (m x m+1), DP in physical units (m x m)): central differences in the unknowns
+        (one-sided where an unknown sits on its bound, as in shooting.jacobian), forward in speed.
+        Central, because max |q| is a kink at every half-wave symmetric orbit (the positive and the
+        negative peak are equal): a one-sided DP picks one peak and misplaces the multipliers."""
+        x, n = self.from_z(z)
+        eps = self.pm.s.fd_rel
+        Jz = np.empty((self.m, self.m + 1))
+        for j in range(self.m + 1):
+            sgn = fd_direction(self.pm, x, j) if j < self.m else 1.0
+            h = eps * sgn * (self.pm.scales(x, n)[j] / self.sc[j] if j < self.m else max(abs(z[-1]), 1e-3))
+            zp = z.copy()
+            zp[j] += h
+            Hp = self.H(zp)[0]
+            if j < self.m and not at_bound(self.pm, x, j):
+                zm = z.copy()
+                zm[j] -= h
+                Jz[:, j] = (Hp - self.H(zm)[0]) / (2.0 * h)
+            else:
+                Jz[:, j] = (Hp - Hz) / h
+        DP = (Jz[:, :-1] + np.eye(self.m)) * self.sc[:, None] / self.sc[None, :]
+        return Jz, DP
+
+
+def _tangent(Jz: np.ndarray, prev: np.ndarray | None) -> np.ndarray:
+    _, _, Vt = np.linalg.svd(Jz)
+    t = Vt[-1]
+    if prev is not None and float(t @ prev) < 0:
+        t = -t
+    return t / np.linalg.norm(t)
+
+
+def continue_branch(pm: PeriodMap, x: np.ndarray, speed: float, speed_range: tuple[float, float],
+                    settings: ContinuationSettings = ContinuationSettings(), directions: tuple[int, ...] = (-1, 1)
+                    ) -> Branch:
+    """Trace the branch through the periodic orbit x at `speed` (a converged root of the period
+    map) in both speed directions (or those in `directions`: -1 down, +1 up at the start) until it
+    leaves speed_range; returns the points ordered along the arc."""
+    lo, hi = speed_range
+    prob = _Problem(pm, pm.scales(x, speed))
+    z0 = prob.to_z(x, speed)
+    H0, P0, A0 = prob.H(z0)
+    Jz0, DP0 = prob.jac(z0, H0, P0)
+    t0 = _tangent(Jz0, None)
+    if t0[-1] < 0:
+        t0 = -t0  # +1: the direction of increasing speed at the start
+    first = BranchPoint(float(speed), np.array(x, dtype=float), A0, multipliers(DP0), 0)
+    down: list[BranchPoint] = []
+    up: list[BranchPoint] = []
+    reasons: list[str] = []
+    closed = False
+    for sgn in directions:
+        pts, reason, closed = _march(prob, z0, sgn * t0, Jz0, (lo, hi), settings, z_first=z0)
+        if sgn < 0:
+            down = pts[::-1]
+        else:
+            up = pts
+        reasons.append(f"{'down' if sgn < 0 else 'up'}: {reason}")
+        if closed:
+            break  # an isola: one direction went all the way round
+    return Branch(pm.model, down + [first] + up, reasons, closed)
+
+
+def _march(prob: _Problem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, rng: tuple[float, float],
+           s: ContinuationSettings, z_first: np.ndarray) -> tuple[list[BranchPoint], str, bool]:
+    pts: list[BranchPoint] = []
+    ds = s.ds
+    lo, hi = rng
+    while len(pts) < s.max_points:
+        ok, z_new, t_new, Jz_new, point = _step(prob, z, t, Jz, ds, s)
+        if not ok:
+            ds *= 0.5
+            if ds < s.ds_min:
+                return pts, f"step size below {s.ds_min:g} at {z[-1] * SPEED_SCALE:.1f} rpm", False
+            continue
+        pts.append(point)
+        if not lo <= point.speed <= hi:
+            return pts, f"left the speed range at {point.speed:.1f} rpm", False
+        if len(pts) > 5 and np.linalg.norm(z_new - z_first) < 0.75 * ds:
+            return pts, "closed on itself (isola)", True
+        z, t, Jz = z_new, t_new, Jz_new
+        if point.iterations <= EASY_CORRECTOR:
+            ds = min(ds * 1.4, s.ds_max)
+    return pts, f"{s.max_points} points", False
+
+
+def _step(prob: _Problem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, ds: float, s: ContinuationSettings
+          ) -> tuple[bool, np.ndarray, np.ndarray, np.ndarray, BranchPoint | None]:
+    """One predictor-corrector step from the branch point z (tangent t, dH/dz Jz there). The
+    corrector is first quasi-Newton: Jz updated by Broyden after every iteration (one period per
+    iteration); where that fails (a kink of the map: an event appears or vanishes) Newton with a
+    fresh finite-difference Jacobian per iteration. The Jacobian at the new point gives its
+    multipliers and the next tangent."""
+    fail = (False, z, t, Jz, None)
+    zp = z + ds * t
+    for quasi in (True, False):
+        try:
+            done = _correct(prob, zp, t, Jz, s, quasi)
+        except (FMUError, ParameterError):  # the FMU refused the start, or the speed left its range
+            done = None
+        # a corrector that jumped to another branch or fell back onto the last point: the new
+        # point must be about ds away
+        if done is not None and 0.2 * ds <= np.linalg.norm(done[0] - z) <= 3.0 * ds:
+            break
+    else:
+        return fail
+    zk, Hz, Px, A, it = done
+    try:
+        Jz_new, DP = prob.jac(zk, Hz, Px)
+    except (FMUError, ParameterError):
+        return fail
+    x, n = prob.from_z(zk)
+    return True, zk, _tangent(Jz_new, t), Jz_new, BranchPoint(n, x, A, multipliers(DP), it)
+
+
+def _correct(prob: _Problem, zp: np.ndarray, t: np.ndarray, Jz: np.ndarray, s: ContinuationSettings, quasi: bool
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, int] | None:
+    """Newton on (H(z) = 0, t . (z - zp) = 0) from the predictor zp: (z, H, P, amplitude,
+    iterations) or None. quasi: Jz, Broyden-updated; else a fresh Jacobian every iteration."""
+    zk = zp.copy()
+    Hz, Px, A = prob.H(zk)
+    J = Jz.copy()
+    for it in range(1, s.max_corrector + 1):
+        if not quasi:
+            J = prob.jac(zk, Hz, Px)[0]
+        G = np.append(Hz, t @ (zk - zp))
+        try:
+            dz = np.linalg.solve(np.vstack([J, t]), -G)
+        except np.linalg.LinAlgError:
+            return None
+        zn = zk + dz
+        if not np.all(np.isfinite(zn)):
+            return None
+        Hn, Px, A = prob.H(zn)
+        if quasi:
+            J = J + np.outer(Hn - Hz - J @ dz, dz) / float(dz @ dz)  # Broyden, in scaled coordinates
+        zk, Hz = zn, Hn
+        if np.max(np.abs(Hz)) <= prob.pm.s.tol * 10:
+            return zk, Hz, Px, A, it
+    return None

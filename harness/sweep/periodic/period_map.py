@@ -1,0 +1,233 @@
+"""The period map of the FMU: start state at load phase 0 -> state one excitation period later.
+
+One evaluation is one FMU run over exactly one period T = 2 pi / (EO Omega) at constant speed:
+fmi2Reset, the parameters and the start values of the state (tipDisplacement, tipVelocity,
+jenkinsForce), initialization, `steps_per_period` communication steps with the load's degree-8
+Chebyshev interpolant per step (2e-12 of F_w0 at 8 steps per period), then the state at T. The run
+uses amplitudeMode 2 (tracked), whose only effect inside [0, T) is that the FMU locates every
+extremum of q: B stays at its start value until the period end at T, so the dynamics are exactly
+the fixed-B dynamics, and `runningMaximum` (with `amplitude` if the period-end update already
+happened at T) is max |q| over the period, located, not sampled.
+
+Unknowns x per model (MODELS):
+- fixedB: (q0, q0') with B = params["B"] (frictionModel from params, 1 or 2);
+- fixedPoint / coulomb: (q0, q0', B), the paper's fixed point as the augmented problem: the image's
+  third component is A = max |q| over the period, so a fixed point has B = A(B). The image map
+  (q0, q0', B) -> (q(T), q'(T), A) is exactly the period map of the tracked-amplitude model, so its
+  multipliers are that model's stability (frictionModel 1 resp. 2);
+- jenkins: (q0, q0', phi0), the time-domain macroslip element (frictionModel 3), phi = F_f / L(q)
+  the element force as a fraction of its slip limit L = mu kn cos(gamma) (|q| - d) (0 while open),
+  so the cone |phi| <= 1 does not move with q0.
+"""
+from __future__ import annotations
+
+import ctypes
+import math
+import time
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+import numpy as np
+
+from harness.model.excitation import MAX_ORDER, AeroLoad, Constant
+from harness.fmu.blade import VR_AERO, VR_SPEED, BladeFMU, step_inputs
+from harness.model.params import ParameterError, fmu_parameters, validate
+
+MODELS = ("fixedB", "fixedPoint", "jenkins", "coulomb")
+STATE_STARTS = ("tipDisplacement", "tipVelocity", "jenkinsForce", "runningMaximum")
+_OUT = ("tipDisplacement", "tipVelocity", "jenkinsForce", "runningMaximum", "amplitude")
+
+
+@dataclass(frozen=True)
+class ShootingSettings:
+    """Numerical settings of the period map, Newton and the multipliers."""
+
+    steps_per_period: int = 8  # communication steps per period (load interpolant error 2e-12 of F_w0)
+    fd_rel: float = 1e-6  # finite-difference step relative to each unknown's scale
+    tol: float = 1e-10  # Newton converged: max scaled residual |P(x) - x| / scale
+    max_iter: int = 30  # Newton iterations
+
+    def check(self) -> "ShootingSettings":
+        if not (isinstance(self.steps_per_period, int) and 2 <= self.steps_per_period <= 4096):
+            raise ParameterError(f"steps_per_period = {self.steps_per_period!r} must be an integer in [2, 4096]")
+        for name, lo, hi in (("fd_rel", 1e-12, 1e-2), ("tol", 1e-14, 1e-3)):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and lo <= v <= hi):
+                raise ParameterError(f"{name} = {v!r} must be a number in [{lo:g}, {hi:g}]")
+        if not (isinstance(self.max_iter, int) and self.max_iter >= 1):
+            raise ParameterError(f"max_iter = {self.max_iter!r} must be an integer >= 1")
+        return self
+
+
+def model_params(params: Mapping[str, Any] | None, model: str) -> dict[str, Any]:
+    """The validated parameter set a model runs with (frictionModel forced where the model says)."""
+    if model not in MODELS:
+        raise ParameterError(f"model = {model!r}: choose from {', '.join(MODELS)}")
+    p = validate(params or {}, source="periodic")
+    if model == "jenkins":
+        p["frictionModel"] = 3
+    elif model == "coulomb":
+        p["frictionModel"] = 2
+    elif int(p["frictionModel"]) == 3:
+        raise ParameterError(f"model {model!r} needs a describing-function frictionModel (1 or 2), got 3;"
+                             " use --model jenkins for the time-domain element")
+    p["amplitudeMode"] = 2  # see the module doc: B fixed inside the period, extrema located
+    return p
+
+
+def omega(params: Mapping[str, Any], speed: float) -> float:
+    """Excitation circular frequency EO 2 pi n / 60 [rad/s]."""
+    return int(params["engineOrder"]) * 2.0 * math.pi * float(speed) / 60.0
+
+
+class PeriodMap:
+    """P(x) at a speed for one model and parameter set, evaluated with one BladeFMU instance."""
+
+    def __init__(self, fmu: BladeFMU, params: Mapping[str, Any] | None, model: str,
+                 settings: ShootingSettings = ShootingSettings()):
+        self.fmu, self.model, self.s = fmu, model, settings.check()
+        self.p = model_params(params, model)
+        self.dim = 2 if model == "fixedB" else 3
+        self.B = float(self.p["B"])  # the fixed amplitude of fixedB (settable: scans in B) [m]
+        self.d = float(self.p["d"])
+        self.muKnCos = float(self.p["mu"] * self.p["kn"] * math.cos(self.p["gamma"]))  # L = muKnCos (|q| - d) [N/m]
+        self.evaluations = 0
+        self.simulated = 0.0  # blade seconds simulated [s]
+        self.fmi_seconds = 0.0  # wall time spent in the FMI calls of the evaluations (ctypes included) [s]
+        self.account: PeriodMap = self  # whose counters the evaluations add to (see with_model)
+        self._raw = fmu.raw()
+        v = fmu.variables
+        fixed = {k: x for k, x in fmu_parameters(self.p).items() if k != "B"}
+        reals = [(k, x) for k, x in fixed.items() if v[k].type == "Real"]
+        names = [k for k, _ in reals] + ["B", *STATE_STARTS]
+        self._rvr = (ctypes.c_uint * len(names))(*[v[k].valueReference for k in names])
+        self._rval = (ctypes.c_double * len(names))(*[x for _, x in reals], *([0.0] * (1 + len(STATE_STARTS))))
+        self._iB = len(reals)  # index of B, then the start values in STATE_STARTS order
+        ints = [(k, x) for k, x in fixed.items() if v[k].type == "Integer"]
+        bools = [(k, x) for k, x in fixed.items() if v[k].type == "Boolean"]
+        self._ivr = (ctypes.c_uint * len(ints))(*[v[k].valueReference for k, _ in ints])
+        self._ival = (ctypes.c_int * len(ints))(*[int(x) for _, x in ints])
+        self._bvr = (ctypes.c_uint * len(bools))(*[v[k].valueReference for k, _ in bools])
+        self._bval = (ctypes.c_int * len(bools))(*[int(bool(x)) for _, x in bools])
+        self._ovr = (ctypes.c_uint * len(_OUT))(*[v[k].valueReference for k in _OUT])
+        self._oval = (ctypes.c_double * len(_OUT))()
+        K = MAX_ORDER
+        self._dvr = (ctypes.c_uint * (2 * K))(*([VR_AERO] * K + [VR_SPEED] * K))
+        self._dord = (ctypes.c_int * (2 * K))(*(list(range(1, K + 1)) * 2))
+        self._invr = (ctypes.c_uint * 2)(VR_AERO, VR_SPEED)
+        self._speed: float | None = None
+        self._unit: np.ndarray | None = None
+
+    # ---- inputs of one period at a speed (cached for the last speed) ----
+    def _unit_load(self) -> np.ndarray:
+        """Value and derivatives 1..K per step of the load's Chebyshev interpolant for a period of
+        T = 1 s, shape (K + 1, N). In load phase the steps are the same at every speed, so the
+        derivatives at period T are these times T^-j (computed once, not per speed)."""
+        if self._unit is None:
+            N = self.s.steps_per_period
+            speed = 60.0 / int(self.p["engineOrder"])  # T = 1 s
+            grid = np.arange(N + 1) / N
+            grid[-1] = 1.0
+            self._unit = step_inputs(AeroLoad(self.p["Fw0"], self.p["engineOrder"], Constant(speed)), grid,
+                                     MAX_ORDER, "chebyshev")
+        return self._unit
+
+    def _prepare(self, speed: float) -> None:
+        if speed == self._speed:
+            return
+        if not (math.isfinite(speed) and 0.0 < speed <= 30000.0):
+            raise ParameterError(f"speed = {speed!r} rpm outside (0, 30000] (the FMU's rotorSpeed range)")
+        N, K = self.s.steps_per_period, MAX_ORDER
+        T = 2.0 * math.pi / omega(self.p, speed)
+        grid = T * np.arange(N + 1) / N
+        grid[-1] = T
+        ua = self._unit_load() * (1.0 / T) ** np.arange(K + 1)[:, None]
+        self._der = np.ascontiguousarray(np.concatenate([ua[1:].T, np.zeros((N, K))], axis=1))
+        self._val = (ctypes.c_double * 2)(float(ua[0, 0]), float(speed))
+        self._steps = list(zip(grid[:-1].tolist(), np.diff(grid).tolist(),
+                               (self._der.ctypes.data + 8 * 2 * K * np.arange(N)).tolist()))
+        self.T, self._speed = T, speed
+
+    # ---- unknowns <-> FMU start values ----
+    def slip_limit(self, q: float) -> float:
+        """L(q) = mu kn cos(gamma) (|q| - d) [N], 0 while open."""
+        return self.muKnCos * max(abs(q) - self.d, 0.0)
+
+    def scales(self, x: np.ndarray, speed: float) -> np.ndarray:
+        """Scale of each unknown for Newton and finite differences: S, S omega (, S or 1)."""
+        S = max(abs(x[0]), abs(x[1]) / omega(self.p, speed), self.d, 1e-9)
+        if self.dim == 2:
+            return np.array([S, S * omega(self.p, speed)])
+        third = 1.0 if self.model == "jenkins" else max(abs(x[2]), self.d, 1e-9)
+        return np.array([S, S * omega(self.p, speed), third])
+
+    def __call__(self, x: np.ndarray, speed: float) -> tuple[np.ndarray, float]:
+        """(image of x, max |q| over the period). Raises FMUError if the FMU refuses the start
+        (e.g. B <= 0) or fails in the period."""
+        self._prepare(float(speed))
+        q0, v0 = float(x[0]), float(x[1])
+        if self.model == "jenkins":
+            B, F0 = self.B, float(np.clip(x[2], -1.0, 1.0)) * self.slip_limit(q0)
+        else:
+            B, F0 = (self.B if self.dim == 2 else float(x[2])), 0.0
+        r, i = self._raw, self._iB
+        c, val = r.c, self._rval
+        val[i], val[i + 1], val[i + 2], val[i + 3], val[i + 4] = B, q0, v0, F0, 0.0
+        acct = self.account
+        acct.evaluations += 1
+        acct.simulated += self.T
+        t_in = time.perf_counter()
+        st = r.reset(c)
+        st = max(st, r.setReal(c, ctypes.addressof(self._rvr), len(val), ctypes.addressof(val)))
+        st = max(st, r.setInteger(c, ctypes.addressof(self._ivr), len(self._ival), ctypes.addressof(self._ival)))
+        st = max(st, r.setBoolean(c, ctypes.addressof(self._bvr), len(self._bval), ctypes.addressof(self._bval)))
+        if st > 1:
+            raise self.fmu.failure("fmi2SetReal/Integer/Boolean (parameters, start values)", st, 0.0)
+        st = max(r.setupExperiment(c, 0, 0.0, 0.0, 0, 0.0), r.enterInitializationMode(c),
+                 r.setReal(c, ctypes.addressof(self._invr), 2, ctypes.addressof(self._val)))
+        st = max(st, r.exitInitializationMode(c)) if st <= 1 else st
+        if st > 1:
+            raise self.fmu.failure("fmi2ExitInitializationMode (start state)", st, 0.0)
+        a_dvr, a_ord, setDer, doStep = ctypes.addressof(self._dvr), ctypes.addressof(self._dord), r.setDer, r.doStep
+        nd = len(self._dvr)
+        for t, h, da in self._steps:
+            st = setDer(c, a_dvr, nd, a_ord, da)
+            if st > 1:
+                raise self.fmu.failure("fmi2SetRealInputDerivatives", st, t)
+            st = doStep(c, t, h, 1)
+            if st > 1:
+                raise self.fmu.failure("fmi2DoStep", st, t)
+        o = self._oval
+        st = r.getReal(c, ctypes.addressof(self._ovr), len(o), ctypes.addressof(o))
+        acct.fmi_seconds += time.perf_counter() - t_in
+        if st > 1:
+            raise self.fmu.failure("fmi2GetReal", st, self.T)
+        q, v, F, run_max, amp = o[0], o[1], o[2], o[3], o[4]
+        # the period-end update at T may or may not have happened within the last step: if it did,
+        # `amplitude` holds the new maximum and the running maximum restarted at |q(T)|
+        A = amp if amp != B else max(run_max, abs(q))
+        if self.dim == 2:
+            return np.array([q, v]), A
+        if self.model == "jenkins":
+            L = self.slip_limit(q)
+            return np.array([q, v, F / L if L > 0.0 else 0.0]), A
+        return np.array([q, v, A]), A
+
+    def with_model(self, model: str) -> "PeriodMap":
+        """A period map of another model on the same FMU and parameters, whose evaluations count
+        in this map's counters."""
+        other = PeriodMap(self.fmu, self.p, model, self.s)
+        other.account = self.account
+        return other
+
+    def start_values(self, x: np.ndarray) -> dict[str, float]:
+        """The FMU start values (and B) that start a run on the state x at load phase 0."""
+        q0, v0 = float(x[0]), float(x[1])
+        out = {"tipDisplacement": q0, "tipVelocity": v0}
+        if self.model == "fixedB":
+            out["B"] = self.B
+        elif self.model == "jenkins":
+            out["jenkinsForce"] = float(np.clip(x[2], -1.0, 1.0)) * self.slip_limit(q0)
+        elif self.dim == 3:
+            out["B"] = float(x[2])
+        return out

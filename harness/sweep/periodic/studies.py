@@ -1,0 +1,102 @@
+"""The paper's studies as branches of periodic orbits: one curve = one model at one study value.
+
+A curve is every branch of one model (fixedPoint: the paper's B = A(B), i.e. the tracked-amplitude
+model's periodic solutions with their stability; jenkins: the time-domain Jenkins element; coulomb:
+the Coulomb describing function's fixed point) over the speed range, traced by
+harness.sweep.periodic.branches in one worker with one FMU instance. `trace_curve` is the picklable task
+harness.paper.studies maps over a Runner; `curve_summary` turns a curve into the numbers the claims table
+and the study CSVs use.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+from harness.sweep.periodic.branches import BranchSettings
+from harness.sweep.periodic.continuation import Branch
+
+
+@dataclass(frozen=True)
+class CurveTask:
+    key: str  # study key (gap | mass | angle | kn)
+    value: float  # the study parameter's value
+    model: str  # fixedPoint | jenkins | coulomb
+    params: Mapping[str, Any]  # full parameter set (validated by the PeriodMap)
+    speed_range: tuple[float, float]  # [rpm]
+    fmu_path: str | None = None
+    settings: BranchSettings = field(default_factory=BranchSettings)
+
+
+@dataclass
+class Curve:
+    task: CurveTask
+    branches: list[Branch]
+    stats: dict
+
+
+def trace_curve(task: CurveTask) -> Curve:
+    from harness.fmu.blade import BladeFMU
+    from harness.sweep.periodic.branches import trace_branches
+
+    t0 = time.perf_counter()
+    with BladeFMU(task.fmu_path) as fmu:
+        branches, stats = trace_branches(fmu, dict(task.params), task.model, task.speed_range, task.settings)
+    stats["wall"] = time.perf_counter() - t0
+    return Curve(task, branches, stats)
+
+
+def peak(branches: list[Branch], stable_only: bool = True,
+         speed_range: tuple[float, float] = (0.0, math.inf)) -> tuple[float, float]:
+    """(largest max |q| [m], its speed [rpm]) over the (stable) points inside speed_range (a
+    branch's last point may lie just outside); nan if there is none."""
+    lo, hi = speed_range
+    best = (math.nan, math.nan)
+    for b in branches:
+        for p in b.points:
+            if (p.stable or not stable_only) and lo <= p.speed <= hi and not p.amplitude <= best[0]:
+                best = (p.amplitude, p.speed)
+    return best
+
+
+def jump_speed(branches: list[Branch], a_pk: float) -> float:
+    """Speed [rpm] where the stable part holding the peak orbit (max |q| = a_pk, from `peak`) ends at
+    a fold: where a slow run-up on it jumps down (nan if that stable part does not end in a fold)."""
+    for b in branches:
+        pts = b.points
+        for i, p in enumerate(pts):
+            if not (p.stable and p.amplitude == a_pk):
+                continue
+            for step in (1, -1):  # walk along the stable part in both directions to its ends
+                j = i
+                while 0 <= j + step < len(pts) and pts[j + step].stable:
+                    j += step
+                if 0 <= j + step < len(pts) and "fold" in pts[j + step].label:
+                    return 0.5 * (pts[j].speed + pts[j + step].speed)
+    return math.nan
+
+
+def unstable_ranges(branches: list[Branch], d: float) -> list[tuple[float, float, str]]:
+    """(low, high [rpm], kind) of every unstable stretch of orbits with contact (max |q| > d)."""
+    out = []
+    for b in branches:
+        run: list = []
+        for p in b.points + [None]:
+            if p is not None and not p.stable and p.amplitude > d:
+                run.append(p)
+                continue
+            if run:
+                kinds = sorted({q.label for q in run})
+                out.append((min(q.speed for q in run), max(q.speed for q in run), "/".join(kinds)))
+                run = []
+    return out
+
+
+def curve_summary(curve: Curve) -> dict[str, Any]:
+    d, rng = float(curve.task.params["d"]), curve.task.speed_range
+    a, n = peak(curve.branches, speed_range=rng)
+    a_any, n_any = peak(curve.branches, stable_only=False, speed_range=rng)
+    return {"peak": a, "speed": n, "peak_any": a_any, "speed_any": n_any, "jump": jump_speed(curve.branches, a),
+            "branches": len(curve.branches), "points": sum(len(b.points) for b in curve.branches),
+            "unstable_contact": unstable_ranges(curve.branches, d), **curve.stats}

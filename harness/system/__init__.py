@@ -1,0 +1,1 @@
+"""System-level examples: several FMUs coupled in a co-simulation."""
