@@ -225,7 +225,7 @@ fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fm
 {
     Instance *inst = enter(c, "fmi2SetupExperiment", MASK_SetupExperiment);
     if (inst == NULL) return fmi2Error;
-    return (fmi2Status)fmiSetupExperiment(inst, toleranceDefined, tolerance, startTime, stopTimeDefined, stopTime);
+    return (fmi2Status)fmiSetupExperiment(inst, "fmi2SetupExperiment", toleranceDefined, tolerance, startTime, stopTimeDefined, stopTime);
 }
 
 fmi2Status fmi2EnterInitializationMode(fmi2Component c)

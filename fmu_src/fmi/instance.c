@@ -9,23 +9,6 @@
 #include "fmi/state_blob.h"
 #include "fmi/variables.h"
 
-const char *fsmStateName(int32_t state)
-{
-    switch (state) {
-    case FsmStartEnd: return "startAndEnd";
-    case FsmInstantiated: return "instantiated";
-    case FsmInitializationMode: return "initializationMode";
-    case FsmStepComplete: return "stepComplete";
-    case FsmStepInProgress: return "stepInProgress";
-    case FsmStepFailed: return "stepFailed";
-    case FsmStepCanceled: return "stepCanceled";
-    case FsmTerminated: return "terminated";
-    case FsmError: return "error";
-    case FsmFatal: return "fatal";
-    default: return "unknown";
-    }
-}
-
 static char *copyString(const char *s)
 {
     size_t n;
@@ -87,25 +70,9 @@ void fmiReset(FmiInstance *inst)
     if (inst->model->startValues) inst->model->startValues(inst);
 }
 
-int fmiPreInit(const FmiInstance *inst)
+FmiStatus fmiSetupExperiment(FmiInstance *inst, const char *fn, int toleranceDefined, double tolerance,
+                             double startTime, int stopTimeDefined, double stopTime)
 {
-    return inst->fsm == FsmInstantiated || inst->fsm == FsmInitializationMode;
-}
-
-/* Outputs need the derived data; before initialization they follow the parameters. */
-FmiStatus fmiEnsureBuilt(FmiInstance *inst, const char *fn)
-{
-    FmiStatus status;
-    if (inst->built) return FmiOK;
-    status = inst->model->build(inst, fn, fmiPreInit(inst));
-    inst->built = status == FmiOK;
-    return status;
-}
-
-FmiStatus fmiSetupExperiment(FmiInstance *inst, int toleranceDefined, double tolerance, double startTime,
-                             int stopTimeDefined, double stopTime)
-{
-    const char *fn = "fmi2SetupExperiment";
     if (!isfinite(startTime)) {
         fmiLogStatus(inst, FmiError, "%s: startTime = %g s is not a finite number", fn, startTime);
         return FmiError;
@@ -167,7 +134,7 @@ FmiStatus fmiDoStep(FmiInstance *inst, const char *fn, double tc, double h)
                      inst->run.stopTime);
         return FmiError;
     }
-    status = inst->model->doStep(inst, tc, h);
+    status = inst->model->doStep(inst, fn, tc, h);
     if (status <= FmiDiscard) inst->run.lastDoStepStatus = status;
     if (status <= FmiWarning) inst->run.time = tc + h; /* the master's point plus h, never accumulated */
     return status;

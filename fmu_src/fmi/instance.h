@@ -4,24 +4,8 @@
 #ifndef FMI_INSTANCE_H
 #define FMI_INSTANCE_H
 
+#include "fmi/fsm.h"
 #include "fmi/model.h"
-
-/* States of the co-simulation state machine (FMI 2.0 s.4.2.4), one bit each for allowed-state
- * masks. Not part of an FMU state: restoring a state derives it from FmiRun.initialized. */
-typedef enum {
-    FsmStartEnd = 1 << 0,
-    FsmInstantiated = 1 << 1,
-    FsmInitializationMode = 1 << 2,
-    FsmStepComplete = 1 << 3,
-    FsmStepInProgress = 1 << 4,
-    FsmStepFailed = 1 << 5,
-    FsmStepCanceled = 1 << 6,
-    FsmTerminated = 1 << 7,
-    FsmError = 1 << 8,
-    FsmFatal = 1 << 9
-} FsmState;
-
-const char *fsmStateName(int32_t state);
 
 /* Log categories (modelDescription.xml <LogCategories>, same order). */
 typedef enum {
@@ -71,13 +55,9 @@ FmiInstance *fmiNew(const FmiModel *model, const char *instanceName, const char 
 void fmiFree(FmiInstance *inst);
 void fmiReset(FmiInstance *inst); /* start values, time 0, state machine instantiated; keeps logging */
 
-/* 1 before the end of initialization (parameters may change; the model follows them). */
-int fmiPreInit(const FmiInstance *inst);
-/* Builds the model's derived data if a parameter changed since the last build. */
-FmiStatus fmiEnsureBuilt(FmiInstance *inst, const char *fn);
 
-FmiStatus fmiSetupExperiment(FmiInstance *inst, int toleranceDefined, double tolerance, double startTime,
-                             int stopTimeDefined, double stopTime);
+FmiStatus fmiSetupExperiment(FmiInstance *inst, const char *fn, int toleranceDefined, double tolerance,
+                             double startTime, int stopTimeDefined, double stopTime);
 FmiStatus fmiExitInitialization(FmiInstance *inst, const char *fn);
 /* Checks the communication point, the step size and the stop time, then lets the model step. */
 FmiStatus fmiDoStep(FmiInstance *inst, const char *fn, double tc, double h);

@@ -35,7 +35,7 @@ typedef struct FmiModel {
     void (*nonFiniteHint)(const struct FmiInstance *inst, char *buf, size_t n);
     /* The model's part of a communication step from tc to tc + h, after the layer checked the
      * arguments and the time. FmiDiscard: the model's state is as at tc. */
-    FmiStatus (*doStep)(struct FmiInstance *inst, double tc, double h);
+    FmiStatus (*doStep)(struct FmiInstance *inst, const char *fn, double tc, double h);
     /* Checks the model-specific fields of deserialized data (1: usable); the table's variables
      * were checked already. initialized: the state evolves (else only parameters matter). */
     int (*validData)(struct FmiInstance *inst, const char *fn, const void *data, int initialized);

@@ -57,6 +57,16 @@ static double storedValue(const VarInfo *v, const void *data)
     return v->type == VarReal ? realIn(data, v->offset) : (double)intIn(data, v->offset);
 }
 
+/* Outputs need the model's derived data; before initialization they follow the parameters. */
+static FmiStatus ensureBuilt(FmiInstance *inst, const char *fn)
+{
+    FmiStatus status;
+    if (inst->built) return FmiOK;
+    status = inst->model->build(inst, fn, fsmPreInit(inst->fsm));
+    inst->built = status == FmiOK;
+    return status;
+}
+
 /* Looks up vr, checks its type; logs and returns NULL if unknown or of another type. */
 static const VarInfo *lookup(FmiInstance *inst, const char *fn, FmiValueRef vr, VarType type)
 {
@@ -92,7 +102,7 @@ FmiStatus fmiGetValues(FmiInstance *inst, const char *fn, const FmiValueRef vr[]
             continue;
         }
         if (!haveOutputs) {
-            if (fmiEnsureBuilt(inst, fn) != FmiOK) return FmiError;
+            if (ensureBuilt(inst, fn) != FmiOK) return FmiError;
             m->outputs(inst);
             haveOutputs = 1;
         }
@@ -112,7 +122,7 @@ FmiStatus fmiGetValues(FmiInstance *inst, const char *fn, const FmiValueRef vr[]
 /* May v be set now? Logs and returns 0 if not. */
 static int settable(FmiInstance *inst, const char *fn, const VarInfo *v)
 {
-    const int before = fmiPreInit(inst);
+    const int before = fsmPreInit(inst->fsm);
     if (v->causality == CausInput) return 1; /* the call-sequence mask already restricts states */
     if (v->causality == CausParameter) {
         if (before) return 1;

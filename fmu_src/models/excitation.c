@@ -101,9 +101,9 @@ static double output(const FmiInstance *inst, int id)
 }
 
 /* No state: the outputs are functions of the time. */
-static FmiStatus doStep(FmiInstance *inst, double tc, double h)
+static FmiStatus doStep(FmiInstance *inst, const char *fn, double tc, double h)
 {
-    (void)inst; (void)tc; (void)h;
+    (void)inst; (void)fn; (void)tc; (void)h;
     return FmiOK;
 }
 

@@ -45,14 +45,14 @@ typedef struct {
     int32_t bladeCacheFormulation;
     BladeParams bladeCacheParams;
     BladeReduction bladeCache;
-    DynOutputs out;              /* outputs of the current fmi2Get call */
+    DynOutputs out;              /* outputs of the current get call */
 } BladeMemory;
 
 #define BLADE_DATA(inst) ((BladeData *)(inst)->data)
 #define BLADE_MEMORY(inst) ((BladeMemory *)(inst)->memory)
 
 /* shrouded_blade_step.c */
-FmiStatus bladeDoStep(FmiInstance *inst, double tc, double h);
+FmiStatus bladeDoStep(FmiInstance *inst, const char *fn, double tc, double h);
 /* Warns once per run when the describing function is in full stick (MODEL.md s.3). */
 FmiStatus bladeWarnFullStickOnce(FmiInstance *inst, const char *fn);
 

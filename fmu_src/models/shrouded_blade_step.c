@@ -1,6 +1,6 @@
 /* The ShroudedBlade communication step (model-notes s.1, s.6): internal step count from maxStep,
  * the input polynomials, the rotor speed range, solverAdvance with the events logged, the state
- * restored and fmi2Discard on numerical trouble, and the inputs carried to the next point. */
+ * restored and the step discarded on numerical trouble, and the inputs carried to the next point. */
 #include <math.h>
 #include <string.h>
 
@@ -95,9 +95,8 @@ static const char *stiffHint(const BladeData *d, double n0)
 #define MAX_INTERNAL_STEPS 1e7
 
 /* The state is restored and the step discarded; logs why. */
-static FmiStatus discard(FmiInstance *inst, DynStatus st, double tc, double tFail, double n0)
+static FmiStatus discard(FmiInstance *inst, const char *fn, DynStatus st, double tc, double tFail, double n0)
 {
-    const char *fn = "fmi2DoStep";
     const BladeData *d = BLADE_DATA(inst);
     const double tf = tc + tFail;
     switch (st) {
@@ -126,9 +125,8 @@ static FmiStatus discard(FmiInstance *inst, DynStatus st, double tc, double tFai
     return FmiDiscard;
 }
 
-FmiStatus bladeDoStep(FmiInstance *inst, double tc, double h)
+FmiStatus bladeDoStep(FmiInstance *inst, const char *fn, double tc, double h)
 {
-    const char *fn = "fmi2DoStep";
     BladeData *d = BLADE_DATA(inst);
     double ratio, n0, n1, tFail = 0.0;
     long nSteps;
@@ -162,7 +160,7 @@ FmiStatus bladeDoStep(FmiInstance *inst, double tc, double h)
                        inst, &BLADE_MEMORY(inst)->counters, &tFail);
     if (st != DynOk) {
         d->state = backup;
-        return discard(inst, st, tc, tFail, n0);
+        return discard(inst, fn, st, tc, tFail, n0);
     }
     {   /* the state is finite, but a derived force may overflow (q' ~ 1e206 times C_eq ~ 1e214) */
         DynOutputs o;
