@@ -6,7 +6,7 @@
 #include <stdint.h>
 
 /* States of the co-simulation state machine (FMI 2.0 s.4.2.4), one bit each for allowed-state
- * masks. Not part of an FMU state: restoring a state derives it from FmiRun.initialized. */
+ * masks. Not serialized: a deserialized FMU state derives it from FmiRun.initialized. */
 typedef enum {
     FsmStartEnd = 1 << 0,
     FsmInstantiated = 1 << 1,

@@ -12,7 +12,9 @@
  *                       lastDoStepStatus, then the model's I32 fields in list order
  *   size - 8   uint64   FNV-1a 64 checksum of all preceding bytes
  * Everything is checked (magic, version, size, GUID hash, counts, checksum, every value) before
- * a state is made from it. */
+ * a state is made from it. The state machine's state is not serialized (it belongs to the face's
+ * call sequence, not to the model): an in-memory copy restores it, a deserialized state comes back
+ * in stepComplete if initialization had ended, else in instantiated. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,6 +29,7 @@ struct FmiStateCopy {
     uint64_t magic;
     FmiInstance *owner; /* the instance whose list holds this copy */
     FmiStateCopy *prev, *next;
+    int32_t fsm;        /* FsmState at the copy; a deserialized copy derives it (see above) */
     FmiRun run;
     int32_t built;
     void *data;         /* model->dataSize bytes */
@@ -100,6 +103,7 @@ FmiStatus fmiStateGet(FmiInstance *inst, const char *fn, void **state)
 {
     FmiStateCopy *b = copyToFill(inst, fn, *state);
     if (b == NULL) return FmiError;
+    b->fsm = inst->fsm;
     b->run = inst->run;
     b->built = inst->built;
     memcpy(b->data, inst->data, inst->model->dataSize);
@@ -107,8 +111,6 @@ FmiStatus fmiStateGet(FmiInstance *inst, const char *fn, void **state)
     return FmiOK;
 }
 
-/* A restored state continues where it was taken: stepping once initialized, else before
- * initialization (in initialization mode if the instance is there now). */
 FmiStatus fmiStateSet(FmiInstance *inst, const char *fn, void *state)
 {
     const FmiStateCopy *b = checkCopy(inst, fn, state);
@@ -116,8 +118,7 @@ FmiStatus fmiStateSet(FmiInstance *inst, const char *fn, void *state)
     inst->run = b->run;
     inst->built = b->built;
     memcpy(inst->data, b->data, inst->model->dataSize);
-    if (inst->run.initialized) inst->fsm = FsmStepComplete;
-    else if (inst->fsm != FsmInitializationMode) inst->fsm = FsmInstantiated;
+    inst->fsm = b->fsm;
     return FmiOK;
 }
 
@@ -351,6 +352,7 @@ FmiStatus fmiStateDeserialize(FmiInstance *inst, const char *fn, const unsigned 
         free(data);
         return FmiError;
     }
+    b->fsm = run.initialized ? FsmStepComplete : FsmInstantiated;
     b->run = run;
     b->built = built;
     memcpy(b->data, data, m->dataSize);

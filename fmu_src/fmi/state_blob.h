@@ -1,6 +1,6 @@
 /* FMU states: copies owned by the instance (get/set/free) and their serialization, a versioned,
  * pointer-free, little-endian byte format whose counts and size follow from the model's field
- * list. The state-machine value is not part of a state: restoring one derives it. */
+ * list. The state-machine value is not serialized: a deserialized state derives it. */
 #ifndef FMI_STATE_BLOB_H
 #define FMI_STATE_BLOB_H
 
