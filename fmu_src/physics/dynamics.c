@@ -5,12 +5,11 @@
  * The discrete state (gate, Jenkins mode, side, slip direction) is pinned between events, so the
  * right-hand side is smooth between them; an integrator watches the switching functions and
  * calls dynApplyEvent at the first instant one of them turns negative. */
-#include "physics/dynamics.h"
+#include "physics/dynamics_step.h"
 
 #include <math.h>
 #include <string.h>
 
-#define TWO_PI 6.283185307179586476925286766559
 
 /* ------------------------------------------------------------------------------------------- */
 /* Model constants, initial state                                                               */
@@ -30,7 +29,7 @@ int dynBuildModel(DynModel *m, const BladeReduction *r, const ContactParams *cp,
     m->K0static = r->K0static;
     m->K0omega2 = r->K0omega2;
     m->G = r->loadGain;
-    m->omegaPerRpm = (double)engineOrder * TWO_PI / 60.0;
+    m->omegaPerRpm = (double)engineOrder * DYN_TWO_PI / 60.0;
     m->sinG = sin(cp->gamma);
     m->cosG = cos(cp->gamma);
     m->kd = cp->kdRatio * cp->kn;
@@ -123,109 +122,11 @@ DynStatus dynInitState(const DynModel *m, DynState *s, double q0, double v0, dou
     return dynUpdateDescribe(m, s);
 }
 
-int dynContactOn(const DynModel *m, const DynState *s)
-{
-    if (m->friction == FrictionMacroslipTD) return s->mode != ContactOpen;
-    return s->mode == GateOn;
-}
-
-/* ------------------------------------------------------------------------------------------- */
-/* Right-hand side (hot: no branches beyond the mode, no calls, no allocation)                  */
-
-int dynRhs(const DynModel *m, const DynState *s, double fw, double n, const double x[DYN_NX], double f[DYN_NX])
-{
-    const double q = x[0], v = x[1];
-    const double Omega = DYN_RAD_PER_RPM * n;
-    const double omega = m->omegaPerRpm * n;
-    const double K0 = m->K0static + m->K0omega2 * Omega * Omega; /* eq. 26 */
-    double Fc = 0.0, P = 0.0, dw = 0.0;
-    int bad = 0;
-    if (m->friction == FrictionMacroslipTD) {
-        const double sig = (double)s->side;
-        switch (s->mode) {
-        case ContactStick: {
-            const double Fn = m->knCos * (q - sig * m->contact.d);  /* eq. 3 */
-            const double Ff = m->kd * (m->sinG * q - x[4]); /* spring k_d (Delta_u - w) */
-            Fc = Fn * m->cosG + Ff * m->sinG;               /* eq. 14 */
-            break;
-        }
-        case ContactSlip: {
-            const double sd = (double)s->slipDir;
-            const double Fn = m->knCos * (q - sig * m->contact.d);
-            const double Ff = sd * m->muKnCos * (sig * q - m->contact.d); /* F_f = s mu |F_n| */
-            Fc = Fn * m->cosG + Ff * m->sinG;
-            dw = (m->sinG - sd * sig * m->muKnCosPerKd) * v; /* w = Delta_u - s L / k_d */
-            P = Ff * dw;
-            break;
-        }
-        default:
-            dw = m->sinG * v; /* open: w follows Delta_u (spring unloaded) */
-            break;
-        }
-    } else if (s->mode == GateOn && s->df.regime != RegimeOpen) {
-        /* eq. 27 with eq. 12-13: F_c = K_eq q + C_eq q', C_eq = (C_eq omega) / omega */
-        double Ceq = 0.0;
-        if (omega > 0.0) Ceq = s->df.CeqOmega / omega;
-        else bad = 1;
-        Fc = s->df.Keq * q + Ceq * v;
-        P = Ceq * v * v;
-    }
-    f[0] = v;
-    f[1] = (m->G * fw - m->C0 * v - K0 * q - Fc) * m->invM;
-    f[2] = omega;
-    f[3] = m->C0 * v * v + P;
-    f[4] = dw;
-    return bad;
-}
-
 /* ------------------------------------------------------------------------------------------- */
 /* Switching functions and events                                                               */
 
 /* ------------------------------------------------------------------------------------------- */
-/* Switching functions (see dynamics.h)                                                         */
-
-int dynSwitching(const DynModel *m, const DynState *s, double h, const double x[DYN_NX], const double f[DYN_NX],
-                 DynSwitchValue out[DYN_MAX_SWITCHING])
-{
-    const double q = x[0], v = x[1];
-    const int contactModel = m->friction == FrictionMacroslipTD;
-    int n = 0;
-#define SWITCH(k, value, slope) \
-    do { out[n].kind = (k); out[n].g = (value); out[n].hdg = (slope); ++n; } while (0)
-    if (contactModel || m->gating) {
-        const double d = m->contact.d;
-        if (dynContactOn(m, s)) {
-            const double sg = (double)s->side;
-            /* |q| > d while in contact: sigma q - d >= 0 (eq. 3, 12-13) */
-            SWITCH(DynSwitchLeave, sg * q - d, sg * h * v);
-        } else {
-            SWITCH(DynSwitchEnterPos, d - q, -h * v);
-            SWITCH(DynSwitchEnterNeg, d + q, h * v);
-        }
-    }
-    if (contactModel && s->mode == ContactStick) {
-        /* stick while |F_f| <= L: L -+ F_f >= 0, F_f = kd (sin g q - w), L = mu kn cos g (sigma q - d) */
-        const double sg = (double)s->side, w = s->w;
-        const double aP = sg * m->muKnCos - m->kd * m->sinG, bP = -m->muKnCos * m->contact.d + m->kd * w;
-        const double aN = sg * m->muKnCos + m->kd * m->sinG, bN = -m->muKnCos * m->contact.d - m->kd * w;
-        SWITCH(DynSwitchSlipPos, aP * q + bP, aP * h * v);
-        SWITCH(DynSwitchSlipNeg, aN * q + bN, aN * h * v);
-    } else if (contactModel && s->mode == ContactSlip) {
-        /* slip while s kd sin g q' - L' >= 0 (model-notes s.2): (s kd sin g - sigma mu kn cos g) q' */
-        const double cs = s->slipDir * m->kd * m->sinG - s->side * m->muKnCos;
-        if (cs != 0.0) {
-            const double sg = cs > 0.0 ? 1.0 : -1.0;
-            SWITCH(DynSwitchStick, sg * v, sg * h * f[1]);
-        }
-    }
-    if (m->tracked) {
-        const double target = TWO_PI * (s->periods + 1.0); /* period k ends at psi = 2 pi k */
-        SWITCH(DynSwitchPeriod, target - x[2], -h * f[2]);
-        SWITCH(DynSwitchExtremum, s->vdir * v, s->vdir * h * f[1]);
-    }
-#undef SWITCH
-    return n;
-}
+/* Events                                                                                       */
 
 DynStatus dynApplyEvent(const DynModel *m, DynState *s, DynSwitch sw, DynEventKind *kind)
 {
@@ -306,7 +207,7 @@ void dynOutputs(const DynModel *m, const DynState *s, double nRpm, DynOutputs *o
     const double CeqDF = omega > 0.0 && isfinite(s->df.CeqOmega / omega) ? s->df.CeqOmega / omega : 0.0;
     const double fc = omega > 0.0 && isfinite(s->df.fcOmega / omega) ? s->df.fcOmega / omega : 0.0;
     const double sig = (double)s->side;
-    out->naturalFrequency = sqrt((K0 > 0.0 ? K0 : 0.0) * m->invM) / TWO_PI;
+    out->naturalFrequency = sqrt((K0 > 0.0 ? K0 : 0.0) * m->invM) / DYN_TWO_PI;
     out->regime = (int)s->df.regime;
     if (m->friction == FrictionMacroslipTD) {
         out->Keq = s->df.Keq; /* information only: the DF at the B in use */
@@ -345,8 +246,8 @@ void dynOutputs(const DynModel *m, const DynState *s, double nRpm, DynOutputs *o
             out->contactState = ContactStick;
         } else {
             double theta = omega > 0.0 ? atan2(-s->v / omega, s->q) : atan2(-s->v, 0.0);
-            if (theta < 0.0) theta += TWO_PI;
-            if (theta >= TWO_PI) theta = 0.0;
+            if (theta < 0.0) theta += DYN_TWO_PI;
+            if (theta >= DYN_TWO_PI) theta = 0.0;
             out->contactState = (int)contactLoopState(&m->contact, m->friction, s->B, theta);
         }
     }

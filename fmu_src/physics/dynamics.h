@@ -2,7 +2,8 @@
  * constants, the right-hand side, the switching functions and the discrete updates at their
  * events, the initial state and the outputs. Public so that any integrator (the co-simulation RK4
  * of solver/rk4_events.c, a Model Exchange master) can use them. Pure C: no FMI types, no
- * allocation, no logging. */
+ * allocation, no logging. The functions called at every step (right-hand side, switching
+ * functions) are inline in dynamics_step.h. */
 #ifndef DYNAMICS_H
 #define DYNAMICS_H
 
@@ -14,8 +15,9 @@
 /* Number of continuous states x = (q, v, psi, E, w). */
 #define DYN_NX 5
 
+#define DYN_TWO_PI 6.283185307179586476925286766559
 /* Rotor speed conversion: Omega [rad/s] = DYN_RAD_PER_RPM n [rpm]. */
-#define DYN_RAD_PER_RPM (6.283185307179586476925286766559 / 60.0)
+#define DYN_RAD_PER_RPM (DYN_TWO_PI / 60.0)
 
 /* Relative tolerance of |F0| = L at the start (rounding of a force read back from an output). */
 #define DYN_CONE_RTOL 1e-12
@@ -94,13 +96,6 @@ DynStatus dynInitState(const DynModel *m, DynState *s, double q0, double v0, dou
  * contact is open there (|q0| <= d). */
 double dynStartForceLimit(const DynModel *m, double q0);
 
-/* 1 if the contact force is switched on in s (DF: gate on; Jenkins element: in contact). */
-int dynContactOn(const DynModel *m, const DynState *s);
-
-/* f = dx/dt at state x for inputs fw [N/m], n [rpm] with the discrete state of s (eq. 27).
- * Returns 1 if omega <= 0 while a describing-function force is needed (model-notes s.2). */
-int dynRhs(const DynModel *m, const DynState *s, double fw, double n, const double x[DYN_NX], double f[DYN_NX]);
-
 /* Switching functions (model-notes s.6). Each is written so that the discrete state of s is
  * consistent while g >= 0; its event is the first instant where g < 0. */
 typedef enum {
@@ -115,12 +110,6 @@ typedef struct {
     double g;   /* value of the switching function */
     double hdg; /* h dg/dt: its time derivative scaled by the caller's h (1 for the plain slope) */
 } DynSwitchValue;
-
-/* The switching functions active in the discrete state of s, at state x with f = dx/dt, in
- * priority order (at equal instants the first wins: contact loss first). The list depends only
- * on m and s. The stick functions use s->w (w is constant in stick). Returns their number. */
-int dynSwitching(const DynModel *m, const DynState *s, double h, const double x[DYN_NX], const double f[DYN_NX],
-                 DynSwitchValue out[DYN_MAX_SWITCHING]);
 
 /* Event kinds as reported (for logging). */
 typedef enum {

@@ -10,7 +10,7 @@
 #ifndef RK4_EVENTS_H
 #define RK4_EVENTS_H
 
-#include "physics/dynamics.h"
+#include "physics/dynamics_step.h"
 
 #define SOLVER_MAX_ORDER 8          /* highest input derivative order (model-notes s.1) */
 #define SOLVER_NUM_INPUTS 2
