@@ -12,8 +12,6 @@
 #include "fmi/state_blob.h"
 #include "fmi/variables.h"
 
-typedef FmiInstance Instance;
-
 /* The face's logger context: the master's callback, and a buffer for the escaped message. */
 typedef struct {
     fmi2CallbackLogger logger;
@@ -59,9 +57,9 @@ static void fmi2Sink(void *ctx, const char *instanceName, FmiStatus status, cons
 
 /* The instance behind c, if c is one and the call is allowed in its state; else NULL (logged
  * when possible). */
-static Instance *enterAs(fmi2Component c, const char *fn, int mask, int logCall)
+static FmiInstance *enterAs(fmi2Component c, const char *fn, int mask, int logCall)
 {
-    Instance *inst = (Instance *)c;
+    FmiInstance *inst = (FmiInstance *)c;
     if (inst == NULL || inst->magic != FMI_INSTANCE_MAGIC) return NULL;
     if (logCall) fmiLog(inst, FmiOK, LogCalls, "%s (state: %s)", fn, fsmStateName(inst->fsm));
     if ((inst->fsm & mask) == 0) {
@@ -71,12 +69,12 @@ static Instance *enterAs(fmi2Component c, const char *fn, int mask, int logCall)
     return inst;
 }
 
-static Instance *enter(fmi2Component c, const char *fn, int mask) { return enterAs(c, fn, mask, 1); }
+static FmiInstance *enter(fmi2Component c, const char *fn, int mask) { return enterAs(c, fn, mask, 1); }
 
 /* enter() for a function with a required pointer argument: ok = 0 logs "<fn>: <what> is NULL". */
-static Instance *enterNonNull(fmi2Component c, const char *fn, int mask, int ok, const char *what)
+static FmiInstance *enterNonNull(fmi2Component c, const char *fn, int mask, int ok, const char *what)
 {
-    Instance *inst = enter(c, fn, mask);
+    FmiInstance *inst = enter(c, fn, mask);
     if (inst != NULL && !ok) {
         fmiLogStatus(inst, FmiError, "%s: %s is NULL", fn, what);
         return NULL;
@@ -86,9 +84,9 @@ static Instance *enterNonNull(fmi2Component c, const char *fn, int mask, int ok,
 
 /* enterNonNull() for the FMU state functions, refused when the model declares
  * canGetAndSetFMUstate="false". */
-static Instance *enterState(fmi2Component c, const char *fn, int ok, const char *what)
+static FmiInstance *enterState(fmi2Component c, const char *fn, int ok, const char *what)
 {
-    Instance *inst = enterNonNull(c, fn, MASK_FMUstate, ok, what);
+    FmiInstance *inst = enterNonNull(c, fn, MASK_FMUstate, ok, what);
     if (inst != NULL && !inst->model->canGetAndSetState) {
         fmiLogStatus(inst, FmiError, "%s: not supported (canGetAndSetFMUstate = false)", fn);
         return NULL;
@@ -101,7 +99,8 @@ static double readReal(const void *v, size_t i) { return ((const fmi2Real *)v)[i
 static void writeReal(void *v, size_t i, double x) { ((fmi2Real *)v)[i] = x; }
 static double readInteger(const void *v, size_t i) { return (double)((const fmi2Integer *)v)[i]; }
 static void writeInteger(void *v, size_t i, double x) { ((fmi2Integer *)v)[i] = (fmi2Integer)x; }
-static double readBoolean(const void *v, size_t i) { return ((const fmi2Boolean *)v)[i] ? 1.0 : 0.0; } /* any nonzero is true */
+/* any nonzero fmi2Boolean is true */
+static double readBoolean(const void *v, size_t i) { return ((const fmi2Boolean *)v)[i] ? 1.0 : 0.0; }
 static void writeBoolean(void *v, size_t i, double x) { ((fmi2Boolean *)v)[i] = x != 0.0 ? fmi2True : fmi2False; }
 static const FmiArray REALS = {VarReal, readReal, writeReal};
 static const FmiArray INTEGERS = {VarInteger, readInteger, writeInteger};
@@ -109,7 +108,7 @@ static const FmiArray BOOLEANS = {VarBoolean, readBoolean, writeBoolean};
 
 #define VRS(vr) ((const FmiValueRef *)(vr))
 
-static int nullArgs(Instance *inst, const char *fn, size_t nvr, const void *a, const void *b)
+static int nullArgs(FmiInstance *inst, const char *fn, size_t nvr, const void *a, const void *b)
 {
     if (nvr > 0 && (a == NULL || b == NULL)) {
         fmiLogStatus(inst, FmiError, "%s: NULL array argument with nvr = %lu", fn, (unsigned long)nvr);
@@ -129,7 +128,7 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
                                const fmi2String categories[])
 {
     const char *fn = "fmi2SetDebugLogging";
-    Instance *inst = enterAs(c, fn, MASK_SetDebugLogging, 0); /* logs the call after the change */
+    FmiInstance *inst = enterAs(c, fn, MASK_SetDebugLogging, 0); /* logs the call after the change */
     size_t i;
     int k;
     if (inst == NULL) return fmi2Error;
@@ -170,7 +169,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
                               fmi2Boolean visible, fmi2Boolean loggingOn)
 {
     const char *fn = "fmi2Instantiate";
-    Instance *inst;
+    FmiInstance *inst;
     fmi2CallbackLogger log;
     Fmi2Sink *sink;
     const char *name = (instanceName != NULL) ? instanceName : "";
@@ -214,7 +213,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
 
 void fmi2FreeInstance(fmi2Component c)
 {
-    Instance *inst = (Instance *)c;
+    FmiInstance *inst = (FmiInstance *)c;
     if (inst == NULL || inst->magic != FMI_INSTANCE_MAGIC) return;
     fmiLog(inst, FmiOK, LogCalls, "fmi2FreeInstance");
     fmiFree(inst);
@@ -223,14 +222,15 @@ void fmi2FreeInstance(fmi2Component c)
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance,
                                fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime)
 {
-    Instance *inst = enter(c, "fmi2SetupExperiment", MASK_SetupExperiment);
+    FmiInstance *inst = enter(c, "fmi2SetupExperiment", MASK_SetupExperiment);
     if (inst == NULL) return fmi2Error;
-    return (fmi2Status)fmiSetupExperiment(inst, "fmi2SetupExperiment", toleranceDefined, tolerance, startTime, stopTimeDefined, stopTime);
+    return (fmi2Status)fmiSetupExperiment(inst, "fmi2SetupExperiment", toleranceDefined, tolerance, startTime,
+                                          stopTimeDefined, stopTime);
 }
 
 fmi2Status fmi2EnterInitializationMode(fmi2Component c)
 {
-    Instance *inst = enter(c, "fmi2EnterInitializationMode", MASK_EnterInitializationMode);
+    FmiInstance *inst = enter(c, "fmi2EnterInitializationMode", MASK_EnterInitializationMode);
     if (inst == NULL) return fmi2Error;
     inst->fsm = FsmInitializationMode;
     return fmi2OK;
@@ -238,7 +238,7 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component c)
 
 fmi2Status fmi2ExitInitializationMode(fmi2Component c)
 {
-    Instance *inst = enter(c, "fmi2ExitInitializationMode", MASK_ExitInitializationMode);
+    FmiInstance *inst = enter(c, "fmi2ExitInitializationMode", MASK_ExitInitializationMode);
     fmi2Status status;
     if (inst == NULL) return fmi2Error;
     status = (fmi2Status)fmiExitInitialization(inst, "fmi2ExitInitializationMode");
@@ -248,7 +248,7 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c)
 
 fmi2Status fmi2Terminate(fmi2Component c)
 {
-    Instance *inst = enter(c, "fmi2Terminate", MASK_Terminate);
+    FmiInstance *inst = enter(c, "fmi2Terminate", MASK_Terminate);
     if (inst == NULL) return fmi2Error;
     inst->fsm = FsmTerminated;
     return fmi2OK;
@@ -256,7 +256,7 @@ fmi2Status fmi2Terminate(fmi2Component c)
 
 fmi2Status fmi2Reset(fmi2Component c)
 {
-    Instance *inst = enter(c, "fmi2Reset", MASK_Reset);
+    FmiInstance *inst = enter(c, "fmi2Reset", MASK_Reset);
     if (inst == NULL) return fmi2Error;
     fmiReset(inst);
     return fmi2OK;
@@ -268,7 +268,7 @@ fmi2Status fmi2Reset(fmi2Component c)
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[])
 {
     const char *fn = "fmi2GetReal";
-    Instance *inst = enter(c, fn, MASK_Get);
+    FmiInstance *inst = enter(c, fn, MASK_Get);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
     return (fmi2Status)fmiGetValues(inst, fn, VRS(vr), nvr, &REALS, value);
 }
@@ -276,7 +276,7 @@ fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[])
 {
     const char *fn = "fmi2GetInteger";
-    Instance *inst = enter(c, fn, MASK_Get);
+    FmiInstance *inst = enter(c, fn, MASK_Get);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
     return (fmi2Status)fmiGetValues(inst, fn, VRS(vr), nvr, &INTEGERS, value);
 }
@@ -284,13 +284,13 @@ fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
 fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[])
 {
     const char *fn = "fmi2GetBoolean";
-    Instance *inst = enter(c, fn, MASK_Get);
+    FmiInstance *inst = enter(c, fn, MASK_Get);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
     return (fmi2Status)fmiGetValues(inst, fn, VRS(vr), nvr, &BOOLEANS, value);
 }
 
 /* There are no String variables: every value reference is refused. */
-static fmi2Status noStrings(Instance *inst, const char *fn, const fmi2ValueReference vr[], size_t nvr)
+static fmi2Status noStrings(FmiInstance *inst, const char *fn, const fmi2ValueReference vr[], size_t nvr)
 {
     if (nvr == 0) return fmi2OK;
     {
@@ -306,7 +306,7 @@ static fmi2Status noStrings(Instance *inst, const char *fn, const fmi2ValueRefer
 fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2String value[])
 {
     const char *fn = "fmi2GetString";
-    Instance *inst = enter(c, fn, MASK_Get);
+    FmiInstance *inst = enter(c, fn, MASK_Get);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
     return noStrings(inst, fn, vr, nvr);
 }
@@ -314,7 +314,7 @@ fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[])
 {
     const char *fn = "fmi2SetReal";
-    Instance *inst = enter(c, fn, MASK_Set);
+    FmiInstance *inst = enter(c, fn, MASK_Set);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
     return (fmi2Status)fmiSetValues(inst, fn, VRS(vr), nvr, &REALS, value);
 }
@@ -322,7 +322,7 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[])
 {
     const char *fn = "fmi2SetInteger";
-    Instance *inst = enter(c, fn, MASK_Set);
+    FmiInstance *inst = enter(c, fn, MASK_Set);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
     return (fmi2Status)fmiSetValues(inst, fn, VRS(vr), nvr, &INTEGERS, value);
 }
@@ -330,7 +330,7 @@ fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
 fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[])
 {
     const char *fn = "fmi2SetBoolean";
-    Instance *inst = enter(c, fn, MASK_Set);
+    FmiInstance *inst = enter(c, fn, MASK_Set);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
     return (fmi2Status)fmiSetValues(inst, fn, VRS(vr), nvr, &BOOLEANS, value);
 }
@@ -338,7 +338,7 @@ fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t
 fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2String value[])
 {
     const char *fn = "fmi2SetString";
-    Instance *inst = enter(c, fn, MASK_Set);
+    FmiInstance *inst = enter(c, fn, MASK_Set);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
     return noStrings(inst, fn, vr, nvr);
 }
@@ -349,7 +349,7 @@ fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
 fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
 {
     const char *fn = "fmi2GetFMUstate";
-    Instance *inst = enterState(c, fn, FMUstate != NULL, "FMUstate");
+    FmiInstance *inst = enterState(c, fn, FMUstate != NULL, "FMUstate");
     if (inst == NULL) return fmi2Error;
     return (fmi2Status)fmiStateGet(inst, fn, FMUstate);
 }
@@ -357,7 +357,7 @@ fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
 fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate)
 {
     const char *fn = "fmi2SetFMUstate";
-    Instance *inst = enterState(c, fn, FMUstate != NULL, "FMUstate");
+    FmiInstance *inst = enterState(c, fn, FMUstate != NULL, "FMUstate");
     if (inst == NULL) return fmi2Error;
     return (fmi2Status)fmiStateSet(inst, fn, FMUstate);
 }
@@ -365,7 +365,7 @@ fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate)
 fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
 {
     const char *fn = "fmi2FreeFMUstate";
-    Instance *inst = enterState(c, fn, FMUstate != NULL, "FMUstate");
+    FmiInstance *inst = enterState(c, fn, FMUstate != NULL, "FMUstate");
     if (inst == NULL) return fmi2Error;
     return (fmi2Status)fmiStateFree(inst, fn, FMUstate);
 }
@@ -373,7 +373,7 @@ fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate FMUstate, size_t *size)
 {
     const char *fn = "fmi2SerializedFMUstateSize";
-    Instance *inst = enterState(c, fn, FMUstate != NULL && size != NULL, "FMUstate or size");
+    FmiInstance *inst = enterState(c, fn, FMUstate != NULL && size != NULL, "FMUstate or size");
     if (inst == NULL) return fmi2Error;
     return (fmi2Status)fmiStateSize(inst, fn, FMUstate, size);
 }
@@ -381,7 +381,7 @@ fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate FMUstate, si
 fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate FMUstate, fmi2Byte serializedState[], size_t size)
 {
     const char *fn = "fmi2SerializeFMUstate";
-    Instance *inst = enterState(c, fn, FMUstate != NULL && serializedState != NULL,
+    FmiInstance *inst = enterState(c, fn, FMUstate != NULL && serializedState != NULL,
                                   "FMUstate or serializedState");
     if (inst == NULL) return fmi2Error;
     return (fmi2Status)fmiStateSerialize(inst, fn, FMUstate, (unsigned char *)serializedState, size);
@@ -391,7 +391,7 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedSta
                                    fmi2FMUstate *FMUstate)
 {
     const char *fn = "fmi2DeSerializeFMUstate";
-    Instance *inst = enterState(c, fn, serializedState != NULL && FMUstate != NULL,
+    FmiInstance *inst = enterState(c, fn, serializedState != NULL && FMUstate != NULL,
                                   "serializedState or FMUstate");
     if (inst == NULL) return fmi2Error;
     return (fmi2Status)fmiStateDeserialize(inst, fn, (const unsigned char *)serializedState, size, FMUstate);
@@ -402,7 +402,7 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReferenc
                                         const fmi2Real dvKnown[], fmi2Real dvUnknown[])
 {
     const char *fn = "fmi2GetDirectionalDerivative";
-    Instance *inst = enter(c, fn, MASK_GetDirectionalDerivative);
+    FmiInstance *inst = enter(c, fn, MASK_GetDirectionalDerivative);
     (void)vUnknown_ref; (void)nUnknown; (void)vKnown_ref; (void)nKnown; (void)dvKnown; (void)dvUnknown;
     if (inst == NULL) return fmi2Error;
     fmiLogStatus(inst, FmiError, "%s: not supported (providesDirectionalDerivative = false)", fn);
@@ -414,7 +414,7 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReferenc
 
 static fmi2Status notModelExchange(fmi2Component c, const char *fn)
 {
-    Instance *inst = (Instance *)c;
+    FmiInstance *inst = (FmiInstance *)c;
     if (inst == NULL || inst->magic != FMI_INSTANCE_MAGIC) return fmi2Error;
     fmiLogStatus(inst, FmiError, "%s: model exchange is not supported: %s is a co-simulation FMU", fn,
                  fmiModel.name);
@@ -481,7 +481,7 @@ fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference
                                        const fmi2Integer order[], const fmi2Real value[])
 {
     const char *fn = "fmi2SetRealInputDerivatives";
-    Instance *inst = enter(c, fn, MASK_SetRealInputDerivatives);
+    FmiInstance *inst = enter(c, fn, MASK_SetRealInputDerivatives);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value) || nullArgs(inst, fn, nvr, order, order)) return fmi2Error;
     return (fmi2Status)fmiSetInputDerivatives(inst, fn, VRS(vr), nvr, (const int32_t *)order, value);
 }
@@ -490,7 +490,7 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReferenc
                                         const fmi2Integer order[], fmi2Real value[])
 {
     const char *fn = "fmi2GetRealOutputDerivatives";
-    Instance *inst = enter(c, fn, MASK_GetRealOutputDerivatives);
+    FmiInstance *inst = enter(c, fn, MASK_GetRealOutputDerivatives);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value) || nullArgs(inst, fn, nvr, order, order)) return fmi2Error;
     if (nvr == 0) return fmi2OK;
     fmiLogStatus(inst, FmiError, "%s: output derivatives are not provided (maxOutputDerivativeOrder = 0)", fn);
@@ -500,7 +500,7 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReferenc
 fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2Real communicationStepSize,
                       fmi2Boolean noSetFMUStatePriorToCurrentPoint)
 {
-    Instance *inst = enter(c, "fmi2DoStep", MASK_DoStep);
+    FmiInstance *inst = enter(c, "fmi2DoStep", MASK_DoStep);
     fmi2Status status;
     (void)noSetFMUStatePriorToCurrentPoint;
     if (inst == NULL) return fmi2Error;
@@ -513,7 +513,7 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2R
 
 fmi2Status fmi2CancelStep(fmi2Component c)
 {
-    Instance *inst = enter(c, "fmi2CancelStep", MASK_CancelStep);
+    FmiInstance *inst = enter(c, "fmi2CancelStep", MASK_CancelStep);
     if (inst == NULL) return fmi2Error;
     return fmi2Error; /* unreachable: steps are never asynchronous */
 }
@@ -521,7 +521,7 @@ fmi2Status fmi2CancelStep(fmi2Component c)
 fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *value)
 {
     const char *fn = "fmi2GetStatus";
-    Instance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
+    FmiInstance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
     if (inst == NULL) return fmi2Error;
     if (s != fmi2DoStepStatus) {
         fmiLogStatus(inst, FmiDiscard, "%s: status kind %d is not available here (only fmi2DoStepStatus)", fn, (int)s);
@@ -534,7 +534,7 @@ fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *va
 fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value)
 {
     const char *fn = "fmi2GetRealStatus";
-    Instance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
+    FmiInstance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
     if (inst == NULL) return fmi2Error;
     if (s != fmi2LastSuccessfulTime) {
         fmiLogStatus(inst, FmiDiscard, "%s: status kind %d is not available here (only fmi2LastSuccessfulTime)",
@@ -548,7 +548,7 @@ fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *
 fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value)
 {
     const char *fn = "fmi2GetIntegerStatus";
-    Instance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
+    FmiInstance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
     if (inst == NULL) return fmi2Error;
     fmiLogStatus(inst, FmiDiscard, "%s: status kind %d is not available (FMI 2.0 defines no Integer status)", fn,
                       (int)s);
@@ -558,7 +558,7 @@ fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Int
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value)
 {
     const char *fn = "fmi2GetBooleanStatus";
-    Instance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
+    FmiInstance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
     if (inst == NULL) return fmi2Error;
     if (s != fmi2Terminated) {
         fmiLogStatus(inst, FmiDiscard, "%s: status kind %d is not available here (only fmi2Terminated)", fn, (int)s);
@@ -572,7 +572,7 @@ fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boo
 fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *value)
 {
     const char *fn = "fmi2GetStringStatus";
-    Instance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
+    FmiInstance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
     if (inst == NULL) return fmi2Error;
     *value = "";
     fmiLogStatus(inst, FmiDiscard, "%s: status kind %d is not available (steps are never asynchronous)", fn,

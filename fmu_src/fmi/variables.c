@@ -6,10 +6,17 @@
 #include "fmi/log.h"
 #include "fmi/variables.h"
 
+/* A value in the model's data at a table offset (the table gives each variable's type). */
 static double *realAt(void *data, long offset) { return (double *)(void *)((char *)data + offset); }
 static int32_t *intAt(void *data, long offset) { return (int32_t *)(void *)((char *)data + offset); }
-static double realIn(const void *data, long offset) { return *(const double *)(const void *)((const char *)data + offset); }
-static int32_t intIn(const void *data, long offset) { return *(const int32_t *)(const void *)((const char *)data + offset); }
+static double realIn(const void *data, long offset)
+{
+    return *(const double *)(const void *)((const char *)data + offset);
+}
+static int32_t intIn(const void *data, long offset)
+{
+    return *(const int32_t *)(const void *)((const char *)data + offset);
+}
 
 /* Bisection: the table is sorted by value reference (every Get/Set looks up each vr). */
 const VarInfo *fmiFindVar(const FmiModel *model, FmiValueRef vr)

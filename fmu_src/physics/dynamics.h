@@ -46,7 +46,7 @@ typedef struct {
     double K0static;          /* K0 at Omega = 0 [N/m] */
     double K0omega2;          /* dK0/d(Omega^2) [kg] */
     double G;                 /* load gain int phi / phi(l) [m] */
-    double omegaPerRpm;       /* excitation omega = engineOrder DYN_RAD_PER_RPM n: [rad/s per rpm] */
+    double omegaPerRpm;       /* excitation omega = omegaPerRpm n = engineOrder 2 pi n / 60 [rad/s per rpm] */
     /* contact constants (eq. 3, 4, 14; model-notes s.2) */
     double sinG, cosG;        /* sin(gamma), cos(gamma) [-] */
     double kd;                /* tangential stiffness kdRatio kn [N/m] */
