@@ -16,9 +16,10 @@
 #include <string.h>
 #include <time.h>
 
-#include "config.h"
+#include "fmi/instance.h"
 #include "fmi2Functions.h"
-#include "instance.h"
+#include "models/shrouded_blade.h"
+#include "models/shrouded_blade_config.h"
 
 static void quietLogger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status, fmi2String category,
                         fmi2String message, ...)
@@ -96,7 +97,7 @@ static double runOnce(const Config *cfg, double duration, double hComm, double m
         sink += out[0];
     }
     t1 = now();
-    *counters = ((Instance *)c)->counters;
+    *counters = ((BladeMemory *)((FmiInstance *)c)->memory)->counters;
     fmi2FreeInstance(c);
     if (!isfinite(sink)) fprintf(stderr, "non-finite output\n");
     return t1 - t0;

@@ -1,6 +1,6 @@
-"""ctypes binding of build/libsbphysics.so (fmu_src/blade.c and contact.c) for the physics tests.
+"""ctypes binding of build/libsbphysics.so (fmu_src/physics/blade.c and contact.c) for the physics tests.
 
-The structures mirror fmu_src/blade.h and fmu_src/contact.h field by field (C enums are ints);
+The structures mirror fmu_src/physics/blade.h and contact.h field by field (C enums are ints);
 `PhysicsLib` wraps each exported function in a small typed Python method that returns the C return
 code next to the filled structure, so the tests can check both the values and the error paths.
 """

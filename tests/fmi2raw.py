@@ -632,9 +632,9 @@ def run_steps(inst: Instance, t0: float, h: float, n: int, Fw0: float = 100.0,
 
 
 # ---------------------------------------------------------------------------------------------
-# the serialized-state format documented in fmu_src/fmu_state.c (magic "SBLDSTAT", int32 version
-# at offset 8, int32 total size at 12, FNV-1a 64 of the GUID at 16, counts at 24, doubles from
-# 32, then int32s, and an FNV-1a 64 checksum of everything before it in the last 8 bytes)
+# the serialized-state format documented in fmu_src/fmi/state_blob.c (magic "SBLDSTAT", int32
+# version at offset 8, int32 total size at 12, FNV-1a 64 of the GUID at 16, counts at 24, doubles
+# from 32, then int32s, and an FNV-1a 64 checksum of everything before it in the last 8 bytes)
 
 BLOB_MAGIC = b"SBLDSTAT"
 

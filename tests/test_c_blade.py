@@ -1,4 +1,4 @@
-"""Tests of fmu_src/blade.c (Galerkin reduction, paper eq. 19-27, docs/model.md s.2) through ctypes.
+"""Tests of fmu_src/physics/blade.c (Galerkin reduction, paper eq. 19-27, docs/model.md s.2) through ctypes.
 
 Two independent references: (1) the check values printed in docs/model.md s.2, compared to half a unit
 of their last printed digit (the strictest comparison the printed digits allow); (2) a numpy/scipy

@@ -1,4 +1,4 @@
-"""Tests of fmu_src/contact.c (paper eq. 3-13, docs/model.md s.3, docs/model-notes.md s.4-5) via ctypes.
+"""Tests of fmu_src/physics/contact.c (paper eq. 3-13, docs/model.md s.3, docs/model-notes.md s.4-5) via ctypes.
 
 The reference is an independent Python version of the contact loop written here from the paper
 (class `LoopCase`: the ten intervals of eq. 4 over the whole period, no half-wave symmetry; the

@@ -889,16 +889,16 @@ def blob_cases() -> list[Case]:
         _blob_case("one extra byte", lambda b: b + b"\x00"),
         _blob_case("size argument larger than the blob header says", lambda b: b + b"\x00" * 64),
         _blob_case("first byte (magic) corrupted", flip(0)),
-        _blob_case("old format version 1 (checksum recomputed)",
-                   lambda b: F.reseal(b[:8] + struct.pack("<i", 1) + b[12:])),
-        _blob_case("future format version 3 (checksum recomputed)",
-                   lambda b: F.reseal(b[:8] + struct.pack("<i", 3) + b[12:])),
+        _blob_case("old format version 2 (checksum recomputed)",
+                   lambda b: F.reseal(b[:8] + struct.pack("<i", 2) + b[12:])),
+        _blob_case("future format version 4 (checksum recomputed)",
+                   lambda b: F.reseal(b[:8] + struct.pack("<i", 4) + b[12:])),
         _blob_case("one payload byte flipped (checksum mismatch)", flip(100, 0x01)),
         _blob_case("saved by another FMU (GUID hash differs, checksum recomputed)",
                    lambda b: F.reseal(b[:16] + struct.pack("<Q", F.fnv1a(b"{other}")) + b[24:])),
         _blob_case("valid checksum over NaN in the first state double",
                    lambda b: F.reseal(b[:32] + struct.pack("<d", math.nan) + b[40:])),
-        _blob_case("valid checksum over a state-machine value of 7",
+        _blob_case("valid checksum over an initialized flag of 7",
                    lambda b: F.reseal(_set_int(b, 0, 7))),
         _blob_case("all zeros", lambda b: bytes(len(b))),
         _blob_case("all 0xFF", lambda b: b"\xff" * len(b)),
@@ -909,7 +909,7 @@ def blob_cases() -> list[Case]:
 
 
 def _set_int(b: bytes, index: int, value: int) -> bytes:
-    """Sets int32 number `index` of the blob's int32 block (index 0: the state machine)."""
+    """Sets int32 number `index` of the blob's int32 block (index 0: the initialized flag)."""
     ndouble = struct.unpack_from("<i", b, 24)[0]
     out = bytearray(b)
     struct.pack_into("<i", out, 32 + 8 * ndouble + 4 * index, value)

@@ -508,6 +508,11 @@ class FmuMachine(RuleBasedStateMachine):
             assert self.call(self.c.set_state, h) == OK
             if how == "as is":
                 self.restore(snap)
+                # a blob does not hold the state machine, only whether initialization had ended
+                # (fmu_src/fmi/state_blob.c): it comes back stepping or instantiated; after an
+                # error either can hold, so from then on only validity is checked
+                self.phase = {INSTANTIATED: INSTANTIATED, INIT: INSTANTIATED, STEP: STEP, FAILED: STEP,
+                              TERMINATED: STEP}.get(self.phase, UNKNOWN)
             else:  # legal but unknown content: from now on only validity is checked
                 self.phase = UNKNOWN
                 st_, t = self.c.get_real_status(F.LAST_SUCCESSFUL_TIME)

@@ -101,10 +101,13 @@ def test_binary_loads_in_a_c_master_without_libm(model, flavour, loader, unpacke
 def test_loader_catches_a_binary_without_libm(loader, tmp_path):
     """The check can fail: the Excitation source compiled without -lm (as fmpy.build did before the
     fix) is refused by the loader with an undefined symbol."""
-    src = _build.REPO_ROOT / "crosscheck" / "excitation" / "sources" / "excitation.c"
+    with zipfile.ZipFile(_build.EXCITATION_FMU) as z:  # the shipped sources/, as fmpy.build compiles them
+        z.extractall(tmp_path / "fmu")
+    sources = tmp_path / "fmu" / "sources"
+    files = read_model_description(str(_build.EXCITATION_FMU)).buildConfigurations[0].sourceFileSets[0].sourceFiles
     so = tmp_path / "Excitation.so"
-    subprocess.run(["cc", "-std=c99", "-shared", "-fPIC", "-O2", f"-I{FMI_HEADERS}", str(src), "-o", str(so)],
-                   check=True)
+    subprocess.run(["cc", "-std=c99", "-shared", "-fPIC", "-O2", f"-I{FMI_HEADERS}", f"-I{sources}",
+                    *[str(sources / f) for f in files], "-o", str(so)], check=True)
     proc = subprocess.run([str(loader), str(so), "{x}", "file:///tmp", "10"], capture_output=True, text=True)
     assert proc.returncode == 1
     assert "undefined symbol" in proc.stderr

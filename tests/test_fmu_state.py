@@ -229,9 +229,9 @@ def blob(lib: Fmi2Library) -> bytes:
     with ready(lib, PARAM_SETS["jenkins-TD"]) as c:
         run(c, 0, 300)
         b = snapshot(c)
-    # the documented layout: magic, version 2, total size, ..., FNV-1a 64 trailer
+    # the documented layout: magic, version 3, total size, ..., FNV-1a 64 trailer
     assert b[:8] == b"SBLDSTAT"
-    assert struct.unpack_from("<i", b, 8)[0] == 2
+    assert struct.unpack_from("<i", b, 8)[0] == 3
     assert struct.unpack_from("<i", b, 12)[0] == len(b)
     assert reseal(b) == b
     return b
@@ -271,7 +271,7 @@ def test_every_single_byte_corruption_gives_error(lib: Fmi2Library, blob: bytes)
 
 
 def test_wrong_version_gives_error_naming_the_version(lib: Fmi2Library, blob: bytes) -> None:
-    for version in (0, 1, 3, -1, 2**31 - 1):  # 1: the format before the start values of issue 9
+    for version in (0, 1, 2, 4, -1, 2**31 - 1):  # 1: before the start values of issue 9, 2: with the state machine
         bad = reseal(blob[:8] + struct.pack("<i", version) + blob[12:])
         st, c = deserialize(lib, bad)
         assert st == ERROR
@@ -307,7 +307,7 @@ def test_resealed_content_is_validated(lib: Fmi2Library, blob: bytes) -> None:
                 c.reset()
             if s:
                 c.free_state(s)
-    # NaN in any double and a state-machine value of 7 (not a single bit) are always illegal
+    # NaN in any double and an initialized flag of 7 (not 0 or 1) are always illegal
     assert accepted < len(offsets)
 
 

@@ -60,7 +60,7 @@ class FMUState(bytes):
 
 def fmu_path(build: bool = True) -> Path:
     """build/ShroudedBlade.fmu, built (if out of date) when `build` and the C sources are present."""
-    sources = list((_build.REPO_ROOT / "fmu_src").glob("*.c"))
+    sources = list((_build.REPO_ROOT / "fmu_src").rglob("*.c"))
     if build and sources and shutil.which("cmake"):
         try:
             return _build.build(("fmu",))

@@ -47,7 +47,7 @@ class System:
 
 def build_excitation_fmu(out: Path = EXCITATION_FMU) -> Path:
     """build/Excitation.fmu, built by CMake with the blade FMU (target excitation_fmu, linked with
-    libm), from crosscheck/excitation/sources; CMake rebuilds it when the sources changed."""
+    libm), from fmu_src/fmi + fmu_src/models/excitation.c; CMake rebuilds it when a source changed."""
     build(("excitation_fmu",))
     return out
 

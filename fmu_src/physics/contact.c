@@ -1,4 +1,4 @@
-/* Shroud contact (paper eq. 1-14, MODEL.md s.3, docs/model-notes.md s.2, s.4, s.5).
+/* Shroud contact (paper eq. 1-14, docs/model.md s.3, docs/model-notes.md s.2, s.4, s.5).
  *
  * Notation (per unit v = B cos theta): a = k_d sin g (stick slope of the tangential spring),
  * b = mu k_n cos g (slope of the friction limit), eps = B - d, N* = b eps.
@@ -10,7 +10,7 @@
  * <= pi; in full stick (a < b) th1 and th3 do not exist and are never formed.
  *
  * Closed forms (derived from eq. 4 over [0, pi], the second half-period being the mirror image
- * F(theta + pi) = -F(theta)); they are eq. 7, 8 (with the MODEL.md fix) and 10 rearranged so that
+ * F(theta + pi) = -F(theta)); they are eq. 7, 8 (with the docs/model.md fix) and 10 rearranged so that
  * no term cancels as B -> d+ (S1(x) = x - sin x, phi3 = pi - th3):
  *   int_0^pi F cos = (a + b) B S1(2 th1)/4 + a B [S1(2 th2) - S1(2 phi3)]/4 - N* sin th2
  *       (integration by parts: F is linear in cos theta on the stick pieces and jumps by N* at th2)
@@ -83,7 +83,7 @@ Regime contactRegime(const ContactParams *p, double B) {
     double kd;
     if (!contactParamsValid(p) || !isfinite(B) || B <= p->d) return RegimeOpen;
     kd = p->kdRatio * p->kn;
-    /* MODEL.md s.3: stick-slip iff k_d tan(gamma) >= mu k_n */
+    /* docs/model.md s.3: stick-slip iff k_d tan(gamma) >= mu k_n */
     return (kd * tan(p->gamma) >= p->mu * p->kn) ? RegimeStickSlip : RegimeFullStick;
 }
 

@@ -1,12 +1,37 @@
-/* FMI 2.0 co-simulation entry points of ShroudedBlade: call-sequence state machine (one
- * allowed-states mask per function, from the co-simulation state table of the FMI 2.0 standard,
- * section 4.2.4), pointer and argument checks, status handling; the work is done in instance.c.
- * Every FMI 2.0 function is exported; the model-exchange ones log and return fmi2Error. */
+/* The FMI 2.0 co-simulation face: the fmi2* entry points over the generic layer. Here and only
+ * here fmi2 types meet the neutral ones: call-sequence state machine (one allowed-states mask per
+ * function, from the co-simulation state table of the FMI 2.0 standard, section 4.2.4), pointer
+ * and argument checks, type conversion, the logger callback. Every FMI 2.0 function is exported;
+ * the model-exchange ones log and return fmi2Error. The model is the one linked in (fmiModel). */
+#include <stdlib.h>
 #include <string.h>
 
-#include "config.h"
 #include "fmi2Functions.h"
-#include "instance.h"
+#include "fmi/instance.h"
+#include "fmi/log.h"
+#include "fmi/state_blob.h"
+#include "fmi/variables.h"
+
+/* The face's logger context: the master's callback, and a buffer for the escaped message. */
+typedef struct {
+    fmi2CallbackLogger logger;
+    fmi2ComponentEnvironment env;
+    char escaped[2100];
+} Fmi2Sink;
+
+/* The logger's message is a printf format: '%' is escaped. */
+static void fmi2Sink(void *ctx, const char *instanceName, FmiStatus status, const char *category,
+                     const char *message)
+{
+    Fmi2Sink *k = (Fmi2Sink *)ctx;
+    size_t j = 0;
+    for (size_t i = 0; message[i] != '\0' && j + 2 < sizeof k->escaped; ++i) {
+        if (message[i] == '%') k->escaped[j++] = '%';
+        k->escaped[j++] = message[i];
+    }
+    k->escaped[j] = '\0';
+    k->logger(k->env, instanceName, (fmi2Status)status, category, k->escaped);
+}
 
 /* Allowed states per function. The error state additionally allows fmi2GetStatus and friends. */
 #define ALL_BUT_START (FsmInstantiated | FsmInitializationMode | FsmStepComplete | FsmStepInProgress | \
@@ -32,35 +57,61 @@
 
 /* The instance behind c, if c is one and the call is allowed in its state; else NULL (logged
  * when possible). */
-static Instance *enterAs(fmi2Component c, const char *fn, int mask, int logCall)
+static FmiInstance *enterAs(fmi2Component c, const char *fn, int mask, int logCall)
 {
-    Instance *inst = (Instance *)c;
-    if (inst == NULL || inst->magic != INSTANCE_MAGIC) return NULL;
-    if (logCall) instanceLog(inst, fmi2OK, LogCalls, "%s (state: %s)", fn, fsmStateName(inst->d.fsm));
-    if ((inst->d.fsm & mask) == 0) {
-        instanceLogStatus(inst, fmi2Error, "%s: Illegal call sequence (state: %s)", fn, fsmStateName(inst->d.fsm));
+    FmiInstance *inst = (FmiInstance *)c;
+    if (inst == NULL || inst->magic != FMI_INSTANCE_MAGIC) return NULL;
+    if (logCall) fmiLog(inst, FmiOK, LogCalls, "%s (state: %s)", fn, fsmStateName(inst->fsm));
+    if ((inst->fsm & mask) == 0) {
+        fmiLogStatus(inst, FmiError, "%s: Illegal call sequence (state: %s)", fn, fsmStateName(inst->fsm));
         return NULL;
     }
     return inst;
 }
 
-static Instance *enter(fmi2Component c, const char *fn, int mask) { return enterAs(c, fn, mask, 1); }
+static FmiInstance *enter(fmi2Component c, const char *fn, int mask) { return enterAs(c, fn, mask, 1); }
 
 /* enter() for a function with a required pointer argument: ok = 0 logs "<fn>: <what> is NULL". */
-static Instance *enterNonNull(fmi2Component c, const char *fn, int mask, int ok, const char *what)
+static FmiInstance *enterNonNull(fmi2Component c, const char *fn, int mask, int ok, const char *what)
 {
-    Instance *inst = enter(c, fn, mask);
+    FmiInstance *inst = enter(c, fn, mask);
     if (inst != NULL && !ok) {
-        instanceLogStatus(inst, fmi2Error, "%s: %s is NULL", fn, what);
+        fmiLogStatus(inst, FmiError, "%s: %s is NULL", fn, what);
         return NULL;
     }
     return inst;
 }
 
-static int nullArgs(Instance *inst, const char *fn, size_t nvr, const void *a, const void *b)
+/* enterNonNull() for the FMU state functions, refused when the model declares
+ * canGetAndSetFMUstate="false". */
+static FmiInstance *enterState(fmi2Component c, const char *fn, int ok, const char *what)
+{
+    FmiInstance *inst = enterNonNull(c, fn, MASK_FMUstate, ok, what);
+    if (inst != NULL && !inst->model->canGetAndSetState) {
+        fmiLogStatus(inst, FmiError, "%s: not supported (canGetAndSetFMUstate = false)", fn);
+        return NULL;
+    }
+    return inst;
+}
+
+/* fmi2 arrays seen element-wise as doubles by the generic engine */
+static double readReal(const void *v, size_t i) { return ((const fmi2Real *)v)[i]; }
+static void writeReal(void *v, size_t i, double x) { ((fmi2Real *)v)[i] = x; }
+static double readInteger(const void *v, size_t i) { return (double)((const fmi2Integer *)v)[i]; }
+static void writeInteger(void *v, size_t i, double x) { ((fmi2Integer *)v)[i] = (fmi2Integer)x; }
+/* any nonzero fmi2Boolean is true */
+static double readBoolean(const void *v, size_t i) { return ((const fmi2Boolean *)v)[i] ? 1.0 : 0.0; }
+static void writeBoolean(void *v, size_t i, double x) { ((fmi2Boolean *)v)[i] = x != 0.0 ? fmi2True : fmi2False; }
+static const FmiArray REALS = {VarReal, readReal, writeReal};
+static const FmiArray INTEGERS = {VarInteger, readInteger, writeInteger};
+static const FmiArray BOOLEANS = {VarBoolean, readBoolean, writeBoolean};
+
+#define VRS(vr) ((const FmiValueRef *)(vr))
+
+static int nullArgs(FmiInstance *inst, const char *fn, size_t nvr, const void *a, const void *b)
 {
     if (nvr > 0 && (a == NULL || b == NULL)) {
-        instanceLogStatus(inst, fmi2Error, "%s: NULL array argument with nvr = %lu", fn, (unsigned long)nvr);
+        fmiLogStatus(inst, FmiError, "%s: NULL array argument with nvr = %lu", fn, (unsigned long)nvr);
         return 1;
     }
     return 0;
@@ -77,12 +128,12 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
                                const fmi2String categories[])
 {
     const char *fn = "fmi2SetDebugLogging";
-    Instance *inst = enterAs(c, fn, MASK_SetDebugLogging, 0); /* logs the call after the change */
+    FmiInstance *inst = enterAs(c, fn, MASK_SetDebugLogging, 0); /* logs the call after the change */
     size_t i;
     int k;
     if (inst == NULL) return fmi2Error;
     if (nCategories > 0 && categories == NULL) {
-        instanceLogStatus(inst, fmi2Error, "%s: categories is NULL with nCategories = %lu", fn,
+        fmiLogStatus(inst, FmiError, "%s: categories is NULL with nCategories = %lu", fn,
                           (unsigned long)nCategories);
         return fmi2Error;
     }
@@ -92,7 +143,7 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
             for (k = 0; k < LOG_NUM_CATEGORIES; ++k)
                 if (strcmp(categories[i], logCategoryName(k)) == 0) found = 1;
         if (!found) {
-            instanceLogStatus(inst, fmi2Error,
+            fmiLogStatus(inst, FmiError,
                               "%s: unknown log category '%s'; known: logEvents, logStatusWarning, "
                               "logStatusDiscard, logStatusError, logStatusFatal, logAll, logCalls", fn,
                               categories[i] ? categories[i] : "(NULL)");
@@ -109,7 +160,7 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
             for (k = 0; k < LOG_NUM_CATEGORIES; ++k)
                 if (strcmp(categories[i], logCategoryName(k)) == 0) inst->logOn[k] = loggingOn ? 1 : 0;
     }
-    instanceLog(inst, fmi2OK, LogCalls, "%s (state: %s)", fn, fsmStateName(inst->d.fsm));
+    fmiLog(inst, FmiOK, LogCalls, "%s (state: %s)", fn, fsmStateName(inst->fsm));
     return fmi2OK;
 }
 
@@ -118,8 +169,9 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
                               fmi2Boolean visible, fmi2Boolean loggingOn)
 {
     const char *fn = "fmi2Instantiate";
-    Instance *inst;
+    FmiInstance *inst;
     fmi2CallbackLogger log;
+    Fmi2Sink *sink;
     const char *name = (instanceName != NULL) ? instanceName : "";
     (void)visible;
     if (functions == NULL || functions->logger == NULL) return NULL; /* no way to report anything */
@@ -131,17 +183,22 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     }
     if (fmuType != fmi2CoSimulation) {
         if (loggingOn) log(functions->componentEnvironment, name, fmi2Error, "logStatusError",
-                           "fmi2Instantiate: fmuType = %d is not supported: ShroudedBlade is a co-simulation "
-                           "FMU (fmi2CoSimulation = %d)", (int)fmuType, (int)fmi2CoSimulation);
+                           "fmi2Instantiate: fmuType = %d is not supported: %s is a co-simulation "
+                           "FMU (fmi2CoSimulation = %d)", (int)fmuType, fmiModel.name, (int)fmi2CoSimulation);
         return NULL;
     }
-    if (fmuGUID == NULL || strcmp(fmuGUID, MODEL_GUID) != 0) {
+    if (fmuGUID == NULL || strcmp(fmuGUID, fmiModel.guid) != 0) {
         if (loggingOn) log(functions->componentEnvironment, name, fmi2Error, "logStatusError",
                            "fmi2Instantiate: GUID %s does not match the GUID %s of this FMU binary",
-                           fmuGUID ? fmuGUID : "(NULL)", MODEL_GUID);
+                           fmuGUID ? fmuGUID : "(NULL)", fmiModel.guid);
         return NULL;
     }
-    inst = instanceNew(instanceName, fmuResourceLocation, log, functions->componentEnvironment, loggingOn);
+    sink = (Fmi2Sink *)calloc(1, sizeof *sink);
+    if (sink != NULL) {
+        sink->logger = log;
+        sink->env = functions->componentEnvironment;
+    }
+    inst = sink ? fmiNew(&fmiModel, instanceName, fmuResourceLocation, fmi2Sink, sink, loggingOn) : NULL;
     if (inst == NULL) {
         if (loggingOn) log(functions->componentEnvironment, name, fmi2Fatal, "logStatusFatal",
                            "fmi2Instantiate: out of memory");
@@ -149,58 +206,59 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     }
     /* resources are not used; file:///, file:/ (and file://host/) URIs and NULL are accepted */
     if (fmuResourceLocation != NULL && strncmp(fmuResourceLocation, "file:", 5) != 0)
-        instanceLogStatus(inst, fmi2Warning, "%s: fmuResourceLocation is not a file: URI (ignored: this FMU has "
+        fmiLogStatus(inst, FmiWarning, "%s: fmuResourceLocation is not a file: URI (ignored: this FMU has "
                           "no resources)", fn);
     return (fmi2Component)inst;
 }
 
 void fmi2FreeInstance(fmi2Component c)
 {
-    Instance *inst = (Instance *)c;
-    if (inst == NULL || inst->magic != INSTANCE_MAGIC) return;
-    instanceLog(inst, fmi2OK, LogCalls, "fmi2FreeInstance");
-    instanceFree(inst);
+    FmiInstance *inst = (FmiInstance *)c;
+    if (inst == NULL || inst->magic != FMI_INSTANCE_MAGIC) return;
+    fmiLog(inst, FmiOK, LogCalls, "fmi2FreeInstance");
+    fmiFree(inst);
 }
 
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance,
                                fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime)
 {
-    Instance *inst = enter(c, "fmi2SetupExperiment", MASK_SetupExperiment);
+    FmiInstance *inst = enter(c, "fmi2SetupExperiment", MASK_SetupExperiment);
     if (inst == NULL) return fmi2Error;
-    return instanceSetupExperiment(inst, toleranceDefined, tolerance, startTime, stopTimeDefined, stopTime);
+    return (fmi2Status)fmiSetupExperiment(inst, "fmi2SetupExperiment", toleranceDefined, tolerance, startTime,
+                                          stopTimeDefined, stopTime);
 }
 
 fmi2Status fmi2EnterInitializationMode(fmi2Component c)
 {
-    Instance *inst = enter(c, "fmi2EnterInitializationMode", MASK_EnterInitializationMode);
+    FmiInstance *inst = enter(c, "fmi2EnterInitializationMode", MASK_EnterInitializationMode);
     if (inst == NULL) return fmi2Error;
-    inst->d.fsm = FsmInitializationMode;
+    inst->fsm = FsmInitializationMode;
     return fmi2OK;
 }
 
 fmi2Status fmi2ExitInitializationMode(fmi2Component c)
 {
-    Instance *inst = enter(c, "fmi2ExitInitializationMode", MASK_ExitInitializationMode);
+    FmiInstance *inst = enter(c, "fmi2ExitInitializationMode", MASK_ExitInitializationMode);
     fmi2Status status;
     if (inst == NULL) return fmi2Error;
-    status = instanceExitInitialization(inst);
-    inst->d.fsm = status <= fmi2Warning ? FsmStepComplete : FsmError;
+    status = (fmi2Status)fmiExitInitialization(inst, "fmi2ExitInitializationMode");
+    inst->fsm = status <= fmi2Warning ? FsmStepComplete : FsmError;
     return status;
 }
 
 fmi2Status fmi2Terminate(fmi2Component c)
 {
-    Instance *inst = enter(c, "fmi2Terminate", MASK_Terminate);
+    FmiInstance *inst = enter(c, "fmi2Terminate", MASK_Terminate);
     if (inst == NULL) return fmi2Error;
-    inst->d.fsm = FsmTerminated;
+    inst->fsm = FsmTerminated;
     return fmi2OK;
 }
 
 fmi2Status fmi2Reset(fmi2Component c)
 {
-    Instance *inst = enter(c, "fmi2Reset", MASK_Reset);
+    FmiInstance *inst = enter(c, "fmi2Reset", MASK_Reset);
     if (inst == NULL) return fmi2Error;
-    instanceReset(inst);
+    fmiReset(inst);
     return fmi2OK;
 }
 
@@ -210,35 +268,36 @@ fmi2Status fmi2Reset(fmi2Component c)
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[])
 {
     const char *fn = "fmi2GetReal";
-    Instance *inst = enter(c, fn, MASK_Get);
+    FmiInstance *inst = enter(c, fn, MASK_Get);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
-    return instanceGetReal(inst, fn, vr, nvr, value);
+    return (fmi2Status)fmiGetValues(inst, fn, VRS(vr), nvr, &REALS, value);
 }
 
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[])
 {
     const char *fn = "fmi2GetInteger";
-    Instance *inst = enter(c, fn, MASK_Get);
+    FmiInstance *inst = enter(c, fn, MASK_Get);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
-    return instanceGetInteger(inst, fn, vr, nvr, value);
+    return (fmi2Status)fmiGetValues(inst, fn, VRS(vr), nvr, &INTEGERS, value);
 }
 
 fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[])
 {
     const char *fn = "fmi2GetBoolean";
-    Instance *inst = enter(c, fn, MASK_Get);
+    FmiInstance *inst = enter(c, fn, MASK_Get);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
-    return instanceGetBoolean(inst, fn, vr, nvr, value);
+    return (fmi2Status)fmiGetValues(inst, fn, VRS(vr), nvr, &BOOLEANS, value);
 }
 
 /* There are no String variables: every value reference is refused. */
-static fmi2Status noStrings(Instance *inst, const char *fn, const fmi2ValueReference vr[], size_t nvr)
+static fmi2Status noStrings(FmiInstance *inst, const char *fn, const fmi2ValueReference vr[], size_t nvr)
 {
     if (nvr == 0) return fmi2OK;
     {
-        const char *name = instanceVariableName(vr[0]);
-        if (name) instanceLogStatus(inst, fmi2Error, "%s: %s (vr %u) is not a String variable", fn, name, (unsigned)vr[0]);
-        else instanceLogStatus(inst, fmi2Error, "%s: unknown value reference %u (this FMU has no String variables)",
+        const VarInfo *v = fmiFindVar(inst->model, vr[0]);
+        const char *name = v ? v->name : NULL;
+        if (name) fmiLogStatus(inst, FmiError, "%s: %s (vr %u) is not a String variable", fn, name, (unsigned)vr[0]);
+        else fmiLogStatus(inst, FmiError, "%s: unknown value reference %u (this FMU has no String variables)",
                                fn, (unsigned)vr[0]);
     }
     return fmi2Error;
@@ -247,7 +306,7 @@ static fmi2Status noStrings(Instance *inst, const char *fn, const fmi2ValueRefer
 fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2String value[])
 {
     const char *fn = "fmi2GetString";
-    Instance *inst = enter(c, fn, MASK_Get);
+    FmiInstance *inst = enter(c, fn, MASK_Get);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
     return noStrings(inst, fn, vr, nvr);
 }
@@ -255,31 +314,31 @@ fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[])
 {
     const char *fn = "fmi2SetReal";
-    Instance *inst = enter(c, fn, MASK_Set);
+    FmiInstance *inst = enter(c, fn, MASK_Set);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
-    return instanceSetReal(inst, fn, vr, nvr, value);
+    return (fmi2Status)fmiSetValues(inst, fn, VRS(vr), nvr, &REALS, value);
 }
 
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[])
 {
     const char *fn = "fmi2SetInteger";
-    Instance *inst = enter(c, fn, MASK_Set);
+    FmiInstance *inst = enter(c, fn, MASK_Set);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
-    return instanceSetInteger(inst, fn, vr, nvr, value);
+    return (fmi2Status)fmiSetValues(inst, fn, VRS(vr), nvr, &INTEGERS, value);
 }
 
 fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[])
 {
     const char *fn = "fmi2SetBoolean";
-    Instance *inst = enter(c, fn, MASK_Set);
+    FmiInstance *inst = enter(c, fn, MASK_Set);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
-    return instanceSetBoolean(inst, fn, vr, nvr, value);
+    return (fmi2Status)fmiSetValues(inst, fn, VRS(vr), nvr, &BOOLEANS, value);
 }
 
 fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2String value[])
 {
     const char *fn = "fmi2SetString";
-    Instance *inst = enter(c, fn, MASK_Set);
+    FmiInstance *inst = enter(c, fn, MASK_Set);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value)) return fmi2Error;
     return noStrings(inst, fn, vr, nvr);
 }
@@ -290,52 +349,52 @@ fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
 fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
 {
     const char *fn = "fmi2GetFMUstate";
-    Instance *inst = enterNonNull(c, fn, MASK_FMUstate, FMUstate != NULL, "FMUstate");
+    FmiInstance *inst = enterState(c, fn, FMUstate != NULL, "FMUstate");
     if (inst == NULL) return fmi2Error;
-    return instanceGetState(inst, FMUstate);
+    return (fmi2Status)fmiStateGet(inst, fn, FMUstate);
 }
 
 fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate)
 {
     const char *fn = "fmi2SetFMUstate";
-    Instance *inst = enterNonNull(c, fn, MASK_FMUstate, FMUstate != NULL, "FMUstate");
+    FmiInstance *inst = enterState(c, fn, FMUstate != NULL, "FMUstate");
     if (inst == NULL) return fmi2Error;
-    return instanceSetState(inst, FMUstate);
+    return (fmi2Status)fmiStateSet(inst, fn, FMUstate);
 }
 
 fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
 {
     const char *fn = "fmi2FreeFMUstate";
-    Instance *inst = enterNonNull(c, fn, MASK_FMUstate, FMUstate != NULL, "FMUstate");
+    FmiInstance *inst = enterState(c, fn, FMUstate != NULL, "FMUstate");
     if (inst == NULL) return fmi2Error;
-    return instanceFreeState(inst, FMUstate);
+    return (fmi2Status)fmiStateFree(inst, fn, FMUstate);
 }
 
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate FMUstate, size_t *size)
 {
     const char *fn = "fmi2SerializedFMUstateSize";
-    Instance *inst = enterNonNull(c, fn, MASK_FMUstate, FMUstate != NULL && size != NULL, "FMUstate or size");
+    FmiInstance *inst = enterState(c, fn, FMUstate != NULL && size != NULL, "FMUstate or size");
     if (inst == NULL) return fmi2Error;
-    return instanceSerializedSize(inst, FMUstate, size);
+    return (fmi2Status)fmiStateSize(inst, fn, FMUstate, size);
 }
 
 fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate FMUstate, fmi2Byte serializedState[], size_t size)
 {
     const char *fn = "fmi2SerializeFMUstate";
-    Instance *inst = enterNonNull(c, fn, MASK_FMUstate, FMUstate != NULL && serializedState != NULL,
+    FmiInstance *inst = enterState(c, fn, FMUstate != NULL && serializedState != NULL,
                                   "FMUstate or serializedState");
     if (inst == NULL) return fmi2Error;
-    return instanceSerialize(inst, FMUstate, serializedState, size);
+    return (fmi2Status)fmiStateSerialize(inst, fn, FMUstate, (unsigned char *)serializedState, size);
 }
 
 fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedState[], size_t size,
                                    fmi2FMUstate *FMUstate)
 {
     const char *fn = "fmi2DeSerializeFMUstate";
-    Instance *inst = enterNonNull(c, fn, MASK_FMUstate, serializedState != NULL && FMUstate != NULL,
+    FmiInstance *inst = enterState(c, fn, serializedState != NULL && FMUstate != NULL,
                                   "serializedState or FMUstate");
     if (inst == NULL) return fmi2Error;
-    return instanceDeserialize(inst, serializedState, size, FMUstate);
+    return (fmi2Status)fmiStateDeserialize(inst, fn, (const unsigned char *)serializedState, size, FMUstate);
 }
 
 fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference vUnknown_ref[], size_t nUnknown,
@@ -343,10 +402,10 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReferenc
                                         const fmi2Real dvKnown[], fmi2Real dvUnknown[])
 {
     const char *fn = "fmi2GetDirectionalDerivative";
-    Instance *inst = enter(c, fn, MASK_GetDirectionalDerivative);
+    FmiInstance *inst = enter(c, fn, MASK_GetDirectionalDerivative);
     (void)vUnknown_ref; (void)nUnknown; (void)vKnown_ref; (void)nKnown; (void)dvKnown; (void)dvUnknown;
     if (inst == NULL) return fmi2Error;
-    instanceLogStatus(inst, fmi2Error, "%s: not supported (providesDirectionalDerivative = false)", fn);
+    fmiLogStatus(inst, FmiError, "%s: not supported (providesDirectionalDerivative = false)", fn);
     return fmi2Error;
 }
 
@@ -355,9 +414,10 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReferenc
 
 static fmi2Status notModelExchange(fmi2Component c, const char *fn)
 {
-    Instance *inst = (Instance *)c;
-    if (inst == NULL || inst->magic != INSTANCE_MAGIC) return fmi2Error;
-    instanceLogStatus(inst, fmi2Error, "%s: model exchange is not supported: ShroudedBlade is a co-simulation FMU", fn);
+    FmiInstance *inst = (FmiInstance *)c;
+    if (inst == NULL || inst->magic != FMI_INSTANCE_MAGIC) return fmi2Error;
+    fmiLogStatus(inst, FmiError, "%s: model exchange is not supported: %s is a co-simulation FMU", fn,
+                 fmiModel.name);
     return fmi2Error;
 }
 
@@ -421,39 +481,39 @@ fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference
                                        const fmi2Integer order[], const fmi2Real value[])
 {
     const char *fn = "fmi2SetRealInputDerivatives";
-    Instance *inst = enter(c, fn, MASK_SetRealInputDerivatives);
+    FmiInstance *inst = enter(c, fn, MASK_SetRealInputDerivatives);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value) || nullArgs(inst, fn, nvr, order, order)) return fmi2Error;
-    return instanceSetInputDerivatives(inst, vr, nvr, order, value);
+    return (fmi2Status)fmiSetInputDerivatives(inst, fn, VRS(vr), nvr, (const int32_t *)order, value);
 }
 
 fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                         const fmi2Integer order[], fmi2Real value[])
 {
     const char *fn = "fmi2GetRealOutputDerivatives";
-    Instance *inst = enter(c, fn, MASK_GetRealOutputDerivatives);
+    FmiInstance *inst = enter(c, fn, MASK_GetRealOutputDerivatives);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value) || nullArgs(inst, fn, nvr, order, order)) return fmi2Error;
     if (nvr == 0) return fmi2OK;
-    instanceLogStatus(inst, fmi2Error, "%s: output derivatives are not provided (maxOutputDerivativeOrder = 0)", fn);
+    fmiLogStatus(inst, FmiError, "%s: output derivatives are not provided (maxOutputDerivativeOrder = 0)", fn);
     return fmi2Error;
 }
 
 fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2Real communicationStepSize,
                       fmi2Boolean noSetFMUStatePriorToCurrentPoint)
 {
-    Instance *inst = enter(c, "fmi2DoStep", MASK_DoStep);
+    FmiInstance *inst = enter(c, "fmi2DoStep", MASK_DoStep);
     fmi2Status status;
     (void)noSetFMUStatePriorToCurrentPoint;
     if (inst == NULL) return fmi2Error;
-    status = instanceDoStep(inst, currentCommunicationPoint, communicationStepSize);
+    status = (fmi2Status)fmiDoStep(inst, "fmi2DoStep", currentCommunicationPoint, communicationStepSize);
     /* fmi2Discard: state restored, the master may set an earlier FMU state and retry;
      * fmi2Error: terminal until fmi2Reset or fmi2SetFMUstate */
-    inst->d.fsm = status <= fmi2Warning ? FsmStepComplete : (status == fmi2Discard ? FsmStepFailed : FsmError);
+    inst->fsm = status <= fmi2Warning ? FsmStepComplete : (status == fmi2Discard ? FsmStepFailed : FsmError);
     return status;
 }
 
 fmi2Status fmi2CancelStep(fmi2Component c)
 {
-    Instance *inst = enter(c, "fmi2CancelStep", MASK_CancelStep);
+    FmiInstance *inst = enter(c, "fmi2CancelStep", MASK_CancelStep);
     if (inst == NULL) return fmi2Error;
     return fmi2Error; /* unreachable: steps are never asynchronous */
 }
@@ -461,36 +521,36 @@ fmi2Status fmi2CancelStep(fmi2Component c)
 fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *value)
 {
     const char *fn = "fmi2GetStatus";
-    Instance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
+    FmiInstance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
     if (inst == NULL) return fmi2Error;
     if (s != fmi2DoStepStatus) {
-        instanceLogStatus(inst, fmi2Discard, "%s: status kind %d is not available here (only fmi2DoStepStatus)", fn, (int)s);
+        fmiLogStatus(inst, FmiDiscard, "%s: status kind %d is not available here (only fmi2DoStepStatus)", fn, (int)s);
         return fmi2Discard;
     }
-    *value = (fmi2Status)inst->d.lastDoStepStatus;
+    *value = (fmi2Status)inst->run.lastDoStepStatus;
     return fmi2OK;
 }
 
 fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value)
 {
     const char *fn = "fmi2GetRealStatus";
-    Instance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
+    FmiInstance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
     if (inst == NULL) return fmi2Error;
     if (s != fmi2LastSuccessfulTime) {
-        instanceLogStatus(inst, fmi2Discard, "%s: status kind %d is not available here (only fmi2LastSuccessfulTime)",
+        fmiLogStatus(inst, FmiDiscard, "%s: status kind %d is not available here (only fmi2LastSuccessfulTime)",
                           fn, (int)s);
         return fmi2Discard;
     }
-    *value = inst->d.time; /* a discarded step leaves the time at its start */
+    *value = inst->run.time; /* a discarded step leaves the time at its start */
     return fmi2OK;
 }
 
 fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value)
 {
     const char *fn = "fmi2GetIntegerStatus";
-    Instance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
+    FmiInstance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
     if (inst == NULL) return fmi2Error;
-    instanceLogStatus(inst, fmi2Discard, "%s: status kind %d is not available (FMI 2.0 defines no Integer status)", fn,
+    fmiLogStatus(inst, FmiDiscard, "%s: status kind %d is not available (FMI 2.0 defines no Integer status)", fn,
                       (int)s);
     return fmi2Discard;
 }
@@ -498,24 +558,24 @@ fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Int
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value)
 {
     const char *fn = "fmi2GetBooleanStatus";
-    Instance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
+    FmiInstance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
     if (inst == NULL) return fmi2Error;
     if (s != fmi2Terminated) {
-        instanceLogStatus(inst, fmi2Discard, "%s: status kind %d is not available here (only fmi2Terminated)", fn, (int)s);
+        fmiLogStatus(inst, FmiDiscard, "%s: status kind %d is not available here (only fmi2Terminated)", fn, (int)s);
         return fmi2Discard;
     }
     /* the slave never asks to end the simulation by itself, except in the error state */
-    *value = inst->d.fsm == FsmError ? fmi2True : fmi2False;
+    *value = inst->fsm == FsmError ? fmi2True : fmi2False;
     return fmi2OK;
 }
 
 fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *value)
 {
     const char *fn = "fmi2GetStringStatus";
-    Instance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
+    FmiInstance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
     if (inst == NULL) return fmi2Error;
     *value = "";
-    instanceLogStatus(inst, fmi2Discard, "%s: status kind %d is not available (steps are never asynchronous)", fn,
+    fmiLogStatus(inst, FmiDiscard, "%s: status kind %d is not available (steps are never asynchronous)", fn,
                       (int)s);
     return fmi2Discard;
 }

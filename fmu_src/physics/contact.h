@@ -1,4 +1,4 @@
-/* Shroud contact (paper eq. 1-14, MODEL.md s.3, docs/model-notes.md s.2 and s.5).
+/* Shroud contact (paper eq. 1-14, docs/model.md s.3, docs/model-notes.md s.2 and s.5).
  * Pure functions, no FMI types, no state beyond what the caller passes. */
 #ifndef CONTACT_H
 #define CONTACT_H
@@ -19,7 +19,7 @@ typedef struct {
 typedef struct {
     Regime regime;
     double theta1, theta2, theta3; /* loop angles, eq. 5 [rad] (0 where not defined) */
-    double fk;      /* friction stiffness per unit v [N/m] (eq. 7, MODEL.md) */
+    double fk;      /* friction stiffness per unit v [N/m] (eq. 7, docs/model.md) */
     double fcOmega; /* f_c * omega [N/m]: f_c = fcOmega / omega (eq. 8 with the fix) */
     double pk;      /* normal stiffness per unit v [N/m] (eq. 10) */
     double Keq;     /* equivalent stiffness [N/m] (eq. 12, projection applied) */
@@ -30,7 +30,7 @@ typedef struct {
  * else 0. contactDescribe refuses (nonzero return) what this refuses. */
 int contactParamsValid(const ContactParams *p);
 
-/* Regime of the macroslip loop for amplitude B [m] (MODEL.md s.3): open if B <= d, stick-slip if
+/* Regime of the macroslip loop for amplitude B [m] (docs/model.md s.3): open if B <= d, stick-slip if
  * k_d tan(gamma) >= mu k_n, else full stick. Invalid p or non-finite B give RegimeOpen. */
 Regime contactRegime(const ContactParams *p, double B);
 

@@ -1,4 +1,4 @@
-/* Galerkin reduction of the rotating cantilever with a tip mass (paper eq. 19-27, MODEL.md s.2).
+/* Galerkin reduction of the rotating cantilever with a tip mass (paper eq. 19-27, docs/model.md s.2).
  * Pure functions, no FMI types. */
 #ifndef BLADE_H
 #define BLADE_H
@@ -17,7 +17,7 @@ typedef struct {
 typedef struct {
     double lambdaL;   /* lambda_1 l, first root of eq. 21 [-] */
     double U1;        /* int phi^2 dx [m] (eq. 24) */
-    double U2;        /* int phi phi'''' dx = lambda^4 U1 [1/m^3] (MODEL.md fixes eq. 24) */
+    double U2;        /* int phi phi'''' dx = lambda^4 U1 [1/m^3] (docs/model.md fixes eq. 24) */
     double U3;        /* int x phi phi' dx [-] */
     double U4;        /* int phi'' phi (l^2 - x^2) dx [m^2] */
     double U5;        /* int phi phi'' dx [1/m] */

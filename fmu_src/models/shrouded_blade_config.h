@@ -1,8 +1,9 @@
 /* ShroudedBlade FMU: identity and value references (stable contract, see modelDescription.xml). */
-#ifndef CONFIG_H
-#define CONFIG_H
+#ifndef SHROUDED_BLADE_CONFIG_H
+#define SHROUDED_BLADE_CONFIG_H
 
 #define MODEL_IDENTIFIER ShroudedBlade
+#define MODEL_NAME "ShroudedBlade"
 /* Must equal the guid attribute of modelDescription.xml (checked by CMake at configure time). */
 #define MODEL_GUID "{be1fc0de-d8b5-40e4-a0fb-399d8d12a40d}"
 
@@ -28,6 +29,9 @@
 #define vr_engineOrder 24
 /* Boolean parameters */
 #define vr_gating 30
+/* Range of rotorSpeed [rpm] (model-notes s.1): its max, also in modelDescription.xml */
+#define ROTOR_SPEED_MAX 30000.0
+
 /* Real inputs */
 #define vr_aeroLoad 40
 #define vr_rotorSpeed 41

@@ -1,4 +1,4 @@
-/* Galerkin reduction of the rotating cantilever with a tip mass (paper eq. 19-27, MODEL.md s.2).
+/* Galerkin reduction of the rotating cantilever with a tip mass (paper eq. 19-27, docs/model.md s.2).
  *
  * The mode of eq. 20 is written with the four positive-term functions of z = lambda x
  *   chp = cosh z + cos z, shp = sinh z + sin z, chc = cosh z - cos z, shs = sinh z - sin z,
@@ -161,7 +161,7 @@ int bladeReduce(const BladeParams *p, Formulation formulation, BladeReduction *o
 
     out->lambdaL = aL;
     out->U1 = U1;
-    out->U2 = lam2 * lam2 * U1; /* MODEL.md fix of eq. 24: int phi phi'''' = lambda^4 U1 */
+    out->U2 = lam2 * lam2 * U1; /* docs/model.md fix of eq. 24: int phi phi'''' = lambda^4 U1 */
     out->U3 = U3;
     out->U4 = U4;
     out->U5 = U5;
@@ -175,7 +175,7 @@ int bladeReduce(const BladeParams *p, Formulation formulation, BladeReduction *o
         out->K0static = p->EI * out->U2 / u2;
         out->K0omega2 = (rhoA * U3 - 0.5 * rhoA * U4 - p->m0 * l * U5) / u2;
     } else {
-        /* MODEL.md s.2 consistent (energy) form with phi / phi(l): centrifugal prestress eq. 16 */
+        /* docs/model.md s.2 consistent (energy) form with phi / phi(l): centrifugal prestress eq. 16 */
         double u22 = u2 * u2;
         out->M = rhoA * U1 / u22 + p->m0;
         out->C0 = p->c * U1 / u22;

@@ -1,0 +1,48 @@
+/* Neutral types of the generic FMI layer. Below the faces (fmi2_cs.c) nothing uses fmiN types:
+ * the numeric values of FmiStatus equal those of fmi2Status and fmi3Status (OK..Fatal), so a face
+ * converts by a cast. */
+#ifndef FMI_TYPES_H
+#define FMI_TYPES_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Escalating: a worse status has a larger value. */
+typedef enum { FmiOK = 0, FmiWarning = 1, FmiDiscard = 2, FmiError = 3, FmiFatal = 4 } FmiStatus;
+
+typedef uint32_t FmiValueRef;
+
+typedef enum { VarReal, VarInteger, VarBoolean } VarType;
+typedef enum { CausParameter, CausInput, CausOutput } Causality;
+
+/* One row of a model's variable table. Values live in the model's data (the FMU state) at
+ * `offset`: a double for Real, an int32_t for Integer and Boolean. An input's value is the first
+ * of (1 + maxInputOrder) doubles: the value and its time derivatives. A calculated output has no
+ * storage: `output` is its number for the model's output function; an output with a settable
+ * start value (initial="exact") also has one (offset >= 0). */
+typedef struct {
+    FmiValueRef vr;
+    const char *name;
+    VarType type;
+    Causality causality;
+    const char *unit;   /* "" if dimensionless */
+    double start;       /* start value [unit] */
+    double lo, hi;      /* allowed range [unit] */
+    int loOpen, hiOpen; /* 1: the bound itself is excluded */
+    long offset;        /* byte offset in the model's data, or -1 */
+    int output;         /* output number (outputs only), else -1 */
+} VarInfo;
+
+#define VAR_NO_OFFSET (-1L)
+
+/* One entry of the serialized field list of a model's data: `count` consecutive values of one
+ * kind at `offset`. The blob's counts and size are summed from this list. */
+typedef enum { FieldF64, FieldI32 } FieldKind;
+
+typedef struct {
+    long offset;
+    FieldKind kind;
+    int count;
+} StateField;
+
+#endif

@@ -1,0 +1,141 @@
+/* Generic FMU instance: lifecycle, start values from the model's table, experiment setup, the end
+ * of initialization and the checks every communication step shares. No global mutable state. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fmi/instance.h"
+#include "fmi/log.h"
+#include "fmi/state_blob.h"
+#include "fmi/variables.h"
+
+static char *copyString(const char *s)
+{
+    size_t n;
+    char *p;
+    if (s == NULL) return NULL;
+    n = strlen(s);
+    p = (char *)malloc(n + 1);
+    if (p) memcpy(p, s, n + 1);
+    return p;
+}
+
+/* memory is zeroed once here (a cache, not state: a reset keeps it) */
+FmiInstance *fmiNew(const FmiModel *model, const char *instanceName, const char *resourceLocation,
+                    FmiLogSink sink, void *sinkCtx, int loggingOn)
+{
+    FmiInstance *inst = (FmiInstance *)calloc(1, sizeof *inst);
+    if (inst == NULL) {
+        free(sinkCtx);
+        return NULL;
+    }
+    inst->model = model;
+    inst->sinkCtx = sinkCtx;
+    inst->instanceName = copyString(instanceName);
+    inst->resourceLocation = copyString(resourceLocation);
+    inst->data = calloc(1, model->dataSize > 0 ? model->dataSize : 1);
+    inst->memory = calloc(1, model->memorySize > 0 ? model->memorySize : 1);
+    if (inst->instanceName == NULL || (resourceLocation != NULL && inst->resourceLocation == NULL) ||
+        inst->data == NULL || inst->memory == NULL) {
+        fmiFree(inst);
+        return NULL;
+    }
+    inst->magic = FMI_INSTANCE_MAGIC;
+    inst->sink = sink;
+    for (int k = 0; k < LOG_NUM_CATEGORIES; ++k) inst->logOn[k] = loggingOn ? 1 : 0;
+    fmiReset(inst);
+    return inst;
+}
+
+void fmiFree(FmiInstance *inst)
+{
+    if (inst == NULL) return;
+    fmiStateFreeAll(inst);
+    free(inst->instanceName);
+    free(inst->resourceLocation);
+    free(inst->data);
+    free(inst->memory);
+    free(inst->sinkCtx);
+    inst->magic = 0;
+    free(inst);
+}
+
+void fmiReset(FmiInstance *inst)
+{
+    memset(inst->data, 0, inst->model->dataSize);
+    memset(&inst->run, 0, sizeof inst->run); /* time = startTime = 0, no stop time, last status OK */
+    inst->fsm = FsmInstantiated;
+    inst->built = 0;
+    fmiStartValues(inst->model, inst->data);
+    if (inst->model->startValues) inst->model->startValues(inst);
+}
+
+FmiStatus fmiSetupExperiment(FmiInstance *inst, const char *fn, int toleranceDefined, double tolerance,
+                             double startTime, int stopTimeDefined, double stopTime)
+{
+    if (!isfinite(startTime)) {
+        fmiLogStatus(inst, FmiError, "%s: startTime = %g s is not a finite number", fn, startTime);
+        return FmiError;
+    }
+    if (stopTimeDefined && (!isfinite(stopTime) || stopTime < startTime)) {
+        fmiLogStatus(inst, FmiError, "%s: stopTime = %g s must be finite and >= startTime = %g s", fn, stopTime,
+                     startTime);
+        return FmiError;
+    }
+    if (toleranceDefined && !(tolerance >= 0.0)) {
+        fmiLogStatus(inst, FmiError, "%s: tolerance = %g must be >= 0", fn, tolerance);
+        return FmiError;
+    }
+    /* the tolerance is not used: the models integrate with fixed steps */
+    inst->run.startTime = startTime;
+    inst->run.time = startTime;
+    inst->run.stopTimeDefined = stopTimeDefined ? 1 : 0;
+    inst->run.stopTime = stopTimeDefined ? stopTime : 0.0;
+    return FmiOK;
+}
+
+FmiStatus fmiExitInitialization(FmiInstance *inst, const char *fn)
+{
+    FmiStatus status = inst->model->build(inst, fn, 1);
+    inst->built = status == FmiOK;
+    if (status != FmiOK) return status;
+    inst->run.time = inst->run.startTime;
+    inst->run.initialized = 1;
+    return inst->model->initialized ? inst->model->initialized(inst, fn) : FmiOK;
+}
+
+double fmiTimeTolerance(double t) { return 1e-9 * (fabs(t) > 1.0 ? fabs(t) : 1.0); }
+
+FmiStatus fmiDoStep(FmiInstance *inst, const char *fn, double tc, double h)
+{
+    const double tol = fmiTimeTolerance(inst->run.time);
+    FmiStatus status;
+    if (!isfinite(tc) || !isfinite(h)) {
+        fmiLogStatus(inst, FmiError, "%s: currentCommunicationPoint = %g s and communicationStepSize = %g s "
+                     "must be finite numbers", fn, tc, h);
+        return FmiError;
+    }
+    if (!(h > 0.0)) {
+        fmiLogStatus(inst, FmiError, "%s: communicationStepSize = %g s must be > 0", fn, h);
+        return FmiError;
+    }
+    if (tc + h == tc) {
+        fmiLogStatus(inst, FmiError, "%s: communicationStepSize = %g s is below the time resolution at "
+                     "t = %.17g s (t + h == t): time would not advance", fn, h, tc);
+        return FmiError;
+    }
+    if (fabs(tc - inst->run.time) > tol) {
+        fmiLogStatus(inst, FmiError, "%s: currentCommunicationPoint = %.17g s does not match the FMU time "
+                     "%.17g s (tolerance %g s)", fn, tc, inst->run.time, tol);
+        return FmiError;
+    }
+    if (inst->run.stopTimeDefined && tc + h > inst->run.stopTime + fmiTimeTolerance(inst->run.stopTime)) {
+        fmiLogStatus(inst, FmiError, "%s: the step to %.17g s goes past the stop time %.17g s", fn, tc + h,
+                     inst->run.stopTime);
+        return FmiError;
+    }
+    status = inst->model->doStep(inst, fn, tc, h);
+    if (status <= FmiDiscard) inst->run.lastDoStepStatus = status;
+    if (status <= FmiWarning) inst->run.time = tc + h; /* the master's point plus h, never accumulated */
+    return status;
+}

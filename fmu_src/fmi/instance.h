@@ -1,0 +1,68 @@
+/* The generic FMU instance: lifecycle, the co-simulation state machine, experiment setup and the
+ * checks of a communication step that every model shares. The model's data and memory hang off
+ * the instance (sizes from the FmiModel); nothing here knows a model's variables. */
+#ifndef FMI_INSTANCE_H
+#define FMI_INSTANCE_H
+
+#include "fmi/fsm.h"
+#include "fmi/model.h"
+
+/* Log categories (modelDescription.xml <LogCategories>, same order). */
+typedef enum {
+    LogEvents = 0, LogStatusWarning, LogStatusDiscard, LogStatusError, LogStatusFatal, LogAll,
+    LogCalls, LOG_NUM_CATEGORIES
+} LogCategory;
+
+/* The face's logger: receives finished messages (no format characters left to expand). */
+typedef void (*FmiLogSink)(void *ctx, const char *instanceName, FmiStatus status, const char *category,
+                           const char *message);
+
+/* The generic part of an FMU state. */
+typedef struct {
+    double time;               /* current communication point [s] */
+    double startTime;          /* [s] */
+    double stopTime;           /* [s], if stopTimeDefined */
+    int32_t stopTimeDefined;
+    int32_t lastDoStepStatus;  /* FmiStatus of the last step */
+    int32_t initialized;       /* 1 once initialization ended: the model's state evolves */
+} FmiRun;
+
+typedef struct FmiStateCopy FmiStateCopy;
+
+typedef struct FmiInstance {
+    uint64_t magic;
+    const FmiModel *model;
+    int32_t fsm;               /* FsmState */
+    FmiRun run;
+    int32_t built;             /* the model's derived data follow its parameters */
+    void *data;                /* model->dataSize bytes: the model's part of the FMU state */
+    void *memory;              /* model->memorySize bytes: per-instance memory, not state */
+    char *instanceName;
+    char *resourceLocation;
+    FmiLogSink sink;
+    void *sinkCtx;             /* owned: freed with the instance */
+    int logOn[LOG_NUM_CATEGORIES];
+    FmiStateCopy *states;      /* FMU states allocated for this instance (freed with it) */
+    char message[1024];        /* formatting buffer of the logger */
+} FmiInstance;
+
+#define FMI_INSTANCE_MAGIC 0x53426c6164654932ULL /* "SBladeI2" */
+
+/* Copies the strings; takes sinkCtx (freed with the instance, also on failure). NULL on
+ * allocation failure. */
+FmiInstance *fmiNew(const FmiModel *model, const char *instanceName, const char *resourceLocation,
+                    FmiLogSink sink, void *sinkCtx, int loggingOn);
+void fmiFree(FmiInstance *inst);
+void fmiReset(FmiInstance *inst); /* start values, time 0, state machine instantiated; keeps logging */
+
+
+FmiStatus fmiSetupExperiment(FmiInstance *inst, const char *fn, int toleranceDefined, double tolerance,
+                             double startTime, int stopTimeDefined, double stopTime);
+FmiStatus fmiExitInitialization(FmiInstance *inst, const char *fn);
+/* Checks the communication point, the step size and the stop time, then lets the model step. */
+FmiStatus fmiDoStep(FmiInstance *inst, const char *fn, double tc, double h);
+
+/* Tolerance of a time comparison at time t [s]: 1e-9 max(1, |t|). */
+double fmiTimeTolerance(double t);
+
+#endif

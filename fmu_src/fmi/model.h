@@ -1,0 +1,47 @@
+/* What a model gives the generic FMI layer: its identity, variable table, the size of its data,
+ * its serialized field list and the few functions only the model knows (build, step, outputs).
+ * The layer calls these; a model calls the layer's logging and instance functions, never a face. */
+#ifndef FMI_MODEL_H
+#define FMI_MODEL_H
+
+#include "fmi/fmi_types.h"
+
+struct FmiInstance;
+
+typedef struct FmiModel {
+    const char *name;          /* model name for messages */
+    const char *guid;          /* must equal the modelDescription.xml guid */
+    const VarInfo *vars;       /* sorted by value reference (bisected) */
+    int nVars;
+    int maxInputOrder;         /* highest input derivative order (0: none) */
+    size_t dataSize;           /* bytes of the model's part of the FMU state (plain data) */
+    size_t memorySize;         /* bytes of per-instance memory outside the FMU state */
+    int canGetAndSetState;     /* 0: the FMU state functions are refused (as the XML says) */
+    int32_t stateVersion;      /* serialized format version: bump when `fields` changes */
+    const StateField *fields;  /* serialized part of the data, in blob order */
+    int nFields;
+
+    /* After the table's start values are written (data zeroed before): the rest of the data. */
+    void (*startValues)(struct FmiInstance *inst);
+    /* Derived data from the parameters; initState: also the initial state (end of
+     * initialization). Logs and returns FmiError if the parameters cannot be used. */
+    FmiStatus (*build)(struct FmiInstance *inst, const char *fn, int initState);
+    /* Called once after a successful build at the end of initialization (may be NULL). */
+    FmiStatus (*initialized)(struct FmiInstance *inst, const char *fn);
+    /* Evaluates the calculated outputs (into the model's memory) for `output` below. */
+    void (*outputs)(struct FmiInstance *inst);
+    double (*output)(const struct FmiInstance *inst, int id);
+    /* Appends why a calculated output may be non-finite to a warning (may be NULL). */
+    void (*nonFiniteHint)(const struct FmiInstance *inst, char *buf, size_t n);
+    /* The model's part of a communication step from tc to tc + h, after the layer checked the
+     * arguments and the time. FmiDiscard: the model's state is as at tc. */
+    FmiStatus (*doStep)(struct FmiInstance *inst, const char *fn, double tc, double h);
+    /* Checks the model-specific fields of deserialized data (1: usable); the table's variables
+     * were checked already. initialized: the state evolves (else only parameters matter). */
+    int (*validData)(struct FmiInstance *inst, const char *fn, const void *data, int initialized);
+} FmiModel;
+
+/* The one model a binary is built from: defined by the one file of models/ linked in. */
+extern const FmiModel fmiModel;
+
+#endif

@@ -1,0 +1,265 @@
+/* Dynamics of the one-mode blade with shroud contact (docs/model-notes.md s.1-s.4; see dynamics.h).
+ *
+ * Equation of motion (eq. 27, model-notes s.2):
+ *   M q'' + C0 q' + K0(Omega) q = G f_w(t) - F_c,   psi' = omega,   E' = C0 q'^2 + P.
+ * The discrete state (gate, Jenkins mode, side, slip direction) is pinned between events, so the
+ * right-hand side is smooth between them; an integrator watches the switching functions and
+ * calls dynApplyEvent at the first instant one of them turns negative. */
+#include "physics/dynamics_step.h"
+
+#include <math.h>
+#include <string.h>
+
+
+/* ------------------------------------------------------------------------------------------- */
+/* Model constants, initial state                                                               */
+
+int dynBuildModel(DynModel *m, const BladeReduction *r, const ContactParams *cp, FrictionModel friction,
+                  Projection projection, int gating, int tracked, int engineOrder)
+{
+    memset(m, 0, sizeof *m);
+    if (!(r->M > 0.0) || !isfinite(r->M) || engineOrder < 1) return 1;
+    m->friction = friction;
+    m->projection = projection;
+    m->gating = gating ? 1 : 0;
+    m->tracked = tracked ? 1 : 0;
+    m->contact = *cp;
+    m->invM = 1.0 / r->M;
+    m->C0 = r->C0;
+    m->K0static = r->K0static;
+    m->K0omega2 = r->K0omega2;
+    m->G = r->loadGain;
+    m->omegaPerRpm = (double)engineOrder * DYN_TWO_PI / 60.0;
+    m->sinG = sin(cp->gamma);
+    m->cosG = cos(cp->gamma);
+    m->kd = cp->kdRatio * cp->kn;
+    m->knCos = cp->kn * m->cosG;
+    m->muKnCos = cp->mu * cp->kn * m->cosG;
+    m->muKnCosPerKd = m->muKnCos / m->kd;
+    /* model-notes s.2: slip at entry iff kd sin g > mu kn cos g */
+    m->stickAtEntry = !(m->kd * m->sinG > m->muKnCos);
+    return 0;
+}
+
+DynStatus dynUpdateDescribe(const DynModel *m, DynState *s)
+{
+    /* the Jenkins element reports the macroslip DF (model-notes s.4) */
+    const FrictionModel dfModel = m->friction == FrictionMacroslipTD ? FrictionMacroslipDF : m->friction;
+    DescribingFunction df;
+    memset(&s->df, 0, sizeof s->df);
+    s->df.regime = RegimeOpen;
+    if (!(s->B > m->contact.d)) return DynOk; /* docs/model.md s.3: B <= d is the open regime, all zero */
+    /* nonzero also for a non-finite result (contactDescribe checks every field) */
+    if (contactDescribe(&m->contact, dfModel, m->projection, s->B, &df) != 0) return DynDescribeFailed;
+    s->df = df;
+    return DynOk;
+}
+
+static void enterContact(const DynModel *m, DynState *s, int side)
+{
+    s->side = side;
+    s->w = m->sinG * s->q; /* the spring is unloaded on arrival (model-notes s.2) */
+    if (m->stickAtEntry) {
+        s->mode = ContactStick;
+    } else {
+        const double L = m->muKnCos * (side * s->q - m->contact.d);
+        s->mode = ContactSlip;
+        s->slipDir = s->v > 0.0 ? 1 : (s->v < 0.0 ? -1 : side);
+        s->w = m->sinG * s->q - s->slipDir * L / m->kd;
+    }
+}
+
+double dynStartForceLimit(const DynModel *m, double q0)
+{
+    const double sig = q0 >= 0.0 ? 1.0 : -1.0;
+    if (!(fabs(q0) > m->contact.d)) return -1.0;
+    return m->muKnCos * (sig * q0 - m->contact.d); /* L = mu |F_n| (eq. 3) */
+}
+
+/* Jenkins element starting in contact with spring force F0 (model-notes s.7). */
+static void initContactForce(const DynModel *m, DynState *s, double F0)
+{
+    const double L = dynStartForceLimit(m, s->q);
+    s->mode = ContactStick;
+    s->w = m->sinG * s->q - F0 / m->kd; /* F_f = kd (Delta_u - w) = F0 */
+    if (fabs(F0) >= L * (1.0 - DYN_CONE_RTOL)) {
+        /* on the cone: slip goes on while the slip rate is >= 0, the test of detect() for EvStick */
+        const int dir = F0 > 0.0 ? 1 : -1;
+        const double cs = dir * m->kd * m->sinG - s->side * m->muKnCos;
+        if (cs * s->v >= 0.0) {
+            s->mode = ContactSlip;
+            s->slipDir = dir;
+            s->w = m->sinG * s->q - dir * L / m->kd; /* F_f = s L exactly */
+        }
+    }
+}
+
+DynStatus dynInitState(const DynModel *m, DynState *s, double q0, double v0, double E0, double F0, double B0,
+                       double windowMax0)
+{
+    memset(s, 0, sizeof *s);
+    s->q = q0;
+    s->v = v0;
+    s->psi = 0.0;
+    s->E = E0;
+    s->w = m->sinG * q0;
+    s->B = B0;
+    /* the period before the start may have reached further than |q0| (a restarted run) */
+    s->windowMax = fabs(q0);
+    if (windowMax0 > s->windowMax) s->windowMax = windowMax0;
+    s->periods = 0.0;
+    s->side = q0 >= 0.0 ? 1 : -1;
+    s->slipDir = s->side;
+    s->vdir = v0 >= 0.0 ? 1 : -1;
+    if (m->friction == FrictionMacroslipTD) {
+        /* inside the contact with the spring unloaded (F0 = 0): inside the cone, so stick, even
+         * where an arriving contact would slip (kept as it was before F0 existed) */
+        s->mode = fabs(q0) > m->contact.d ? ContactStick : ContactOpen;
+        if (s->mode == ContactStick && F0 != 0.0) initContactForce(m, s, F0);
+    } else {
+        s->mode = (!m->gating || fabs(q0) > m->contact.d) ? GateOn : GateOff;
+    }
+    return dynUpdateDescribe(m, s);
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Switching functions and events                                                               */
+
+/* ------------------------------------------------------------------------------------------- */
+/* Events                                                                                       */
+
+DynStatus dynApplyEvent(const DynModel *m, DynState *s, DynSwitch sw, DynEventKind *kind)
+{
+    const int contactModel = m->friction == FrictionMacroslipTD;
+    switch (sw) {
+    case DynSwitchEnterPos:
+    case DynSwitchEnterNeg: {
+        const int side = sw == DynSwitchEnterPos ? 1 : -1;
+        if (contactModel) {
+            enterContact(m, s, side);
+            *kind = DynEventContact;
+        } else {
+            s->mode = GateOn;
+            s->side = side;
+            *kind = DynEventGateOn;
+        }
+        break;
+    }
+    case DynSwitchLeave:
+        if (contactModel) {
+            s->mode = ContactOpen;
+            s->w = m->sinG * s->q; /* separation: the spring unloads */
+            *kind = DynEventSeparate;
+        } else {
+            s->mode = GateOff;
+            *kind = DynEventGateOff;
+        }
+        break;
+    case DynSwitchSlipPos:
+    case DynSwitchSlipNeg: {
+        const double L = m->muKnCos * (s->side * s->q - m->contact.d);
+        s->mode = ContactSlip;
+        s->slipDir = sw == DynSwitchSlipPos ? 1 : -1;
+        s->w = m->sinG * s->q - s->slipDir * L / m->kd; /* F_f = s L exactly */
+        *kind = DynEventStickToSlip;
+        break;
+    }
+    case DynSwitchStick:
+        s->mode = ContactStick;
+        *kind = DynEventSlipToStick;
+        break;
+    case DynSwitchPeriod: {
+        /* model-notes s.3: B = max |q| over the period that ends now */
+        const double aq = fabs(s->q);
+        const double newB = s->windowMax > aq ? s->windowMax : aq;
+        s->periods += 1.0;
+        s->windowMax = aq;
+        *kind = DynEventPeriodEnd;
+        if (newB != s->B) {
+            s->B = newB;
+            return dynUpdateDescribe(m, s);
+        }
+        break;
+    }
+    case DynSwitchExtremum: {
+        const double aq = fabs(s->q);
+        if (aq > s->windowMax) s->windowMax = aq;
+        s->vdir = -s->vdir;
+        *kind = DynEventExtremum;
+        break;
+    }
+    default:
+        break;
+    }
+    return DynOk;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Outputs (model-notes s.4)                                                                    */
+
+void dynOutputs(const DynModel *m, const DynState *s, double nRpm, DynOutputs *out)
+{
+    const double Omega = DYN_RAD_PER_RPM * nRpm;
+    const double omega = m->omegaPerRpm * nRpm;
+    const double K0 = m->K0static + m->K0omega2 * Omega * Omega;
+    /* f_c and C_eq carry 1/omega; with omega = 0 (no rotation) they are reported as 0, and so
+     * they are when omega is so small (< ~1e-300 rad/s) that the quotient overflows */
+    const double CeqDF = omega > 0.0 && isfinite(s->df.CeqOmega / omega) ? s->df.CeqOmega / omega : 0.0;
+    const double fc = omega > 0.0 && isfinite(s->df.fcOmega / omega) ? s->df.fcOmega / omega : 0.0;
+    const double sig = (double)s->side;
+    out->naturalFrequency = sqrt((K0 > 0.0 ? K0 : 0.0) * m->invM) / DYN_TWO_PI;
+    out->regime = (int)s->df.regime;
+    if (m->friction == FrictionMacroslipTD) {
+        out->Keq = s->df.Keq; /* information only: the DF at the B in use */
+        out->Ceq = CeqDF;
+        switch (s->mode) {
+        case ContactStick:
+            out->normalForce = m->knCos * (s->q - sig * m->contact.d);
+            out->frictionForce = m->kd * (m->sinG * s->q - s->w);
+            out->jenkinsForce = out->frictionForce;
+            out->contactState = ContactStick;
+            break;
+        case ContactSlip:
+            out->normalForce = m->knCos * (s->q - sig * m->contact.d);
+            out->frictionForce = s->slipDir * m->muKnCos * (sig * s->q - m->contact.d);
+            /* the spring state itself (= s L up to rounding): a restart from it is consistent */
+            out->jenkinsForce = m->kd * (m->sinG * s->q - s->w);
+            out->contactState = ContactSlip;
+            break;
+        default:
+            out->normalForce = 0.0;
+            out->frictionForce = 0.0;
+            out->jenkinsForce = 0.0;
+            out->contactState = ContactOpen;
+            break;
+        }
+    } else {
+        const int g = dynContactOn(m, s);
+        out->jenkinsForce = 0.0; /* no Jenkins element in the describing-function models */
+        out->normalForce = g ? s->df.pk * s->q : 0.0;
+        out->frictionForce = g ? s->df.fk * s->q + fc * s->v : 0.0;
+        out->Keq = g ? s->df.Keq : 0.0;
+        out->Ceq = g ? CeqDF : 0.0;
+        if (!g || s->df.regime == RegimeOpen) {
+            out->contactState = ContactOpen;
+        } else if (s->df.regime == RegimeFullStick) {
+            out->contactState = ContactStick;
+        } else {
+            double theta = omega > 0.0 ? atan2(-s->v / omega, s->q) : atan2(-s->v, 0.0);
+            if (theta < 0.0) theta += DYN_TWO_PI;
+            if (theta >= DYN_TWO_PI) theta = 0.0;
+            out->contactState = (int)contactLoopState(&m->contact, m->friction, s->B, theta);
+        }
+    }
+}
+
+const char *dynNonFiniteOutput(const DynOutputs *o)
+{
+    if (!isfinite(o->normalForce)) return "normalForce";
+    if (!isfinite(o->frictionForce)) return "frictionForce";
+    if (!isfinite(o->jenkinsForce)) return "jenkinsForce";
+    if (!isfinite(o->Keq)) return "Keq";
+    if (!isfinite(o->Ceq)) return "Ceq";
+    if (!isfinite(o->naturalFrequency)) return "naturalFrequency";
+    return NULL;
+}

@@ -1,0 +1,260 @@
+/* The co-simulation integrator (see rk4_events.h): RK4 steps over dynRhs, switching events of
+ * dynSwitching located on each step's cubic Hermite interpolant and applied by dynApplyEvent. */
+#include "solver/rk4_events.h"
+
+#include <float.h>
+#include <math.h>
+#include <string.h>
+
+#define NO_EVENT 2.0 /* "theta" of a function that does not trigger in the step */
+
+/* ------------------------------------------------------------------------------------------- */
+/* Inputs (model-notes s.1): Taylor polynomials in tau = t - t_k.                                 */
+
+void solverSetInputs(SolverInputs *in, const double deriv[SOLVER_NUM_INPUTS][SOLVER_MAX_ORDER + 1])
+{
+    for (int i = 0; i < SOLVER_NUM_INPUTS; ++i) {
+        double fact = 1.0; /* j! */
+        in->top[i] = 0;
+        for (int j = 0; j <= SOLVER_MAX_ORDER; ++j) {
+            if (j > 0) fact *= (double)j;
+            in->coef[i][j] = deriv[i][j] / fact;
+            if (j > 0 && in->coef[i][j] != 0.0) in->top[i] = j;
+        }
+    }
+}
+
+static inline double inputAt(const SolverInputs *in, int i, double tau)
+{
+    const double *c = in->coef[i];
+    double u = c[in->top[i]];
+    for (int j = in->top[i] - 1; j >= 0; --j) u = u * tau + c[j];
+    return u;
+}
+
+double solverInputAt(const SolverInputs *in, int i, double tau) { return inputAt(in, i, tau); }
+
+/* ------------------------------------------------------------------------------------------- */
+/* RK4                                                                                          */
+
+/* One classical RK4 step from (tau0, x0) to tau1 with k1 = f(tau0, x0) given. Returns the
+ * omega flag of dynRhs(); the inputs at tau1 are returned for the FSAL evaluation. */
+static int rk4(const DynModel *m, const DynState *s, const SolverInputs *in, double tau0,
+               double tau1, const double x0[DYN_NX], const double k1[DYN_NX],
+               double x1[DYN_NX], double *fw1, double *n1)
+{
+    double k2[DYN_NX], k3[DYN_NX], k4[DYN_NX], xt[DYN_NX];
+    const double h = tau1 - tau0, hh = 0.5 * h, h6 = h / 6.0;
+    const double tm = tau0 + hh;
+    const double fwm = inputAt(in, SOLVER_INPUT_AERO, tm), nm = inputAt(in, SOLVER_INPUT_SPEED, tm);
+    const double fwe = inputAt(in, SOLVER_INPUT_AERO, tau1), ne = inputAt(in, SOLVER_INPUT_SPEED, tau1);
+    int bad = 0, i;
+    for (i = 0; i < DYN_NX; ++i) xt[i] = x0[i] + hh * k1[i];
+    bad |= dynRhs(m, s, fwm, nm, xt, k2);
+    for (i = 0; i < DYN_NX; ++i) xt[i] = x0[i] + hh * k2[i];
+    bad |= dynRhs(m, s, fwm, nm, xt, k3);
+    for (i = 0; i < DYN_NX; ++i) xt[i] = x0[i] + h * k3[i];
+    bad |= dynRhs(m, s, fwe, ne, xt, k4);
+    for (i = 0; i < DYN_NX; ++i) x1[i] = x0[i] + h6 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+    *fw1 = fwe;
+    *n1 = ne;
+    return bad;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Event location on the cubic Hermite interpolant                                              */
+
+static inline double cubicAt(const double c[4], double t) { return ((c[3] * t + c[2]) * t + c[1]) * t + c[0]; }
+
+/* Illinois (modified regula falsi) on [lo, hi] with p(lo) >= 0 > p(hi): returns the right end of
+ * the final bracket (a point where p < 0) once hi - lo <= tol. */
+static double refineRoot(const double c[4], double lo, double plo, double hi, double phi, double tol)
+{
+    int side = 0;
+    for (int it = 0; it < 200 && hi - lo > tol; ++it) {
+        double x = lo + plo * (hi - lo) / (plo - phi);
+        double px;
+        if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);
+        if (!(x > lo && x < hi)) break; /* no double strictly inside */
+        px = cubicAt(c, x);
+        if (px < 0.0) {
+            hi = x;
+            phi = px;
+            if (side == -1) plo *= 0.5;
+            side = -1;
+        } else {
+            lo = x;
+            plo = px;
+            if (side == 1) phi *= 0.5;
+            side = 1;
+        }
+    }
+    return hi;
+}
+
+/* First theta in (0, 1] where the cubic Hermite interpolant with values p0, p1 and scaled slopes
+ * m0 = h g'(0), m1 = h g'(1) is negative; NO_EVENT if none. p0 < 0 (a state just switched whose
+ * function is a rounding error on the wrong side) is clamped to 0, and dips shallower than
+ * 1e-12 of the data's scale are ignored: right after a switch a function starts at a rounding
+ * error from 0 with a slope that may be a rounding error of the wrong sign (e.g. q' at a
+ * slip -> stick switch), which must not switch back. The delay this threshold adds to a real
+ * crossing is 1e-12 of the step. */
+static double firstNegative(double p0, double m0, double p1, double m1, double tol)
+{
+    double c[4], br[4], pa, a, noise;
+    int nb = 0;
+    if (!(p0 >= 0.0)) p0 = 0.0;
+    noise = 1e-12 * (fabs(p0) + fabs(p1) + fabs(m0) + fabs(m1));
+    p0 += noise;
+    p1 += noise;
+    /* Bernstein control points >= 0: the cubic is >= 0 on [0, 1] (convex hull) */
+    if (p0 + m0 / 3.0 >= 0.0 && p1 - m1 / 3.0 >= 0.0 && p1 >= 0.0) return NO_EVENT;
+    c[0] = p0;
+    c[1] = m0;
+    c[2] = -3.0 * p0 - 2.0 * m0 + 3.0 * p1 - m1;
+    c[3] = 2.0 * p0 + m0 - 2.0 * p1 + m1;
+    /* monotone pieces: split at the roots of p' = 3 c3 t^2 + 2 c2 t + c1 inside (0, 1) */
+    br[nb++] = 0.0;
+    {
+        const double A = 3.0 * c[3], Bq = 2.0 * c[2], C = c[1];
+        double r1 = -1.0, r2 = -1.0;
+        if (A != 0.0) {
+            const double disc = Bq * Bq - 4.0 * A * C;
+            if (disc > 0.0) {
+                const double qq = -0.5 * (Bq + copysign(sqrt(disc), Bq));
+                r1 = qq / A;
+                r2 = qq != 0.0 ? C / qq : -1.0;
+            }
+        } else if (Bq != 0.0) {
+            r1 = -C / Bq;
+        }
+        if (r1 > r2) { const double t = r1; r1 = r2; r2 = t; }
+        if (r1 > 0.0 && r1 < 1.0) br[nb++] = r1;
+        if (r2 > 0.0 && r2 < 1.0 && r2 != r1) br[nb++] = r2;
+    }
+    br[nb++] = 1.0;
+    a = 0.0;
+    pa = p0;
+    for (int i = 1; i < nb; ++i) {
+        const double b = br[i];
+        const double pb = (i == nb - 1) ? p1 : cubicAt(c, b);
+        if (pb < 0.0) return refineRoot(c, a, pa, b, pb, tol);
+        a = b;
+        pa = pb;
+    }
+    return NO_EVENT;
+}
+
+/* The earliest switching event of the step [tau0, tau0 + h] (model-notes s.6): the switching
+ * functions at both ends with their slopes scaled by h, located on the cubic Hermite interpolant.
+ * At equal instants the first listed wins (dynSwitching lists them in priority order). */
+static DynSwitch detect(const DynModel *m, const DynState *s, double h, const double x0[DYN_NX],
+                        const double f0[DYN_NX], const double x1[DYN_NX], const double f1[DYN_NX], double tol,
+                        double *theta)
+{
+    DynSwitchValue a[DYN_MAX_SWITCHING], b[DYN_MAX_SWITCHING];
+    double best = NO_EVENT;
+    DynSwitch sw = DynSwitchNone;
+    const int n = dynSwitching(m, s, h, x0, f0, a);
+    dynSwitching(m, s, h, x1, f1, b); /* the same functions: the list depends on m and s only */
+    for (int i = 0; i < n; ++i) {
+        const double th = firstNegative(a[i].g, a[i].hdg, b[i].g, b[i].hdg, tol);
+        if (th <= 1.0 && th + 2.0 * tol < best) {
+            best = th;
+            sw = a[i].kind;
+        }
+    }
+    *theta = best;
+    return sw;
+}
+
+static inline void loadX(const DynState *s, double x[DYN_NX])
+{
+    x[0] = s->q; x[1] = s->v; x[2] = s->psi; x[3] = s->E; x[4] = s->w;
+}
+
+static inline void storeX(DynState *s, const double x[DYN_NX])
+{
+    s->q = x[0]; s->v = x[1]; s->psi = x[2]; s->E = x[3]; s->w = x[4];
+}
+
+static inline int allFinite(const double x[DYN_NX])
+{
+    return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]) && isfinite(x[3]) && isfinite(x[4]);
+}
+
+DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
+                           double tStart, double h, long nSteps, SolverEventHook hook, void *ctx,
+                           SolverCounters *counters, double *tFail)
+{
+    const double hi = h / (double)nSteps;
+    double x0[DYN_NX], x1[DYN_NX], f0[DYN_NX], f1[DYN_NX];
+    double fwB = 0.0, nB = 0.0;
+    long long nRhs = 0, nEvents = 0, nAccepted = 0;
+    DynStatus status = DynOk;
+    double tau0 = 0.0;
+    int f0Valid = 0;
+    long k;
+    loadX(s, x0);
+    for (k = 0; k < nSteps && status == DynOk; ++k) {
+        const double tauB = (k + 1 == nSteps) ? h : (double)(k + 1) * hi;
+        int events = 0;
+        tau0 = (double)k * hi;
+        for (;;) { /* the internal step [tau0, tauB], cut at every event inside it */
+            DynEventKind kind = DynEventGateOn;
+            double theta, hs, tAbs, tol, te;
+            DynSwitch ev;
+            if (!f0Valid) {
+                const double fw0 = inputAt(in, SOLVER_INPUT_AERO, tau0), n0 = inputAt(in, SOLVER_INPUT_SPEED, tau0);
+                ++nRhs;
+                if (dynRhs(m, s, fw0, n0, x0, f0)) { status = DynOmegaZero; break; }
+                f0Valid = 1;
+            }
+            nRhs += 4;
+            if (rk4(m, s, in, tau0, tauB, x0, f0, x1, &fwB, &nB)) { status = DynOmegaZero; break; }
+            if (!allFinite(x1)) { status = DynNonFinite; break; }
+            if (dynRhs(m, s, fwB, nB, x1, f1)) { status = DynOmegaZero; break; } /* FSAL: next k1 */
+            hs = tauB - tau0;
+            tAbs = fabs(tStart + tau0);
+            tol = 1e-15 * (tAbs > hs ? tAbs : hs) / hs; /* ~1e-15 relative in time */
+            if (tol < 4.0 * DBL_EPSILON) tol = 4.0 * DBL_EPSILON;
+            ev = detect(m, s, hs, x0, f0, x1, f1, tol, &theta);
+            if (ev == DynSwitchNone) { /* no switch: accept the whole step */
+                storeX(s, x1);
+                memcpy(x0, x1, sizeof x0);
+                memcpy(f0, f1, sizeof f0);
+                ++nAccepted;
+                break;
+            }
+            /* redo the step up to the switching instant te, then update the discrete state */
+            te = tau0 + theta * hs;
+            if (theta >= 1.0 || te >= tauB) {
+                te = tauB;
+                storeX(s, x1);
+            } else if (te > tau0) {
+                double xe[DYN_NX], fwE, nE;
+                nRhs += 3;
+                if (rk4(m, s, in, tau0, te, x0, f0, xe, &fwE, &nE)) { status = DynOmegaZero; break; }
+                if (!allFinite(xe)) { status = DynNonFinite; break; }
+                storeX(s, xe);
+            } /* else: te == tau0, the switch happens at the step start */
+            ++nEvents;
+            status = dynApplyEvent(m, s, ev, &kind);
+            if (status != DynOk) break;
+            if (hook) hook(ctx, kind, tStart + te, s);
+            loadX(s, x0);
+            f0Valid = 0;
+            tau0 = te;
+            if (++events > SOLVER_MAX_EVENTS_PER_STEP) { status = DynChattering; break; }
+            if (te >= tauB) { ++nAccepted; break; }
+        }
+    }
+    if (counters) {
+        counters->internalSteps += nAccepted;
+        counters->events += nEvents;
+        counters->rhsCalls += nRhs;
+    }
+    if (tFail) *tFail = status == DynOk ? h : tau0;
+    return status;
+}
+
