@@ -87,9 +87,11 @@ SIZES: dict[str, Size] = {
                   fig45_time=0.6, coulomb=False, iteration_steps=6, seed_step=1000.0),
     # branches to 12000 rpm: with kn = 1e7 the stable contact branches of the fixed point end in
     # their fold above 10000 rpm for d = 0.02 mm and gamma = pi/6..pi/4 (a peak at the range end
-    # would be a missed solution); the transient path (bench) keeps its 3000..10000 rpm grid
+    # would be a missed solution); the transient path (bench) keeps its 3000..10000 rpm grid.
+    # Seeds every 1000 rpm: the 50 curves traced with seeds every 500 rpm have the same branches
+    # (docs/periodic.md; tests/test_continuation.py checks two of them)
     "default": Size("default", speeds=_grid(3000, 10000, 500), fixed_speeds=_grid(3000, 10000, 500),
-                    hb_speeds=_grid(2000, 12000, 40), speed_range=(3000.0, 12000.0)),
+                    hb_speeds=_grid(2000, 12000, 40), speed_range=(3000.0, 12000.0), seed_step=1000.0),
     "full": Size("full", speeds=_grid(2000, 10000, 250), fixed_speeds=_grid(2000, 10000, 250),
                  hb_speeds=_grid(100, 12000, 20),
                  settings=SweepSettings(rtol=1e-3, max_time=2.5, refine_levels=6, min_dn=5.0, n_scan=20,

@@ -236,9 +236,15 @@ def linear_orbit(params: Mapping[str, Any] | None, speed_rpm: float, B: float | 
     (K0 + K_eq(B), C0 + C_eq(B), gating off; B None or <= d: contact-free): q = Im(Z e^{i w t}),
     Z = F / (K0 + K_eq - M w^2 + i w (C0 + C_eq)). The exact periodic orbit of the ungated fixed-B
     model (a linear ODE) and the one-harmonic guess that starts shooting elsewhere."""
+    q, v = linear_orbits(params, speed_rpm, np.array([0.0 if B is None else float(B)]))
+    return float(q[0]), float(v[0])
+
+
+def linear_orbits(params: Mapping[str, Any] | None, speed_rpm: float, B: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """linear_orbit at every amplitude of the array B at once (B <= d: contact-free)."""
     hb = _hb_model(tuple(sorted(validate(params or {}).items())))
     re0, im0 = hb.lin(np.array([float(speed_rpm)]))
-    K, Cw = hb.dfKC(np.array([float(B)])) if B is not None else (np.zeros(1), np.zeros(1))
-    Z = hb.F / complex(re0[0] + K[0], im0[0] + Cw[0])
+    K, Cw = hb.dfKC(np.asarray(B, dtype=float))
+    Z = hb.F / ((re0[0] + K) + 1j * (im0[0] + Cw))
     w = hb.EO * 2 * math.pi * float(speed_rpm) / 60.0
     return Z.imag, (1j * w * Z).imag

@@ -36,6 +36,7 @@ class ContinuationSettings:
     ds_max: float = 0.4
     max_points: int = 400
     max_corrector: int = 8
+    ds_fold: float = 0.02  # a step that passes a fold is refused (and halved) while longer than this
 
 
 @dataclass
@@ -222,6 +223,8 @@ def _march(prob: _Problem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, rng: tu
     lo, hi = rng
     while len(pts) < s.max_points:
         ok, z_new, t_new, Jz_new, point = _step(prob, z, t, Jz, ds, s)
+        if ok and ds > s.ds_fold and t_new[-1] * t[-1] < 0.0:
+            ok = False  # a fold passed (the speed turned back) with a long step: resolve its tip
         if not ok:
             ds *= 0.5
             if ds < s.ds_min:

@@ -21,7 +21,7 @@ import numpy as np
 from harness.sweep.fixed_point import linear_bound
 from harness.sweep.periodic.period_map import PeriodMap, omega
 from harness.sweep.periodic.shooting import Solution, newton
-from harness.reference.hb import harmonic_balance, linear_orbit
+from harness.reference.hb import harmonic_balance, linear_orbit, linear_orbits
 
 SCAN_TOL = 1e-7  # Newton tolerance of the fixed-B orbits of the B scan (they only place the roots of
 #                  g(B), which Newton on the augmented problem then refines to the shooting tolerance)
@@ -105,11 +105,12 @@ def fixed_point_candidates(pm: PeriodMap, speed: float, s: SearchSettings) -> li
     grid = np.geomspace(pm.d * (1 + 1e-6), max(_b_max(pm, speed), 2 * pm.d), s.n_scan)
     xs, g, Bs = [], [], []
     prev = None  # the previous B's orbit: its state and DP start the next B's quasi-Newton
-    for B in grid:
+    lin_q, lin_v = linear_orbits(p, speed, grid)  # the linearised orbit at each B
+    for k, B in enumerate(grid):
         fb.B = float(B)
         sol = newton(fb, prev[0], speed, prev[1], SCAN_TOL) if prev is not None else None
         if sol is None or not sol.amplitude > pm.d:  # else from the linearised orbit at B
-            sol = newton(fb, np.array(linear_orbit(p, speed, float(B))), speed, tol=SCAN_TOL)
+            sol = newton(fb, np.array([lin_q[k], lin_v[k]]), speed, tol=SCAN_TOL)
         if sol is None:
             prev = None
             continue
