@@ -1,10 +1,13 @@
-"""Session fixtures: build the FMU and the physics library once per test session."""
+"""Shared fixtures: the FMU and the physics library built once per test session; the raw FMI
+binding of the built FMU (or of $SB_FMU_BINARY, e.g. a sanitizer build) for the FMI-level tests."""
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
 
+from fmi2raw import Fmi2Library
 from harness.fmu import build as _build
 
 
@@ -19,3 +22,11 @@ def physics_lib() -> Path:
     """build/libsbphysics.so: blade.c and contact.c as a plain shared library for ctypes."""
     _build.build(("sbphysics",))
     return _build.PHYSICS_LIB
+
+
+@pytest.fixture(scope="module")
+def lib(request: pytest.FixtureRequest) -> Fmi2Library:
+    """The raw FMI 2.0 binding (tests/fmi2raw.py) of the FMU under test."""
+    if not os.environ.get("SB_FMU_BINARY"):
+        request.getfixturevalue("fmu_path")  # build/ShroudedBlade.fmu, built once per session
+    return Fmi2Library.get()

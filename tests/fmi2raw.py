@@ -12,12 +12,14 @@ tests/test_fmu_sanitizers.py).
 """
 from __future__ import annotations
 
+import atexit
 import ctypes
 import fcntl
 import itertools
 import math
 import os
 import re
+import shutil
 import subprocess
 import tempfile
 import threading
@@ -172,6 +174,13 @@ def _spare_resources() -> Path:
         if not _spare:
             _spare.append(Path(tempfile.mkdtemp(prefix="sb resources ")))
         return _spare[0]
+
+
+@atexit.register
+def _remove_temporary_dirs() -> None:
+    """The unzipped FMUs and spare resource folders of this process go with it."""
+    for d in list(_extracted.values()) + _spare:
+        shutil.rmtree(d, ignore_errors=True)
 
 
 def fmu_binary() -> Path:

@@ -792,7 +792,9 @@ def model_exchange_cases() -> list[Case]:
 def _inst_case(label: str, expect: str = "refuse", needle: str | None = None,
                isolated: bool = False, **kw) -> Case:
     def run(lib: Fmi2Library) -> Outcome:
-        c = Instance(lib, **kw)
+        # a callable argument is evaluated now, not at collection (e.g. a resource URI needs the
+        # unzipped FMU, which a fresh checkout does not have before the session fixture builds it)
+        c = Instance(lib, **{k: v() if callable(v) else v for k, v in kw.items()})
         try:
             if not c.ok:
                 return Outcome(NULL_INSTANCE, "fmi2Instantiate", list(c.log))
@@ -827,9 +829,8 @@ def instantiate_cases() -> list[Case]:
 
 
 def resource_cases() -> list[Case]:
-    def uri(form: str) -> str:
-        return F.resource_uri(None, form)
-    base = F.resource_uri(None, "file:///")[len("file://"):]
+    def uri(form: str):
+        return lambda: F.resource_uri(None, form)
     return [
         _inst_case("resource URI file:///tmp/sb fmu XXX/resources (a space, RFC 8089 form)",
                    "accept", resources=uri("file:///")),
@@ -837,7 +838,7 @@ def resource_cases() -> list[Case]:
                    resources=uri("file:/")),
         _inst_case("resource URI percent-encoded (%20)", "accept", resources=uri("percent")),
         _inst_case("resource URI file://localhost/...", "accept",
-                   resources="file://localhost" + base),
+                   resources=lambda: "file://localhost" + F.resource_uri(None, "file:///")[len("file://"):]),
         _inst_case("resource URI of a missing directory", "either",
                    resources="file:///no/such/dir with space/resources"),
         _inst_case("resource URI = NULL", "either", resources=None),
@@ -997,13 +998,6 @@ SB_FUZZ_EXAMPLES=3000 .venv/bin/python -m pytest -o addopts= tests/test_fmu_fuzz
 
 CASES = all_cases()
 _SEEN_STATUSES: list[int] = []
-
-
-@pytest.fixture(scope="module")
-def lib(request: pytest.FixtureRequest) -> Fmi2Library:
-    if not os.environ.get("SB_FMU_BINARY"):
-        request.getfixturevalue("fmu_path")  # build/ShroudedBlade.fmu, built once per session
-    return Fmi2Library.get()
 
 
 def test_catalogue_is_broad() -> None:

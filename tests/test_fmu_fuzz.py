@@ -552,13 +552,6 @@ def _run(examples: int, randomize: bool = False) -> None:
     assert FmuMachine.steps_ok > 0
 
 
-@pytest.fixture(scope="module")
-def lib(request: pytest.FixtureRequest) -> Fmi2Library:
-    if not os.environ.get("SB_FMU_BINARY"):
-        request.getfixturevalue("fmu_path")
-    return Fmi2Library.get()
-
-
 def test_fuzz_fmi_sequences(lib: Fmi2Library) -> None:
     _run(FUZZ_EXAMPLES)
 

@@ -13,7 +13,6 @@ FMU never calls the memory callbacks.
 """
 from __future__ import annotations
 
-import os
 import subprocess
 from pathlib import Path
 
@@ -48,13 +47,6 @@ def test_leak_cycles_under_lsan(asan_build: tuple[Path, Path]) -> None:
 @pytest.mark.slow
 def test_leak_cycles_under_lsan_long(asan_build: tuple[Path, Path]) -> None:
     print(run_leak_cycles(asan_build, 10000, 100000))
-
-
-@pytest.fixture(scope="module")
-def lib(request: pytest.FixtureRequest) -> Fmi2Library:
-    if not os.environ.get("SB_FMU_BINARY"):
-        request.getfixturevalue("fmu_path")
-    return Fmi2Library.get()
 
 
 def test_cycles_in_process_give_identical_results(lib: Fmi2Library) -> None:

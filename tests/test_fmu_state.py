@@ -11,7 +11,6 @@ on content (fmi2Error) or, if its content is legal, be safe to use.
 """
 from __future__ import annotations
 
-import json
 import math
 import os
 import struct
@@ -35,13 +34,6 @@ PARAM_SETS = {
     "jenkins-TD": {"frictionModel": 3, "d": 2e-5},
     "consistent-nogating": {"formulation": 2, "projection": 2, "gating": False},
 }
-
-
-@pytest.fixture(scope="module")
-def lib(request: pytest.FixtureRequest) -> Fmi2Library:
-    if not os.environ.get("SB_FMU_BINARY"):
-        request.getfixturevalue("fmu_path")
-    return Fmi2Library.get()
 
 
 def ready(lib: Fmi2Library, params: dict | None = None) -> Instance:

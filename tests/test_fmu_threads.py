@@ -11,7 +11,6 @@ called concurrently from several threads) are exercised in the threads too.
 """
 from __future__ import annotations
 
-import os
 import threading
 
 import numpy as np
@@ -34,13 +33,6 @@ RUNS = [
     ({"d": 5e-5, "engineOrder": 2}, 5000.0),
     ({"m0": 0.05, "gamma": 0.5}, 3000.0),
 ]
-
-
-@pytest.fixture(scope="module")
-def lib(request: pytest.FixtureRequest) -> Fmi2Library:
-    if not os.environ.get("SB_FMU_BINARY"):
-        request.getfixturevalue("fmu_path")
-    return Fmi2Library.get()
 
 
 def one_run(lib: Fmi2Library, params: dict, speed: float, logging: bool) -> tuple[np.ndarray, bytes, np.ndarray]:

@@ -27,6 +27,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from harness.fmu.build import REPO_ROOT
+from harness.optional import require
 
 RESULTS_DIR = REPO_ROOT / "results"
 DEFAULT_CACHE_DIR = RESULTS_DIR / "cache"
@@ -212,6 +213,7 @@ class Runner:
 
     def _dask_client(self) -> Any:
         if self._client is None:
+            require("distributed")
             from distributed import Client
 
             if isinstance(self.scheduler, Client):
@@ -295,6 +297,7 @@ class Runner:
         return [results[i] for i in range(len(tasks))]
 
     def _map_dask(self, func: Callable[[Any], Any], tasks: list[Any], bar: Any) -> list[Any]:
+        require("distributed")
         from distributed import as_completed
 
         client = self._dask_client()

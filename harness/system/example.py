@@ -27,6 +27,7 @@ from harness.crosscheck.common import max_rel_diff, outputs, result_array, varia
 from harness.crosscheck.importers.libcosim import NS_PER_S, ns_time_grid, to_ns
 
 from harness.fmu.build import EXCITATION_FMU, build
+from harness.optional import require
 EXC = "excitation"
 
 
@@ -126,6 +127,7 @@ def run_fmpy(blade_fmu: Path, exc_fmu: Path, system: System) -> np.ndarray:
 
 def run_libcosim(blade_fmu: Path, exc_fmu: Path, system: System) -> np.ndarray:
     """The same system in libcosim: three local slaves, four real connections, fixed step."""
+    require("libcosimpy")
     from libcosimpy.CosimEnums import CosimVariableType
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level

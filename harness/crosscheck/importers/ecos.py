@@ -15,6 +15,7 @@ import numpy as np
 
 from harness.crosscheck.common import Run, outputs, result_array, timed, variables_by_name
 from harness.crosscheck.plan import INPUTS, InputPlan, Scenario
+from harness.optional import require
 
 INSTANCE = "blade"
 
@@ -22,6 +23,7 @@ INSTANCE = "blade"
 def version() -> str:
     from importlib.metadata import version as dist_version
 
+    require("ecospy")
     from ecospy import EcosLib
 
     return f"{EcosLib.version()!r}".lstrip("v") + f" (ecospy {dist_version('ecospy')})"
@@ -39,6 +41,7 @@ def accumulated_time_grid(start: float, step: float, n_steps: int) -> np.ndarray
 
 def run(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
     """One Ecos simulation of `plan` with held inputs."""
+    require("ecospy")
     from ecospy import EcosSimulation, EcosSimulationStructure
 
     vars_ = variables_by_name(fmu)

@@ -16,6 +16,7 @@ import numpy as np
 
 from harness.crosscheck.common import Run, outputs, result_array, timed, variables_by_name
 from harness.crosscheck.plan import INPUTS, InputPlan, Scenario
+from harness.optional import require
 
 NS_PER_S = 1_000_000_000
 
@@ -26,6 +27,7 @@ class _Version(ctypes.Structure):
 
 def version() -> str:
     """libcosim (C++) version as reported by libcosimc, plus the libcosimpy wrapper version."""
+    require("libcosimpy")
     from libcosimpy import __about__
     from libcosimpy._internal import libcosimc
 
@@ -52,6 +54,7 @@ def ns_time_grid(start: float, step: float, n_steps: int) -> np.ndarray:
 
 def run(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
     """One libcosim execution of `plan` (held inputs: plan.order is ignored beyond the values)."""
+    require("libcosimpy")
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
     from libcosimpy.CosimManipulator import CosimManipulator
