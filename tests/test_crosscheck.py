@@ -31,6 +31,8 @@ from harness.crosscheck import static as xs
 from harness.crosscheck.common import max_rel_diff, rel_diffs
 from harness.crosscheck.plan import SCENARIOS, make_plan
 
+pytestmark = pytest.mark.crosscheck
+
 SAME_INPUTS_TOL = 1e-12
 TARGET = 1e-10
 SHORT = 0.05

@@ -27,6 +27,8 @@ import pytest
 
 import fmi2raw as F
 
+pytestmark = pytest.mark.sanitizer
+
 TESTS = Path(__file__).resolve().parent
 
 

@@ -25,6 +25,8 @@ from harness.model.excitation import AeroLoad, LinearRamp
 from harness.model.params import validate
 from harness.reference import galerkin
 
+pytestmark = pytest.mark.crosscheck
+
 SYSTEM = se.System(stop_time=0.05)
 
 
