@@ -93,7 +93,7 @@ def test_every_figure_and_table_written(quick):
     rows = write_claims(out / "claims.md", s)
     text = (out / "claims.md").read_text()
     assert text.count("\n| ") == len(rows) + 1  # header + one line per claim
-    assert all(r["verdict"].startswith(("reproduced", "trend only", "not reproduced", "not computed", "new check"))
+    assert all(r.verdict.startswith(("reproduced", "trend only", "not reproduced", "not computed", "new check"))
                for r in rows)
 
 
@@ -116,8 +116,8 @@ def test_claims_are_computed_from_the_data(quick):
     s2 = json.loads(json.dumps(s))
     rows = _rows(s2, "gap")
     rows[-1]["fp_peak"] = rows[0]["fp_peak"] * 3.3
-    v = [r for r in build_claims(s2) if "3.3 x" in r["claim"] and r["setting"].startswith("fixed point")]
-    assert v[0]["verdict"] == "reproduced" and v[0]["ours"].startswith("3.30")
+    v = [r for r in build_claims(s2) if "3.3 x" in r.claim and r.setting.startswith("fixed point")]
+    assert v[0].verdict == "reproduced" and v[0].ours.startswith("3.30")
     assert np.isfinite(s["timing"]["branches_wall"])
 
 
