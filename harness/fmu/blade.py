@@ -130,6 +130,74 @@ def step_inputs(signal: Signal, grid: np.ndarray, order: int, fit: str = "taylor
     return (c * fact[None, :] / h[:, None] ** j[None, :]).T
 
 
+class _InputTable:
+    """The inputs of a whole run, computed before the loop: per step the values (aeroLoad,
+    rotorSpeed) and their derivatives 1..order, contiguous, with the address of each step's slice
+    (8 (2K + 2) bytes per step) and the value references the FMI calls take."""
+
+    def __init__(self, grid: np.ndarray, aero: Signal, speed: Signal, order: int, fit: str, check) -> None:
+        aero_in = step_inputs(aero, grid, order, fit)  # (order + 1, steps)
+        speed_in = np.asarray(speed.derivatives(grid, order), dtype=float)  # (order + 1, grid points)
+        check(grid, aero_in, speed_in)
+        speed_in = speed_in[:, :-1]
+        self.values = np.ascontiguousarray(np.stack([aero_in[0], speed_in[0]], axis=1))
+        self.derivs = np.ascontiguousarray(np.concatenate([aero_in[1:].T, speed_in[1:].T], axis=1))
+        self.first = (float(aero(grid[0])), float(speed_in[0, 0]))  # the start values of the inputs
+        steps = np.arange(len(grid) - 1)
+        self.value_addr = (self.values.ctypes.data + 16 * steps).tolist()
+        self.deriv_addr = (self.derivs.ctypes.data + 16 * order * steps).tolist()
+        self.n_derivatives = 2 * order
+        self._vr_in = (ctypes.c_uint * 2)(VR_AERO, VR_SPEED)
+        self._vr_der = (ctypes.c_uint * (2 * order + 1))(*([VR_AERO] * order + [VR_SPEED] * order))
+        self._order = (ctypes.c_int * (2 * order + 1))(*(list(range(1, order + 1)) * 2))
+        self.a_vr_in, self.a_vr_der = ctypes.addressof(self._vr_in), ctypes.addressof(self._vr_der)
+        self.a_order = ctypes.addressof(self._order)
+
+
+class _Recorder:
+    """The sampled outputs of a run: preallocated rows (the start, every `sample_every`-th step,
+    the end), the address each sampled step writes to, and the structured result of the rows
+    filled so far (also the partial result an FMUError carries)."""
+
+    def __init__(self, fmu: "BladeFMU", grid: np.ndarray, real: list[str], ints: list[str], sample_every: int):
+        self.fmu, self.real, self.ints, self.sample_every = fmu, real, ints, sample_every
+        n = len(grid) - 1
+        sampled = np.zeros(n + 1, dtype=bool)
+        sampled[::sample_every] = True
+        sampled[0] = sampled[n] = True
+        self.times = grid[sampled]
+        self.out_real = np.zeros((len(self.times), max(len(real), 1)))
+        self.out_int = np.zeros((len(self.times), max(len(ints), 1)), dtype=np.int32)
+        row_real, row_int = 8 * self.out_real.shape[1], 4 * self.out_int.shape[1]  # bytes per row
+        row_after = np.cumsum(sampled[1:])  # the row written after step k (if sampled)
+        self.rows_before = np.concatenate([[1], 1 + row_after]).tolist()  # rows filled before step k
+        self.real_addr = (np.where(sampled[1:], self.out_real.ctypes.data + row_real * row_after, 0).tolist()
+                          if real else [0] * n)
+        self.int_addr = (np.where(sampled[1:], self.out_int.ctypes.data + row_int * row_after, 0).tolist()
+                         if ints else [0] * n)
+        self._vr_real = (ctypes.c_uint * max(len(real), 1))(*[fmu.variables[v].valueReference for v in real])
+        self._vr_int = (ctypes.c_uint * max(len(ints), 1))(*[fmu.variables[v].valueReference for v in ints])
+        self.a_vr_real, self.a_vr_int = ctypes.addressof(self._vr_real), ctypes.addressof(self._vr_int)
+
+    def sample_start(self) -> None:
+        """Row 0: the outputs at the start of the run."""
+        f, t = self.fmu, float(self.times[0])
+        st_real = f._getReal(f._c, self.a_vr_real, len(self.real), self.out_real.ctypes.data) if self.real else 0
+        st_int = f._getInteger(f._c, self.a_vr_int, len(self.ints), self.out_int.ctypes.data) if self.ints else 0
+        if (st_real | st_int) > 1:
+            raise f._fail("fmi2GetReal/fmi2GetInteger", max(st_real, st_int), t, self.result(0))
+
+    def result(self, rows: int) -> np.ndarray:
+        dt = np.dtype([("time", float)] + [(v, float) for v in self.real] + [(v, np.int32) for v in self.ints])
+        res = np.zeros(rows, dtype=dt)
+        res["time"] = self.times[:rows]
+        for j, v in enumerate(self.real):
+            res[v] = self.out_real[:rows, j]
+        for j, v in enumerate(self.ints):
+            res[v] = self.out_int[:rows, j]
+        return res
+
+
 class BladeFMU:
     """The ShroudedBlade FMU, extracted and instantiated once; use as a context manager.
 
@@ -341,28 +409,11 @@ class BladeFMU:
         if self._phase == "closed":
             raise RuntimeError("BladeFMU is closed")
         self._held = None  # whatever happens below, the FMU moves (or fails)
-        if reset:
-            p = validate(params or {}, source="BladeFMU.run")
-            start = 0.0 if start_time is None else float(start_time)
-        else:
-            if self._phase != "stepping":
-                raise RuntimeError("reset=False needs an FMU in stepping mode (run once with reset=True or"
-                                   " set_state first; after an FMU error, reset)")
-            p = dict(self._params or validate({}))
-            if params is not None and validate(params, source="BladeFMU.run") != p:
-                raise ParameterError("parameters cannot change without a reset (they are fixed during a run)")
-            if start_time is None:
-                if not math.isfinite(self._time):
-                    raise ParameterError("the FMU time is unknown after set_state: pass start_time")
-                start = self._time
-            else:
-                start = float(start_time)
-                if math.isfinite(self._time) and abs(start - self._time) > 1e-9 * max(1.0, abs(start)):
-                    raise ParameterError(f"start_time {start} differs from the FMU time {self._time}")
+        p, start = self._run_start(params, reset, start_time)
         if not (isinstance(sample_every, (int, np.integer)) and sample_every >= 1):
             raise ParameterError(f"sample_every = {sample_every!r} must be an integer >= 1")
-        K = int(derivative_order)
-        if not 0 <= K <= MAX_ORDER:
+        order = int(derivative_order)
+        if not 0 <= order <= MAX_ORDER:
             raise ParameterError(f"derivative_order = {derivative_order!r} outside [0, {MAX_ORDER}]")
         grid = self._grid(start, float(stop_time), float(step))
         real, ints = self._select(outputs)
@@ -371,121 +422,98 @@ class BladeFMU:
         if carry_values:
             inner = [b for sig in (aero_sig, speed_sig) for b in np.atleast_1d(getattr(sig, "breakpoints", []))
                      if grid[0] < b < grid[-1]]
-            if inner or K == 0:
+            if inner or order == 0:
                 raise ParameterError("carry_values needs inputs without breakpoints inside the run and "
                                      "derivative_order >= 1" + (f" (breakpoint at t = {inner[0]:.9g} s)" if inner else ""))
-
-        # inputs and their derivatives for the whole grid, before the loop
-        N = len(grid) - 1
-        ua = step_inputs(aero_sig, grid, K, input_fit)
-        us = np.asarray(speed_sig.derivatives(grid, K), dtype=float)
-        self._check_inputs(grid, ua, us)
-        us = us[:, :-1]
-        values = np.ascontiguousarray(np.stack([ua[0], us[0]], axis=1))
-        derivs = np.ascontiguousarray(np.concatenate([ua[1:].T, us[1:].T], axis=1))
-        u0 = (float(aero_sig(grid[0])), float(us[0, 0]))
+        inputs = _InputTable(grid, aero_sig, speed_sig, order, input_fit, self._check_inputs)
 
         self._run_messages.clear()
         if reset:
             self._params = None
-            self._set_parameters(p, start, u0)
+            self._set_parameters(p, start, inputs.first)
             self._params = p
             self._time = start
+        rec = _Recorder(self, grid, real, ints, sample_every)
+        rec.sample_start()
+        self._step_loop(grid, inputs, rec, carry_values)
+        self._time = float(grid[-1])
+        return rec.result(rec.rows_before[-1])
 
-        # preallocated results; sampled steps
-        rec = np.zeros(N + 1, dtype=bool)
-        rec[::sample_every] = True
-        rec[0] = rec[N] = True
-        S = int(rec.sum())
-        nr, ni = len(real), len(ints)
-        out_r = np.zeros((S, max(nr, 1)))
-        out_i = np.zeros((S, max(ni, 1)), dtype=np.int32)
-        times = grid[rec]
+    def _run_start(self, params: Mapping[str, Any] | None, reset: bool, start_time: float | None
+                   ) -> tuple[dict[str, Any], float]:
+        """(validated parameters, start time) of a run: fresh ones with a reset, else the running
+        FMU's (parameters cannot change without a reset; the start must be the FMU's time)."""
+        if reset:
+            return validate(params or {}, source="BladeFMU.run"), 0.0 if start_time is None else float(start_time)
+        if self._phase != "stepping":
+            raise RuntimeError("reset=False needs an FMU in stepping mode (run once with reset=True or"
+                               " set_state first; after an FMU error, reset)")
+        p = dict(self._params or validate({}))
+        if params is not None and validate(params, source="BladeFMU.run") != p:
+            raise ParameterError("parameters cannot change without a reset (they are fixed during a run)")
+        if start_time is None:
+            if not math.isfinite(self._time):
+                raise ParameterError("the FMU time is unknown after set_state: pass start_time")
+            return p, self._time
+        start = float(start_time)
+        if math.isfinite(self._time) and abs(start - self._time) > 1e-9 * max(1.0, abs(start)):
+            raise ParameterError(f"start_time {start} differs from the FMU time {self._time}")
+        return p, start
 
-        def result(n_done: int) -> np.ndarray:
-            dt = np.dtype([("time", float)] + [(n, float) for n in real] + [(n, np.int32) for n in ints])
-            res = np.zeros(n_done, dtype=dt)
-            res["time"] = times[:n_done]
-            for j, n in enumerate(real):
-                res[n] = out_r[:n_done, j]
-            for j, n in enumerate(ints):
-                res[n] = out_i[:n_done, j]
-            return res
-
-        vr_out = (ctypes.c_uint * max(nr, 1))(*[self.variables[n].valueReference for n in real])
-        vr_int = (ctypes.c_uint * max(ni, 1))(*[self.variables[n].valueReference for n in ints])
-        vr_in = (ctypes.c_uint * 2)(VR_AERO, VR_SPEED)
-        vr_der = (ctypes.c_uint * (2 * K + 1))(*([VR_AERO] * K + [VR_SPEED] * K))
-        order = (ctypes.c_int * (2 * K + 1))(*(list(range(1, K + 1)) * 2))
-        a_vr_out, a_vr_int, a_vr_in = ctypes.addressof(vr_out), ctypes.addressof(vr_int), ctypes.addressof(vr_in)
-        a_vr_der, a_order = ctypes.addressof(vr_der), ctypes.addressof(order)
-        a_val, a_der = values.ctypes.data, derivs.ctypes.data
-        a_or, a_oi = out_r.ctypes.data, out_i.ctypes.data
-        sr, si = 8 * out_r.shape[1], 4 * out_i.shape[1]
+    def _step_loop(self, grid: np.ndarray, inputs: "_InputTable", rec: "_Recorder", carry_values: bool) -> None:
+        """The communication steps (the hot path: per-step addresses are precomputed, the loop
+        makes only the raw FMI calls). Per step: the input values (only before the first step when
+        carried), their derivatives, fmi2DoStep, and the outputs where the step is sampled."""
+        c = self._c
         setReal, setDer, doStep, getReal, getInt = (self._setReal, self._setDer, self._doStep,
                                                     self._getReal, self._getInteger)
-        c = self._c
-
-        def sample(j: int, t: float) -> None:
-            st = getReal(c, a_vr_out, nr, a_or + sr * j) if nr else 0
-            st2 = getInt(c, a_vr_int, ni, a_oi + si * j) if ni else 0
-            if (st | st2) > 1:
-                raise self._fail("fmi2GetReal/fmi2GetInteger", max(st, st2), t, result(j))
-
-        sample(0, grid[0])
-        # per-step addresses precomputed: the loop makes only the raw calls (this is the hot path)
-        nd = 2 * K
-        ks = np.arange(N)
-        tl, hl = grid[:-1].tolist(), np.diff(grid).tolist()
-        val_a = (a_val + 16 * ks).tolist()
-        der_a = (a_der + 16 * K * ks).tolist()
-        rows = np.cumsum(rec[1:])  # the result row written after step k (if sampled)
-        done = np.concatenate([[1], 1 + rows]).tolist()  # rows filled before step k
-        real_a = np.where(rec[1:], a_or + sr * rows, 0).tolist() if nr else [0] * N
-        int_a = np.where(rec[1:], a_oi + si * rows, 0).tolist() if ni else [0] * N
-        if not nd:
+        n_der, a_vr_der, a_order = inputs.n_derivatives, inputs.a_vr_der, inputs.a_order
+        a_vr_in = inputs.a_vr_in
+        n_real, n_int, a_vr_real, a_vr_int = len(rec.real), len(rec.ints), rec.a_vr_real, rec.a_vr_int
+        t_start, h = grid[:-1].tolist(), np.diff(grid).tolist()
+        if not n_der:
             def setDer(*_):  # noqa: N802 (held inputs: no derivatives to set)
                 return 0
-        def fail_inputs(k: int, st: int) -> FMUError:
-            return self._fail("fmi2SetReal/fmi2SetRealInputDerivatives (inputs)", st, tl[k], result(done[k]))
 
-        def fail_step(k: int, st: int) -> FMUError:
-            self._time = tl[k]
-            return self._fail("fmi2DoStep", st, tl[k], result(done[k]))
+        def fail(k: int, what: str, status: int, t: float) -> FMUError:
+            return self._fail(what, status, t, rec.result(rec.rows_before[k]))
 
-        def fail_outputs(k: int, st: int) -> FMUError:
-            return self._fail("fmi2GetReal/fmi2GetInteger", st, tl[k] + hl[k], result(done[k]))
+        def fail_step(k: int, status: int) -> FMUError:
+            self._time = t_start[k]
+            return fail(k, "fmi2DoStep", status, t_start[k])
 
+        inputs_call, outputs_call = "fmi2SetReal/fmi2SetRealInputDerivatives (inputs)", "fmi2GetReal/fmi2GetInteger"
         # the sweeps' case: values carried, every step sampled, real outputs only: three FMI
         # calls per step after the first, nothing else in the loop
-        lean = carry_values and nd and nr and not ni and sample_every == 1
-        for k, (tk, hk, va, da, ra, ia) in enumerate(zip(tl, hl, val_a, der_a, real_a, int_a)):
-            st, st2 = setReal(c, a_vr_in, 2, va) if (k == 0 or not carry_values) else 0, setDer(c, a_vr_der, nd, a_order, da)
-            if (st | st2) > 1:  # statuses are 0..4: the OR exceeds 1 iff one of them does
-                raise fail_inputs(k, max(st, st2))
+        lean = carry_values and n_der and n_real and not n_int and rec.sample_every == 1
+        steps = zip(t_start, h, inputs.value_addr, inputs.deriv_addr, rec.real_addr, rec.int_addr)
+        for k, (tk, hk, a_val, a_der, a_real, a_int) in enumerate(steps):
+            st_val = setReal(c, a_vr_in, 2, a_val) if (k == 0 or not carry_values) else 0
+            st_der = setDer(c, a_vr_der, n_der, a_order, a_der)
+            if (st_val | st_der) > 1:  # statuses are 0..4: the OR exceeds 1 iff one of them does
+                raise fail(k, inputs_call, max(st_val, st_der), tk)
             st = doStep(c, tk, hk, 1)
             if st > 1:
                 raise fail_step(k, st)
-            if ra or ia:
-                st = getReal(c, a_vr_out, nr, ra) if ra else 0
-                st2 = getInt(c, a_vr_int, ni, ia) if ia else 0
-                if (st | st2) > 1:
-                    raise fail_outputs(k, max(st, st2))
+            if a_real or a_int:
+                st_real = getReal(c, a_vr_real, n_real, a_real) if a_real else 0
+                st_int = getInt(c, a_vr_int, n_int, a_int) if a_int else 0
+                if (st_real | st_int) > 1:
+                    raise fail(k, outputs_call, max(st_real, st_int), tk + hk)
             if lean:
                 break
         if lean:
-            for k, tk, hk, da, ra in zip(range(1, N), tl[1:], hl[1:], der_a[1:], real_a[1:]):
-                st = setDer(c, a_vr_der, nd, a_order, da)
+            for k, tk, hk, a_der, a_real in zip(range(1, len(t_start)), t_start[1:], h[1:], inputs.deriv_addr[1:],
+                                                 rec.real_addr[1:]):
+                st = setDer(c, a_vr_der, n_der, a_order, a_der)
                 if st > 1:
-                    raise fail_inputs(k, st)
+                    raise fail(k, inputs_call, st, tk)
                 st = doStep(c, tk, hk, 1)
                 if st > 1:
                     raise fail_step(k, st)
-                st = getReal(c, a_vr_out, nr, ra)
+                st = getReal(c, a_vr_real, n_real, a_real)
                 if st > 1:
-                    raise fail_outputs(k, st)
-        self._time = float(grid[-1])
-        return result(done[N])
+                    raise fail(k, outputs_call, st, tk + hk)
 
     def _check_inputs(self, grid: np.ndarray, ua: np.ndarray, us: np.ndarray) -> None:
         if not np.all(np.isfinite(ua)):
