@@ -25,13 +25,15 @@ import tempfile
 import threading
 import xml.etree.ElementTree as ET
 import zipfile
-from ctypes import (CFUNCTYPE, POINTER, Structure, byref, c_char_p, c_double, c_int, c_size_t,
+from ctypes import (CFUNCTYPE, Structure, c_char_p, c_double, c_int, c_size_t,
                     c_uint, c_void_p)
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterable, Sequence
 
 import numpy as np
+
+from harness.fmu.fmi2_api import declare
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 MODEL_DESCRIPTION = REPO_ROOT / "modelDescription.xml"
@@ -277,47 +279,7 @@ class Fmi2Library:
         self.free_address = ctypes.cast(self.proxy.sbFree, c_void_p).value
         self.missing = [n for n in CS_FUNCTIONS if not hasattr(self.dll, n)]
         self.me_exported = [n for n in ME_FUNCTIONS if hasattr(self.dll, n)]
-        sig: dict[str, tuple[Any, list[Any]]] = {
-            "fmi2GetTypesPlatform": (c_char_p, []),
-            "fmi2GetVersion": (c_char_p, []),
-            "fmi2SetDebugLogging": (c_int, [_P, c_int, c_size_t, _P]),
-            "fmi2Instantiate": (c_void_p, [c_char_p, c_int, c_char_p, c_char_p, _P, c_int, c_int]),
-            "fmi2FreeInstance": (None, [_P]),
-            "fmi2SetupExperiment": (c_int, [_P, c_int, c_double, c_double, c_int, c_double]),
-            "fmi2EnterInitializationMode": (c_int, [_P]),
-            "fmi2ExitInitializationMode": (c_int, [_P]),
-            "fmi2Terminate": (c_int, [_P]),
-            "fmi2Reset": (c_int, [_P]),
-            "fmi2GetReal": (c_int, [_P, _P, c_size_t, _P]),
-            "fmi2GetInteger": (c_int, [_P, _P, c_size_t, _P]),
-            "fmi2GetBoolean": (c_int, [_P, _P, c_size_t, _P]),
-            "fmi2GetString": (c_int, [_P, _P, c_size_t, _P]),
-            "fmi2SetReal": (c_int, [_P, _P, c_size_t, _P]),
-            "fmi2SetInteger": (c_int, [_P, _P, c_size_t, _P]),
-            "fmi2SetBoolean": (c_int, [_P, _P, c_size_t, _P]),
-            "fmi2SetString": (c_int, [_P, _P, c_size_t, _P]),
-            "fmi2GetFMUstate": (c_int, [_P, _P]),
-            "fmi2SetFMUstate": (c_int, [_P, _P]),
-            "fmi2FreeFMUstate": (c_int, [_P, _P]),
-            "fmi2SerializedFMUstateSize": (c_int, [_P, _P, _P]),
-            "fmi2SerializeFMUstate": (c_int, [_P, _P, _P, c_size_t]),
-            "fmi2DeSerializeFMUstate": (c_int, [_P, _P, c_size_t, _P]),
-            "fmi2GetDirectionalDerivative": (c_int, [_P, _P, c_size_t, _P, c_size_t, _P, _P]),
-            "fmi2SetRealInputDerivatives": (c_int, [_P, _P, c_size_t, _P, _P]),
-            "fmi2GetRealOutputDerivatives": (c_int, [_P, _P, c_size_t, _P, _P]),
-            "fmi2DoStep": (c_int, [_P, c_double, c_double, c_int]),
-            "fmi2CancelStep": (c_int, [_P]),
-            "fmi2GetStatus": (c_int, [_P, c_int, _P]),
-            "fmi2GetRealStatus": (c_int, [_P, c_int, _P]),
-            "fmi2GetIntegerStatus": (c_int, [_P, c_int, _P]),
-            "fmi2GetBooleanStatus": (c_int, [_P, c_int, _P]),
-            "fmi2GetStringStatus": (c_int, [_P, c_int, _P]),
-        }
-        for name, (res, args) in sig.items():
-            if hasattr(self.dll, name):
-                f = getattr(self.dll, name)
-                f.restype = res
-                f.argtypes = args
+        declare(self.dll)  # the FMI 2.0 signatures shared with the harness (harness/fmu/fmi2_api.py)
         for name in self.me_exported:  # only ever called with a component argument
             f = getattr(self.dll, name)
             f.restype = c_int

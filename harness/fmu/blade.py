@@ -28,6 +28,7 @@ from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFr
                        fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
 
 from harness.fmu import build as _build
+from harness.fmu.fmi2_api import bind
 from harness.model.excitation import MAX_ORDER, AeroLoad, ExcitationError, Signal, as_speed
 from harness.model.params import ParameterError, fmu_parameters, validate
 
@@ -72,16 +73,6 @@ def fmu_path(build: bool = True) -> Path:
         raise FMUNotFoundError(f"{_build.FMU_PATH} not found: build it with `make fmu`"
                                " (needs cmake and a C compiler) or pass the path of an FMU")
     return _build.FMU_PATH
-
-
-def _proto(restype, *argtypes):
-    return ctypes.CFUNCTYPE(restype, *argtypes)
-
-
-_SET = _proto(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p)
-_SETDER = _proto(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p,
-                 ctypes.c_void_p)
-_DOSTEP = _proto(ctypes.c_int, ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int)
 
 
 INPUT_FITS = ("taylor", "chebyshev")
@@ -252,11 +243,11 @@ class BladeFMU:
             self._slave.setDebugLogging(True, _ERROR_CATEGORIES)
         dll = self._slave.dll
         self._c = self._slave.component
-        self._setReal = _SET(("fmi2SetReal", dll))
-        self._getReal = _SET(("fmi2GetReal", dll))
-        self._getInteger = _SET(("fmi2GetInteger", dll))
-        self._setDer = _SETDER(("fmi2SetRealInputDerivatives", dll))
-        self._doStep = _DOSTEP(("fmi2DoStep", dll))
+        self._setReal = bind(dll, "fmi2SetReal")
+        self._getReal = bind(dll, "fmi2GetReal")
+        self._getInteger = bind(dll, "fmi2GetInteger")
+        self._setDer = bind(dll, "fmi2SetRealInputDerivatives")
+        self._doStep = bind(dll, "fmi2DoStep")
         if self.fmi_logging:
             for name in ("_setReal", "_getReal", "_getInteger", "_setDer", "_doStep"):
                 setattr(self, name, self._logged(name[1:], getattr(self, name)))
@@ -593,12 +584,11 @@ class RawFMI:
 
     def __init__(self, fmu: BladeFMU):
         dll = fmu._slave.dll
-        P, D, I = ctypes.c_void_p, ctypes.c_double, ctypes.c_int
         self.c = fmu._c
-        self.reset = _proto(I, P)(("fmi2Reset", dll))
-        self.setupExperiment = _proto(I, P, I, D, D, I, D)(("fmi2SetupExperiment", dll))
-        self.enterInitializationMode = _proto(I, P)(("fmi2EnterInitializationMode", dll))
-        self.exitInitializationMode = _proto(I, P)(("fmi2ExitInitializationMode", dll))
+        self.reset = bind(dll, "fmi2Reset")
+        self.setupExperiment = bind(dll, "fmi2SetupExperiment")
+        self.enterInitializationMode = bind(dll, "fmi2EnterInitializationMode")
+        self.exitInitializationMode = bind(dll, "fmi2ExitInitializationMode")
         self.setReal, self.getReal, self.setDer, self.doStep = fmu._setReal, fmu._getReal, fmu._setDer, fmu._doStep
-        self.setInteger = _SET(("fmi2SetInteger", dll))
-        self.setBoolean = _SET(("fmi2SetBoolean", dll))
+        self.setInteger = bind(dll, "fmi2SetInteger")
+        self.setBoolean = bind(dll, "fmi2SetBoolean")
