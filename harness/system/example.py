@@ -134,7 +134,7 @@ def run_libcosim(blade_fmu: Path, exc_fmu: Path, system: System) -> np.ndarray:
     from libcosimpy.CosimObserver import CosimObserver
     from libcosimpy.CosimSlave import CosimLocalSlave
 
-    from harness.crosscheck.importers.libcosim import _last_error, _samples
+    from harness.crosscheck.importers.libcosim import last_error, samples
 
     log_output_level(CosimLogLevel.ERROR)
     cols = _result_names(blade_fmu, system)
@@ -146,7 +146,7 @@ def run_libcosim(blade_fmu: Path, exc_fmu: Path, system: System) -> np.ndarray:
         locals_[name] = CosimLocalSlave(fmu_path=str(path), instance_name=name)
         idx[name] = execution.add_local_slave(local_slave=locals_[name])
         if idx[name] < 0:
-            raise RuntimeError(f"libcosim could not load {path}: {_last_error()}")
+            raise RuntimeError(f"libcosim could not load {path}: {last_error()}")
         vars_[name] = variables_by_name(path)
         for var, v in params[name].items():
             vr, typ = vars_[name][var]
@@ -154,26 +154,26 @@ def run_libcosim(blade_fmu: Path, exc_fmu: Path, system: System) -> np.ndarray:
                   "Integer": lambda: execution.integer_initial_value(idx[name], vr, int(v)),
                   "Boolean": lambda: execution.boolean_initial_value(idx[name], vr, bool(v))}[typ]()
             if not ok:
-                raise RuntimeError(f"libcosim refused {name}.{var} = {v}: {_last_error()}")
+                raise RuntimeError(f"libcosim refused {name}.{var} = {v}: {last_error()}")
     for b in system.blades:
         for var in ("aeroLoad", "rotorSpeed"):
             rc = execution.connect_real_variables(idx[EXC], vars_[EXC][var][0], idx[b], vars_[b][var][0])
             if rc != 0:
-                raise RuntimeError(f"libcosim: cannot connect {EXC}.{var} -> {b}.{var}: {_last_error()}")
+                raise RuntimeError(f"libcosim: cannot connect {EXC}.{var} -> {b}.{var}: {last_error()}")
     observer = CosimObserver.create_time_series(buffer_size=system.n_steps + 16)
     execution.add_observer(observer=observer)
     for inst, var, _ in cols:
         vr, typ = vars_[inst][var]
         kind = CosimVariableType.REAL if typ == "Real" else CosimVariableType.INTEGER
         if not observer.start_time_series(idx[inst], vr, kind):
-            raise RuntimeError(f"libcosim cannot observe {inst}.{var}: {_last_error()}")
+            raise RuntimeError(f"libcosim cannot observe {inst}.{var}: {last_error()}")
     if not execution.step(system.n_steps):
-        raise RuntimeError(f"libcosim failed: {_last_error()}")
+        raise RuntimeError(f"libcosim failed: {last_error()}")
     n = system.n_steps + 1
     data, times = {}, None
     for inst, var, c in cols:
         vr, typ = vars_[inst][var]
-        t_ns, steps, vals = _samples(observer, idx[inst], vr, typ, n)
+        t_ns, steps, vals = samples(observer, idx[inst], vr, typ, n)
         if list(steps) != list(range(n)):
             raise RuntimeError(f"libcosim observer returned unexpected steps for {c}")
         data[c], times = vals, t_ns

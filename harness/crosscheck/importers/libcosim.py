@@ -75,17 +75,17 @@ def run(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
         local = CosimLocalSlave(fmu_path=str(fmu), instance_name="blade")
         idx = execution.add_local_slave(local_slave=local)
         if idx < 0:
-            raise RuntimeError(f"libcosim could not load {fmu}: {_last_error()}")
+            raise RuntimeError(f"libcosim could not load {fmu}: {last_error()}")
         for name, value in scenario.fmu_overrides().items():
             vr, typ = vars_[name]
             ok = {"Real": lambda: execution.real_initial_value(idx, vr, float(value)),
                   "Integer": lambda: execution.integer_initial_value(idx, vr, int(value)),
                   "Boolean": lambda: execution.boolean_initial_value(idx, vr, bool(value))}[typ]()
             if not ok:
-                raise RuntimeError(f"libcosim refused the initial value {name} = {value}: {_last_error()}")
+                raise RuntimeError(f"libcosim refused the initial value {name} = {value}: {last_error()}")
         for vr, name in zip(in_vrs, INPUTS):
             if not execution.real_initial_value(idx, vr, float(plan.values(name)[0])):
-                raise RuntimeError(f"libcosim refused the initial input {name}: {_last_error()}")
+                raise RuntimeError(f"libcosim refused the initial input {name}: {last_error()}")
         manipulator = CosimManipulator.create_override()
         observer = CosimObserver.create_time_series(buffer_size=plan.n_steps + 16)
         execution.add_manipulator(manipulator=manipulator)
@@ -93,17 +93,17 @@ def run(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
         for o in outs:
             kind = CosimVariableType.REAL if o.type == "Real" else CosimVariableType.INTEGER
             if not observer.start_time_series(idx, o.vr, kind):
-                raise RuntimeError(f"libcosim cannot observe {o.name}: {_last_error()}")
+                raise RuntimeError(f"libcosim cannot observe {o.name}: {last_error()}")
         values = np.column_stack([plan.values(n) for n in INPUTS])
         for k in range(plan.n_steps):
             # the first step also initializes the slave (with the initial values above)
             manipulator.slave_real_values(idx, in_vrs, [float(x) for x in values[k]])
             if not execution.step():
-                raise RuntimeError(f"libcosim step {k} failed: {_last_error()}")
+                raise RuntimeError(f"libcosim step {k} failed: {last_error()}")
         rows = np.empty((plan.n_steps + 1, len(outs)))
         times = None
         for i, o in enumerate(outs):
-            t_ns, steps, vals = _samples(observer, idx, o.vr, o.type, plan.n_steps + 1)
+            t_ns, steps, vals = samples(observer, idx, o.vr, o.type, plan.n_steps + 1)
             if list(steps) != list(range(plan.n_steps + 1)):
                 raise RuntimeError(f"libcosim observer returned steps {steps[:3]}..{steps[-3:]} for {o.name}")
             rows[:, i] = vals
@@ -117,7 +117,7 @@ def run(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
                note="integer-ns time; inputs held (override manipulator)")
 
 
-def _samples(observer, idx: int, vr: int, typ: str, n: int) -> tuple[list[int], list[int], list[float]]:
+def samples(observer, idx: int, vr: int, typ: str, n: int) -> tuple[list[int], list[int], list[float]]:
     """All n samples of one variable from step 0 (initialization) on: (time [ns], step, value).
 
     Called through libcosimc directly: libcosimpy's helper drops samples whose step number is 0.
@@ -134,11 +134,11 @@ def _samples(observer, idx: int, vr: int, typ: str, n: int) -> tuple[list[int], 
     got = fn(observer.ptr(), ctypes.c_int(idx), ctypes.c_uint32(vr), ctypes.c_int64(0), ctypes.c_size_t(n),
              vals, steps, times)
     if got != n:
-        raise RuntimeError(f"libcosim returned {got} samples of vr {vr}, expected {n}: {_last_error()}")
+        raise RuntimeError(f"libcosim returned {got} samples of vr {vr}, expected {n}: {last_error()}")
     return list(times), list(steps), [float(v) for v in vals]
 
 
-def _last_error() -> str:
+def last_error() -> str:
     from libcosimpy._internal import get_last_error_message
 
     try:

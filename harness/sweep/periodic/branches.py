@@ -22,7 +22,7 @@ import numpy as np
 from harness.fmu.blade import BladeFMU
 from harness.sweep.periodic.continuation import Branch, ContinuationSettings, continue_branch
 from harness.sweep.periodic.period_map import PeriodMap, ShootingSettings
-from harness.sweep.periodic.search import SearchSettings, _same, solutions_at
+from harness.sweep.periodic.search import SearchSettings, same_orbit, solutions_at
 from harness.sweep.periodic.shooting import Orbit, newton, orbit
 from harness.model.params import ParameterError
 
@@ -78,6 +78,6 @@ def orbits_at(pm: PeriodMap, speed: float, s: BranchSettings = BranchSettings())
                 continue
             f = (speed - a.speed) / (c.speed - a.speed)
             sol = newton(pm, a.x + f * (c.x - a.x), speed)
-            if sol is not None and not any(_same(pm, sol.x, o.x, speed, s.search.same_rtol) for o in found):
+            if sol is not None and not any(same_orbit(pm, sol.x, o.x, speed, s.search.same_rtol) for o in found):
                 found.append(sol)
     return [orbit(pm, sol, speed) for sol in sorted(found, key=lambda o: o.amplitude)]

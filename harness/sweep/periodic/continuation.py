@@ -23,7 +23,7 @@ import numpy as np
 from harness.fmu.blade import FMUError
 from harness.model.params import ParameterError
 from harness.sweep.periodic.period_map import PeriodMap
-from harness.sweep.periodic.shooting import _bounded, at_bound, classify, fd_direction, multipliers
+from harness.sweep.periodic.shooting import at_bound, bounded, classify, fd_direction, multipliers
 
 SPEED_SCALE = 1000.0  # [rpm] per unit of arc
 EASY_CORRECTOR = 6  # ds grows after a step whose corrector took at most this many iterations
@@ -143,7 +143,7 @@ class _Problem:
         return np.append(x / self.sc, n / SPEED_SCALE)
 
     def from_z(self, z: np.ndarray) -> tuple[np.ndarray, float]:
-        return _bounded(self.pm, z[:-1] * self.sc), float(z[-1] * SPEED_SCALE)
+        return bounded(self.pm, z[:-1] * self.sc), float(z[-1] * SPEED_SCALE)
 
     def H(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
         """(H(z) scaled, P(x), amplitude). P is evaluated at z moved into the unknowns' domain and

@@ -69,7 +69,7 @@ def _guesses(pm: PeriodMap, speed: float, s: SearchSettings) -> list[np.ndarray]
     return out
 
 
-def _same(pm: PeriodMap, xa: np.ndarray, xb: np.ndarray, speed: float, rtol: float) -> bool:
+def same_orbit(pm: PeriodMap, xa: np.ndarray, xb: np.ndarray, speed: float, rtol: float) -> bool:
     sc = np.maximum(pm.scales(xa, speed), pm.scales(xb, speed))
     if pm.model == "jenkins":  # phi is free while open or in stick at the section: compare q, q'
         sc, xa, xb = sc[:2], xa[:2], xb[:2]
@@ -77,7 +77,7 @@ def _same(pm: PeriodMap, xa: np.ndarray, xb: np.ndarray, speed: float, rtol: flo
 
 
 def _add(pm: PeriodMap, found: list[Solution], sol: Solution | None, speed: float, s: SearchSettings) -> None:
-    if sol is not None and not any(_same(pm, sol.x, f.x, speed, s.same_rtol) for f in found):
+    if sol is not None and not any(same_orbit(pm, sol.x, f.x, speed, s.same_rtol) for f in found):
         found.append(sol)
 
 

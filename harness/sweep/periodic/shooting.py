@@ -70,7 +70,7 @@ def classify(mu: np.ndarray) -> str:
     return "+".join(out) if out else ("stable" if np.max(np.abs(mu)) < 1.0 - UNIT_CIRCLE_TOL else "marginal")
 
 
-def _bounded(pm: PeriodMap, x: np.ndarray) -> np.ndarray:
+def bounded(pm: PeriodMap, x: np.ndarray) -> np.ndarray:
     """x moved into the unknowns' domain: B > 0, |phi| <= 1 (and phi = 0 while open)."""
     x = x.copy()
     if pm.model == "jenkins":
@@ -143,7 +143,7 @@ def newton(pm: PeriodMap, x0: np.ndarray, speed: float, J0: np.ndarray | None = 
     differences (one period per unknown), updated by Broyden after every step, a fresh DP only when
     a step fails to halve the residual. Without quasi every step takes a fresh DP."""
     tol = pm.s.tol if tol is None else tol
-    x = _bounded(pm, np.asarray(x0, dtype=float))
+    x = bounded(pm, np.asarray(x0, dtype=float))
     try:
         Px, A = pm(x, speed)
     except (FMUError, ParameterError):
@@ -163,7 +163,7 @@ def newton(pm: PeriodMap, x0: np.ndarray, speed: float, J0: np.ndarray | None = 
             return None
         lam = 1.0
         for _ in range(8):  # damping: halve while the residual grows or the FMU refuses the start
-            xn = _bounded(pm, x + lam * dx)
+            xn = bounded(pm, x + lam * dx)
             try:
                 Pn, An = pm(xn, speed)
                 rn = float(np.max(np.abs((Pn - xn) / pm.scales(xn, speed))))
