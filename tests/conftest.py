@@ -9,6 +9,7 @@ import pytest
 
 from fmi2raw import Fmi2Library
 from harness.fmu import build as _build
+from harness.fmu.blade import BladeFMU
 
 
 @pytest.fixture(scope="session")
@@ -30,3 +31,10 @@ def lib(request: pytest.FixtureRequest) -> Fmi2Library:
     if not os.environ.get("SB_FMU_BINARY"):
         request.getfixturevalue("fmu_path")  # build/ShroudedBlade.fmu, built once per session
     return Fmi2Library.get()
+
+
+@pytest.fixture(scope="module")
+def fmu(fmu_path: Path) -> BladeFMU:
+    """The built FMU behind harness.fmu.blade.BladeFMU, one instance per test module."""
+    with BladeFMU(fmu_path) as f:
+        yield f

@@ -19,7 +19,6 @@ import math
 import numpy as np
 import pytest
 
-from harness.fmu.blade import BladeFMU
 from harness.model.params import validate
 from harness.sweep.periodic.branches import BranchSettings, trace_branches
 from harness.sweep.periodic.period_map import PeriodMap, omega
@@ -28,12 +27,6 @@ from harness.reference.hb import harmonic_balance, linear_orbit, tracked_map_rad
 from test_periodic import _period_end_states
 
 FINE = {"maxStep": 2.5e-6}
-
-
-@pytest.fixture(scope="module")
-def fmu():
-    with BladeFMU() as f:
-        yield f
 
 
 @pytest.fixture(scope="module")

@@ -39,12 +39,6 @@ def friction_limit(q: float) -> float:
     return MU * KN * math.cos(GAMMA) * max(abs(q) - D, 0.0)
 
 
-@pytest.fixture(scope="module")
-def fmu(fmu_path):
-    with BladeFMU(fmu_path) as f:
-        yield f
-
-
 def state_at(row: np.void, jenkins: bool) -> dict[str, float]:
     """The start values that reproduce the state of an output row."""
     st = {"tipDisplacement": float(row["tipDisplacement"]), "tipVelocity": float(row["tipVelocity"]),

@@ -14,19 +14,12 @@ import math
 import numpy as np
 import pytest
 
-from harness.fmu.blade import BladeFMU
 from harness.sweep.periodic.branches import orbits_at
 from harness.sweep.periodic.harmonics import SAMPLES, fourier_amplitudes, harmonic_row, hb_parameters
 from harness.sweep.periodic.period_map import PeriodMap, omega
 from harness.reference.fixedpoint import PiecewiseStepper
 
 FINE = {"maxStep": 2.5e-6}
-
-
-@pytest.fixture(scope="module")
-def fmu():
-    with BladeFMU() as f:
-        yield f
 
 
 def test_ungated_orbits_are_one_harmonic_equal_to_harmonic_balance(fmu):

@@ -24,7 +24,6 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from harness.fmu.blade import BladeFMU
 from harness.sweep.periodic.period_map import PeriodMap, omega
 from harness.sweep.periodic.branches import orbits_at
 from harness.sweep.periodic.shooting import shoot
@@ -34,12 +33,6 @@ from harness.reference.fixedpoint import PiecewiseStepper
 from harness.reference.hb import harmonic_balance, linear_orbit
 
 FINE = {"maxStep": 2.5e-6}
-
-
-@pytest.fixture(scope="module")
-def fmu(fmu_path):
-    with BladeFMU(fmu_path) as f:
-        yield f
 
 
 def test_ungated_fixed_b_orbit_and_multipliers_equal_closed_form(fmu):

@@ -7,15 +7,8 @@ import pytest
 
 from harness import reference
 from harness.model.excitation import AeroLoad, Constant, LinearRamp
-from harness.fmu.blade import BladeFMU
 from harness.model.params import validate
 from harness.reference.validate import TOL_DF, TOL_HB, TOL_SWITCHING, Case, compare_hb, compare_time
-
-
-@pytest.fixture(scope="module")
-def fmu(fmu_path):
-    with BladeFMU(fmu_path) as f:
-        yield f
 
 
 BASE = dict(frictionModel=1, formulation=1, projection=1, gating=True, amplitudeMode=2)
