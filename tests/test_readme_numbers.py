@@ -66,3 +66,16 @@ def test_worker_time_over_fmi_time(bench):
     r = bench["reproduce"]
     assert m.group(1) == f"{r['branches_worker_s'] / r['branches_fmi_s']:.2f}"
     assert m.group(2) == f"{r['branches_wall'] * r['workers'] / r['branches_fmi_s']:.2f}"
+
+
+def test_rk4_step_cost(bench):
+    """The range of ns per internal step at 100 internal steps per doStep (the C benchmark's second
+    table), rounded as printed, and the RHS evaluations per step."""
+    m = _one(r"100 steps per doStep\) \| (\d+)-(\d+) ns \(linear ... Jenkins element\); ~([\d.]+)-([\d.]+) RHS")
+    table = bench["c_step"]["text"].split("(100 internal steps each)")[1]
+    rows = [ln.split() for ln in table.splitlines() if ln and ln[0].isalpha() and "ns/step" not in ln
+            and not ln.startswith("communication")]
+    ns = [float(r[-3]) for r in rows]
+    rhs = [float(r[-2]) for r in rows]
+    assert (int(m.group(1)), int(m.group(2))) == (round(min(ns)), round(max(ns)))
+    assert (m.group(3), m.group(4)) == (f"{min(rhs):.1f}", f"{max(rhs):.1f}")
