@@ -3,13 +3,17 @@
 The branch is a curve H(x, n) = P(x; n) - x = 0 in (unknowns, speed). Coordinates are scaled,
 z = (x / sc, n / SPEED_SCALE) with sc the unknowns' scales at the branch start, so one unit of arc
 is about one branch amplitude or 1000 rpm. Predictor: tangent t (null vector of [H_x H_n], oriented
-along the previous one). Corrector: Newton on (H(z) = 0, t . (z - z_pred) = 0) with a
-forward-difference Jacobian. Step control: ds grows 1.4x after an easy corrector (<= 3 iterations),
-halves after a failure; the branch ends outside the speed range, after max_points, when ds falls
-below ds_min, or when it closes on itself (an isola). Each point keeps its Floquet multipliers (from
-the corrector's last Jacobian) and stability; changes of stability between neighbours are the
-branch's bifurcations: fold (det(DP - I) changes sign), period doubling (det(DP + I) changes sign),
-Neimark-Sacker (the number of complex multipliers outside the circle changes).
+along the previous one). Corrector on (H(z) = 0, t . (z - z_pred) = 0): quasi-Newton from the last
+point's Jacobian with Broyden updates (one period per iteration), Newton with a fresh Jacobian per
+iteration where that fails (a kink of the map). The Jacobian is taken once per accepted point
+(central differences in the unknowns: max |q| has a kink at half-wave symmetric orbits; forward in
+speed): it gives the point's Floquet multipliers and the next tangent. Step control: ds grows 1.4x
+after an easy corrector (<= EASY_CORRECTOR iterations), halves after a failure or when a step
+longer than ds_fold passes a fold (resolving its tip); the branch ends outside the speed range,
+after max_points, when ds falls below ds_min, or when it closes on itself (an isola). Changes of
+stability between neighbours are the branch's bifurcations: fold (det(DP - I) changes sign),
+period doubling (det(DP + I) changes sign), Neimark-Sacker (the number of complex multipliers
+outside the circle changes).
 """
 from __future__ import annotations
 
