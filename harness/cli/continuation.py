@@ -31,15 +31,15 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from harness.fmu.blade import BladeFMU
+    from harness.fmu.blade import SPEED_RANGE, BladeFMU
     from harness.sweep.periodic.branches import BranchSettings, trace_branches
     from harness.sweep.periodic.continuation import write_branches_csv
     from harness.cli.simulate import parse_start_values
 
     overrides = parse_start_values(args.start_values)
     lo, hi = args.speed_range
-    if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi <= 30000.0):
-        raise ParameterError(f"--speed-range {lo!r} {hi!r} rpm: need 0 < LO < HI <= 30000")
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi <= SPEED_RANGE[1]):
+        raise ParameterError(f"--speed-range {lo!r} {hi!r} rpm: need 0 < LO < HI <= {SPEED_RANGE[1]:g}")
     with BladeFMU(args.fmu or None) as fmu:
         branches, stats = trace_branches(fmu, overrides, args.model, (lo, hi), BranchSettings(seed_step=args.seed_step))
     write_branches_csv(Path(args.output_file), branches)

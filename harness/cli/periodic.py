@@ -12,13 +12,14 @@ import argparse
 import json
 import math
 
-from harness.model.params import ParameterError
+from harness.model.params import ParameterError, input_range
 from harness.sweep.periodic.period_map import MODELS, STATE_STARTS
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--fmu", metavar="PATH", help="FMU file (default: build/ShroudedBlade.fmu, built if needed)")
-    p.add_argument("--speed", type=float, required=True, metavar="RPM", help="rotor speed [rpm], in (0, 30000]")
+    p.add_argument("--speed", type=float, required=True, metavar="RPM",
+                   help=f"rotor speed [rpm], in (0, {input_range('rotorSpeed')[1]:g}]")
     p.add_argument("--model", choices=MODELS, default="fixedPoint",
                    help="fixedB: B fixed (parameter B); fixedPoint: the paper's B = A(B) (default); jenkins: "
                         "the time-domain macroslip element; coulomb: the Coulomb describing function with B = A(B)")
@@ -28,7 +29,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from harness.fmu.blade import BladeFMU
+    from harness.fmu.blade import SPEED_RANGE, BladeFMU
     from harness.sweep.periodic.period_map import PeriodMap
     from harness.sweep.periodic.branches import orbits_at
     from harness.cli.simulate import parse_start_values
@@ -38,8 +39,8 @@ def run(args: argparse.Namespace) -> int:
     if bad:
         raise ParameterError(f"--start-values {bad[0]}: the state at the section is what shooting solves for;"
                              " give parameters only")
-    if not (math.isfinite(args.speed) and 0.0 < args.speed <= 30000.0):
-        raise ParameterError(f"--speed {args.speed!r} rpm outside (0, 30000] (the FMU's rotorSpeed range)")
+    if not (math.isfinite(args.speed) and 0.0 < args.speed <= SPEED_RANGE[1]):
+        raise ParameterError(f"--speed {args.speed!r} rpm outside (0, {SPEED_RANGE[1]:g}] (the FMU's rotorSpeed range)")
     with BladeFMU(args.fmu or None) as fmu:
         pm = PeriodMap(fmu, overrides, args.model)
         orbits = orbits_at(pm, args.speed)

@@ -30,10 +30,10 @@ from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFr
 from harness.fmu import build as _build
 from harness.fmu.fmi2_api import bind
 from harness.model.excitation import MAX_ORDER, AeroLoad, ExcitationError, Signal, as_speed
-from harness.model.params import ParameterError, fmu_parameters, validate
+from harness.model.params import ParameterError, fmu_parameters, input_range, validate
 
 VR_AERO, VR_SPEED = 40, 41  # modelDescription.xml: aeroLoad, rotorSpeed
-SPEED_RANGE = (0.0, 30000.0)  # rotorSpeed min/max [rpm] (modelDescription.xml)
+SPEED_RANGE = input_range("rotorSpeed")  # rotorSpeed min/max [rpm], from modelDescription.xml
 STATUS = ("OK", "Warning", "Discard", "Error", "Fatal", "Pending")
 _ERROR_CATEGORIES = ["logStatusWarning", "logStatusDiscard", "logStatusError", "logStatusFatal"]
 

@@ -97,6 +97,17 @@ def specs() -> dict[str, ParamSpec]:
     return out
 
 
+@lru_cache(maxsize=None)
+def input_range(name: str) -> tuple[float, float]:
+    """(min, max) of a Real input of the FMU, from modelDescription.xml (e.g. rotorSpeed [rpm])."""
+    root = ET.parse(MODEL_DESCRIPTION).getroot()
+    for sv in root.iter("ScalarVariable"):
+        if sv.get("name") == name and sv.get("causality") == "input":
+            (typ,) = list(sv)
+            return float(typ.get("min", "-inf")), float(typ.get("max", "inf"))
+    raise KeyError(f"{name!r} is not an input of modelDescription.xml")
+
+
 def defaults() -> dict[str, Any]:
     """Paper Table 1 defaults (docs/model.md section 1) for every parameter, FMU and harness-only (start
     values of the state are not parameters: they are left out)."""

@@ -19,7 +19,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from harness.fmu.blade import BladeFMU
+from harness.fmu.blade import SPEED_RANGE, BladeFMU
 from harness.sweep.periodic.continuation import Branch, ContinuationSettings, continue_branch
 from harness.sweep.periodic.period_map import PeriodMap, ShootingSettings
 from harness.sweep.periodic.search import SearchSettings, same_orbit, solutions_at
@@ -45,8 +45,8 @@ def trace_branches(fmu: BladeFMU, params: Mapping[str, Any] | None, model: str, 
     """(branches, statistics) of `model` over speed_range [rpm] (with the period map pm, if given:
     its evaluations count there)."""
     lo, hi = (float(v) for v in speed_range)
-    if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi <= 30000.0):
-        raise ParameterError(f"speed range {speed_range!r} rpm: need 0 < low < high <= 30000")
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi <= SPEED_RANGE[1]):
+        raise ParameterError(f"speed range {speed_range!r} rpm: need 0 < low < high <= {SPEED_RANGE[1]:g}")
     if not (math.isfinite(s.seed_step) and s.seed_step > 0):
         raise ParameterError(f"seed_step = {s.seed_step!r} rpm must be > 0")
     pm = pm or PeriodMap(fmu, params, model, s.shooting)
@@ -70,7 +70,7 @@ def orbits_at(pm: PeriodMap, speed: float, s: BranchSettings = BranchSettings())
     a branch traced around it, refined by Newton at `speed`), with multipliers, by amplitude."""
     speed = float(speed)
     found = solutions_at(pm, speed, s.search)
-    rng = (max(speed / WINDOW, 1.0), min(speed * WINDOW, 30000.0))
+    rng = (max(speed / WINDOW, 1.0), min(speed * WINDOW, SPEED_RANGE[1]))
     branches, _ = trace_branches(pm.fmu, pm.p, pm.model, rng, s, pm)
     for b in branches:
         for a, c in zip(b.points[:-1], b.points[1:]):

@@ -30,7 +30,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from harness.model.excitation import MAX_ORDER, AeroLoad, Constant
-from harness.fmu.blade import VR_AERO, VR_SPEED, BladeFMU, step_inputs
+from harness.fmu.blade import SPEED_RANGE, VR_AERO, VR_SPEED, BladeFMU, step_inputs
 from harness.model.params import ParameterError, fmu_parameters, validate
 
 MODELS = ("fixedB", "fixedPoint", "jenkins", "coulomb")
@@ -135,8 +135,8 @@ class PeriodMap:
     def _prepare(self, speed: float) -> None:
         if speed == self._speed:
             return
-        if not (math.isfinite(speed) and 0.0 < speed <= 30000.0):
-            raise ParameterError(f"speed = {speed!r} rpm outside (0, 30000] (the FMU's rotorSpeed range)")
+        if not (math.isfinite(speed) and 0.0 < speed <= SPEED_RANGE[1]):
+            raise ParameterError(f"speed = {speed!r} rpm outside (0, {SPEED_RANGE[1]:g}] (the FMU's rotorSpeed range)")
         N, K = self.s.steps_per_period, MAX_ORDER
         T = 2.0 * math.pi / omega(self.p, speed)
         grid = T * np.arange(N + 1) / N
