@@ -382,6 +382,32 @@ def test_invalid_calls(fmus) -> None:
         f.freeInstance()
 
 
+def test_discarded_step_stays_in_step_mode(fmus) -> None:
+    """fmi3Discard (rotorSpeed 0 under an ungated describing-function contact): logged, the state at
+    the communication point kept (lastSuccessfulTime = it), Step Mode continues: a retry works."""
+    log = _Log()
+    f = _slave(fmus, log)
+    try:
+        f.setInt32([20, 23], [1, 1])
+        f.setBoolean([30], [False])
+        f.setFloat64([VR_ROTOR], [0.0])
+        f.enterInitializationMode(startTime=0.0)
+        f.exitInitializationMode()
+        before = f.getFloat64([50, 51, 57])
+        flags = [ctypes.c_bool(True) for _ in range(3)]
+        last = ctypes.c_double(-1.0)
+        log.take()
+        assert f.dll.fmi3DoStep(f.component, ctypes.c_double(0.0), ctypes.c_double(H), True,
+                                *[ctypes.byref(x) for x in flags], ctypes.byref(last)) == 2  # fmi3Discard
+        assert [x.value for x in flags] == [False, False, False] and last.value == 0.0
+        assert [(s, c) for s, c, _ in log.take() if s != 0] == [(2, "logStatusDiscard")]
+        assert f.getFloat64([50, 51, 57]) == before and f.getFloat64([VR_TIME]) == [0.0]
+        f.setFloat64([VR_ROTOR], [5000.0])
+        assert f.doStep(0.0, H) == (False, False, False, H)
+    finally:
+        f.freeInstance()
+
+
 def test_messages_name_fmi3_functions(fmus) -> None:
     """The layer's messages name the face's functions (fmi3SerializedFMUStateSize), not FMI 2.0's."""
     log = _Log()
