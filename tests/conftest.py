@@ -19,6 +19,13 @@ def fmu_path() -> Path:
 
 
 @pytest.fixture(scope="session")
+def fmu3_path() -> Path:
+    """build/fmi3/ShroudedBlade.fmu (FMI 3.0 co-simulation), built (if out of date) once per session."""
+    _build.build(("fmu3",))
+    return _build.FMU3_PATH
+
+
+@pytest.fixture(scope="session")
 def physics_lib() -> Path:
     """build/libsbphysics.so: blade.c and contact.c as a plain shared library for ctypes."""
     _build.build(("sbphysics",))

@@ -33,6 +33,10 @@ static void fmi2Sink(void *ctx, const char *instanceName, FmiStatus status, cons
     k->logger(k->env, instanceName, (fmi2Status)status, category, k->escaped);
 }
 
+/* The names the generic layer's messages use. */
+static const FmiFace FMI2_FACE = {"fmi2ExitInitializationMode", "fmi2SerializedFMUstateSize",
+                                  {"Real", "Integer", "Boolean"}, fsmStateName};
+
 /* Allowed states per function. The error state additionally allows fmi2GetStatus and friends. */
 #define ALL_BUT_START (FsmInstantiated | FsmInitializationMode | FsmStepComplete | FsmStepInProgress | \
                        FsmStepFailed | FsmStepCanceled | FsmTerminated | FsmError)
@@ -129,37 +133,10 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
 {
     const char *fn = "fmi2SetDebugLogging";
     FmiInstance *inst = enterAs(c, fn, MASK_SetDebugLogging, 0); /* logs the call after the change */
-    size_t i;
-    int k;
     if (inst == NULL) return fmi2Error;
-    if (nCategories > 0 && categories == NULL) {
-        fmiLogStatus(inst, FmiError, "%s: categories is NULL with nCategories = %lu", fn,
-                          (unsigned long)nCategories);
-        return fmi2Error;
-    }
-    for (i = 0; i < nCategories; ++i) {
-        int found = 0;
-        if (categories[i] != NULL)
-            for (k = 0; k < LOG_NUM_CATEGORIES; ++k)
-                if (strcmp(categories[i], logCategoryName(k)) == 0) found = 1;
-        if (!found) {
-            fmiLogStatus(inst, FmiError,
-                              "%s: unknown log category '%s'; known: logEvents, logStatusWarning, "
-                              "logStatusDiscard, logStatusError, logStatusFatal, logAll, logCalls", fn,
-                              categories[i] ? categories[i] : "(NULL)");
-            return fmi2Error;
-        }
-    }
     /* FMI 2.0 s.2.1.5: nCategories = 0 switches all categories; with loggingOn = fmi2True and a
      * list, only the listed categories are output; with fmi2False the listed ones are switched off */
-    if (nCategories == 0 || loggingOn) {
-        for (k = 0; k < LOG_NUM_CATEGORIES; ++k) inst->logOn[k] = (loggingOn && nCategories == 0) ? 1 : 0;
-    }
-    if (nCategories > 0) {
-        for (i = 0; i < nCategories; ++i)
-            for (k = 0; k < LOG_NUM_CATEGORIES; ++k)
-                if (strcmp(categories[i], logCategoryName(k)) == 0) inst->logOn[k] = loggingOn ? 1 : 0;
-    }
+    if (fmiSetDebugLogging(inst, fn, loggingOn != fmi2False, nCategories, categories) != FmiOK) return fmi2Error;
     fmiLog(inst, FmiOK, LogCalls, "%s (state: %s)", fn, fsmStateName(inst->fsm));
     return fmi2OK;
 }
@@ -198,7 +175,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
         sink->logger = log;
         sink->env = functions->componentEnvironment;
     }
-    inst = sink ? fmiNew(&fmiModel, instanceName, fmuResourceLocation, fmi2Sink, sink, loggingOn) : NULL;
+    inst = sink ? fmiNew(&fmiModel, &FMI2_FACE, instanceName, fmuResourceLocation, fmi2Sink, sink, loggingOn) : NULL;
     if (inst == NULL) {
         if (loggingOn) log(functions->componentEnvironment, name, fmi2Fatal, "logStatusFatal",
                            "fmi2Instantiate: out of memory");

@@ -1,6 +1,6 @@
-/* Neutral types of the generic FMI layer. Below the faces (fmi2_cs.c) nothing uses fmiN types:
- * the numeric values of FmiStatus equal those of fmi2Status and fmi3Status (OK..Fatal), so a face
- * converts by a cast. */
+/* Neutral types of the generic FMI layer. Below the faces (fmi2_cs.c, fmi3_cs.c) nothing uses
+ * fmiN types: the numeric values of FmiStatus equal those of fmi2Status and fmi3Status
+ * (OK..Fatal), so a face converts by a cast. */
 #ifndef FMI_TYPES_H
 #define FMI_TYPES_H
 

@@ -1,5 +1,5 @@
 /* The co-simulation state machine (FMI 2.0 s.4.2.4): its states and their phases. A face holds one
- * allowed-states mask per function (fmi2_cs.c). */
+ * allowed-states mask per function (fmi2_cs.c; fmi3_cs.c maps FMI 3.0's states onto these). */
 #ifndef FMI_FSM_H
 #define FMI_FSM_H
 

@@ -21,8 +21,8 @@ static char *copyString(const char *s)
 }
 
 /* memory is zeroed once here (a cache, not state: a reset keeps it) */
-FmiInstance *fmiNew(const FmiModel *model, const char *instanceName, const char *resourceLocation,
-                    FmiLogSink sink, void *sinkCtx, int loggingOn)
+FmiInstance *fmiNew(const FmiModel *model, const FmiFace *face, const char *instanceName,
+                    const char *resourceLocation, FmiLogSink sink, void *sinkCtx, int loggingOn)
 {
     FmiInstance *inst = (FmiInstance *)calloc(1, sizeof *inst);
     if (inst == NULL) {
@@ -30,6 +30,7 @@ FmiInstance *fmiNew(const FmiModel *model, const char *instanceName, const char 
         return NULL;
     }
     inst->model = model;
+    inst->face = face;
     inst->sinkCtx = sinkCtx;
     inst->instanceName = copyString(instanceName);
     inst->resourceLocation = copyString(resourceLocation);

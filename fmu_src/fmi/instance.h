@@ -17,6 +17,15 @@ typedef enum {
 typedef void (*FmiLogSink)(void *ctx, const char *instanceName, FmiStatus status, const char *category,
                            const char *message);
 
+/* What the layer's messages need from the face serving an instance: the face's names of the
+ * functions a message points to, of the variable types (indexed by VarType) and of the states. */
+typedef struct {
+    const char *exitInitializationMode;   /* e.g. "fmi2ExitInitializationMode" */
+    const char *serializedStateSize;      /* e.g. "fmi2SerializedFMUstateSize" */
+    const char *typeNames[3];             /* VarReal, VarInteger, VarBoolean: "Real", ... */
+    const char *(*stateName)(int32_t state);
+} FmiFace;
+
 /* The generic part of an FMU state. */
 typedef struct {
     double time;               /* current communication point [s] */
@@ -32,6 +41,7 @@ typedef struct FmiStateCopy FmiStateCopy;
 typedef struct FmiInstance {
     uint64_t magic;
     const FmiModel *model;
+    const FmiFace *face;       /* names for messages (static storage of the face) */
     int32_t fsm;               /* FsmState */
     FmiRun run;
     int32_t built;             /* the model's derived data follow its parameters */
@@ -48,10 +58,10 @@ typedef struct FmiInstance {
 
 #define FMI_INSTANCE_MAGIC 0x53426c6164654932ULL /* "SBladeI2" */
 
-/* Copies the strings; takes sinkCtx (freed with the instance, also on failure). NULL on
- * allocation failure. */
-FmiInstance *fmiNew(const FmiModel *model, const char *instanceName, const char *resourceLocation,
-                    FmiLogSink sink, void *sinkCtx, int loggingOn);
+/* Copies the strings; takes sinkCtx (freed with the instance, also on failure). sink may be NULL
+ * (nothing is logged). NULL on allocation failure. */
+FmiInstance *fmiNew(const FmiModel *model, const FmiFace *face, const char *instanceName,
+                    const char *resourceLocation, FmiLogSink sink, void *sinkCtx, int loggingOn);
 void fmiFree(FmiInstance *inst);
 void fmiReset(FmiInstance *inst); /* start values, time 0, state machine instantiated; keeps logging */
 

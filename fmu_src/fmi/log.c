@@ -28,6 +28,40 @@ int fmiLogEnabled(const FmiInstance *inst, int category)
     return inst->logOn[category] || inst->logOn[LogAll];
 }
 
+FmiStatus fmiSetDebugLogging(FmiInstance *inst, const char *fn, int loggingOn, size_t nCategories,
+                             const char *const categories[])
+{
+    size_t i;
+    int k;
+    if (nCategories > 0 && categories == NULL) {
+        fmiLogStatus(inst, FmiError, "%s: categories is NULL with nCategories = %lu", fn,
+                          (unsigned long)nCategories);
+        return FmiError;
+    }
+    for (i = 0; i < nCategories; ++i) {
+        int found = 0;
+        if (categories[i] != NULL)
+            for (k = 0; k < LOG_NUM_CATEGORIES; ++k)
+                if (strcmp(categories[i], logCategoryName(k)) == 0) found = 1;
+        if (!found) {
+            fmiLogStatus(inst, FmiError,
+                              "%s: unknown log category '%s'; known: logEvents, logStatusWarning, "
+                              "logStatusDiscard, logStatusError, logStatusFatal, logAll, logCalls", fn,
+                              categories[i] ? categories[i] : "(NULL)");
+            return FmiError;
+        }
+    }
+    if (nCategories == 0 || loggingOn) {
+        for (k = 0; k < LOG_NUM_CATEGORIES; ++k) inst->logOn[k] = (loggingOn && nCategories == 0) ? 1 : 0;
+    }
+    if (nCategories > 0) {
+        for (i = 0; i < nCategories; ++i)
+            for (k = 0; k < LOG_NUM_CATEGORIES; ++k)
+                if (strcmp(categories[i], logCategoryName(k)) == 0) inst->logOn[k] = loggingOn ? 1 : 0;
+    }
+    return FmiOK;
+}
+
 static void emit(FmiInstance *inst, FmiStatus status, int category, const char *fmt, va_list ap)
 {
     vsnprintf(inst->message, sizeof inst->message, fmt, ap);

@@ -10,6 +10,13 @@ int logCategoryIndex(const char *name);
 
 int fmiLogEnabled(const FmiInstance *inst, int category);
 
+/* The categories switched by a face's SetDebugLogging (FMI 2.0 s.2.1.5, FMI 3.0 s.2.3.1): with
+ * nCategories = 0 all of them follow loggingOn; with a list and loggingOn only the listed ones are
+ * on, with loggingOn = 0 the listed ones are switched off. An unknown name (or NULL array) logs and
+ * returns FmiError, nothing changed. */
+FmiStatus fmiSetDebugLogging(FmiInstance *inst, const char *fn, int loggingOn, size_t nCategories,
+                             const char *const categories[]);
+
 #if defined(__GNUC__)
 __attribute__((format(printf, 4, 5)))
 #endif

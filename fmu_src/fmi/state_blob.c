@@ -247,7 +247,7 @@ FmiStatus fmiStateSerialize(FmiInstance *inst, const char *fn, void *state, unsi
     if (b == NULL) return FmiError;
     if (size < (size_t)l.size) {
         fmiLogStatus(inst, FmiError, "%s: the buffer of %lu bytes is too small: %d bytes are needed "
-                     "(fmi2SerializedFMUstateSize)", fn, (unsigned long)size, (int)l.size);
+                     "(%s)", fn, (unsigned long)size, (int)l.size, inst->face->serializedStateSize);
         return FmiError;
     }
     memcpy(p, SER_MAGIC, 8);

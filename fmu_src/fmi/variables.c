@@ -84,7 +84,7 @@ static const VarInfo *lookup(FmiInstance *inst, const char *fn, FmiValueRef vr, 
     }
     if (v->type != type) {
         fmiLogStatus(inst, FmiError, "%s: %s (vr %u) is of type %s, not %s", fn, v->name, (unsigned)vr,
-                     fmiVarTypeName(v->type), fmiVarTypeName(type));
+                     inst->face->typeNames[v->type], inst->face->typeNames[type]);
         return NULL;
     }
     return v;
@@ -135,16 +135,16 @@ static int settable(FmiInstance *inst, const char *fn, const VarInfo *v)
         if (before) return 1;
         fmiLogStatus(inst, FmiError,
                      "%s: parameter %s (vr %u) has variability fixed: it can be set only before "
-                     "fmi2ExitInitializationMode (state: %s)", fn, v->name, (unsigned)v->vr,
-                     fsmStateName(inst->fsm));
+                     "%s (state: %s)", fn, v->name, (unsigned)v->vr, inst->face->exitInitializationMode,
+                     inst->face->stateName(inst->fsm));
         return 0;
     }
     if (v->offset >= 0 && before) return 1; /* initial="exact" output: its start value */
     if (v->offset >= 0) {
         fmiLogStatus(inst, FmiError,
                      "%s: output %s (vr %u) can be set (its start value) only before "
-                     "fmi2ExitInitializationMode (state: %s)", fn, v->name, (unsigned)v->vr,
-                     fsmStateName(inst->fsm));
+                     "%s (state: %s)", fn, v->name, (unsigned)v->vr, inst->face->exitInitializationMode,
+                     inst->face->stateName(inst->fsm));
     } else {
         fmiLogStatus(inst, FmiError, "%s: %s (vr %u) is a calculated output and cannot be set", fn, v->name,
                      (unsigned)v->vr);

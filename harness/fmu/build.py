@@ -13,6 +13,7 @@ from pathlib import Path
 REPO_ROOT = Path(__file__).resolve().parents[2]
 BUILD_DIR = REPO_ROOT / "build"
 FMU_PATH = BUILD_DIR / "ShroudedBlade.fmu"
+FMU3_PATH = BUILD_DIR / "fmi3" / "ShroudedBlade.fmu"  # FMI 3.0 co-simulation, CMake target fmu3
 EXCITATION_FMU = BUILD_DIR / "Excitation.fmu"
 PHYSICS_LIB = BUILD_DIR / "libsbphysics.so"
 
