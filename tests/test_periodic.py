@@ -225,3 +225,15 @@ def test_multiplier_modulus_equals_the_fmu_growth_rate_near_the_contact_orbit(fm
     early, late = np.max(dev[50:100]), np.max(dev[250:300])
     rate = (late / early) ** (1.0 / 200.0)
     assert abs(rate - mu) <= 3e-3, (rate, mu)
+
+
+def test_every_orbit_at_the_top_of_the_speed_range(fmu):
+    """At 30000 rpm (the FMU's rotorSpeed maximum) the branch traced around the speed must not step
+    beyond it (its speed difference goes backwards there); the one orbit is contact-free and equals
+    the closed-form linear response (1e-6 at the default maxStep)."""
+    pm = PeriodMap(fmu, {}, "fixedB")
+    orbits = orbits_at(pm, 30000.0)
+    assert len(orbits) == 1
+    q0, v0 = linear_orbit(pm.p, 30000.0, None)
+    assert abs(orbits[0].x[0] - q0) <= 1e-6 * orbits[0].amplitude
+    assert abs(orbits[0].x[1] - v0) <= 1e-6 * orbits[0].amplitude * omega(pm.p, 30000.0)

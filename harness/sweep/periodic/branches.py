@@ -70,7 +70,7 @@ def orbits_at(pm: PeriodMap, speed: float, s: BranchSettings = BranchSettings())
     a branch traced around it, refined by Newton at `speed`), with multipliers, by amplitude."""
     speed = float(speed)
     found = solutions_at(pm, speed, s.search)
-    rng = (max(speed / WINDOW, 1.0), min(speed * WINDOW, SPEED_RANGE[1]))
+    rng = (speed / WINDOW, min(speed * WINDOW, SPEED_RANGE[1]))
     branches, _ = trace_branches(pm.fmu, pm.p, pm.model, rng, s, pm)
     for b in branches:
         for a, c in zip(b.points[:-1], b.points[1:]):

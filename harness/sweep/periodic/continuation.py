@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from harness.fmu.blade import FMUError
+from harness.fmu.blade import SPEED_RANGE, FMUError
 from harness.model.params import ParameterError
 from harness.sweep.periodic.period_map import PeriodMap
 from harness.sweep.periodic.shooting import at_bound, bounded, classify, fd_direction, multipliers
@@ -166,7 +166,8 @@ class _Problem:
         eps = self.pm.s.fd_rel
         Jz = np.empty((self.m, self.m + 1))
         for j in range(self.m + 1):
-            sgn = fd_direction(self.pm, x, j) if j < self.m else 1.0
+            # forward in speed, backward at the top of the FMU's rotorSpeed range
+            sgn = fd_direction(self.pm, x, j) if j < self.m else (1.0 if n * (1 + 2 * eps) <= SPEED_RANGE[1] else -1.0)
             h = eps * sgn * (self.pm.scales(x, n)[j] / self.sc[j] if j < self.m else max(abs(z[-1]), 1e-3))
             zp = z.copy()
             zp[j] += h
