@@ -208,7 +208,7 @@ def reproduce_cold(size: str, workers: int | None) -> dict[str, Any]:
         with Runner(workers=workers, progress=False) as runner:
             rep = reproduce(Path(tmp) / "results", size, runner=runner)
         wall = time.perf_counter() - t
-    tim = rep.summary["timing"]
+    tim = rep.summary.as_dict()["timing"]
     return {"size": size, "wall": wall, "workers": workers or os.cpu_count(), **tim}
 
 
