@@ -4,8 +4,8 @@
 a verdict uses, the rule in words). `build_claims(summary)` reads the numbers `studies.reproduce`
 just produced (its Summary record, the content of results/summary.json: StudyRow records per study
 value, the section-4 CoulombComparison, Fig45Summary, CampbellSummary, PaperIteration) and returns
-ClaimRow records (claim | paper | ours | formulation/settings | verdict), one evaluator per figure; `write_claims` renders them to
-results/claims.md. Nothing is typed in: every "ours" value and every verdict is computed
+ClaimRow records (claim | paper | ours | formulation/settings | verdict), one evaluator per figure;
+`write_claims` renders them to results/claims.md. Nothing is typed in: every "ours" value and every verdict is computed
 from the data with the rule stated in the table's notes, so a change of the model or of the
 settings changes the table. Verdicts: "reproduced" (number within the stated tolerance, or the
 trend holds for every step), "trend only" (the direction agrees, the number does not),

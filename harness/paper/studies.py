@@ -11,8 +11,8 @@ own iteration B <- A(B) at 5000 rpm (it 2-cycles, docs/model.md s.4) and a Campb
 figure is a PNG plus CSV files; their numbers are collected in a Summary record (StudySummary and
 StudyRow per study, CoulombComparison, Fig45Summary, HysteresisLoop, HarmonicRange, CampbellSummary,
 PaperIteration, Timing), which `claims.py` turns into the claims table and `Summary.as_dict` writes
-to `summary.json`. `study_specs` gives the former transient path (time-domain up/down sweeps + fixed points
-from transients + HB) that `make bench` times side by side.
+to `summary.json`. `study_specs` gives the former transient path (time-domain up/down sweeps +
+fixed points from transients + HB) that `make bench` times side by side.
 """
 from __future__ import annotations
 
@@ -525,10 +525,10 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
     finally:
         if own_runner:
             runner.close()
-    summary.timing = Timing(hb_wall, branches_wall, float(len(done)),  # the branches_* sums are over the curves
-                            float(sum(c.stats.evaluations for c in done)), float(sum(c.stats.simulated_s for c in done)),
-                            float(sum(c.stats.fmi_s for c in done)), float(sum(c.stats.wall for c in done)),
-                            extras_wall)
+    stats = [c.stats for c in done]  # the branches_* timings are sums over the curves
+    summary.timing = Timing(hb_wall, branches_wall, float(len(done)), float(sum(s.evaluations for s in stats)),
+                            float(sum(s.simulated_s for s in stats)), float(sum(s.fmi_s for s in stats)),
+                            float(sum(s.wall for s in stats)), extras_wall)
     atomic_write_text(out / "summary.json",
                       json.dumps(summary.as_dict(), indent=1, sort_keys=True, default=_json_default))
     return rep

@@ -337,5 +337,5 @@ def sweep(spec: SweepSpec, runner: Runner | None = None, **kw: Any) -> SweepResu
     return run_sweeps([spec], runner, **kw)[0]
 
 
-__all__ = ["ConfigError", "SweepSettings", "SweepSpec", "SweepResult", "SweepStats", "PlateauPoint", "validate_spec", "sweep",
-           "run_sweeps", "run_chain", "hb_curve", "parse_speed_range", "PhasedSine"]
+__all__ = ["ConfigError", "SweepSettings", "SweepSpec", "SweepResult", "SweepStats", "PlateauPoint", "validate_spec",
+           "sweep", "run_sweeps", "run_chain", "hb_curve", "parse_speed_range", "PhasedSine"]

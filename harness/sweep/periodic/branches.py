@@ -52,7 +52,8 @@ def seed_speeds(lo: float, hi: float, step: float) -> list[float]:
 
 
 def trace_branches(fmu: BladeFMU, params: Mapping[str, Any] | None, model: str, speed_range: tuple[float, float],
-                   s: BranchSettings = BranchSettings(), pm: PeriodMap | None = None) -> tuple[list[Branch], TraceStats]:
+                   s: BranchSettings = BranchSettings(),
+                   pm: PeriodMap | None = None) -> tuple[list[Branch], TraceStats]:
     """(branches, statistics) of `model` over speed_range [rpm] (with the period map pm, if given:
     its evaluations count there)."""
     lo, hi = (float(v) for v in speed_range)
