@@ -151,7 +151,7 @@ def sweep_overhead(fmu_path: str, repeats: int = 3) -> dict[str, Any]:
         wall, cpu, recs = _best(lambda: sw.run_chain(task), repeats)
         inside, n = _inside(fmu, lambda: sw.run_chain(task), repeats)
         out[f"{spp} steps per period"] = {
-            "plateaus": len(recs), "sim_time": sum(r["sim_time"] for r in recs), "wall": wall, "cpu": cpu,
+            "plateaus": len(recs), "sim_time": sum(r.sim_time for r in recs), "wall": wall, "cpu": cpu,
             "inside_doStep": inside, "doSteps": n, "ratio_wall": wall / inside, "ratio_cpu": cpu / inside}
     return out
 
@@ -208,7 +208,7 @@ def reproduce_cold(size: str, workers: int | None) -> dict[str, Any]:
         with Runner(workers=workers, progress=False) as runner:
             rep = reproduce(Path(tmp) / "results", size, runner=runner)
         wall = time.perf_counter() - t
-    tim = rep.summary["timing"]
+    tim = rep.summary.as_dict()["timing"]
     return {"size": size, "wall": wall, "workers": workers or os.cpu_count(), **tim}
 
 
@@ -231,8 +231,8 @@ def transient_studies(size: str, workers: int | None) -> dict[str, Any]:
             res = run_sweeps(specs, runner, cache_dir=Path(tmp) / "cache")
         wall = time.perf_counter() - t
     return {"wall": wall, "curves": len(specs), "plateaus": sum(len(r.time) for r in res),
-            "sim_time": float(sum(r.stats.get("sim_time", 0.0) for r in res)),
-            "fixed_evals": int(sum(r.stats.get("fixed_evals", 0) for r in res)), "workers": workers or os.cpu_count()}
+            "sim_time": float(sum(r.stats.sim_time for r in res)),
+            "fixed_evals": int(sum(r.stats.fixed_evals for r in res)), "workers": workers or os.cpu_count()}
 
 
 def write_results(path: Path, data: dict[str, Any]) -> None:

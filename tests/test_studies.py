@@ -2,6 +2,8 @@
 section 6 expects from the data it produced, and that every figure and table was written."""
 from __future__ import annotations
 
+import copy
+import dataclasses
 import json
 import math
 
@@ -22,8 +24,8 @@ def quick(fmu_path, tmp_path_factory):
 
 
 def _rows(summary, study):
-    rows = summary["studies"][study]["rows"]
-    return sorted(rows, key=lambda r: r["value"])
+    rows = summary.studies[study].rows
+    return sorted(rows, key=lambda r: r.value)
 
 
 # docs/model.md section 6 trends. Methods: the paper's describing-function model solved two ways, the
@@ -34,9 +36,9 @@ def test_gap_amplitude_rises_and_resonance_falls(quick):
     _, s = quick
     small, large = _rows(s, "gap")
     for m in ("fp", "jenkins", "hb"):
-        assert large[f"{m}_peak"] > small[f"{m}_peak"], m
+        assert getattr(large, f"{m}_peak") > getattr(small, f"{m}_peak"), m
     for m in ("fp", "jenkins", "hb"):
-        assert large[f"{m}_speed"] < small[f"{m}_speed"], m
+        assert getattr(large, f"{m}_speed") < getattr(small, f"{m}_speed"), m
 
 
 def test_amplitude_falls_with_contact_angle_in_harmonic_balance(quick):
@@ -44,15 +46,15 @@ def test_amplitude_falls_with_contact_angle_in_harmonic_balance(quick):
     # this trend: at pi/7 the contact orbits near resonance lose stability; claims.md shows it)
     _, s = quick
     pi7, pi3 = _rows(s, "angle")  # sorted by angle: pi/7 first
-    assert pi3["value"] == pytest.approx(math.pi / 3)
-    assert pi3["hb_peak"] < pi7["hb_peak"]
+    assert pi3.value == pytest.approx(math.pi / 3)
+    assert pi3.hb_peak < pi7.hb_peak
 
 
 def test_resonant_speed_rises_with_kn(quick):
     _, s = quick
     soft, stiff = _rows(s, "kn")
     for m in ("fp", "jenkins", "hb"):
-        assert stiff[f"{m}_speed"] > soft[f"{m}_speed"], m
+        assert getattr(stiff, f"{m}_speed") > getattr(soft, f"{m}_speed"), m
 
 
 def test_impact_oscillator_amplitudes_near_the_gap(quick):
@@ -62,11 +64,11 @@ def test_impact_oscillator_amplitudes_near_the_gap(quick):
     # near 9400 rpm in the base case); it must touch (> d) and end in a fold above 7000 rpm.
     _, s = quick
     for r in _rows(s, "gap"):
-        assert 0.9 * r["value"] < r["hb_peak"] < 1.7 * r["value"], r
-        assert 7000 <= r["hb_speed"] <= 9000, r
-        assert r["fp_peak"] > r["value"] and r["jenkins_peak"] > r["value"], r
-    base = next(r for r in _rows(s, "mass") if r["value"] == pytest.approx(0.02))
-    assert 7000 <= base["fp_jump"] <= 10000, base
+        assert 0.9 * r.value < r.hb_peak < 1.7 * r.value, r
+        assert 7000 <= r.hb_speed <= 9000, r
+        assert r.fp_peak > r.value and r.jenkins_peak > r.value, r
+    base = next(r for r in _rows(s, "mass") if r.value == pytest.approx(0.02))
+    assert 7000 <= base.fp_jump <= 10000, base
 
 
 def test_spectral_line_at_engine_order_frequency(quick):
@@ -74,9 +76,9 @@ def test_spectral_line_at_engine_order_frequency(quick):
     # excitation, the Hann spectrum of a whole number of periods has its largest line on the bin
     # at exactly engineOrder * n / 60.
     _, s = quick
-    f = s["fig45"]
-    assert f["f_expected"] == pytest.approx(250.0)
-    assert f["paper"]["f_peak"] == pytest.approx(250.0, rel=1e-9)
+    f = s.fig45
+    assert f.f_expected == pytest.approx(250.0)
+    assert f.paper.f_peak == pytest.approx(250.0, rel=1e-9)
 
 
 def test_every_figure_and_table_written(quick):
@@ -89,7 +91,7 @@ def test_every_figure_and_table_written(quick):
     for name in ("fig4_5_time_spectrum.png", "fig2_hysteresis.png", "campbell.png", "fig4_time_response.csv",
                  "fig5_spectrum.csv", "fig2_hysteresis.csv", "campbell.csv", "paper_iteration.csv"):
         assert (out / name).stat().st_size > 0, name
-    assert json.loads((out / "summary.json").read_text())["size"] == "quick"
+    assert json.loads((out / "summary.json").read_text())["size"] == s.size == "quick"
     rows = write_claims(out / "claims.md", s)
     text = (out / "claims.md").read_text()
     assert text.count("\n| ") == len(rows) + 1  # header + one line per claim
@@ -107,18 +109,19 @@ def test_campbell_crossing_matches_reference_galerkin(quick):
     _, s = quick
     g = galerkin(base_params(), 1)
     Om = math.sqrt(g.K0static / (9 * g.M - g.K0omega2))
-    assert s["campbell"]["eo_crossing_rpm"] == pytest.approx(Om * 60 / (2 * math.pi), abs=1.0)
+    assert s.campbell.eo_crossing_rpm == pytest.approx(Om * 60 / (2 * math.pi), abs=1.0)
 
 
 def test_claims_are_computed_from_the_data(quick):
     # Changing the data changes the verdict: the claims are never typed in.
     _, s = quick
-    s2 = json.loads(json.dumps(s))
-    rows = _rows(s2, "gap")
-    rows[-1]["fp_peak"] = rows[0]["fp_peak"] * 3.3
+    s2 = copy.deepcopy(s)
+    gap = s2.studies["gap"]
+    small, large = _rows(s2, "gap")
+    gap.rows[gap.rows.index(large)] = dataclasses.replace(large, fp_peak=small.fp_peak * 3.3)
     v = [r for r in build_claims(s2) if "3.3 x" in r.claim and r.setting.startswith("fixed point")]
     assert v[0].verdict == "reproduced" and v[0].ours.startswith("3.30")
-    assert np.isfinite(s["timing"]["branches_wall"])
+    assert np.isfinite(s.timing.branches_wall)
 
 
 def test_branch_csv_matches_the_summary(quick):
@@ -130,6 +133,6 @@ def test_branch_csv_matches_the_summary(quick):
     with open(out / "fig9_kn_branches.csv") as f:
         pts = [r for r in csv.DictReader(r for r in f if not r.startswith("#"))]
     for row in _rows(s, "kn"):
-        amps = [float(p["amplitude_m"]) for p in pts if float(p["value"]) == pytest.approx(row["value"])
+        amps = [float(p["amplitude_m"]) for p in pts if float(p["value"]) == pytest.approx(row.value)
                 and p["model"] == "fixedPoint" and p["stable"] == "1" and 3000 <= float(p["speed_rpm"]) <= 10000]
-        assert max(amps) == pytest.approx(row["fp_peak"], rel=1e-9)
+        assert max(amps) == pytest.approx(row.fp_peak, rel=1e-9)

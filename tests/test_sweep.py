@@ -158,11 +158,11 @@ def test_converging_plateau_extends_past_its_cap_irregular_one_stops(fmu_path):
         return sw.run_chain(sw.ChainTask(p, (speed,), "up", s, path, fhash, None))[0]
 
     capped, extended = one(free, 4000.0, 1.0), one(free, 4000.0, 5.0)
-    assert not capped["reached"] and capped["sim_time"] == pytest.approx(0.4, abs=T)
-    assert extended["reached"] and 0.4 < extended["sim_time"] < 2.0 and extended["t_settle"] < 2.0
-    assert extended["amplitude"] == pytest.approx(_linear_amplitude(free, 4000.0), rel=2e-3)
+    assert not capped.reached and capped.sim_time == pytest.approx(0.4, abs=T)
+    assert extended.reached and 0.4 < extended.sim_time < 2.0 and extended.t_settle < 2.0
+    assert extended.amplitude == pytest.approx(_linear_amplitude(free, 4000.0), rel=2e-3)
     irregular = one(validate({}), 5000.0, 5.0)
-    assert not irregular["reached"] and irregular["sim_time"] <= 0.4 + 60.0 / (3 * 5000.0)
+    assert not irregular.reached and irregular.sim_time <= 0.4 + 60.0 / (3 * 5000.0)
 
 
 def test_refinement_narrows_the_peak(fmu_path, tmp_path):

@@ -78,7 +78,7 @@ def test_interrupted_sweep_resumes_without_recomputing(fmu_path, tmp_path, monke
 
     def counting(fmu, cache, fh, params, speed, start, s):
         rec = real(fmu, cache, fh, params, speed, start, s)
-        if not rec["cached"]:
+        if not rec.cached:
             computed.append(speed)
             if len(computed) >= limit["n"]:
                 raise Stop()

@@ -47,7 +47,7 @@ def run(args: argparse.Namespace) -> int:
         from harness.paper.plots import branches_figure
         branches_figure(Path(args.plot), {args.model: branches}, f"{args.model}, {overrides or 'Table 1'}")
     n = sum(len(b.points) for b in branches)
-    print(f"{len(branches)} branch(es), {n} points, {stats['evaluations']} periods simulated -> {args.output_file}"
+    print(f"{len(branches)} branch(es), {n} points, {stats.evaluations} periods simulated -> {args.output_file}"
           + (f", {args.plot}" if args.plot else ""))
     for i, b in enumerate(branches):
         bif = ", ".join(f"{k} at {b.points[j].speed:.0f} rpm" for j, k in b.bifurcations()) or "none"

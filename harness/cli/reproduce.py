@@ -41,12 +41,12 @@ def reproduce_and_report(args: argparse.Namespace, size: str, studies, extras: b
     rows = write_claims(out / "claims.md", rep.summary)
     from harness.paper.studies import STUDIES
 
-    for name, st in rep.summary["studies"].items():
-        print(f"{st['figure']} ({name}): largest stable max|q| and its speed per model")
-        for r in st["rows"]:
-            print(f"  {STUDIES[name].label(r['value']):<18s} {r['fp_peak'] * 1e3:8.5f} mm at {r['fp_speed']:6.0f} rpm"
-                  f" (fixed point, jumps down at {r['fp_jump']:6.0f}), {r['jenkins_peak'] * 1e3:8.5f} mm at"
-                  f" {r['jenkins_speed']:6.0f} rpm (Jenkins), {r['hb_peak'] * 1e3:8.5f} mm at {r['hb_speed']:6.0f} rpm (HB)")
+    for name, st in rep.summary.studies.items():
+        print(f"{st.figure} ({name}): largest stable max|q| and its speed per model")
+        for r in st.rows:
+            print(f"  {STUDIES[name].label(r.value):<18s} {r.fp_peak * 1e3:8.5f} mm at {r.fp_speed:6.0f} rpm"
+                  f" (fixed point, jumps down at {r.fp_jump:6.0f}), {r.jenkins_peak * 1e3:8.5f} mm at"
+                  f" {r.jenkins_speed:6.0f} rpm (Jenkins), {r.hb_peak * 1e3:8.5f} mm at {r.hb_speed:6.0f} rpm (HB)")
     counts = ", ".join(f"{v} {k}" for k, v in verdict_counts(rows).items())
     print(f"claims: {counts} -> {out / 'claims.md'}")
     print(f"wall time {wall:.1f} s; results in {out}/")

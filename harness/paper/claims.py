@@ -2,9 +2,10 @@
 
 `CLAIMS` is the table of the paper's statements (text, value as printed, the number and tolerance
 a verdict uses, the rule in words). `build_claims(summary)` reads the numbers `studies.reproduce`
-just produced (results/summary.json) and returns ClaimRow records (claim | paper | ours |
-formulation/settings | verdict), one evaluator per figure; `write_claims` renders them to
-results/claims.md. Nothing is typed in: every "ours" value and every verdict is computed
+just produced (its Summary record, the content of results/summary.json: StudyRow records per study
+value, the section-4 CoulombComparison, Fig45Summary, CampbellSummary, PaperIteration) and returns
+ClaimRow records (claim | paper | ours | formulation/settings | verdict), one evaluator per figure;
+`write_claims` renders them to results/claims.md. Nothing is typed in: every "ours" value and every verdict is computed
 from the data with the rule stated in the table's notes, so a change of the model or of the
 settings changes the table. Verdicts: "reproduced" (number within the stated tolerance, or the
 trend holds for every step), "trend only" (the direction agrees, the number does not),
@@ -16,9 +17,13 @@ from __future__ import annotations
 import math
 from pathlib import Path
 from dataclasses import dataclass
-from typing import Any, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 from harness.sweep.executor import atomic_write_text
+
+if TYPE_CHECKING:
+    from harness.paper.studies import Fig45Summary, PaperIteration, Summary
+    from harness.paper.study_branches import CoulombComparison, StudySummary
 
 @dataclass(frozen=True)
 class PaperClaim:
@@ -119,14 +124,15 @@ def _ends(xs: Sequence[float], ys: Sequence[float]) -> tuple[float, float]:
     return pts[0][1], pts[-1][1]
 
 
-def _col(study: Mapping[str, Any], key: str) -> tuple[list[float], list[float]]:
-    rows = study["rows"]
-    return [r["value"] for r in rows], [r[key] for r in rows]
+def _col(study: StudySummary, column: str) -> tuple[list[float], list[float]]:
+    """(values, one StudyRow field) over the study's rows."""
+    return [r.value for r in study.rows], [getattr(r, column) for r in study.rows]
 
 
-METHODS = (("fp", "fixed point B = A(B): periodic orbits of the FMU (tracked amplitude), largest stable"),
-           ("jenkins", "Jenkins element (FMU frictionModel 3): periodic orbits, largest stable"),
-           ("hb", "harmonic balance (reference, gating off, stable branches)"))
+# the StudyRow fields of each method's peak [m] and resonant speed [rpm]
+METHODS = (("fp_peak", "fixed point B = A(B): periodic orbits of the FMU (tracked amplitude), largest stable"),
+           ("jenkins_peak", "Jenkins element (FMU frictionModel 3): periodic orbits, largest stable"),
+           ("hb_peak", "harmonic balance (reference, gating off, stable branches)"))
 SPEED_METHODS = (("fp_speed", "fixed point: speed of the largest stable orbit"),
                  ("fp_jump", "fixed point: end of the stable upper branch at a fold (a run-up jumps down)"),
                  ("jenkins_speed", "Jenkins element: speed of the largest stable orbit"),
@@ -153,57 +159,55 @@ def _trend(mono: bool | None, ends_agree: bool) -> str:
     return "reproduced" if mono else ("trend only" if ends_agree else "not reproduced")
 
 
-def _fig45(summary: Mapping[str, Any], model: str) -> list[ClaimRow]:
-    f45 = summary.get("fig45")
+def _fig45(f45: Fig45Summary | None, model: str) -> list[ClaimRow]:
     if not f45:
         return [_missing("fig45")]
-    rows, fe = [], f45["f_expected"]
-    for key, lab in (("paper", f"paper's formulation: B fixed at the fixed-point root {_fmt_mm(f45['B_root'])}"),
-                     ("tracked", "tracked amplitude (amplitudeMode 2)")):
-        r = f45[key]
-        t = r["t_settle_2pct"]
-        lo, hi = r["band_last_fifth"]
+    rows, fe = [], f45.f_expected
+    for r, lab in ((f45.paper, f"paper's formulation: B fixed at the fixed-point root {_fmt_mm(f45.B_root)}"),
+                   (f45.tracked, "tracked amplitude (amplitudeMode 2)")):
+        t = r.t_settle_2pct
+        lo, hi = r.band_last_fifth
         ours = (f"{t:.3f} s (period maximum of abs(q) within 2 % of its final value)" if math.isfinite(t) else
                 f"never settles: the period maximum of abs(q) keeps wandering over {_fmt_mm(lo)} .. {_fmt_mm(hi)}")
         rows.append(_row("settle", ours, f"{lab}; {model}", "reproduced" if _within(t, CLAIMS["settle"]) else "not reproduced"))
-        rows.append(_row("contact", f"final period amplitude {_fmt_mm(r['amplitude'])}", lab,
-                         "reproduced" if r["amplitude"] > f45["d"] else "not reproduced"))
-        fp = r["f_peak"]
-        rows.append(_row("line", f"{fp:.1f} Hz (line at {fe:g} Hz: {_fmt_mm(r['line_at_f_expected'])}, largest "
-                                 f"{_fmt_mm(r['largest_line'])})", f"{lab}; Hann spectrum of the second half",
+        rows.append(_row("contact", f"final period amplitude {_fmt_mm(r.amplitude)}", lab,
+                         "reproduced" if r.amplitude > f45.d else "not reproduced"))
+        fp = r.f_peak
+        rows.append(_row("line", f"{fp:.1f} Hz (line at {fe:g} Hz: {_fmt_mm(r.line_at_f_expected)}, largest "
+                                 f"{_fmt_mm(r.largest_line)})", f"{lab}; Hann spectrum of the second half",
                          "reproduced" if abs(fp - fe) <= CLAIMS["line"].tol * fe else "not reproduced"))
     return rows
 
 
-def _resonance(summary: Mapping[str, Any], base: Mapping[str, Any], model: str) -> list[ClaimRow]:
-    camp, st, c = summary.get("campbell"), summary.get("studies", {}), CLAIMS["resonance"]
+def _resonance(summary: Summary, base: Mapping[str, Any], model: str) -> list[ClaimRow]:
+    camp, st, c = summary.campbell, summary.studies, CLAIMS["resonance"]
     if not camp:
         return []
     base_row = None
     if "gap" in st:
-        base_row = next((r for r in st["gap"]["rows"] if abs(r["value"] - base.get("d", 3e-5)) < 1e-12), None)
-    cross = camp["eo_crossing_rpm"]
+        base_row = next((r for r in st["gap"].rows if abs(r.value - base.get("d", 3e-5)) < 1e-12), None)
+    cross = camp.eo_crossing_rpm
     ours = f"contact-free EO {base.get('engineOrder', 3)} crossing {_fmt_rpm(cross)}"
     if base_row:
-        ours += (f"; with contact the largest stable orbit is at {_fmt_rpm(base_row['fp_speed'])} (fixed point, "
-                 f"its branch ends at a fold at {_fmt_rpm(base_row['fp_jump'])}), "
-                 f"{_fmt_rpm(base_row['jenkins_speed'])} (Jenkins element), {_fmt_rpm(base_row['hb_speed'])} (HB)")
+        ours += (f"; with contact the largest stable orbit is at {_fmt_rpm(base_row.fp_speed)} (fixed point, "
+                 f"its branch ends at a fold at {_fmt_rpm(base_row.fp_jump)}), "
+                 f"{_fmt_rpm(base_row.jenkins_speed)} (Jenkins element), {_fmt_rpm(base_row.hb_speed)} (HB)")
     ok_free = _within(cross, c)
-    ok_contact = base_row is not None and _within(base_row["fp_speed"], c, c.tol_contact)
+    ok_contact = base_row is not None and _within(base_row.fp_speed, c, c.tol_contact)
     verdict = ("reproduced" if ok_free and ok_contact else
                "reproduced for the contact-free blade only" if ok_free else "not reproduced")
     return [_row("resonance", ours, f"Campbell diagram (FMU naturalFrequency); {model}", verdict)]
 
 
-def _gap(g: Mapping[str, Any]) -> list[ClaimRow]:
+def _gap(g: StudySummary) -> list[ClaimRow]:
     rows, c = [], CLAIMS["gap_ratio"]
     for m, mname in METHODS:
-        lo, hi = _ends(*_col(g, f"{m}_peak"))
+        lo, hi = _ends(*_col(g, m))
         ratio = hi / lo if lo > 0 else math.nan
         rows.append(_row("gap_ratio", f"{ratio:.2f} ({_fmt_mm(hi)} / {_fmt_mm(lo)})", mname,
                          "reproduced" if _within(ratio, c) else "trend only" if ratio > 1 else "not reproduced"))
     for m, mname in METHODS:
-        xs, ys = _col(g, f"{m}_peak")
+        xs, ys = _col(g, m)
         mono = _monotone(xs, ys, True)
         rows.append(_row("gap_amplitude", ", ".join(_fmt_mm(y) for _, y in sorted(zip(xs, ys))), mname,
                          "reproduced" if mono else "not reproduced" if mono is False else "not computed"))
@@ -215,16 +219,16 @@ def _gap(g: Mapping[str, Any]) -> list[ClaimRow]:
     return rows
 
 
-def _mass(ms: Mapping[str, Any], iteration: Mapping[str, Any] | None) -> list[ClaimRow]:
+def _mass(ms: StudySummary, iteration: PaperIteration | None) -> list[ClaimRow]:
     rows, c = [], CLAIMS["mass_amplitude"]
     for m, mname in METHODS:
-        fin = [y for y in _col(ms, f"{m}_peak")[1] if math.isfinite(y)]
+        fin = [y for y in _col(ms, m)[1] if math.isfinite(y)]
         mean = sum(fin) / len(fin) if fin else math.nan
         rows.append(_row("mass_amplitude", f"{_fmt_mm(min(fin) if fin else math.nan)} .. "
                                            f"{_fmt_mm(max(fin) if fin else math.nan)}", mname,
                          "reproduced" if _within(mean, c) else "not reproduced"))
     if iteration:
-        tail = iteration["B"][-4:]
+        tail = iteration.B[-4:]
         rows.append(_row("mass_iteration", "the iteration at 5000 rpm does not converge; its last values: "
                          + ", ".join(_fmt_mm(b) for b in tail),
                          "FMU amplitudeMode 1, 0.2 s runs from rest, B0 = 2 d (docs/model.md s.4)",
@@ -240,10 +244,10 @@ def _mass(ms: Mapping[str, Any], iteration: Mapping[str, Any] | None) -> list[Cl
     return rows
 
 
-def _angle(an: Mapping[str, Any], base: Mapping[str, Any]) -> list[ClaimRow]:
+def _angle(an: StudySummary, base: Mapping[str, Any]) -> list[ClaimRow]:
     rows = []
     for m, mname in METHODS:
-        xs, ys = _col(an, f"{m}_peak")
+        xs, ys = _col(an, m)
         lo, hi = _ends(xs, ys)  # lo: smallest angle (pi/7), hi: largest (pi/3)
         rows.append(_row("angle_amplitude", ", ".join(f"pi/{math.pi / x:.0f}: {_fmt_mm(y)}"
                                                       for x, y in sorted(zip(xs, ys), reverse=True)),
@@ -252,10 +256,10 @@ def _angle(an: Mapping[str, Any], base: Mapping[str, Any]) -> list[ClaimRow]:
     return rows
 
 
-def _kn(kn: Mapping[str, Any]) -> list[ClaimRow]:
+def _kn(kn: StudySummary) -> list[ClaimRow]:
     rows, c = [], CLAIMS["kn_drop"]
     for m, mname in METHODS:
-        lo_kn, hi_kn = _ends(*_col(kn, f"{m}_peak"))  # amplitude at the smallest / largest kn
+        lo_kn, hi_kn = _ends(*_col(kn, m))  # amplitude at the smallest / largest kn
         drop = (lo_kn - hi_kn) / lo_kn * 100 if lo_kn > 0 else math.nan
         rows.append(_row("kn_drop", f"{-drop:+.1f} % ({_fmt_mm(lo_kn)} -> {_fmt_mm(hi_kn)})", mname,
                          "reproduced" if math.isfinite(drop) and abs(drop - c.value) <= c.tol else
@@ -268,20 +272,20 @@ def _kn(kn: Mapping[str, Any]) -> list[ClaimRow]:
     return rows
 
 
-def _section4(co: Mapping[str, Any]) -> list[ClaimRow]:
+def _section4(co: Mapping[str, CoulombComparison]) -> list[ClaimRow]:
     rows = []
     if "kn" in co:
         r = co["kn"]
-        for key, lab in (("macroslip", "macroslip"), ("coulomb", "Coulomb")):
-            sp, pk = r[key]["speed"], r[key]["peak"]
-            up, down = _monotone(r["x"], sp, True), _monotone(r["x"], pk, False)
+        for series, lab in ((r.macroslip, "macroslip"), (r.coulomb, "Coulomb")):
+            sp, pk = series.speed, series.peak
+            up, down = _monotone(r.x, sp, True), _monotone(r.x, pk, False)
             rows.append(_row("s4_kn", f"speeds {', '.join(_fmt_rpm(s) for s in sp)}; peaks "
                                       f"{', '.join(_fmt_mm(p) for p in pk)}", f"fixed point (periodic orbits), {lab}",
                              "reproduced" if up and down else "trend only" if up or down else "not reproduced", lab))
     if "angle" in co:
         r = co["angle"]
-        for key, lab in (("macroslip", "macroslip"), ("coulomb", "Coulomb")):
-            pk = r[key]["peak"]
+        for series, lab in ((r.macroslip, "macroslip"), (r.coulomb, "Coulomb")):
+            pk = series.peak
             rel = (max(pk) - min(pk)) / max(pk) if pk and max(pk) > 0 else math.nan
             rows.append(_row("s4_angle", f"peak varies by {rel * 100:.0f} % over pi/7..pi/3",
                              f"fixed point (periodic orbits), {lab}",
@@ -289,45 +293,45 @@ def _section4(co: Mapping[str, Any]) -> list[ClaimRow]:
     return rows
 
 
-def _df_vs_jenkins(st: Mapping[str, Any]) -> list[ClaimRow]:
+def _df_vs_jenkins(st: Mapping[str, StudySummary]) -> list[ClaimRow]:
     """Not in the paper: how far can the describing function be trusted?"""
     rows = []
     for name, study in st.items():
-        rs = [r for r in study["rows"] if math.isfinite(r.get("df_vs_jenkins_peak", math.nan))]
+        rs = [r for r in study.rows if math.isfinite(r.df_vs_jenkins_peak)]
         if not rs:
             continue
-        wa = max(rs, key=lambda r: abs(r["df_vs_jenkins_peak"]))
-        ws = max(rs, key=lambda r: abs(r["df_vs_jenkins_speed"]))
+        wa = max(rs, key=lambda r: abs(r.df_vs_jenkins_peak))
+        ws = max(rs, key=lambda r: abs(r.df_vs_jenkins_speed))
         rows.append(_row("df_vs_jenkins",
-                         f"peak amplitude {wa['df_vs_jenkins_peak'] * 100:+.1f} % at {name} = {wa['value']:.3g} "
-                         f"({_fmt_mm(wa['fp_peak'])} vs {_fmt_mm(wa['jenkins_peak'])}); peak speed "
-                         f"{ws['df_vs_jenkins_speed']:+.0f} rpm at {name} = {ws['value']:.3g} "
-                         f"({_fmt_rpm(ws['fp_speed'])} vs {_fmt_rpm(ws['jenkins_speed'])})",
+                         f"peak amplitude {wa.df_vs_jenkins_peak * 100:+.1f} % at {name} = {wa.value:.3g} "
+                         f"({_fmt_mm(wa.fp_peak)} vs {_fmt_mm(wa.jenkins_peak)}); peak speed "
+                         f"{ws.df_vs_jenkins_speed:+.0f} rpm at {name} = {ws.value:.3g} "
+                         f"({_fmt_rpm(ws.fp_speed)} vs {_fmt_rpm(ws.jenkins_speed)})",
                          "largest stable orbit of each model (periodic orbits of the FMU); (DF - Jenkins) / Jenkins",
                          "new check", STUDY_NAMES.get(name, name)))
     return rows
 
 
-def build_claims(summary: Mapping[str, Any]) -> list[ClaimRow]:
+def build_claims(summary: Summary) -> list[ClaimRow]:
     """Every claim of CLAIMS the run's summary can judge, in the paper's order."""
-    base, st = summary.get("base", {}), summary.get("studies", {})
+    base, st = summary.base, summary.studies
     model = _model(base)
-    rows = _fig45(summary, model) + _resonance(summary, base, model)
+    rows = _fig45(summary.fig45, model) + _resonance(summary, base, model)
     rows += _gap(st["gap"]) if "gap" in st else [_missing("gap")]
-    rows += _mass(st["mass"], summary.get("paper_iteration")) if "mass" in st else [_missing("mass")]
+    rows += _mass(st["mass"], summary.paper_iteration) if "mass" in st else [_missing("mass")]
     rows += _angle(st["angle"], base) if "angle" in st else [_missing("angle")]
     rows += _kn(st["kn"]) if "kn" in st else [_missing("kn")]
-    rows += _section4(summary.get("coulomb") or {})
+    rows += _section4(summary.coulomb or {})
     return rows + _df_vs_jenkins(st)
 
 
-def write_claims(path: Path | str, summary: Mapping[str, Any]) -> list[ClaimRow]:
+def write_claims(path: Path | str, summary: Summary) -> list[ClaimRow]:
     rows = build_claims(summary)
-    base = summary.get("base", {})
+    base = summary.base
     lines = [
         "# Claims of Nan et al. (2020) against this model",
         "",
-        f"Generated by `python -m harness run` (size `{summary.get('size', '?')}`) from `results/summary.json`; "
+        f"Generated by `python -m harness run` (size `{summary.size}`) from `results/summary.json`; "
         "every number below is computed from the data of that run, never typed in.",
         f"Base case: Table 1, d = {base.get('d', math.nan) * 1e3:g} mm, m0 = {base.get('m0', math.nan):g} kg, "
         f"gamma = pi/{math.pi / base.get('gamma', math.nan):.0f}, kn = {base.get('kn', math.nan):.0e} N/m, "

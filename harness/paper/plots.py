@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import io
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Mapping, Sequence
 
 import matplotlib
 
@@ -164,21 +164,19 @@ def hysteresis(path: Path | str, panels: Sequence[dict]) -> Path:
     return _save(fig, path)
 
 
-def coulomb(path: Path | str, rows: dict[str, dict]) -> Path:
-    """Section 4: peak amplitude and resonant speed vs a parameter, macroslip vs Coulomb."""
+def coulomb(path: Path | str, rows: Mapping[str, Any]) -> Path:
+    """Section 4: peak amplitude and resonant speed vs a parameter, macroslip vs Coulomb
+    (`rows`: the CoulombComparison records of harness.paper.study_branches, per study)."""
     fig, axes = plt.subplots(2, len(rows), figsize=(6 * len(rows), 7.5), squeeze=False)
     for j, (name, r) in enumerate(rows.items()):
-        x = np.asarray(r["x"])
-        for key, style, lab in (("macroslip", "o-", "macroslip (paper)"), ("coulomb", "s--", "Coulomb")):
-            axes[0, j].plot(x, np.asarray(r[key]["peak"]) * MM, style, label=f"{lab}, fixed point (orbits)")
-            axes[1, j].plot(x, r[key]["speed"], style, label=f"{lab}, fixed point (orbits)")
-            if "hb_peak" in r[key]:
-                axes[0, j].plot(x, np.asarray(r[key]["hb_peak"]) * MM, style[0] + ":", alpha=0.6, label=f"{lab}, HB")
-                axes[1, j].plot(x, r[key]["hb_speed"], style[0] + ":", alpha=0.6, label=f"{lab}, HB")
+        x = np.asarray(r.x)
+        for series, style, lab in ((r.macroslip, "o-", "macroslip (paper)"), (r.coulomb, "s--", "Coulomb")):
+            axes[0, j].plot(x, np.asarray(series.peak) * MM, style, label=f"{lab}, fixed point (orbits)")
+            axes[1, j].plot(x, series.speed, style, label=f"{lab}, fixed point (orbits)")
         for i in range(2):
-            axes[i, j].set_xlabel(r["xlabel"])
+            axes[i, j].set_xlabel(r.xlabel)
             axes[i, j].grid(alpha=0.3)
-            if r.get("log"):
+            if r.log:
                 axes[i, j].set_xscale("log")
         axes[0, j].set_ylabel("largest stable max|q| [mm]")
         axes[1, j].set_ylabel("its speed [rpm]")

@@ -8,18 +8,20 @@ branches; the section-4 comparison with the Coulomb model (branches too); Fig. 4
 and spectrum at 5000 rpm), the hysteresis loop of Fig. 2 (eq. 4 closed form against the FMU's
 time-domain macroslip element and the reference Jenkins element driven harmonically), the paper's
 own iteration B <- A(B) at 5000 rpm (it 2-cycles, docs/model.md s.4) and a Campbell diagram. Each
-figure is a PNG plus CSV files; `summary.json` holds the numbers `claims.py` turns into the claims
-table. `study_specs` gives the former transient path (time-domain up/down sweeps + fixed points
-from transients + HB) that `make bench` times side by side.
+figure is a PNG plus CSV files; their numbers are collected in a Summary record (StudySummary and
+StudyRow per study, CoulombComparison, Fig45Summary, HysteresisLoop, HarmonicRange, CampbellSummary,
+PaperIteration, Timing), which `claims.py` turns into the claims table and `Summary.as_dict` writes
+to `summary.json`. `study_specs` gives the former transient path (time-domain up/down sweeps +
+fixed points from transients + HB) that `make bench` times side by side.
 """
 from __future__ import annotations
 
 import json
 import math
 import time as _time
-from dataclasses import dataclass
+from dataclasses import dataclass, field, fields, is_dataclass
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import numpy as np
 
@@ -27,6 +29,10 @@ from harness.model import params as _params
 from harness.paper import plots
 from harness.sweep.executor import RESULTS_DIR, Runner, atomic_write_text, write_csv
 from harness.sweep.curves import ConfigError, SweepSettings, SweepSpec, omega_of
+
+if TYPE_CHECKING:  # imported where they are used: they pull in the FMU binding
+    from harness.paper.study_branches import CoulombComparison, StudySummary
+    from harness.sweep.periodic.harmonics import HarmonicRange
 
 PI = math.pi
 
@@ -162,7 +168,40 @@ def _response(fmu: Any, p: Mapping[str, Any], speed: float, t_stop: float) -> di
             "final": float(per_max[-1]), "band": (float(per_max[-P // 5:].min()), float(per_max[-P // 5:].max()))}
 
 
-def fig45(fmu: Any, out: Path, params: Mapping[str, Any], speed: float, t_stop: float, B_root: float) -> dict[str, Any]:
+@dataclass(frozen=True)
+class ResponseSummary:
+    """One response from rest of Fig. 4/5 (the period maxima of |q| and the spectrum of the last half)."""
+
+    t_settle_2pct: float  # [s] period maximum within 2 % of its final value from then on (nan: never)
+    reached: bool  # periodic steady state found (rtol 1e-3)
+    t_steady: float  # [s] when it was reached (nan: not reached); key "t_steady_rtol1e-3" in summary.json
+    f_peak: float  # [Hz] largest spectral line
+    amplitude: float  # [m] final period maximum of |q|
+    band_last_fifth: tuple[float, float]  # [m] (min, max) of the period maxima over the last fifth
+    max_abs_q: float  # [m] over the whole run
+    line_at_f_expected: float  # [m] spectral line at engineOrder * n / 60
+    largest_line: float  # [m]
+
+    def as_dict(self) -> dict[str, Any]:
+        d = {f.name: getattr(self, f.name) for f in fields(self)}
+        d["t_steady_rtol1e-3"] = d.pop("t_steady")
+        return d
+
+
+@dataclass(frozen=True)
+class Fig45Summary:
+    """Fig. 4/5 at one speed: the paper's formulation (B fixed at the fixed-point root) and the
+    tracked amplitude."""
+
+    speed: float  # [rpm]
+    d: float  # [m] gap
+    f_expected: float  # [Hz] engineOrder * speed / 60
+    B_root: float  # [m] the fixed-point root the paper's run holds B at
+    paper: ResponseSummary
+    tracked: ResponseSummary
+
+
+def fig45(fmu: Any, out: Path, params: Mapping[str, Any], speed: float, t_stop: float, B_root: float) -> Fig45Summary:
     """Paper Fig. 4/5: response from rest at `speed` and the spectrum of its second half, for the
     paper's formulation (amplitude fixed at the fixed-point root B_root, amplitudeMode 1) and for the
     tracked amplitude (amplitudeMode 2)."""
@@ -184,17 +223,16 @@ def fig45(fmu: Any, out: Path, params: Mapping[str, Any], speed: float, t_stop: 
                         [("paper: B fixed at the fixed-point root", a), ("tracked amplitude", b)], p["d"],
                         p["engineOrder"] * speed / 60)
     f_exp = p["engineOrder"] * speed / 60.0
-    out_d: dict[str, Any] = {"speed": speed, "d": p["d"], "f_expected": f_exp, "B_root": B_root}
-    for name, r in runs.items():
-        out_d[name] = {"t_settle_2pct": r["t_settle"], "reached": bool(r["ss"].reached),
-                       "t_steady_rtol1e-3": r["ss"].t_steady, "f_peak": r["f_peak"], "amplitude": r["final"],
-                       "band_last_fifth": r["band"], "max_abs_q": float(np.max(np.abs(r["res"]["tipDisplacement"]))),
-                       "line_at_f_expected": float(r["amp"][int(np.argmin(np.abs(r["freq"] - f_exp)))]),
-                       "largest_line": float(np.max(r["amp"][1:]))}
-    return out_d
+
+    def summary(r: dict[str, Any]) -> ResponseSummary:
+        return ResponseSummary(r["t_settle"], bool(r["ss"].reached), r["ss"].t_steady, r["f_peak"], r["final"],
+                               r["band"], float(np.max(np.abs(r["res"]["tipDisplacement"]))),
+                               float(r["amp"][int(np.argmin(np.abs(r["freq"] - f_exp)))]), float(np.max(r["amp"][1:])))
+
+    return Fig45Summary(speed, p["d"], f_exp, B_root, summary(a), summary(b))
 
 
-def hb_vs_orbit(fmu: Any, out: Path, params: Mapping[str, Any], curves: Sequence[Any]) -> dict[str, Any]:
+def hb_vs_orbit(fmu: Any, out: Path, params: Mapping[str, Any], curves: Sequence[Any]) -> dict[str, HarmonicRange]:
     """The one-harmonic balance against the exact orbits of the base case's branches (fixed point
     and Jenkins element): Fourier content of each contact orbit (harness.sweep.periodic.harmonics), to
     `hb_vs_orbit.csv`; returns the ranges per model."""
@@ -251,12 +289,26 @@ def _loop_area(x: np.ndarray, F: np.ndarray) -> float:
     return float(abs(np.sum(0.5 * (Fc[1:] + Fc[:-1]) * np.diff(xc))))
 
 
-def hysteresis(fmu: Any, out: Path, base: Mapping[str, Any]) -> dict[str, Any]:
+@dataclass(frozen=True)
+class HysteresisLoop:
+    """Fig. 2 at one normal stiffness: the energy dissipated per cycle by the friction loop."""
+
+    kn: float  # [N/m]
+    speed: float  # [rpm]
+    B: float  # [m] the FMU's steady amplitude the loops are drawn at
+    E_loop_fmu: float  # [J] loop area of the FMU's time-domain element (last period)
+    E_loop_eq4: float  # [J] loop area of eq. 4 (closed form)
+    E_pi_omega_B2_fc: float  # [J] pi omega B^2 fc of the describing function
+    E_jenkins_prescribed: float  # [J] reference Jenkins element driven by v = B cos(theta)
+
+
+def hysteresis(fmu: Any, out: Path, base: Mapping[str, Any]) -> dict[str, HysteresisLoop]:
     """Fig. 2: the loop of eq. 4 at amplitude B against (a) the reference Jenkins element driven by
     v = B cos(theta) and (b) the FMU's time-domain element (frictionModel 3) in a steady run."""
     from harness import reference as ref
 
-    panels, rows, info = [], [], {}
+    panels, rows = [], []
+    info: dict[str, HysteresisLoop] = {}
     theta = np.linspace(0, 2 * PI, 721)
     for label, kn, speed in (("kn = 1e7 N/m (paper)", 1e7, 5000.0), ("kn = 1e5 N/m (soft)", 1e5, 4950.0)):
         p = _params.validate(dict(base, kn=kn, frictionModel=3))
@@ -281,8 +333,7 @@ def hysteresis(fmu: Any, out: Path, base: Mapping[str, Any]) -> dict[str, Any]:
         order = np.argsort(jp["theta"])
         panels[-1]["jenkins"] = (du_j[order], jp["Ff"][order])
         panels[-1]["energy"] = {"eq4": E_eq4, "jenkins": float(jp["cycle_work"][-1]), "fmu": E_fmu}
-        info[label] = {"kn": kn, "speed": speed, "B": B, "E_loop_fmu": E_fmu, "E_loop_eq4": E_eq4,
-                       "E_pi_omega_B2_fc": E_df, "E_jenkins_prescribed": float(jp["cycle_work"][-1])}
+        info[label] = HysteresisLoop(kn, speed, B, E_fmu, E_eq4, E_df, float(jp["cycle_work"][-1]))
         for th, du, F in zip(theta[:-1], du_eq4[:-1], Ff_eq4[:-1]):
             rows.append((kn, 0, th, du, F))
         for du, F in zip(du_fmu, last["frictionForce"]):
@@ -297,7 +348,17 @@ def hysteresis(fmu: Any, out: Path, base: Mapping[str, Any]) -> dict[str, Any]:
     return info
 
 
-def campbell(fmu: Any, out: Path, params: Mapping[str, Any], peaks: Sequence[tuple[float, float, str]] = ()) -> dict[str, Any]:
+@dataclass(frozen=True)
+class CampbellSummary:
+    """Where the first bending frequency of the contact-free blade crosses the engine-order line."""
+
+    eo_crossing_rpm: float  # [rpm] (nan: no crossing below 10000 rpm)
+    f_rest_hz: float  # [Hz] at standstill
+    f_at_crossing_hz: float  # [Hz]
+
+
+def campbell(fmu: Any, out: Path, params: Mapping[str, Any],
+             peaks: Sequence[tuple[float, float, str]] = ()) -> CampbellSummary:
     """naturalFrequency of the FMU along a 0..10000 rpm run-up (no load) with the EO lines."""
     from harness.model.excitation import LinearRamp
 
@@ -319,15 +380,74 @@ def campbell(fmu: Any, out: Path, params: Mapping[str, Any], peaks: Sequence[tup
         tab[f"EO{k}"] = k * n / 60.0
     write_csv(out / "campbell.csv", tab, "Campbell diagram: FMU naturalFrequency [Hz] along a run-up, EO lines k n/60")
     plots.campbell(out / "campbell.png", n, f, range(1, 7), eo, cross, peaks)
-    return {"eo_crossing_rpm": cross, "f_rest_hz": float(f[0]), "f_at_crossing_hz": eo * cross / 60.0}
+    return CampbellSummary(cross, float(f[0]), eo * cross / 60.0)
 
 
 # ---------------------------------------------------------------------------------------------
 # Everything
 # ---------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class PaperIteration:
+    """The paper's section-3 iteration B <- max|q| of a t_int run with B fixed."""
+
+    speed: float  # [rpm]
+    t_int: float  # [s] run per step
+    B: list[float]  # [m] B_0 = 2 d, B_1, ...
+
+
+@dataclass(frozen=True)
+class Timing:
+    """Where the wall time of `reproduce` went [s]; counts as floats."""
+
+    hb_wall: float  # harmonic-balance branches (in this process)
+    branches_wall: float  # the periodic-orbit curves, mapped over the Runner
+    curves: float  # number of curves
+    branches_evaluations: float  # period-map evaluations, summed over the curves
+    branches_simulated_s: float  # blade time simulated, summed over the curves
+    branches_fmi_s: float  # time in FMI calls, summed over the curves
+    branches_worker_s: float  # the curves' wall times in their workers, summed
+    extras_wall: float | None = None  # Fig. 2, 4/5, Campbell, HB vs orbit, iteration (None: not run)
+
+
+@dataclass
+class Summary:
+    """Everything `reproduce` computed (results/summary.json; the claims table reads it). The extras
+    are None when they were not run."""
+
+    size: str  # Size.name
+    base: dict[str, Any]  # the base parameter set (validated)
+    studies: dict[str, StudySummary] = field(default_factory=dict)  # by study key
+    coulomb: dict[str, CoulombComparison] | None = None  # section 4, by study key
+    fig45: Fig45Summary | None = None
+    hysteresis: dict[str, HysteresisLoop] | None = None  # by panel label
+    hb_vs_orbit: dict[str, HarmonicRange] | None = None  # by model
+    campbell: CampbellSummary | None = None
+    paper_iteration: PaperIteration | None = None
+    timing: Timing | None = None
+
+    def as_dict(self) -> dict[str, Any]:
+        """The JSON form of summary.json (records as objects, fields that are None left out)."""
+        return _record_dict(self)
+
+
+def _record_dict(o: Any) -> dict[str, Any]:
+    return {f.name: _plain(getattr(o, f.name)) for f in fields(o) if getattr(o, f.name) is not None}
+
+
+def _plain(o: Any) -> Any:
+    """Records (by their own `as_dict` if they have one) and containers as plain dicts and lists."""
+    if is_dataclass(o) and not isinstance(o, type):
+        return o.as_dict() if hasattr(o, "as_dict") else _record_dict(o)
+    if isinstance(o, dict):
+        return {k: _plain(v) for k, v in o.items()}
+    if isinstance(o, (list, tuple)):
+        return [_plain(v) for v in o]
+    return o
+
+
 @dataclass
 class Reproduction:
-    summary: dict[str, Any]
+    summary: Summary
 
 
 def validate_request(size: str | Size, studies: Sequence[str] | None) -> tuple[Size, list[str]]:
@@ -364,53 +484,53 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
     out.mkdir(parents=True, exist_ok=True)
     own_runner = runner is None
     runner = runner or Runner()
-    timing: dict[str, float] = {}
-    summary: dict[str, Any] = {"size": size.name, "base": base_p, "studies": {}}
+    summary = Summary(size.name, base_p)
     rep = Reproduction(summary)
     try:
         t0 = _time.perf_counter()
         hb = {n: {v: hb_curve(dict(base_p, **{STUDIES[n].param: v}), size.hb_speeds) for v in values[n]}
               for n in names}
-        timing["hb_wall"] = _time.perf_counter() - t0
+        hb_wall = _time.perf_counter() - t0
         t0 = _time.perf_counter()
         done = runner.map(trace_curve, tasks, desc="periodic-orbit branches", unit="curve")
-        timing["branches_wall"] = _time.perf_counter() - t0
-        timing["curves"] = float(len(done))
-        for k, name in (("evaluations", "evaluations"), ("simulated_s", "simulated_s"), ("fmi_s", "fmi_s"),
-                        ("wall", "worker_s")):  # summed over the curves
-            timing[f"branches_{name}"] = float(sum(c.stats[k] for c in done))
+        branches_wall = _time.perf_counter() - t0
         curves: dict[str, dict[float, dict[str, Any]]] = {}
         for c in done:
             curves.setdefault(c.task.key, {}).setdefault(c.task.value, {})[c.task.model] = c
         for name in names:
-            summary["studies"][name] = write_study(out, STUDIES[name], curves[name], hb[name])
+            summary.studies[name] = write_study(out, STUDIES[name], curves[name], hb[name])
         if extras and size.coulomb:
-            summary["coulomb"] = write_coulomb(out, STUDIES, summary)
+            summary.coulomb = write_coulomb(out, STUDIES, summary.studies)
+        extras_wall = None
         if extras:
             t0 = _time.perf_counter()
             with BladeFMU(path) as fmu:
-                summary["fig45"] = fig45(fmu, out, base_p, 5000.0, size.fig45_time, _root_at(base_p, 5000.0, fmu))
-                summary["hysteresis"] = hysteresis(fmu, out, base_p)
-                summary["hb_vs_orbit"] = hb_vs_orbit(fmu, out, base_p, done)
+                summary.fig45 = fig45(fmu, out, base_p, 5000.0, size.fig45_time, _root_at(base_p, 5000.0, fmu))
+                summary.hysteresis = hysteresis(fmu, out, base_p)
+                summary.hb_vs_orbit = hb_vs_orbit(fmu, out, base_p, done)
                 peaks = []
-                if "kn" in summary["studies"]:
-                    for row in summary["studies"]["kn"]["rows"]:
-                        if math.isfinite(row["fp_speed"]):
-                            peaks.append((row["fp_speed"], base_p["engineOrder"] * row["fp_speed"] / 60,
-                                          f"fixed-point peak, kn = {row['value']:.0e} N/m"))
-                summary["campbell"] = campbell(fmu, out, base_p, peaks)
+                if "kn" in summary.studies:
+                    for row in summary.studies["kn"].rows:
+                        if math.isfinite(row.fp_speed):
+                            peaks.append((row.fp_speed, base_p["engineOrder"] * row.fp_speed / 60,
+                                          f"fixed-point peak, kn = {row.value:.0e} N/m"))
+                summary.campbell = campbell(fmu, out, base_p, peaks)
                 seq = paper_iteration(fmu, base_p, 5000.0, 2 * base_p["d"], size.iteration_steps)
-                summary["paper_iteration"] = {"speed": 5000.0, "t_int": 0.2, "B": seq}
+                summary.paper_iteration = PaperIteration(5000.0, 0.2, seq)
                 it = np.zeros(len(seq), dtype=[("iteration", "i4"), ("B", "f8")])
                 it["iteration"], it["B"] = np.arange(len(seq)), seq
                 write_csv(out / "paper_iteration.csv", it,
                           "the paper's section-3 iteration B <- max|q| of a 0.2 s run with B fixed, 5000 rpm, base case")
-            timing["extras_wall"] = _time.perf_counter() - t0
+            extras_wall = _time.perf_counter() - t0
     finally:
         if own_runner:
             runner.close()
-    summary["timing"] = timing
-    atomic_write_text(out / "summary.json", json.dumps(summary, indent=1, sort_keys=True, default=_json_default))
+    stats = [c.stats for c in done]  # the branches_* timings are sums over the curves
+    summary.timing = Timing(hb_wall, branches_wall, float(len(done)), float(sum(s.evaluations for s in stats)),
+                            float(sum(s.simulated_s for s in stats)), float(sum(s.fmi_s for s in stats)),
+                            float(sum(s.wall for s in stats)), extras_wall)
+    atomic_write_text(out / "summary.json",
+                      json.dumps(summary.as_dict(), indent=1, sort_keys=True, default=_json_default))
     return rep
 
 
@@ -422,4 +542,5 @@ def _json_default(o: Any) -> Any:
     raise TypeError(type(o).__name__)
 
 
-__all__ = ["STUDIES", "SIZES", "Size", "Study", "reproduce", "study_specs", "settling_time", "paper_iteration"]
+__all__ = ["STUDIES", "SIZES", "Size", "Study", "Summary", "Reproduction", "reproduce", "study_specs",
+           "settling_time", "paper_iteration"]

@@ -6,11 +6,14 @@ continuation through the FMU (harness.sweep.periodic), drawn over the reference'
 branches (gating off). For the kn and angle studies also the Coulomb describing function's fixed
 point (section 4). Written per study: `<fig>_<key>_branches.csv` (one row per orbit),
 `<fig>_<key>_hb.csv`, `<fig>_<key>_summary.csv` (peaks, jump speeds, DF vs Jenkins) and
-`<fig>_<key>.png` (stable bold, unstable faint).
+`<fig>_<key>.png` (stable bold, unstable faint). The numbers go on as records: a StudyRow per study
+value, a StudySummary per study and a CoulombComparison per section-4 study (results/summary.json,
+the claims table).
 """
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any, Mapping, Sequence
 
 import numpy as np
@@ -19,11 +22,10 @@ from harness.paper import plots
 from harness.sweep.executor import write_csv
 from harness.sweep.periodic.branches import BranchSettings
 from harness.sweep.periodic.continuation import write_branches_csv
-from harness.sweep.periodic.studies import Curve, CurveTask, curve_summary
+from harness.sweep.periodic.studies import Curve, CurveSummary, CurveTask, curve_summary
 
 MODELS = ("fixedPoint", "jenkins")  # drawn for every study
 COULOMB_STUDIES = ("kn", "angle")  # section 4: + the Coulomb DF's fixed point
-SHORT = {"fixedPoint": "fp", "jenkins": "jenkins", "coulomb": "coulomb"}
 
 
 def curve_tasks(studies: Mapping[str, Any], values: Mapping[str, Sequence[float]], base: Mapping[str, Any],
@@ -67,21 +69,85 @@ def _ranges(r: list[tuple[float, float, str]]) -> str:
     return "; ".join(f"{lo:.0f}-{hi:.0f} rpm {kind}" for lo, hi, kind in r)
 
 
-def study_row(value: float, curves: Mapping[str, Curve], hb: np.ndarray) -> dict[str, Any]:
+@dataclass(frozen=True)
+class StudyRow:
+    """The numbers of one study value. Per model (fp: the fixed point B = A(B); jenkins: the
+    Jenkins element; coulomb: the Coulomb DF's fixed point, traced for the section-4 studies only,
+    None otherwise): the peak = largest max|q| of a stable orbit, its speed, the jump (where that
+    stable branch ends in a fold, nan if it does not), the largest orbit stable or not, the unstable
+    contact ranges, branches and period-map evaluations; the HB peak; DF (fp) vs Jenkins."""
+
+    value: float  # the study parameter's value (Study.param, SI units)
+    fp_peak: float  # [m]
+    fp_speed: float  # [rpm]
+    fp_jump: float  # [rpm]
+    fp_peak_any: float  # [m]
+    fp_unstable: str  # "low-high rpm kind; ..." of the unstable contact stretches
+    fp_branches: int
+    fp_evaluations: int
+    jenkins_peak: float  # [m]
+    jenkins_speed: float  # [rpm]
+    jenkins_jump: float  # [rpm]
+    jenkins_peak_any: float  # [m]
+    jenkins_unstable: str
+    jenkins_branches: int
+    jenkins_evaluations: int
+    hb_peak: float  # [m] largest B on a stable harmonic-balance solution
+    hb_speed: float  # [rpm] its speed
+    df_vs_jenkins_peak: float  # (fp_peak - jenkins_peak) / jenkins_peak (nan if jenkins_peak <= 0)
+    df_vs_jenkins_speed: float  # [rpm] fp_speed - jenkins_speed
+    coulomb_peak: float | None = None  # [m]
+    coulomb_speed: float | None = None  # [rpm]
+    coulomb_jump: float | None = None  # [rpm]
+    coulomb_peak_any: float | None = None  # [m]
+    coulomb_unstable: str | None = None
+    coulomb_branches: int | None = None
+    coulomb_evaluations: int | None = None
+
+
+def _model_numbers(s: CurveSummary) -> tuple[float, float, float, float, str, int, int]:
+    """One model's fields of StudyRow, in their order: peak, speed, jump, peak_any, unstable,
+    branches, evaluations."""
+    return s.peak, s.speed, s.jump, s.peak_any, _ranges(s.unstable_contact), s.branches, s.stats.evaluations
+
+
+def study_row(value: float, curves: Mapping[str, Curve], hb: np.ndarray) -> StudyRow:
     """The numbers of one study value: per model peak (largest stable max |q|) and its speed, the
-    jump speed, the unstable contact ranges; HB peak; DF (fixed point) vs Jenkins differences."""
-    row: dict[str, Any] = {"value": value}
-    for model, c in curves.items():
-        s, k = curve_summary(c), SHORT[model]
-        row.update({f"{k}_peak": s["peak"], f"{k}_speed": s["speed"], f"{k}_jump": s["jump"],
-                    f"{k}_peak_any": s["peak_any"], f"{k}_unstable": _ranges(s["unstable_contact"]),
-                    f"{k}_branches": s["branches"], f"{k}_evaluations": s["evaluations"]})
-    row["hb_peak"], row["hb_speed"] = hb_peak(hb)
-    if "jenkins" in curves and "fixedPoint" in curves:
-        a_j, a_f = row["jenkins_peak"], row["fp_peak"]
-        row["df_vs_jenkins_peak"] = (a_f - a_j) / a_j if a_j > 0 else math.nan
-        row["df_vs_jenkins_speed"] = row["fp_speed"] - row["jenkins_speed"]
-    return row
+    jump speed, the unstable contact ranges; HB peak; DF (fixed point) vs Jenkins differences.
+    `curves` holds the fixed point and the Jenkins element, and the Coulomb DF if it was traced."""
+    fp, jk = curve_summary(curves["fixedPoint"]), curve_summary(curves["jenkins"])
+    co = _model_numbers(curve_summary(curves["coulomb"])) if "coulomb" in curves else ()
+    return StudyRow(value, *_model_numbers(fp), *_model_numbers(jk), *hb_peak(hb),
+                    (fp.peak - jk.peak) / jk.peak if jk.peak > 0 else math.nan, fp.speed - jk.speed, *co)
+
+
+@dataclass(frozen=True)
+class StudySummary:
+    """One parameter study (Fig. 6-9): its rows, one per value, in the order of the values."""
+
+    param: str  # FMU parameter varied
+    figure: str  # fig6 .. fig9
+    values: list[float]  # sorted
+    rows: list[StudyRow]
+
+
+@dataclass(frozen=True)
+class PeakSeries:
+    """One model's peaks along a section-4 study, in the order of CoulombComparison.x."""
+
+    peak: list[float]  # [m] largest stable max|q|
+    speed: list[float]  # [rpm] its speed
+
+
+@dataclass(frozen=True)
+class CoulombComparison:
+    """Section 4 for one study: the macroslip fixed point against the Coulomb DF's."""
+
+    x: list[float]  # the plot's abscissa: kn [N/m], or x of the contact angle pi / x
+    xlabel: str
+    log: bool  # logarithmic abscissa
+    macroslip: PeakSeries
+    coulomb: PeakSeries
 
 
 SUMMARY_KEYS = ("value", "fp_peak", "fp_speed", "fp_jump", "fp_peak_any", "jenkins_peak", "jenkins_speed",
@@ -89,7 +155,7 @@ SUMMARY_KEYS = ("value", "fp_peak", "fp_speed", "fp_jump", "fp_peak_any", "jenki
 
 
 def write_study(out: Any, st: Any, curves: Mapping[float, Mapping[str, Curve]],
-                hb: Mapping[float, np.ndarray]) -> dict[str, Any]:
+                hb: Mapping[float, np.ndarray]) -> StudySummary:
     """CSV + PNG of one study; returns its summary (rows per value)."""
     stem = f"{st.figure}_{st.key}"
     values = sorted(curves)
@@ -98,7 +164,7 @@ def write_study(out: Any, st: Any, curves: Mapping[float, Mapping[str, Curve]],
     write_csv(out / f"{stem}_hb.csv", _stack([(v, hb[v]) for v in values]),
               f"{st.figure}: harmonic balance (reference, gating off), every branch; value = {st.param}; B [m]")
     rows = [study_row(v, curves[v], hb[v]) for v in values]
-    tab = np.array([tuple(r.get(k, math.nan) for k in SUMMARY_KEYS) for r in rows],
+    tab = np.array([tuple(getattr(r, k) for k in SUMMARY_KEYS) for r in rows],
                    dtype=[(k, "f8") for k in SUMMARY_KEYS])
     write_csv(out / f"{stem}_summary.csv", tab,
               f"{st.figure}: per {st.param}: largest stable max|q| [m] and its speed [rpm] of the fixed point "
@@ -107,29 +173,29 @@ def write_study(out: Any, st: Any, curves: Mapping[float, Mapping[str, Curve]],
     plots.study_branches(out / f"{stem}.png", f"Paper {st.figure.replace('fig', 'Fig. ')}: {st.xlabel}",
                          [{"label": st.label(v), "branches": {m: curves[v][m].branches for m in MODELS},
                            "hb": hb[v], "d": float(curves[v][MODELS[0]].task.params["d"])} for v in values])
-    return {"param": st.param, "figure": st.figure, "values": values, "rows": rows}
+    return StudySummary(st.param, st.figure, values, rows)
 
 
-def write_coulomb(out: Any, studies: Mapping[str, Any], summary: Mapping[str, Any]) -> dict[str, Any]:
-    """Section 4: peak and resonant speed of the macroslip and the Coulomb fixed point (branches)."""
-    rows: dict[str, dict] = {}
+def write_coulomb(out: Any, studies: Mapping[str, Any],
+                  summaries: Mapping[str, StudySummary]) -> dict[str, CoulombComparison]:
+    """Section 4: peak and resonant speed of the macroslip and the Coulomb fixed point (branches),
+    from the study summaries of the section-4 studies that were run."""
+    rows: dict[str, CoulombComparison] = {}
     table = []
     for name in COULOMB_STUDIES:
-        if name not in summary["studies"]:
+        if name not in summaries:
             continue
         st = studies[name]
         # the study rows hold every model traced at the value, the Coulomb fixed point included
-        mac = {r["value"]: r for r in summary["studies"][name]["rows"] if "coulomb_peak" in r}
+        mac = {r.value: r for r in summaries[name].rows if r.coulomb_peak is not None}
         xs = sorted(mac)
-        rows[name] = {
-            "x": xs if name == "kn" else [math.pi / v for v in xs],
-            "xlabel": st.xlabel if name == "kn" else "contact angle = pi / x", "log": name == "kn",
-            "macroslip": {"peak": [mac[v]["fp_peak"] for v in xs], "speed": [mac[v]["fp_speed"] for v in xs]},
-            "coulomb": {"peak": [mac[v]["coulomb_peak"] for v in xs], "speed": [mac[v]["coulomb_speed"] for v in xs]},
-        }
+        rows[name] = CoulombComparison(
+            x=xs if name == "kn" else [math.pi / v for v in xs],
+            xlabel=st.xlabel if name == "kn" else "contact angle = pi / x", log=name == "kn",
+            macroslip=PeakSeries([mac[v].fp_peak for v in xs], [mac[v].fp_speed for v in xs]),
+            coulomb=PeakSeries([mac[v].coulomb_peak for v in xs], [mac[v].coulomb_speed for v in xs]))
         for v in xs:
-            table.append((name, v, mac[v]["fp_peak"], mac[v]["fp_speed"], mac[v]["coulomb_peak"],
-                          mac[v]["coulomb_speed"]))
+            table.append((name, v, mac[v].fp_peak, mac[v].fp_speed, mac[v].coulomb_peak, mac[v].coulomb_speed))
     tab = np.array(table, dtype=[("study", "U5"), ("value", "f8"), ("macroslip_peak", "f8"),
                                  ("macroslip_speed", "f8"), ("coulomb_peak", "f8"), ("coulomb_speed", "f8")])
     write_csv(out / "section4_coulomb.csv", tab, "Section 4: largest stable max|q| [m] and its speed [rpm] of the "

@@ -16,13 +16,15 @@ Three ways to get the response curve of one parameter set (docs/model.md section
 - `hb`: harmonic balance from the independent reference (`harness.reference.harmonic_balance`):
   every branch, with stability.
 Every plateau and every A(B) is cached on disk under its key (FMU hash, parameters, speed, start
-state), so an interrupted sweep resumes without recomputing; tasks run on `executor.Runner`.
+state), so an interrupted sweep resumes without recomputing; tasks run on `executor.Runner`. A
+chain returns PlateauPoint records, a fixed-point speed a FixedPointResult
+(harness.sweep.fixed_point); `run_sweeps` collects them into a SweepResult's tables and SweepStats.
 """
 from __future__ import annotations
 
 import math
 import time as _time
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any, Iterable, Mapping, Sequence
 
@@ -35,37 +37,64 @@ from harness.sweep.config import (ALGO_VERSION, DIRECTIONS, MAX_RPM, METHODS, Co
                                   validate_spec)
 
 
+@dataclass(frozen=True)
+class PlateauPoint:
+    """The steady state of the tracked-amplitude model on one speed plateau: one point of a
+    time-domain sweep. The point cache stores its fields but `cached` and `direction`."""
+
+    key: str  # its cache key
+    speed: float  # [rpm]
+    amplitude: float  # [m] the FMU's `amplitude` output at the end (max |q| of the last period)
+    amp_lo: float  # [m] smallest period amplitude over the final window
+    amp_hi: float  # [m] largest period amplitude over the final window
+    amp_h1: float  # [m] first-harmonic amplitude of the steady-state analysis
+    reached: bool  # periodic steady state found (else the run stopped at the cap)
+    rel_change: float  # estimated relative distance from the periodic limit
+    t_settle: float  # [s] from the plateau's start to the steady state (nan: not reached)
+    sim_time: float  # [s] simulated on the plateau
+    contact: int  # 1 if the final amplitude exceeds the gap d
+    t_end: float  # [s] FMU time at the end
+    phase_end: float  # [rad] load phase at the end
+    state: str  # the FMU state at the end, serialized and base64-encoded ("" in run_chain's output)
+    wall: float  # [s] wall time of the computation
+    steps: int  # periods sampled
+    message: str  # of the steady-state analysis
+    cached: bool = False  # read from the cache
+    direction: str = ""  # up | down (set by run_chain)
+
+    def cache_record(self) -> dict[str, Any]:
+        rec = asdict(self)
+        del rec["cached"], rec["direction"]
+        return rec
+
+
 def plateau(fmu: Any, cache: PointCache, fmu_hash: str, params: dict, speed: float, start: Start,
-            s: SweepSettings) -> dict:
+            s: SweepSettings) -> PlateauPoint:
     """Steady state of the tracked-amplitude model at `speed` from `start` (cached)."""
     key = point_key(kind="plateau", v=ALGO_VERSION, fmu=fmu_hash, params=params, speed=speed,
                     start=start.key(), settings=s.plateau_key())
     rec = cache.get(key)
     if rec is not None:
-        rec["cached"] = True
-        return rec
+        return PlateauPoint(**rec, cached=True)
     p = dict(params, amplitudeMode=2)
     t0 = _time.perf_counter()
     data, ss, t_end, phase = settle(fmu, p, speed, start, s, s.max_time, list(PLATEAU_OUTPUTS))
     window = 3 * s.min_periods + 4  # periods (settle samples once per period)
     state = fmu.get_state()
-    rec = {
-        "key": key, "speed": float(speed), "amplitude": float(data["amplitude"][-1]),
-        "amp_lo": float(np.min(data["amplitude"][-window:])), "amp_hi": float(np.max(data["amplitude"][-window:])),
-        "amp_h1": float(ss.harmonic_amplitude),
-        "reached": bool(ss.reached), "rel_change": float(ss.rel_change),
-        "t_settle": float(ss.t_steady - start.time) if ss.reached else math.nan,
-        "sim_time": float(t_end - start.time), "contact": int(data["amplitude"][-1] > params["d"]),
-        "t_end": t_end, "phase_end": phase, "state": encode_bytes(state),
-        "wall": _time.perf_counter() - t0, "steps": int(len(data) - 1), "message": ss.message,
-    }
-    cache.put(key, rec)
-    rec["cached"] = False
+    rec = PlateauPoint(
+        key=key, speed=float(speed), amplitude=float(data["amplitude"][-1]),
+        amp_lo=float(np.min(data["amplitude"][-window:])), amp_hi=float(np.max(data["amplitude"][-window:])),
+        amp_h1=float(ss.harmonic_amplitude), reached=bool(ss.reached), rel_change=float(ss.rel_change),
+        t_settle=float(ss.t_steady - start.time) if ss.reached else math.nan,
+        sim_time=float(t_end - start.time), contact=int(data["amplitude"][-1] > params["d"]),
+        t_end=t_end, phase_end=phase, state=encode_bytes(state),
+        wall=_time.perf_counter() - t0, steps=int(len(data) - 1), message=ss.message)
+    cache.put(key, rec.cache_record())
     return rec
 
 
-def _start_after(rec: dict) -> Start:
-    return Start(decode_bytes(rec["state"]), rec["t_end"], rec["phase_end"])
+def _start_after(rec: PlateauPoint) -> Start:
+    return Start(decode_bytes(rec.state), rec.t_end, rec.phase_end)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -83,27 +112,27 @@ class ChainTask:
     tag: str = ""  # for messages
 
 
-def _regular(r: dict) -> bool:
+def _regular(r: PlateauPoint) -> bool:
     """The period amplitude stays within 5 % over the final window (steady or slowly settling);
     otherwise the response is irregular (quasi-periodic/chaotic impacts) and its amplitude is a band."""
-    return r["amp_hi"] - r["amp_lo"] <= 0.05 * r["amp_hi"]
+    return r.amp_hi - r.amp_lo <= 0.05 * r.amp_hi
 
 
-def _overlap(a: dict, b: dict) -> bool:
-    return a["amp_lo"] <= b["amp_hi"] and b["amp_lo"] <= a["amp_hi"]
+def _overlap(a: PlateauPoint, b: PlateauPoint) -> bool:
+    return a.amp_lo <= b.amp_hi and b.amp_lo <= a.amp_hi
 
 
-def _refine_marks(recs: list[dict], s: SweepSettings) -> set[int]:
+def _refine_marks(recs: list[PlateauPoint], s: SweepSettings) -> set[int]:
     """Intervals to bisect: the envelope (amp_hi) changes by more than refine_tol of its maximum
     and the two ends are not the same irregular band; plus the two intervals around a regular peak."""
-    amps = np.array([r["amp_hi"] for r in recs])
+    amps = np.array([r.amp_hi for r in recs])
     scale = float(np.max(amps)) if len(amps) else 0.0
     marks: set[int] = set()
     if scale <= 0:
         return marks
     for i in range(len(recs) - 1):
         a, b = recs[i], recs[i + 1]
-        if abs(b["speed"] - a["speed"]) < 2 * s.min_dn:
+        if abs(b.speed - a.speed) < 2 * s.min_dn:
             continue
         same_band = not _regular(a) and not _regular(b) and _overlap(a, b)
         if abs(amps[i + 1] - amps[i]) > s.refine_tol * scale and not same_band:
@@ -111,31 +140,31 @@ def _refine_marks(recs: list[dict], s: SweepSettings) -> set[int]:
     k = int(np.argmax(amps))
     if _regular(recs[k]):
         for i in (k - 1, k):
-            if 0 <= i < len(recs) - 1 and abs(recs[i + 1]["speed"] - recs[i]["speed"]) >= 2 * s.min_dn:
+            if 0 <= i < len(recs) - 1 and abs(recs[i + 1].speed - recs[i].speed) >= 2 * s.min_dn:
                 marks.add(i)
     return marks
 
 
-def _agree(a: dict, b: dict, s: SweepSettings) -> bool:
+def _agree(a: PlateauPoint, b: PlateauPoint, s: SweepSettings) -> bool:
     """Same branch: two regular points within agree_tol, or two irregular bands that overlap."""
     if _regular(a) and _regular(b):
-        scale = max(abs(a["amp_hi"]), abs(b["amp_hi"]), 1e-300)
-        return abs(a["amp_hi"] - b["amp_hi"]) <= s.agree_tol * scale
+        scale = max(abs(a.amp_hi), abs(b.amp_hi), 1e-300)
+        return abs(a.amp_hi - b.amp_hi) <= s.agree_tol * scale
     return not _regular(a) and not _regular(b) and _overlap(a, b)
 
 
-def run_chain(task: ChainTask) -> list[dict]:
-    """Up or down sweep over task.speeds carrying the FMU state, refined; records in speed order
-    of the sweep (without the state blobs)."""
+def run_chain(task: ChainTask) -> list[PlateauPoint]:
+    """Up or down sweep over task.speeds carrying the FMU state, refined; its points in speed order
+    of the sweep (without the state blobs, with the direction)."""
     fmu = worker_fmu(task.fmu_path)
     cache = PointCache(None if task.cache_dir is None else Path(task.cache_dir))
     s = task.settings
 
-    def point(speed: float, prev: dict | None) -> dict:
+    def point(speed: float, prev: PlateauPoint | None) -> PlateauPoint:
         start = Start() if prev is None else _start_after(prev)
         return plateau(fmu, cache, task.fmu_hash, task.params, speed, start, s)
 
-    recs: list[dict] = []
+    recs: list[PlateauPoint] = []
     prev = None
     for sp in task.speeds:
         prev = point(sp, prev)
@@ -149,13 +178,13 @@ def run_chain(task: ChainTask) -> list[dict]:
         dirty = False
         for i in range(len(recs) - 1):
             if i in marks:
-                mid = 0.5 * (recs[i]["speed"] + recs[i + 1]["speed"])
+                mid = 0.5 * (recs[i].speed + recs[i + 1].speed)
                 prev = point(mid, prev)
                 new.append(prev)
                 dirty = True
             old = recs[i + 1]
             if dirty:
-                redo = point(old["speed"], prev)
+                redo = point(old.speed, prev)
                 if _agree(redo, old, s):
                     dirty = False
                     prev = old  # the old downstream chain stays valid
@@ -167,12 +196,7 @@ def run_chain(task: ChainTask) -> list[dict]:
                 prev = old
                 new.append(old)
         recs = new
-    out = []
-    for r in recs:
-        r = {k: v for k, v in r.items() if k != "state"}
-        r["direction"] = task.direction
-        out.append(r)
-    return out
+    return [replace(r, state="", direction=task.direction) for r in recs]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -200,13 +224,27 @@ FIXED_DTYPE = [("speed", "f8"), ("B", "f8"), ("kind", "U7"), ("reached", "?"), (
 
 
 @dataclass
+class SweepStats:
+    """What the sweeps of one spec did (zero for a method not run); the wall times are those of
+    all specs' tasks of that method together [s]."""
+
+    plateaus: int = 0  # time-domain points computed or read from the cache
+    sim_time: float = 0.0  # [s] simulated on them
+    not_reached: int = 0  # of them without a steady state
+    fixed_evals: int = 0  # A(B) evaluations of the fixed-point speeds
+    wall_hb_all: float = 0.0
+    wall_time_all: float = 0.0
+    wall_fixed_all: float = 0.0
+
+
+@dataclass
 class SweepResult:
     spec: SweepSpec
     time: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=TIME_DTYPE))
     fixed: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=FIXED_DTYPE))
     hb: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=[("speed", "f8"), ("B", "f8"), ("stable", "?"), ("phase", "f8")]))
     fixed_speeds_failed: int = 0
-    stats: dict = field(default_factory=dict)
+    stats: SweepStats = field(default_factory=SweepStats)
 
     def branch(self, direction: str) -> np.ndarray:
         t = self.time[self.time["direction"] == direction]
@@ -233,7 +271,7 @@ def _hb_speeds(spec: SweepSpec) -> tuple[float, ...]:
 def run_sweeps(specs: Sequence[SweepSpec], runner: Runner | None = None, *, fmu_path: str | Path | None = None,
                cache_dir: str | Path | None = None, desc: str = "") -> list[SweepResult]:
     """Validate every spec (before any work), then map all their tasks over `runner` at once."""
-    from harness.sweep.fixed_point import FixedPointTask, fixed_refinement, run_fixed_point
+    from harness.sweep.fixed_point import FixedPointResult, FixedPointTask, fixed_refinement, run_fixed_point
 
     specs = [validate_spec(sp) for sp in specs]
     runner = runner or Runner(workers=1, progress=False)
@@ -271,27 +309,26 @@ def run_sweeps(specs: Sequence[SweepSpec], runner: Runner | None = None, *, fmu_
                                 unit="speed")
         fixed += extra
     t_fixed = _time.perf_counter() - t0
-    per_spec_time: dict[int, list] = {}
+    per_spec_time: dict[int, list[PlateauPoint]] = {}
     for (i, _), recs in zip(chains, chain_out):
         per_spec_time.setdefault(i, []).extend(recs)
     for i, recs in per_spec_time.items():
         results[i].time = np.array(
-            [(r["speed"], r["direction"], r["amplitude"], r["amp_lo"], r["amp_hi"], r["amp_h1"], r["rel_change"],
-              r["reached"], r["t_settle"],
-              r["sim_time"], r["contact"]) for r in recs], dtype=TIME_DTYPE)
-        results[i].stats["plateaus"] = len(recs)
-        results[i].stats["sim_time"] = float(sum(r["sim_time"] for r in recs))
-        results[i].stats["not_reached"] = int(sum(not r["reached"] for r in recs))
-    per_spec_fixed: dict[int, list] = {}
+            [(r.speed, r.direction, r.amplitude, r.amp_lo, r.amp_hi, r.amp_h1, r.rel_change, r.reached, r.t_settle,
+              r.sim_time, r.contact) for r in recs], dtype=TIME_DTYPE)
+        results[i].stats.plateaus = len(recs)
+        results[i].stats.sim_time = float(sum(r.sim_time for r in recs))
+        results[i].stats.not_reached = int(sum(not r.reached for r in recs))
+    per_spec_fixed: dict[int, list[FixedPointResult]] = {}
     for (i, _), out in zip(fixed, fixed_out):
         per_spec_fixed.setdefault(i, []).append(out)
     for i, outs in per_spec_fixed.items():
-        rows = [(o["speed"], r["B"], r["kind"], r["reached"], r["slope"]) for o in outs for r in o["roots"]]
+        rows = [(o.speed, r.B, r.kind, r.reached, r.slope) for o in outs for r in o.roots]
         results[i].fixed = np.array(rows, dtype=FIXED_DTYPE)
-        results[i].fixed_speeds_failed = int(sum(not o["all_reached"] for o in outs))
-        results[i].stats["fixed_evals"] = int(sum(o["n_evals"] for o in outs))
+        results[i].fixed_speeds_failed = int(sum(not o.all_reached for o in outs))
+        results[i].stats.fixed_evals = int(sum(o.n_evals for o in outs))
     for r in results:
-        r.stats.update({"wall_hb_all": t_hb, "wall_time_all": t_time, "wall_fixed_all": t_fixed})
+        r.stats.wall_hb_all, r.stats.wall_time_all, r.stats.wall_fixed_all = t_hb, t_time, t_fixed
     return results
 
 
@@ -300,5 +337,5 @@ def sweep(spec: SweepSpec, runner: Runner | None = None, **kw: Any) -> SweepResu
     return run_sweeps([spec], runner, **kw)[0]
 
 
-__all__ = ["ConfigError", "SweepSettings", "SweepSpec", "SweepResult", "validate_spec", "sweep",
-           "run_sweeps", "run_chain", "hb_curve", "parse_speed_range", "PhasedSine"]
+__all__ = ["ConfigError", "SweepSettings", "SweepSpec", "SweepResult", "SweepStats", "PlateauPoint", "validate_spec",
+           "sweep", "run_sweeps", "run_chain", "hb_curve", "parse_speed_range", "PhasedSine"]

@@ -7,8 +7,9 @@ one contact-free run (run with the tracked amplitude, whose exact period maxima 
 ever reaches d). With gating, a contact-free run that never reaches d is the same run for every
 B > d, so the scan is skipped there. A(B) is the max |q| of one extra, finely sampled period at
 the end of the run (`plateau.period_peak`). Each A(B) is cached on disk (an interrupted run loses
-only the evaluation in progress). `fixed_refinement` bisects the speed intervals next to a curve's
-largest root where it changes a lot (the narrow low-kn peak).
+only the evaluation in progress). `run_fixed_point` returns a FixedPointResult (its FixedPointRoot
+records); `fixed_refinement` bisects the speed intervals next to a curve's largest root where it
+changes a lot (the narrow low-kn peak).
 """
 from __future__ import annotations
 
@@ -32,6 +33,28 @@ class FixedPointTask:
     fmu_path: str
     fmu_hash: str
     cache_dir: str | None
+
+
+@dataclass(frozen=True)
+class FixedPointRoot:
+    """One root of A(B) = B (or a jump of A(B) across the diagonal, which is none)."""
+
+    B: float  # [m]
+    kind: str  # open (B <= d) | contact | jump
+    reached: bool  # every evaluation that located it reached its steady state
+    slope: float  # (A(B_hi) - A(B_lo)) / (B_hi - B_lo) over its scan bracket (0: open root or
+    #               time-domain element; nan: the scan hit the root exactly)
+
+
+@dataclass(frozen=True)
+class FixedPointResult:
+    """Every root of A(B) = B at one speed."""
+
+    speed: float  # [rpm]
+    roots: list[FixedPointRoot]
+    n_evals: int  # A(B) evaluations (cached ones included)
+    all_reached: bool  # every evaluation reached its steady state
+    B_max: float  # [m] top of the scan
 
 
 def amplitude_for(fmu: Any, cache: PointCache, fmu_hash: str, params: dict, speed: float, B: float,
@@ -79,7 +102,7 @@ def linear_bound(params: Mapping[str, Any], speed: float) -> float:
     return g.loadGain * params["Fw0"] / (g.C0 * omega_of(params, speed))
 
 
-def run_fixed_point(task: FixedPointTask) -> dict:
+def run_fixed_point(task: FixedPointTask) -> FixedPointResult:
     """All roots of A(B) = B at one speed: the open root (B <= d) and every sign change of A(B) - B
     on a geometric scan of (d, B_max], refined by brentq. Non-converged evaluations are reported."""
     from scipy.optimize import brentq
@@ -95,7 +118,7 @@ def run_fixed_point(task: FixedPointTask) -> dict:
         evals.append(r)
         return r
 
-    roots: list[dict] = []
+    roots: list[FixedPointRoot] = []
     B_max = s.B_max if s.B_max is not None else 1.5 * linear_bound(p, sp)
     # B <= d: regime open, the contact-free response; lightly damped (tau = 2M/C0 ~ 0.2 s), so it
     # gets at least 2 s (transient down to ~1e-4 of its start). It runs with the tracked amplitude
@@ -112,7 +135,7 @@ def run_fixed_point(task: FixedPointTask) -> dict:
         if touched and int(p["frictionModel"]) != 3:
             open_run = A(0.5 * d, cap)
     if open_run is not None and open_run["A"] <= d:
-        roots.append({"B": open_run["A"], "kind": "open", "reached": open_run["reached"], "slope": 0.0})
+        roots.append(FixedPointRoot(open_run["A"], "open", open_run["reached"], 0.0))
     # With gating (and for the time-domain element) nothing depends on B while |q| <= d: if the
     # contact-free run from rest never reaches d, every run with B > d is the same run,
     # A(B) = A(open) < B: no contact root.
@@ -120,7 +143,7 @@ def run_fixed_point(task: FixedPointTask) -> dict:
     if int(p["frictionModel"]) == 3 and not skip:
         r = A(max(2.0 * d, 1e-9))  # the element needs no B: A(B) is one constant
         if r["A"] > d:
-            roots.append({"B": r["A"], "kind": "contact", "reached": r["reached"], "slope": 0.0})
+            roots.append(FixedPointRoot(r["A"], "contact", r["reached"], 0.0))
         skip = True
     B_lo = d * (1 + 1e-6) if d > 0 else B_max * 1e-4
     if not skip and B_max > B_lo:
@@ -129,7 +152,7 @@ def run_fixed_point(task: FixedPointTask) -> dict:
         for i in range(len(grid) - 1):
             ga, gb = g[i]["A"] - grid[i], g[i + 1]["A"] - grid[i + 1]
             if ga == 0.0:
-                roots.append({"B": float(grid[i]), "kind": "contact", "reached": g[i]["reached"], "slope": math.nan})
+                roots.append(FixedPointRoot(float(grid[i]), "contact", g[i]["reached"], math.nan))
             if ga * gb >= 0:
                 continue
             seen: list[dict] = []
@@ -148,12 +171,12 @@ def run_fixed_point(task: FixedPointTask) -> dict:
             except (RuntimeError, ValueError):
                 B, ok, kind = 0.5 * (grid[i] + grid[i + 1]), False, "jump"
             slope = ((g[i + 1]["A"] - g[i]["A"]) / (grid[i + 1] - grid[i]))
-            roots.append({"B": float(B), "kind": kind, "reached": bool(ok), "slope": float(slope)})
-    return {"speed": float(sp), "roots": roots, "n_evals": len(evals),
-            "all_reached": all(r["reached"] for r in evals), "B_max": float(B_max)}
+            roots.append(FixedPointRoot(float(B), kind, bool(ok), float(slope)))
+    return FixedPointResult(float(sp), roots, len(evals), all(r["reached"] for r in evals), float(B_max))
 
 
-def fixed_refinement(specs: Sequence[SweepSpec], fixed: list, fixed_out: list, level: int) -> list:
+def fixed_refinement(specs: Sequence[SweepSpec], fixed: list[tuple[int, FixedPointTask]],
+                     fixed_out: list[FixedPointResult], level: int) -> list[tuple[int, FixedPointTask]]:
     """Bisect the speed intervals next to each curve's largest fixed point where the largest root
     changes by more than refine_tol of it (the narrow low-kn peak falls between coarse speeds)."""
     extra = []
@@ -161,7 +184,7 @@ def fixed_refinement(specs: Sequence[SweepSpec], fixed: list, fixed_out: list, l
         s = sp.settings
         if level >= s.refine_levels:
             continue
-        pts = sorted((o["speed"], max([r["B"] for r in o["roots"] if r["kind"] != "jump"], default=0.0))
+        pts = sorted((o.speed, max([r.B for r in o.roots if r.kind != "jump"], default=0.0))
                      for (j, _), o in zip(fixed, fixed_out) if j == i)
         if len(pts) < 2:
             continue

@@ -35,13 +35,25 @@ class BranchSettings:
     search: SearchSettings = field(default_factory=SearchSettings)
 
 
+@dataclass(frozen=True)
+class TraceStats:
+    """What tracing the branches of one model cost."""
+
+    evaluations: int  # period-map evaluations (periods simulated)
+    seeds: int  # orbits found at the seed speeds
+    simulated_s: float  # [s] blade time simulated
+    fmi_s: float  # [s] wall time in the FMI calls of the evaluations
+    wall: float = math.nan  # [s] wall time of the whole curve in its worker (set by trace_curve)
+
+
 def seed_speeds(lo: float, hi: float, step: float) -> list[float]:
     n = max(1, int(math.ceil((hi - lo) / step)))
     return list(np.linspace(lo, hi, n + 1))
 
 
 def trace_branches(fmu: BladeFMU, params: Mapping[str, Any] | None, model: str, speed_range: tuple[float, float],
-                   s: BranchSettings = BranchSettings(), pm: PeriodMap | None = None) -> tuple[list[Branch], dict]:
+                   s: BranchSettings = BranchSettings(),
+                   pm: PeriodMap | None = None) -> tuple[list[Branch], TraceStats]:
     """(branches, statistics) of `model` over speed_range [rpm] (with the period map pm, if given:
     its evaluations count there)."""
     lo, hi = (float(v) for v in speed_range)
@@ -58,8 +70,7 @@ def trace_branches(fmu: BladeFMU, params: Mapping[str, Any] | None, model: str, 
             if any(b.contains(n, sol.amplitude) for b in branches):
                 continue
             branches.append(continue_branch(pm, sol.x, n, (lo, hi), s.continuation))
-    return branches, {"evaluations": pm.evaluations, "seeds": seeds, "simulated_s": pm.simulated,
-                      "fmi_s": pm.fmi_seconds}
+    return branches, TraceStats(pm.evaluations, seeds, pm.simulated, pm.fmi_seconds)
 
 
 WINDOW = 1.25  # orbits_at traces the branches over [speed / WINDOW, speed * WINDOW]

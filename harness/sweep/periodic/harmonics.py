@@ -101,15 +101,24 @@ def branch_harmonics(fmu: Any, params: Mapping[str, Any], model: str, branches: 
     return rows
 
 
-def summarize(rows: Sequence[HarmonicRow]) -> dict[str, Any]:
+@dataclass(frozen=True)
+class HarmonicRange:
+    """One model's orbits against the harmonic balance: how many, and the range of each ratio."""
+
+    orbits: int  # contact orbits with an HB root to compare with
+    higher_rel: tuple[float, float]  # (min, max) of h / max|q|
+    hb_vs_a1: tuple[float, float]  # (min, max) of (HB - a1) / a1
+    hb_vs_amplitude: tuple[float, float]  # (min, max) of (HB - max|q|) / max|q|
+
+
+def summarize(rows: Sequence[HarmonicRow]) -> dict[str, HarmonicRange]:
     """Per model: the range of h / max|q| and of (HB - a1) / a1 and (HB - max|q|) / max|q|."""
-    out: dict[str, Any] = {}
+    out: dict[str, HarmonicRange] = {}
     for model in sorted({r.model for r in rows}):
         rs = [r for r in rows if r.model == model and math.isfinite(r.hb)]
         if not rs:
             continue
-        out[model] = {"orbits": len(rs),
-                      "higher_rel": [min(r.higher_rel for r in rs), max(r.higher_rel for r in rs)],
-                      "hb_vs_a1": [min(r.hb_vs_a1 for r in rs), max(r.hb_vs_a1 for r in rs)],
-                      "hb_vs_amplitude": [min(r.hb_vs_amplitude for r in rs), max(r.hb_vs_amplitude for r in rs)]}
+        out[model] = HarmonicRange(len(rs), (min(r.higher_rel for r in rs), max(r.higher_rel for r in rs)),
+                                   (min(r.hb_vs_a1 for r in rs), max(r.hb_vs_a1 for r in rs)),
+                                   (min(r.hb_vs_amplitude for r in rs), max(r.hb_vs_amplitude for r in rs)))
     return out

@@ -4,17 +4,17 @@ A curve is every branch of one model (fixedPoint: the paper's B = A(B), i.e. the
 model's periodic solutions with their stability; jenkins: the time-domain Jenkins element; coulomb:
 the Coulomb describing function's fixed point) over the speed range, traced by
 harness.sweep.periodic.branches in one worker with one FMU instance. `trace_curve` is the picklable task
-harness.paper.studies maps over a Runner; `curve_summary` turns a curve into the numbers the claims table
-and the study CSVs use.
+harness.paper.studies maps over a Runner; `curve_summary` turns a curve into a CurveSummary, the numbers
+the study rows (and through them the claims table and the study CSVs) use.
 """
 from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Mapping
 
-from harness.sweep.periodic.branches import BranchSettings
+from harness.sweep.periodic.branches import BranchSettings, TraceStats
 from harness.sweep.periodic.continuation import Branch
 
 
@@ -33,7 +33,7 @@ class CurveTask:
 class Curve:
     task: CurveTask
     branches: list[Branch]
-    stats: dict
+    stats: TraceStats
 
 
 def trace_curve(task: CurveTask) -> Curve:
@@ -43,8 +43,7 @@ def trace_curve(task: CurveTask) -> Curve:
     t0 = time.perf_counter()
     with BladeFMU(task.fmu_path) as fmu:
         branches, stats = trace_branches(fmu, dict(task.params), task.model, task.speed_range, task.settings)
-    stats["wall"] = time.perf_counter() - t0
-    return Curve(task, branches, stats)
+    return Curve(task, branches, replace(stats, wall=time.perf_counter() - t0))
 
 
 def peak(branches: list[Branch], stable_only: bool = True,
@@ -93,10 +92,24 @@ def unstable_ranges(branches: list[Branch], d: float) -> list[tuple[float, float
     return out
 
 
-def curve_summary(curve: Curve) -> dict[str, Any]:
+@dataclass(frozen=True)
+class CurveSummary:
+    """The numbers of one curve (one model at one study value) inside its speed range."""
+
+    peak: float  # [m] largest max|q| of a stable orbit (nan: none)
+    speed: float  # [rpm] its speed
+    peak_any: float  # [m] largest max|q| of any orbit, stable or not
+    speed_any: float  # [rpm] its speed
+    jump: float  # [rpm] where the stable part holding the peak ends in a fold (nan: it does not)
+    branches: int  # branches traced
+    points: int  # orbits on them
+    unstable_contact: list[tuple[float, float, str]]  # (low [rpm], high [rpm], kind) of unstable contact stretches
+    stats: TraceStats  # what tracing the curve cost
+
+
+def curve_summary(curve: Curve) -> CurveSummary:
     d, rng = float(curve.task.params["d"]), curve.task.speed_range
     a, n = peak(curve.branches, speed_range=rng)
     a_any, n_any = peak(curve.branches, stable_only=False, speed_range=rng)
-    return {"peak": a, "speed": n, "peak_any": a_any, "speed_any": n_any, "jump": jump_speed(curve.branches, a),
-            "branches": len(curve.branches), "points": sum(len(b.points) for b in curve.branches),
-            "unstable_contact": unstable_ranges(curve.branches, d), **curve.stats}
+    return CurveSummary(a, n, a_any, n_any, jump_speed(curve.branches, a), len(curve.branches),
+                        sum(len(b.points) for b in curve.branches), unstable_ranges(curve.branches, d), curve.stats)
