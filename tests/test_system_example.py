@@ -7,7 +7,9 @@ Checks, each against something computed independently of the code under test:
   Jacobi scheme, same t_k and h_k, so identical up to 1e-12 relative);
 - each blade in the system equals a standalone run of the same FMU fed the same held inputs (1e-12);
 - the parameters reached the instances: the natural frequency at t = 0 matches the Galerkin
-  reference (harness.reference.galerkin, quadrature; 1e-8 relative) for both parameter sets.
+  reference (harness.reference.galerkin, quadrature; 1e-8 relative) for both parameter sets;
+- the excitation's travelling wave: blade i of N gets the load 2 pi EO i / N ahead (closed form,
+  1e-11 of F_w0), and a blade index off the disk is refused with a message naming the range.
 """
 from __future__ import annotations
 
@@ -87,3 +89,34 @@ def test_mistuned_blade_responds_differently(runs):
     tb = np.max(np.abs(a["mistuned.tipDisplacement"]))
     assert ta > 0 and tb > 0 and abs(ta - tb) > 1e-3 * ta
 
+
+
+@pytest.mark.parametrize("index,count", [(0, 1), (3, 7), (35, 36)])
+def test_excitation_travelling_wave_phase(index, count):
+    """Blade `index` of `count` sees the engine-fixed load 2 pi EO index / count earlier: aeroLoad
+    equals Fw0 sin(psi_e(t) + 2 pi EO index / count) from harness.model.excitation's phase (1e-11
+    of F_w0); blade 0 of 1 is the single-blade load."""
+    from fmpy import simulate_fmu
+
+    from harness.model.excitation import Constant
+
+    r = simulate_fmu(str(se.build_excitation_fmu()), stop_time=0.01, output_interval=1e-4, output=["aeroLoad"],
+                     start_values={"bladeIndex": index, "bladeCount": count, "n0": 6000.0, "n1": 6000.0})
+    load = AeroLoad(100.0, 3, Constant(6000.0))
+    expected = 100.0 * np.sin(load.phase(r["time"]) + 2 * math.pi * 3 * index / count)
+    assert np.max(np.abs(r["aeroLoad"] - expected)) <= 1e-11 * 100.0
+
+
+def test_excitation_blade_off_the_disk_is_refused():
+    from fmpy import simulate_fmu
+    from fmpy.fmi1 import FMICallException
+
+    messages = []
+
+    def logger(env, name, status, category, message):  # noqa: ANN001
+        messages.append(message.decode())
+
+    with pytest.raises(FMICallException):
+        simulate_fmu(str(se.build_excitation_fmu()), stop_time=0.01, output_interval=1e-4, logger=logger, debug_logging=True,
+                     start_values={"bladeIndex": 7, "bladeCount": 7})
+    assert any("bladeIndex = 7" in m and "[0, 6]" in m for m in messages), messages

@@ -2,8 +2,11 @@
  *
  * Outputs at the communication point t (no states, no inputs):
  *   rotorSpeed n(t) [rpm]: n0 before t0, linear to n1 at t1, n1 after (a run-up when n1 > n0);
- *   aeroLoad f_w(t) [N/m] = Fw0 sin(psi_e(t)), psi_e = engineOrder * (2 pi / 60) * int_0^t n ds
- *   (paper eq. 17 with Omega = 2 pi n / 60, phase-continuous over the ramp; closed-form integral).
+ *   aeroLoad f_w(t) [N/m] = Fw0 sin(psi_e(t) + 2 pi engineOrder bladeIndex / bladeCount),
+ *   psi_e = engineOrder * (2 pi / 60) * int_0^t n ds (paper eq. 17 with Omega = 2 pi n / 60,
+ *   phase-continuous over the ramp; closed-form integral). The second term is the travelling wave
+ *   on a disk of bladeCount blades: blade i sits 2 pi i / bladeCount ahead of blade 0 and meets the
+ *   engine-fixed pattern of engineOrder lobes that much earlier (blade 0 of 1: the paper's load).
  * The time is the layer's: the master's last communication point plus the step size. */
 #include <math.h>
 #include <stddef.h>
@@ -21,6 +24,8 @@ typedef struct {
     double t0;           /* ramp start [s] */
     double t1;           /* ramp end [s] */
     int32_t engineOrder; /* excitation order [-] */
+    int32_t bladeIndex;  /* this blade's place on the disk, 0..bladeCount-1 [-] */
+    int32_t bladeCount;  /* blades on the disk [-] */
 } ExcitationData;
 
 typedef struct {
@@ -40,6 +45,8 @@ static const VarInfo VARS[] = {
     {4, "t0", VarReal, CausParameter, "s", 0.0, -INF, INF, 0, 0, AT(t0), -1},
     {5, "t1", VarReal, CausParameter, "s", 1.0, -INF, INF, 0, 0, AT(t1), -1},
     {6, "engineOrder", VarInteger, CausParameter, "", 3, 1, 100, 0, 0, AT(engineOrder), -1},
+    {7, "bladeIndex", VarInteger, CausParameter, "", 0, 0, 9999, 0, 0, AT(bladeIndex), -1},
+    {8, "bladeCount", VarInteger, CausParameter, "", 1, 1, 10000, 0, 0, AT(bladeCount), -1},
     {10, "aeroLoad", VarReal, CausOutput, "N/m", 0.0, -INF, INF, 0, 0, VAR_NO_OFFSET, OutAeroLoad},
     {11, "rotorSpeed", VarReal, CausOutput, "rpm", 0.0, -INF, INF, 0, 0, VAR_NO_OFFSET, OutRotorSpeed},
 };
@@ -70,17 +77,24 @@ static double speedIntegral(const ExcitationData *e, double t)
 /* f_w(t) [N/m], eq. 17 */
 static double aeroLoadAt(const ExcitationData *e, double t)
 {
-    const double psi = (double)e->engineOrder * (2.0 * 3.14159265358979323846 / 60.0) * speedIntegral(e, t);
-    return e->fw0 * sin(psi);
+    const double twoPi = 2.0 * 3.14159265358979323846;
+    const double psi = (double)e->engineOrder * (twoPi / 60.0) * speedIntegral(e, t);
+    const double lead = twoPi * (double)e->engineOrder * (double)e->bladeIndex / (double)e->bladeCount;
+    return e->fw0 * sin(psi + lead); /* lead = 0 for blade 0: exactly the single-blade load */
 }
 
-/* The ramp needs t1 > t0 (the table checks the single values). */
+/* The ramp needs t1 > t0 and the blade must be on the disk (the table checks the single values). */
 static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
 {
     const ExcitationData *e = (const ExcitationData *)inst->data;
     (void)initState;
     if (!(e->t1 > e->t0)) {
         fmiLogStatus(inst, FmiError, "%s: the ramp needs t1 > t0, here t0 = %g s, t1 = %g s", fn, e->t0, e->t1);
+        return FmiError;
+    }
+    if (e->bladeIndex >= e->bladeCount) {
+        fmiLogStatus(inst, FmiError, "%s: bladeIndex = %d must be in [0, bladeCount - 1] = [0, %d]", fn,
+                     (int)e->bladeIndex, (int)e->bladeCount - 1);
         return FmiError;
     }
     return FmiOK;
