@@ -90,8 +90,9 @@ static void eventIndicators(const FmiInstance *inst, double z[])
     for (int i = 0; i < n; ++i) z[slotOf(sv[i].kind)] = sv[i].g;
 }
 
-/* The event iteration (model-notes s.6): a switching function triggers when it is negative and
- * decreasing; the first in priority order is applied, then the list is evaluated again. A
+/* The event iteration (model-notes s.6): a switching function triggers when it is <= 0 and
+ * decreasing (an integrator's root finder may stop exactly on 0, e.g. psi = 2 pi k); the first in
+ * priority order is applied, then the list is evaluated again. A
  * function that a switch has just made active may start a rounding error below 0 with a slope
  * away from 0 (e.g. the slip functions at a slip -> stick switch): it does not trigger, as in the
  * co-simulation integrator, which clamps such a start to 0. */
@@ -106,7 +107,7 @@ static FmiStatus eventUpdate(FmiInstance *inst, const char *fn, int *statesChang
         DynSwitch ev = DynSwitchNone;
         DynEventKind kind = DynEventGateOn;
         for (int i = 0; i < n && ev == DynSwitchNone; ++i)
-            if (sv[i].g < 0.0 && sv[i].hdg < 0.0) ev = sv[i].kind;
+            if (sv[i].g <= 0.0 && sv[i].hdg < 0.0) ev = sv[i].kind;
         if (ev == DynSwitchNone) break;
         if (++events > SOLVER_MAX_EVENTS_PER_STEP) {
             fmiLogStatus(inst, FmiError, "%s: more than %d switching events at t = %.17g s (chattering)", fn,
