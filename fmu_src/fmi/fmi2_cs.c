@@ -83,13 +83,14 @@ static FmiInstance *enter(fmi2Component c, const char *fn, int mask) { return en
 /* enter() for a co-simulation function: refused for a model-exchange instance. */
 static FmiInstance *enterCS(fmi2Component c, const char *fn, int mask)
 {
-    FmiInstance *inst = enter(c, fn, mask);
-    if (inst != NULL && inst->modelExchange) {
+    FmiInstance *inst = (FmiInstance *)c;
+    if (inst != NULL && inst->magic == FMI_INSTANCE_MAGIC && inst->modelExchange) {
+        fmiLog(inst, FmiOK, LogCalls, "%s (state: %s)", fn, fsmStateName(inst->fsm));
         fmiLogStatus(inst, FmiError, "%s: not available: the instance was instantiated for model exchange "
                      "(fmuType = fmi2ModelExchange)", fn);
         return NULL;
     }
-    return inst;
+    return enter(c, fn, mask);
 }
 
 /* enter() for a function with a required pointer argument: ok = 0 logs "<fn>: <what> is NULL". */
@@ -106,13 +107,10 @@ static FmiInstance *enterNonNull(fmi2Component c, const char *fn, int mask, int 
 /* enterNonNull() for fmi2Get*Status (co-simulation only). */
 static FmiInstance *enterStatus(fmi2Component c, const char *fn, int ok)
 {
-    FmiInstance *inst = enterNonNull(c, fn, MASK_GetStatus, ok, "value");
-    if (inst != NULL && inst->modelExchange) {
-        fmiLogStatus(inst, FmiError, "%s: not available: the instance was instantiated for model exchange "
-                     "(fmuType = fmi2ModelExchange)", fn);
-        return NULL;
-    }
-    return inst;
+    FmiInstance *inst = (FmiInstance *)c;
+    if (inst != NULL && inst->magic == FMI_INSTANCE_MAGIC && inst->modelExchange)
+        return enterCS(c, fn, 0); /* logs why */
+    return enterNonNull(c, fn, MASK_GetStatus, ok, "value");
 }
 
 /* enterNonNull() for the FMU state functions, refused when the model declares

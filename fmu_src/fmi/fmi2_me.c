@@ -20,13 +20,14 @@
 /* The instance behind c for a model-exchange call allowed in its state; else NULL (logged). */
 static FmiInstance *enterME(fmi2Component c, const char *fn, int mask)
 {
-    FmiInstance *inst = fmi2FaceEnter(c, fn, mask, 1);
-    if (inst != NULL && !inst->modelExchange) {
+    FmiInstance *inst = (FmiInstance *)c;
+    if (inst != NULL && inst->magic == FMI_INSTANCE_MAGIC && !inst->modelExchange) {
+        fmiLog(inst, FmiOK, LogCalls, "%s (state: %s)", fn, fsmStateName(inst->fsm));
         fmiLogStatus(inst, FmiError, "%s: not available: the instance was instantiated for co-simulation "
                      "(fmuType = fmi2CoSimulation)", fn);
         return NULL;
     }
-    return inst;
+    return fmi2FaceEnter(c, fn, mask, 1);
 }
 
 /* enterME() for a function with an array of n elements: the array must not be NULL and n must be

@@ -82,32 +82,53 @@ static int switching(const BladeData *d, DynSwitchValue sv[DYN_MAX_SWITCHING])
     return dynSwitching(&d->model, &d->state, 1.0, x, f, sv);
 }
 
-static void eventIndicators(const FmiInstance *inst, double z[])
+/* Kinds as bits (DynSwitch values are < 32). */
+#define BIT(k) (1u << (unsigned)(k))
+
+/* Switching functions seen > 0 leave the set of fresh ones (see eventUpdate). */
+static void unfresh(FmiInstance *inst, const DynSwitchValue sv[], int n)
+{
+    BladeMemory *mem = BLADE_MEMORY(inst);
+    for (int i = 0; i < n; ++i)
+        if (sv[i].g > 0.0) mem->meFresh &= ~BIT(sv[i].kind);
+}
+
+static void eventIndicators(FmiInstance *inst, double z[])
 {
     DynSwitchValue sv[DYN_MAX_SWITCHING];
     const int n = switching(BLADE_DATA(inst), sv);
     for (int i = 0; i < NZ; ++i) z[i] = 1.0;
     for (int i = 0; i < n; ++i) z[slotOf(sv[i].kind)] = sv[i].g;
+    unfresh(inst, sv, n);
 }
 
-/* The event iteration (model-notes s.6): a switching function triggers when it is <= 0 and
- * decreasing (an integrator's root finder may stop exactly on 0, e.g. psi = 2 pi k); the first in
- * priority order is applied, then the list is evaluated again. A
- * function that a switch has just made active may start a rounding error below 0 with a slope
- * away from 0 (e.g. the slip functions at a slip -> stick switch): it does not trigger, as in the
- * co-simulation integrator, which clamps such a start to 0. */
+/* The event iteration (model-notes s.6), the first triggered function in priority order applied,
+ * then the list evaluated again. A function triggers when it is < 0, or when it is 0 and
+ * decreasing (a root finder may stop exactly on 0, e.g. psi = 2 pi k). A fresh function (made
+ * active or redefined by a switch and not seen > 0 since) triggers only when it is <= 0 and
+ * decreasing: right after a switch it may start a rounding error below 0 with a slope away from 0
+ * (e.g. the slip functions at a slip -> stick switch), which must not switch back; the
+ * co-simulation integrator likewise clamps such a start to 0. */
 static FmiStatus eventUpdate(FmiInstance *inst, const char *fn, int *statesChanged)
 {
     BladeData *d = BLADE_DATA(inst);
+    BladeMemory *mem = BLADE_MEMORY(inst);
     int events = 0;
     *statesChanged = 0;
     for (;;) {
-        DynSwitchValue sv[DYN_MAX_SWITCHING];
+        DynSwitchValue sv[DYN_MAX_SWITCHING], after[DYN_MAX_SWITCHING];
         const int n = switching(d, sv);
         DynSwitch ev = DynSwitchNone;
         DynEventKind kind = DynEventGateOn;
-        for (int i = 0; i < n && ev == DynSwitchNone; ++i)
-            if (sv[i].g <= 0.0 && sv[i].hdg < 0.0) ev = sv[i].kind;
+        unsigned before = 0;
+        int na;
+        unfresh(inst, sv, n);
+        for (int i = 0; i < n; ++i) {
+            const int fresh = (mem->meFresh & BIT(sv[i].kind)) != 0;
+            before |= BIT(sv[i].kind);
+            if (ev == DynSwitchNone && sv[i].g <= 0.0 && (sv[i].hdg < 0.0 || (sv[i].g < 0.0 && !fresh)))
+                ev = sv[i].kind;
+        }
         if (ev == DynSwitchNone) break;
         if (++events > SOLVER_MAX_EVENTS_PER_STEP) {
             fmiLogStatus(inst, FmiError, "%s: more than %d switching events at t = %.17g s (chattering)", fn,
@@ -121,6 +142,11 @@ static FmiStatus eventUpdate(FmiInstance *inst, const char *fn, int *statesChang
         }
         *statesChanged = 1;
         if (fmiLogEnabled(inst, LogEvents)) bladeEventHook(inst, kind, inst->run.time, &d->state);
+        /* fresh: the functions the switch made active, and the switched one (redefined) */
+        mem->meFresh |= BIT(ev);
+        na = switching(d, after);
+        for (int i = 0; i < na; ++i)
+            if (!(before & BIT(after[i].kind))) mem->meFresh |= BIT(after[i].kind);
     }
     return bladeWarnFullStickOnce(inst, fn);
 }
