@@ -234,12 +234,19 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
 static void outputs(FmiInstance *inst)
 {
     const BladeData *d = BLADE_DATA(inst);
-    BladeMemory *mem = BLADE_MEMORY(inst);
+    dynOutputs(&d->model, &d->state, d->in[SOLVER_INPUT_SPEED][0], &BLADE_MEMORY(inst)->out);
+}
+
+/* dx_i/dt, the der(...) variables, evaluated only when asked for (at omega = 0 with a
+ * describing-function contact, C_eq is taken as 0) */
+static double derivative(const FmiInstance *inst, int i)
+{
+    const BladeData *d = BLADE_DATA(inst);
     const DynState *s = &d->state;
     const double x[DYN_NX] = {s->q, s->v, s->psi, s->E, s->w};
-    dynOutputs(&d->model, s, d->in[SOLVER_INPUT_SPEED][0], &mem->out);
-    /* the der(...) variables (at omega = 0 with a describing-function contact: C_eq taken as 0) */
-    (void)dynRhs(&d->model, s, d->in[SOLVER_INPUT_AERO][0], d->in[SOLVER_INPUT_SPEED][0], x, mem->dx);
+    double f[DYN_NX];
+    (void)dynRhs(&d->model, s, d->in[SOLVER_INPUT_AERO][0], d->in[SOLVER_INPUT_SPEED][0], x, f);
+    return f[i];
 }
 
 static double output(const FmiInstance *inst, int id)
@@ -264,7 +271,7 @@ static double output(const FmiInstance *inst, int id)
     case OutW: return s->w;
     default: break;
     }
-    if (id >= OutDer0 && id < OutDer0 + DYN_NX) return BLADE_MEMORY(inst)->dx[id - OutDer0];
+    if (id >= OutDer0 && id < OutDer0 + DYN_NX) return derivative(inst, id - OutDer0);
     return 0.0;
 }
 

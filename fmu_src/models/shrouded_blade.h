@@ -46,7 +46,6 @@ typedef struct {
     BladeParams bladeCacheParams;
     BladeReduction bladeCache;
     DynOutputs out;              /* outputs of the current get call */
-    double dx[DYN_NX];           /* state derivatives of the current get call (der(...) variables) */
     uint32_t meFresh;            /* model exchange: switching functions not seen > 0 since a switch
                                     made them active (bits 1 << DynSwitch; shrouded_blade_me.c) */
 } BladeMemory;
