@@ -234,3 +234,39 @@ def test_invalid_me_calls(lib) -> None:
     finally:
         cs.free()
     assert VR["der(sliderPosition)"] == 84
+
+
+def test_me_fmu_state(lib) -> None:
+    """FMU state copies of a model-exchange instance: the continuous and discrete state come back;
+    an in-memory copy restores its mode, a deserialized one comes back in continuous-time mode."""
+    me = Me(lib)
+    inst = _started(lib, tipDisplacement=1.5e-4)
+    try:
+        info = EventInfo()
+        st, in_event = inst.get_state()
+        assert st == OK
+        assert me.new_discrete(inst.c, ctypes.byref(info)) == OK and me.enter_ct(inst.c) == OK
+        x0 = _arr(NX)
+        assert me.get_x(inst.c, x0, NX) == OK
+        st, h = inst.get_state()
+        st2, blob = inst.serialize(h)
+        assert st == OK and st2 == OK
+        x1 = _arr(NX)
+        x1[0], x1[1] = 2e-5, -1.0  # across the gate: the next event iteration switches it off
+        assert me.set_time(inst.c, 1e-4) == OK and me.set_x(inst.c, x1, NX) == OK
+        assert me.enter_event(inst.c) == OK and me.new_discrete(inst.c, ctypes.byref(info)) == OK
+        assert inst.get_real(["Keq"])[1][0] == 0.0
+        assert inst.set_state(h) == OK
+        x = _arr(NX)
+        assert me.get_x(inst.c, x, NX) == OK and list(x) == list(x0)
+        assert inst.get_real(["Keq"])[1][0] > 0.0  # the gate is on again
+        assert me.set_x(inst.c, x, NX) == OK  # continuous-time mode, as when the copy was taken
+        st, h2 = inst.deserialize(blob)
+        assert st == OK and inst.set_state(h2) == OK
+        assert me.set_x(inst.c, x, NX) == OK  # a deserialized state: continuous-time mode
+        assert inst.set_state(in_event) == OK  # event mode again
+        assert me.new_discrete(inst.c, ctypes.byref(info)) == OK
+        for handle in (in_event, h, h2):
+            assert inst.free_state(handle) == OK
+    finally:
+        inst.free()
