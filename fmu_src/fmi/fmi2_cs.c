@@ -77,8 +77,7 @@ FmiInstance *fmi2FaceEnter(fmi2Component c, const char *fn, int mask, int logCal
     return inst;
 }
 
-#define enterAs fmi2FaceEnter
-static FmiInstance *enter(fmi2Component c, const char *fn, int mask) { return enterAs(c, fn, mask, 1); }
+static FmiInstance *enter(fmi2Component c, const char *fn, int mask) { return fmi2FaceEnter(c, fn, mask, 1); }
 
 /* enter() for a co-simulation function: refused for a model-exchange instance. */
 static FmiInstance *enterCS(fmi2Component c, const char *fn, int mask)
@@ -159,7 +158,7 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
                                const fmi2String categories[])
 {
     const char *fn = "fmi2SetDebugLogging";
-    FmiInstance *inst = enterAs(c, fn, MASK_SetDebugLogging, 0); /* logs the call after the change */
+    FmiInstance *inst = fmi2FaceEnter(c, fn, MASK_SetDebugLogging, 0); /* logs the call after the change */
     if (inst == NULL) return fmi2Error;
     /* FMI 2.0 s.2.1.5: nCategories = 0 switches all categories; with loggingOn = fmi2True and a
      * list, only the listed categories are output; with fmi2False the listed ones are switched off */
