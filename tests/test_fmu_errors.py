@@ -774,14 +774,15 @@ def unsupported_cases() -> list[Case]:
 
 
 def model_exchange_cases() -> list[Case]:
-    """Model-exchange functions of a co-simulation-only FMU: not exported, or refused."""
+    """Model-exchange functions called on a co-simulation instance: refused (not exported by an
+    FMU without <ModelExchange>)."""
     def make(name: str) -> Case:
         def run(lib: Fmi2Library) -> Outcome:
             if name not in lib.me_exported:
                 return Outcome(NOT_EXPORTED, name, [])
             with _ready(lib) as c:
                 return Outcome(getattr(lib, name)(c.c), name, list(c.log))
-        return Case("unsupported", f"{name} (model-exchange function, co-simulation FMU)", run)
+        return Case("unsupported", f"{name} (model-exchange function, co-simulation instance)", run)
     return [make(n) for n in ("fmi2EnterEventMode", "fmi2EnterContinuousTimeMode")]
 
 
@@ -812,7 +813,9 @@ def instantiate_cases() -> list[Case]:
         _inst_case("wrong GUID", guid="{00000000-0000-0000-0000-000000000000}", needle="GUID"),
         _inst_case("GUID = NULL", guid=None),
         _inst_case("GUID = '' (empty)", guid=""),
-        _inst_case("fmuType = fmi2ModelExchange", fmu_type=F.MODEL_EXCHANGE),
+        # accepted (the FMU carries <ModelExchange>); the co-simulation steps are refused
+        _inst_case("fmuType = fmi2ModelExchange, then co-simulation steps", fmu_type=F.MODEL_EXCHANGE,
+                   needle="instantiated for model exchange"),
         _inst_case("fmuType = 7", fmu_type=7),
         _inst_case("instanceName = '' (empty)", name=""),
         _inst_case("instanceName = NULL", name=None),

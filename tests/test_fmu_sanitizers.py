@@ -86,6 +86,14 @@ def test_python_error_and_state_suites_under_asan(asan_build: tuple[Path, Path])
     check_no_memory_errors(proc, "errors/state/threads suites under ASan")
 
 
+def test_model_exchange_under_asan(asan_build: tuple[Path, Path]) -> None:
+    """The raw model-exchange calls of tests/test_fmi2_me.py (sequence, events, invalid calls, FMU
+    states) on the sanitizer build."""
+    binary, _ = asan_build
+    proc = run_python_suite(binary, ["tests/test_fmi2_me.py", "-k", "me_sequence or invalid_me or me_fmu_state"])
+    check_no_memory_errors(proc, "model exchange under ASan")
+
+
 def test_fuzz_under_asan(asan_build: tuple[Path, Path]) -> None:
     binary, _ = asan_build
     proc = run_python_suite(binary, ["tests/test_fmu_fuzz.py", "-k", "not long"],

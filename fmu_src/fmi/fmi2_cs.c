@@ -1,12 +1,14 @@
-/* The FMI 2.0 co-simulation face: the fmi2* entry points over the generic layer. Here and only
- * here fmi2 types meet the neutral ones: call-sequence state machine (one allowed-states mask per
- * function, from the co-simulation state table of the FMI 2.0 standard, section 4.2.4), pointer
- * and argument checks, type conversion, the logger callback. Every FMI 2.0 function is exported;
- * the model-exchange ones log and return fmi2Error. The model is the one linked in (fmiModel). */
+/* The FMI 2.0 face: the common and co-simulation fmi2* entry points over the generic layer (the
+ * model-exchange ones are in fmi2_me.c). Here and in fmi2_me.c only, fmi2 types meet the neutral
+ * ones: call-sequence state machine (one allowed-states mask per function, from the state tables
+ * of the FMI 2.0 standard, sections 3.2.3 and 4.2.4), pointer and argument checks, type conversion,
+ * the logger callback. The model is the one linked in (fmiModel); an instance is for model
+ * exchange only if the model has FmiModel.me. */
 #include <stdlib.h>
 #include <string.h>
 
 #include "fmi2Functions.h"
+#include "fmi/fmi2_face.h"
 #include "fmi/instance.h"
 #include "fmi/log.h"
 #include "fmi/state_blob.h"
@@ -37,19 +39,21 @@ static void fmi2Sink(void *ctx, const char *instanceName, FmiStatus status, cons
 static const FmiFace FMI2_FACE = {"fmi2ExitInitializationMode", "fmi2SerializedFMUstateSize",
                                   {"Real", "Integer", "Boolean"}, fsmStateName};
 
-/* Allowed states per function. The error state additionally allows fmi2GetStatus and friends. */
+/* Allowed states per function (co-simulation and model-exchange states: an instance reaches only
+ * those of its kind). The error state additionally allows fmi2GetStatus and friends. */
+#define ME_STATES (FsmEventMode | FsmContinuousTimeMode)
 #define ALL_BUT_START (FsmInstantiated | FsmInitializationMode | FsmStepComplete | FsmStepInProgress | \
-                       FsmStepFailed | FsmStepCanceled | FsmTerminated | FsmError)
+                       FsmStepFailed | FsmStepCanceled | FsmTerminated | FsmError | ME_STATES)
 #define MASK_SetDebugLogging ALL_BUT_START
 #define MASK_SetupExperiment FsmInstantiated
 #define MASK_EnterInitializationMode FsmInstantiated
 #define MASK_ExitInitializationMode FsmInitializationMode
-#define MASK_Terminate (FsmStepComplete | FsmStepFailed)
+#define MASK_Terminate (FsmStepComplete | FsmStepFailed | ME_STATES)
 #define MASK_Reset (FsmInstantiated | FsmInitializationMode | FsmStepComplete | FsmStepFailed | \
-                    FsmStepCanceled | FsmTerminated | FsmError)
+                    FsmStepCanceled | FsmTerminated | FsmError | ME_STATES)
 #define MASK_Get (FsmInitializationMode | FsmStepComplete | FsmStepFailed | FsmStepCanceled | \
-                  FsmTerminated | FsmError)
-#define MASK_Set (FsmInstantiated | FsmInitializationMode | FsmStepComplete)
+                  FsmTerminated | FsmError | ME_STATES)
+#define MASK_Set (FsmInstantiated | FsmInitializationMode | FsmStepComplete | ME_STATES)
 #define MASK_FMUstate MASK_Reset
 #define MASK_GetDirectionalDerivative MASK_Get
 #define MASK_SetRealInputDerivatives (FsmInstantiated | FsmInitializationMode | FsmStepComplete)
@@ -61,7 +65,7 @@ static const FmiFace FMI2_FACE = {"fmi2ExitInitializationMode", "fmi2SerializedF
 
 /* The instance behind c, if c is one and the call is allowed in its state; else NULL (logged
  * when possible). */
-static FmiInstance *enterAs(fmi2Component c, const char *fn, int mask, int logCall)
+FmiInstance *fmi2FaceEnter(fmi2Component c, const char *fn, int mask, int logCall)
 {
     FmiInstance *inst = (FmiInstance *)c;
     if (inst == NULL || inst->magic != FMI_INSTANCE_MAGIC) return NULL;
@@ -73,7 +77,20 @@ static FmiInstance *enterAs(fmi2Component c, const char *fn, int mask, int logCa
     return inst;
 }
 
-static FmiInstance *enter(fmi2Component c, const char *fn, int mask) { return enterAs(c, fn, mask, 1); }
+static FmiInstance *enter(fmi2Component c, const char *fn, int mask) { return fmi2FaceEnter(c, fn, mask, 1); }
+
+/* enter() for a co-simulation function: refused for a model-exchange instance. */
+static FmiInstance *enterCS(fmi2Component c, const char *fn, int mask)
+{
+    FmiInstance *inst = (FmiInstance *)c;
+    if (inst != NULL && inst->magic == FMI_INSTANCE_MAGIC && inst->modelExchange) {
+        fmiLog(inst, FmiOK, LogCalls, "%s (state: %s)", fn, fsmStateName(inst->fsm));
+        fmiLogStatus(inst, FmiError, "%s: not available: the instance was instantiated for model exchange "
+                     "(fmuType = fmi2ModelExchange)", fn);
+        return NULL;
+    }
+    return enter(c, fn, mask);
+}
 
 /* enter() for a function with a required pointer argument: ok = 0 logs "<fn>: <what> is NULL". */
 static FmiInstance *enterNonNull(fmi2Component c, const char *fn, int mask, int ok, const char *what)
@@ -84,6 +101,15 @@ static FmiInstance *enterNonNull(fmi2Component c, const char *fn, int mask, int 
         return NULL;
     }
     return inst;
+}
+
+/* enterNonNull() for fmi2Get*Status (co-simulation only). */
+static FmiInstance *enterStatus(fmi2Component c, const char *fn, int ok)
+{
+    FmiInstance *inst = (FmiInstance *)c;
+    if (inst != NULL && inst->magic == FMI_INSTANCE_MAGIC && inst->modelExchange)
+        return enterCS(c, fn, 0); /* logs why */
+    return enterNonNull(c, fn, MASK_GetStatus, ok, "value");
 }
 
 /* enterNonNull() for the FMU state functions, refused when the model declares
@@ -132,7 +158,7 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
                                const fmi2String categories[])
 {
     const char *fn = "fmi2SetDebugLogging";
-    FmiInstance *inst = enterAs(c, fn, MASK_SetDebugLogging, 0); /* logs the call after the change */
+    FmiInstance *inst = fmi2FaceEnter(c, fn, MASK_SetDebugLogging, 0); /* logs the call after the change */
     if (inst == NULL) return fmi2Error;
     /* FMI 2.0 s.2.1.5: nCategories = 0 switches all categories; with loggingOn = fmi2True and a
      * list, only the listed categories are output; with fmi2False the listed ones are switched off */
@@ -158,10 +184,17 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
                            "fmi2Instantiate: instanceName must be a non-empty string");
         return NULL;
     }
-    if (fmuType != fmi2CoSimulation) {
-        if (loggingOn) log(functions->componentEnvironment, name, fmi2Error, "logStatusError",
-                           "fmi2Instantiate: fmuType = %d is not supported: %s is a co-simulation "
-                           "FMU (fmi2CoSimulation = %d)", (int)fmuType, fmiModel.name, (int)fmi2CoSimulation);
+    if (fmuType != fmi2CoSimulation && !(fmuType == fmi2ModelExchange && fmiModel.me != NULL)) {
+        if (fmiModel.me != NULL) {
+            if (loggingOn) log(functions->componentEnvironment, name, fmi2Error, "logStatusError",
+                               "fmi2Instantiate: fmuType = %d is not supported: %s is instantiated for "
+                               "fmi2ModelExchange = %d or fmi2CoSimulation = %d", (int)fmuType, fmiModel.name,
+                               (int)fmi2ModelExchange, (int)fmi2CoSimulation);
+        } else if (loggingOn) {
+            log(functions->componentEnvironment, name, fmi2Error, "logStatusError",
+                "fmi2Instantiate: fmuType = %d is not supported: %s is a co-simulation "
+                "FMU (fmi2CoSimulation = %d)", (int)fmuType, fmiModel.name, (int)fmi2CoSimulation);
+        }
         return NULL;
     }
     if (fmuGUID == NULL || strcmp(fmuGUID, fmiModel.guid) != 0) {
@@ -181,6 +214,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
                            "fmi2Instantiate: out of memory");
         return NULL;
     }
+    inst->modelExchange = fmuType == fmi2ModelExchange;
     /* resources are not used; file:///, file:/ (and file://host/) URIs and NULL are accepted */
     if (fmuResourceLocation != NULL && strncmp(fmuResourceLocation, "file:", 5) != 0)
         fmiLogStatus(inst, FmiWarning, "%s: fmuResourceLocation is not a file: URI (ignored: this FMU has "
@@ -219,7 +253,8 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c)
     fmi2Status status;
     if (inst == NULL) return fmi2Error;
     status = (fmi2Status)fmiExitInitialization(inst, "fmi2ExitInitializationMode");
-    inst->fsm = status <= fmi2Warning ? FsmStepComplete : FsmError;
+    /* model exchange (s.3.2.3): the master first completes the event iteration at the start */
+    inst->fsm = status <= fmi2Warning ? (inst->modelExchange ? FsmEventMode : FsmStepComplete) : FsmError;
     return status;
 }
 
@@ -335,8 +370,13 @@ fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate)
 {
     const char *fn = "fmi2SetFMUstate";
     FmiInstance *inst = enterState(c, fn, FMUstate != NULL, "FMUstate");
+    fmi2Status status;
     if (inst == NULL) return fmi2Error;
-    return (fmi2Status)fmiStateSet(inst, fn, FMUstate);
+    status = (fmi2Status)fmiStateSet(inst, fn, FMUstate);
+    /* a deserialized state of a running instance comes back in stepComplete: for model exchange
+     * that is continuous-time mode */
+    if (inst->modelExchange && inst->fsm == FsmStepComplete) inst->fsm = FsmContinuousTimeMode;
+    return status;
 }
 
 fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
@@ -387,78 +427,13 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReferenc
 }
 
 /* ------------------------------------------------------------------------------------------- */
-/* Model exchange: not supported                                                                */
-
-static fmi2Status notModelExchange(fmi2Component c, const char *fn)
-{
-    FmiInstance *inst = (FmiInstance *)c;
-    if (inst == NULL || inst->magic != FMI_INSTANCE_MAGIC) return fmi2Error;
-    fmiLogStatus(inst, FmiError, "%s: model exchange is not supported: %s is a co-simulation FMU", fn,
-                 fmiModel.name);
-    return fmi2Error;
-}
-
-fmi2Status fmi2EnterEventMode(fmi2Component c) { return notModelExchange(c, "fmi2EnterEventMode"); }
-
-fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *fmi2eventInfo)
-{
-    (void)fmi2eventInfo;
-    return notModelExchange(c, "fmi2NewDiscreteStates");
-}
-
-fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) { return notModelExchange(c, "fmi2EnterContinuousTimeMode"); }
-
-fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
-                                       fmi2Boolean *enterEventMode, fmi2Boolean *terminateSimulation)
-{
-    (void)noSetFMUStatePriorToCurrentPoint; (void)enterEventMode; (void)terminateSimulation;
-    return notModelExchange(c, "fmi2CompletedIntegratorStep");
-}
-
-fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time)
-{
-    (void)time;
-    return notModelExchange(c, "fmi2SetTime");
-}
-
-fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t nx)
-{
-    (void)x; (void)nx;
-    return notModelExchange(c, "fmi2SetContinuousStates");
-}
-
-fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx)
-{
-    (void)derivatives; (void)nx;
-    return notModelExchange(c, "fmi2GetDerivatives");
-}
-
-fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], size_t ni)
-{
-    (void)eventIndicators; (void)ni;
-    return notModelExchange(c, "fmi2GetEventIndicators");
-}
-
-fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx)
-{
-    (void)x; (void)nx;
-    return notModelExchange(c, "fmi2GetContinuousStates");
-}
-
-fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x_nominal[], size_t nx)
-{
-    (void)x_nominal; (void)nx;
-    return notModelExchange(c, "fmi2GetNominalsOfContinuousStates");
-}
-
-/* ------------------------------------------------------------------------------------------- */
 /* Co-simulation                                                                                */
 
 fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                        const fmi2Integer order[], const fmi2Real value[])
 {
     const char *fn = "fmi2SetRealInputDerivatives";
-    FmiInstance *inst = enter(c, fn, MASK_SetRealInputDerivatives);
+    FmiInstance *inst = enterCS(c, fn, MASK_SetRealInputDerivatives);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value) || nullArgs(inst, fn, nvr, order, order)) return fmi2Error;
     return (fmi2Status)fmiSetInputDerivatives(inst, fn, VRS(vr), nvr, (const int32_t *)order, value);
 }
@@ -467,7 +442,7 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReferenc
                                         const fmi2Integer order[], fmi2Real value[])
 {
     const char *fn = "fmi2GetRealOutputDerivatives";
-    FmiInstance *inst = enter(c, fn, MASK_GetRealOutputDerivatives);
+    FmiInstance *inst = enterCS(c, fn, MASK_GetRealOutputDerivatives);
     if (inst == NULL || nullArgs(inst, fn, nvr, vr, value) || nullArgs(inst, fn, nvr, order, order)) return fmi2Error;
     if (nvr == 0) return fmi2OK;
     fmiLogStatus(inst, FmiError, "%s: output derivatives are not provided (maxOutputDerivativeOrder = 0)", fn);
@@ -477,7 +452,7 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReferenc
 fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2Real communicationStepSize,
                       fmi2Boolean noSetFMUStatePriorToCurrentPoint)
 {
-    FmiInstance *inst = enter(c, "fmi2DoStep", MASK_DoStep);
+    FmiInstance *inst = enterCS(c, "fmi2DoStep", MASK_DoStep);
     fmi2Status status;
     (void)noSetFMUStatePriorToCurrentPoint;
     if (inst == NULL) return fmi2Error;
@@ -490,7 +465,7 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2R
 
 fmi2Status fmi2CancelStep(fmi2Component c)
 {
-    FmiInstance *inst = enter(c, "fmi2CancelStep", MASK_CancelStep);
+    FmiInstance *inst = enterCS(c, "fmi2CancelStep", MASK_CancelStep);
     if (inst == NULL) return fmi2Error;
     return fmi2Error; /* unreachable: steps are never asynchronous */
 }
@@ -498,7 +473,7 @@ fmi2Status fmi2CancelStep(fmi2Component c)
 fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *value)
 {
     const char *fn = "fmi2GetStatus";
-    FmiInstance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
+    FmiInstance *inst = enterStatus(c, fn, value != NULL);
     if (inst == NULL) return fmi2Error;
     if (s != fmi2DoStepStatus) {
         fmiLogStatus(inst, FmiDiscard, "%s: status kind %d is not available here (only fmi2DoStepStatus)", fn, (int)s);
@@ -511,7 +486,7 @@ fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *va
 fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value)
 {
     const char *fn = "fmi2GetRealStatus";
-    FmiInstance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
+    FmiInstance *inst = enterStatus(c, fn, value != NULL);
     if (inst == NULL) return fmi2Error;
     if (s != fmi2LastSuccessfulTime) {
         fmiLogStatus(inst, FmiDiscard, "%s: status kind %d is not available here (only fmi2LastSuccessfulTime)",
@@ -525,7 +500,7 @@ fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *
 fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value)
 {
     const char *fn = "fmi2GetIntegerStatus";
-    FmiInstance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
+    FmiInstance *inst = enterStatus(c, fn, value != NULL);
     if (inst == NULL) return fmi2Error;
     fmiLogStatus(inst, FmiDiscard, "%s: status kind %d is not available (FMI 2.0 defines no Integer status)", fn,
                       (int)s);
@@ -535,7 +510,7 @@ fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Int
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value)
 {
     const char *fn = "fmi2GetBooleanStatus";
-    FmiInstance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
+    FmiInstance *inst = enterStatus(c, fn, value != NULL);
     if (inst == NULL) return fmi2Error;
     if (s != fmi2Terminated) {
         fmiLogStatus(inst, FmiDiscard, "%s: status kind %d is not available here (only fmi2Terminated)", fn, (int)s);
@@ -549,7 +524,7 @@ fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boo
 fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *value)
 {
     const char *fn = "fmi2GetStringStatus";
-    FmiInstance *inst = enterNonNull(c, fn, MASK_GetStatus, value != NULL, "value");
+    FmiInstance *inst = enterStatus(c, fn, value != NULL);
     if (inst == NULL) return fmi2Error;
     *value = "";
     fmiLogStatus(inst, FmiDiscard, "%s: status kind %d is not available (steps are never asynchronous)", fn,

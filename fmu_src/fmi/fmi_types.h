@@ -13,7 +13,8 @@ typedef enum { FmiOK = 0, FmiWarning = 1, FmiDiscard = 2, FmiError = 3, FmiFatal
 typedef uint32_t FmiValueRef;
 
 typedef enum { VarReal, VarInteger, VarBoolean } VarType;
-typedef enum { CausParameter, CausInput, CausOutput } Causality;
+/* CausLocal: a calculated variable that is not an output (model exchange: states and derivatives) */
+typedef enum { CausParameter, CausInput, CausOutput, CausLocal } Causality;
 
 /* One row of a model's variable table. Values live in the model's data (the FMU state) at
  * `offset`: a double for Real, an int32_t for Integer and Boolean. An input's value is the first

@@ -14,6 +14,8 @@ const char *fsmStateName(int32_t state)
     case FsmTerminated: return "terminated";
     case FsmError: return "error";
     case FsmFatal: return "fatal";
+    case FsmEventMode: return "eventMode";
+    case FsmContinuousTimeMode: return "continuousTimeMode";
     default: return "unknown";
     }
 }

@@ -5,7 +5,8 @@
 
 #include <stdint.h>
 
-/* States of the co-simulation state machine (FMI 2.0 s.4.2.4), one bit each for allowed-state
+/* States of the co-simulation state machine (FMI 2.0 s.4.2.4) and the two model-exchange states
+ * after initialization (s.3.2.3), one bit each for allowed-state
  * masks. Not serialized: a deserialized FMU state derives it from FmiRun.initialized. */
 typedef enum {
     FsmStartEnd = 1 << 0,
@@ -17,7 +18,10 @@ typedef enum {
     FsmStepCanceled = 1 << 6,
     FsmTerminated = 1 << 7,
     FsmError = 1 << 8,
-    FsmFatal = 1 << 9
+    FsmFatal = 1 << 9,
+    /* FMI 2.0 model exchange (s.3.2.3): after initialization an instance alternates between these */
+    FsmEventMode = 1 << 10,
+    FsmContinuousTimeMode = 1 << 11
 } FsmState;
 
 const char *fsmStateName(int32_t state);

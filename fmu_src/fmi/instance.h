@@ -43,6 +43,7 @@ typedef struct FmiInstance {
     const FmiModel *model;
     const FmiFace *face;       /* names for messages (static storage of the face) */
     int32_t fsm;               /* FsmState */
+    int32_t modelExchange;     /* 1: instantiated for model exchange (the model has FmiModel.me) */
     FmiRun run;
     int32_t built;             /* the model's derived data follow its parameters */
     void *data;                /* model->dataSize bytes: the model's part of the FMU state */

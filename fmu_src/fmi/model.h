@@ -8,6 +8,22 @@
 
 struct FmiInstance;
 
+/* Model exchange (FMI 2.0 ME): what a model adds so that a master's integrator advances its
+ * continuous states. Time is inst->run.time; inputs are their current values. */
+typedef struct FmiModelExchange {
+    int nx;                    /* continuous states (numberOfContinuousStates) */
+    int nz;                    /* event indicators (numberOfEventIndicators) */
+    void (*getStates)(const struct FmiInstance *inst, double x[]);
+    void (*setStates)(struct FmiInstance *inst, const double x[]);
+    void (*nominals)(const struct FmiInstance *inst, double x[]);
+    /* dx/dt; FmiDiscard (logged) if the right-hand side is not defined at this state */
+    FmiStatus (*derivatives)(struct FmiInstance *inst, const char *fn, double dx[]);
+    void (*eventIndicators)(struct FmiInstance *inst, double z[]);
+    /* The discrete update at an event, iterated to the end; *statesChanged = 1 if the continuous
+     * states changed. FmiError (logged) if it cannot be done. */
+    FmiStatus (*eventUpdate)(struct FmiInstance *inst, const char *fn, int *statesChanged);
+} FmiModelExchange;
+
 typedef struct FmiModel {
     const char *name;          /* model name for messages */
     const char *guid;          /* must equal the modelDescription.xml guid */
@@ -39,6 +55,8 @@ typedef struct FmiModel {
     /* Checks the model-specific fields of deserialized data (1: usable); the table's variables
      * were checked already. initialized: the state evolves (else only parameters matter). */
     int (*validData)(struct FmiInstance *inst, const char *fn, const void *data, int initialized);
+    /* Model exchange; NULL: co-simulation only (fmi2Instantiate refuses fmi2ModelExchange). */
+    const FmiModelExchange *me;
 } FmiModel;
 
 /* The one model a binary is built from: defined by the one file of models/ linked in. */

@@ -104,7 +104,7 @@ FmiStatus fmiGetValues(FmiInstance *inst, const char *fn, const FmiValueRef vr[]
             a->write(values, i, 0.0);
             continue;
         }
-        if (v->causality != CausOutput) {
+        if (v->causality != CausOutput && v->causality != CausLocal) {
             a->write(values, i, storedValue(v, inst->data));
             continue;
         }
@@ -137,6 +137,11 @@ static int settable(FmiInstance *inst, const char *fn, const VarInfo *v)
                      "%s: parameter %s (vr %u) has variability fixed: it can be set only before "
                      "%s (state: %s)", fn, v->name, (unsigned)v->vr, inst->face->exitInitializationMode,
                      inst->face->stateName(inst->fsm));
+        return 0;
+    }
+    if (v->causality == CausLocal) {
+        fmiLogStatus(inst, FmiError, "%s: %s (vr %u) is a calculated variable and cannot be set", fn, v->name,
+                     (unsigned)v->vr);
         return 0;
     }
     if (v->offset >= 0 && before) return 1; /* initial="exact" output: its start value */

@@ -9,6 +9,7 @@
 #include "fmi/log.h"
 #include "models/shrouded_blade.h"
 #include "models/shrouded_blade_config.h"
+#include "physics/dynamics_step.h"
 
 /* ------------------------------------------------------------------------------------------- */
 /* Variable table (bounds as harness/params.py: open where the quantity must be strictly
@@ -16,7 +17,8 @@
 
 typedef enum {
     OutQ = 0, OutV, OutNormalForce, OutFrictionForce, OutKeq, OutCeq, OutAmplitude, OutEnergy,
-    OutFrequency, OutJenkinsForce, OutRegime, OutContactState, OutRunningMaximum
+    OutFrequency, OutJenkinsForce, OutRegime, OutContactState, OutRunningMaximum,
+    OutPsi, OutW, OutDer0 /* OutDer0 + i: dx_i/dt */
 } OutputId;
 
 #define INF HUGE_VAL
@@ -65,6 +67,18 @@ static const VarInfo VARS[] = {
     {vr_contactState, "contactState", VarInteger, CausOutput, "", 0, -INF, INF, 0, 0, NONE, OutContactState},
     {vr_runningMaximum, "runningMaximum", VarReal, CausOutput, "m", 0.0, 0.0, INF, 0, 0, PAR(ParWindowMax0),
      OutRunningMaximum},
+    /* model exchange (also readable in co-simulation): the states psi and w, the derivatives */
+    {vr_excitationPhase, "excitationPhase", VarReal, CausLocal, "rad", 0.0, -INF, INF, 0, 0, NONE, OutPsi},
+    {vr_sliderPosition, "sliderPosition", VarReal, CausLocal, "m", 0.0, -INF, INF, 0, 0, NONE, OutW},
+    {vr_der_tipDisplacement, "der(tipDisplacement)", VarReal, CausLocal, "m/s", 0.0, -INF, INF, 0, 0, NONE,
+     OutDer0 + 0},
+    {vr_der_tipVelocity, "der(tipVelocity)", VarReal, CausLocal, "m/s2", 0.0, -INF, INF, 0, 0, NONE, OutDer0 + 1},
+    {vr_der_excitationPhase, "der(excitationPhase)", VarReal, CausLocal, "rad/s", 0.0, -INF, INF, 0, 0, NONE,
+     OutDer0 + 2},
+    {vr_der_dissipatedEnergy, "der(dissipatedEnergy)", VarReal, CausLocal, "W", 0.0, -INF, INF, 0, 0, NONE,
+     OutDer0 + 3},
+    {vr_der_sliderPosition, "der(sliderPosition)", VarReal, CausLocal, "m/s", 0.0, -INF, INF, 0, 0, NONE,
+     OutDer0 + 4},
 };
 
 /* ------------------------------------------------------------------------------------------- */
@@ -223,6 +237,18 @@ static void outputs(FmiInstance *inst)
     dynOutputs(&d->model, &d->state, d->in[SOLVER_INPUT_SPEED][0], &BLADE_MEMORY(inst)->out);
 }
 
+/* dx_i/dt, the der(...) variables, evaluated only when asked for (at omega = 0 with a
+ * describing-function contact, C_eq is taken as 0) */
+static double derivative(const FmiInstance *inst, int i)
+{
+    const BladeData *d = BLADE_DATA(inst);
+    const DynState *s = &d->state;
+    const double x[DYN_NX] = {s->q, s->v, s->psi, s->E, s->w};
+    double f[DYN_NX];
+    (void)dynRhs(&d->model, s, d->in[SOLVER_INPUT_AERO][0], d->in[SOLVER_INPUT_SPEED][0], x, f);
+    return f[i];
+}
+
 static double output(const FmiInstance *inst, int id)
 {
     const DynState *s = &BLADE_DATA(inst)->state;
@@ -241,7 +267,11 @@ static double output(const FmiInstance *inst, int id)
     case OutRunningMaximum: return s->windowMax;
     case OutRegime: return (double)o->regime;
     case OutContactState: return (double)o->contactState;
+    case OutPsi: return s->psi;
+    case OutW: return s->w;
+    default: break;
     }
+    if (id >= OutDer0 && id < OutDer0 + DYN_NX) return derivative(inst, id - OutDer0);
     return 0.0;
 }
 
@@ -279,4 +309,5 @@ const FmiModel fmiModel = {
     MODEL_NAME, MODEL_GUID, VARS, (int)(sizeof VARS / sizeof VARS[0]), SOLVER_MAX_ORDER,
     sizeof(BladeData), sizeof(BladeMemory), 1, STATE_VERSION, FIELDS, (int)(sizeof FIELDS / sizeof FIELDS[0]),
     startValues, build, bladeWarnFullStickOnce, outputs, output, nonFiniteHint, bladeDoStep, validData,
+    &bladeModelExchange,
 };

@@ -46,6 +46,8 @@ typedef struct {
     BladeParams bladeCacheParams;
     BladeReduction bladeCache;
     DynOutputs out;              /* outputs of the current get call */
+    uint32_t meFresh;            /* model exchange: switching functions not seen > 0 since a switch
+                                    made them active (bits 1 << DynSwitch; shrouded_blade_me.c) */
 } BladeMemory;
 
 #define BLADE_DATA(inst) ((BladeData *)(inst)->data)
@@ -53,6 +55,10 @@ typedef struct {
 
 /* shrouded_blade_step.c */
 FmiStatus bladeDoStep(FmiInstance *inst, const char *fn, double tc, double h);
+/* The logEvents message of an event (ctx: the FmiInstance). */
+void bladeEventHook(void *ctx, DynEventKind kind, double t, const DynState *s);
+/* shrouded_blade_me.c: model exchange */
+extern const FmiModelExchange bladeModelExchange;
 /* Warns once per run when the describing function is in full stick (docs/model.md s.3). */
 FmiStatus bladeWarnFullStickOnce(FmiInstance *inst, const char *fn);
 

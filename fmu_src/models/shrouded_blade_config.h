@@ -51,5 +51,13 @@
 #define vr_contactState 61
 /* Real output after the Integer ones (60, 61 were taken) */
 #define vr_runningMaximum 62
+/* Model exchange: the continuous states without a variable so far, and the state derivatives */
+#define vr_excitationPhase 70
+#define vr_sliderPosition 71
+#define vr_der_tipDisplacement 80
+#define vr_der_tipVelocity 81
+#define vr_der_excitationPhase 82
+#define vr_der_dissipatedEnergy 83
+#define vr_der_sliderPosition 84
 
 #endif

@@ -31,8 +31,9 @@ static const char *regimeName(int regime)
     return regime == RegimeStickSlip ? "stickSlip" : (regime == RegimeFullStick ? "fullStick" : "open");
 }
 
-/* logEvents: contact transitions and amplitude updates (only installed when enabled). */
-static void eventHook(void *ctx, DynEventKind kind, double t, const DynState *s)
+/* logEvents: contact transitions and amplitude updates (only installed when enabled; also the
+ * model-exchange event iteration's log). */
+void bladeEventHook(void *ctx, DynEventKind kind, double t, const DynState *s)
 {
     FmiInstance *inst = (FmiInstance *)ctx;
     switch (kind) {
@@ -156,7 +157,7 @@ FmiStatus bladeDoStep(FmiInstance *inst, const char *fn, double tc, double h)
         return FmiDiscard;
     }
     backup = d->state;
-    st = solverAdvance(&d->model, &d->state, &in, tc, h, nSteps, fmiLogEnabled(inst, LogEvents) ? eventHook : NULL,
+    st = solverAdvance(&d->model, &d->state, &in, tc, h, nSteps, fmiLogEnabled(inst, LogEvents) ? bladeEventHook : NULL,
                        inst, &BLADE_MEMORY(inst)->counters, &tFail);
     if (st != DynOk) {
         d->state = backup;

@@ -1,0 +1,156 @@
+/* ShroudedBlade for model exchange (FMI 2.0 ME, docs/model-notes.md s.2, s.3, s.6): the continuous
+ * states x = (q, q', psi, E, w) of DynState, the right-hand side dynRhs at the current inputs, one
+ * event indicator per switching function of dynSwitching, and the event iteration with
+ * dynApplyEvent: the functions the co-simulation integrator (solver/rk4_events.c) uses. The
+ * discrete state (gate or contact mode, side, slip direction, amplitude B, running maximum,
+ * period count, direction of q') changes only at events. */
+#include <math.h>
+#include <string.h>
+
+#include "fmi/log.h"
+#include "models/shrouded_blade.h"
+#include "physics/dynamics_step.h"
+
+/* Event indicator slots: a switching function of dynSwitching goes to a fixed slot; a slot with
+ * no active function holds 1 (constant between events). */
+enum { ZGate0 = 0, ZGate1, ZFriction0, ZFriction1, ZPeriod, ZExtremum, NZ };
+
+static int slotOf(DynSwitch k)
+{
+    switch (k) {
+    case DynSwitchEnterPos: case DynSwitchLeave: return ZGate0;
+    case DynSwitchEnterNeg: return ZGate1;
+    case DynSwitchSlipPos: case DynSwitchStick: return ZFriction0;
+    case DynSwitchSlipNeg: return ZFriction1;
+    case DynSwitchPeriod: return ZPeriod;
+    default: return ZExtremum;
+    }
+}
+
+static void loadX(const DynState *s, double x[DYN_NX])
+{
+    x[0] = s->q; x[1] = s->v; x[2] = s->psi; x[3] = s->E; x[4] = s->w;
+}
+
+static void getStates(const FmiInstance *inst, double x[]) { loadX(&BLADE_DATA(inst)->state, x); }
+
+static void setStates(FmiInstance *inst, const double x[])
+{
+    DynState *s = &BLADE_DATA(inst)->state;
+    s->q = x[0]; s->v = x[1]; s->psi = x[2]; s->E = x[3]; s->w = x[4];
+}
+
+/* Scales of the states (an integrator's absolute tolerance is relative tolerance x nominal): the
+ * gap or the amplitude parameter for q and w, times the contact-free angular frequency for q',
+ * one period for psi, the elastic energy at that scale for E. From the parameters only. */
+static void nominals(const FmiInstance *inst, double x[])
+{
+    const BladeData *d = BLADE_DATA(inst);
+    double qn = d->par[ParD] > d->par[ParB] ? d->par[ParD] : d->par[ParB];
+    double wn = inst->built && d->blade.M > 0.0 ? sqrt(d->blade.K0static / d->blade.M) : 0.0;
+    double en = inst->built ? d->blade.K0static * qn * qn : 0.0;
+    if (!(qn > 0.0) || !isfinite(qn)) qn = 1e-5;
+    if (!(wn > 0.0) || !isfinite(wn)) wn = 1e3;
+    if (!(en > 0.0) || !isfinite(en)) en = 1e-3;
+    x[0] = qn;
+    x[1] = qn * wn;
+    x[2] = DYN_TWO_PI;
+    x[3] = en;
+    x[4] = qn;
+}
+
+static FmiStatus derivatives(FmiInstance *inst, const char *fn, double dx[])
+{
+    const BladeData *d = BLADE_DATA(inst);
+    double x[DYN_NX];
+    loadX(&d->state, x);
+    if (dynRhs(&d->model, &d->state, d->in[SOLVER_INPUT_AERO][0], d->in[SOLVER_INPUT_SPEED][0], x, dx)) {
+        fmiLogStatus(inst, FmiDiscard, "%s: rotorSpeed = 0 (omega = 0) at t = %.17g s while the "
+                     "describing-function contact acts (B = %g m > d = %g m): f_c needs omega > 0", fn,
+                     inst->run.time, d->state.B, d->par[ParD]);
+        return FmiDiscard;
+    }
+    return FmiOK;
+}
+
+/* The active switching functions at the current state, with their slopes (h = 1). */
+static int switching(const BladeData *d, DynSwitchValue sv[DYN_MAX_SWITCHING])
+{
+    double x[DYN_NX], f[DYN_NX];
+    loadX(&d->state, x);
+    (void)dynRhs(&d->model, &d->state, d->in[SOLVER_INPUT_AERO][0], d->in[SOLVER_INPUT_SPEED][0], x, f);
+    return dynSwitching(&d->model, &d->state, 1.0, x, f, sv);
+}
+
+/* Kinds as bits (DynSwitch values are < 32). */
+#define BIT(k) (1u << (unsigned)(k))
+
+/* Switching functions seen > 0 leave the set of fresh ones (see eventUpdate). */
+static void unfresh(FmiInstance *inst, const DynSwitchValue sv[], int n)
+{
+    BladeMemory *mem = BLADE_MEMORY(inst);
+    for (int i = 0; i < n; ++i)
+        if (sv[i].g > 0.0) mem->meFresh &= ~BIT(sv[i].kind);
+}
+
+static void eventIndicators(FmiInstance *inst, double z[])
+{
+    DynSwitchValue sv[DYN_MAX_SWITCHING];
+    const int n = switching(BLADE_DATA(inst), sv);
+    for (int i = 0; i < NZ; ++i) z[i] = 1.0;
+    for (int i = 0; i < n; ++i) z[slotOf(sv[i].kind)] = sv[i].g;
+    unfresh(inst, sv, n);
+}
+
+/* The event iteration (model-notes s.6), the first triggered function in priority order applied,
+ * then the list evaluated again. A function triggers when it is < 0, or when it is 0 and
+ * decreasing (a root finder may stop exactly on 0, e.g. psi = 2 pi k). A fresh function (made
+ * active or redefined by a switch and not seen > 0 since) triggers only when it is <= 0 and
+ * decreasing: right after a switch it may start a rounding error below 0 with a slope away from 0
+ * (e.g. the slip functions at a slip -> stick switch), which must not switch back; the
+ * co-simulation integrator likewise clamps such a start to 0. */
+static FmiStatus eventUpdate(FmiInstance *inst, const char *fn, int *statesChanged)
+{
+    BladeData *d = BLADE_DATA(inst);
+    BladeMemory *mem = BLADE_MEMORY(inst);
+    int events = 0;
+    *statesChanged = 0;
+    for (;;) {
+        DynSwitchValue sv[DYN_MAX_SWITCHING], after[DYN_MAX_SWITCHING];
+        const int n = switching(d, sv);
+        DynSwitch ev = DynSwitchNone;
+        DynEventKind kind = DynEventGateOn;
+        unsigned before = 0;
+        int na;
+        unfresh(inst, sv, n);
+        for (int i = 0; i < n; ++i) {
+            const int fresh = (mem->meFresh & BIT(sv[i].kind)) != 0;
+            before |= BIT(sv[i].kind);
+            if (ev == DynSwitchNone && sv[i].g <= 0.0 && (sv[i].hdg < 0.0 || (sv[i].g < 0.0 && !fresh)))
+                ev = sv[i].kind;
+        }
+        if (ev == DynSwitchNone) break;
+        if (++events > SOLVER_MAX_EVENTS_PER_STEP) {
+            fmiLogStatus(inst, FmiError, "%s: more than %d switching events at t = %.17g s (chattering)", fn,
+                         SOLVER_MAX_EVENTS_PER_STEP, inst->run.time);
+            return FmiError;
+        }
+        if (dynApplyEvent(&d->model, &d->state, ev, &kind) != DynOk) {
+            fmiLogStatus(inst, FmiError, "%s: the describing function failed at t = %.17g s for B = %g m", fn,
+                         inst->run.time, d->state.B);
+            return FmiError;
+        }
+        *statesChanged = 1;
+        if (fmiLogEnabled(inst, LogEvents)) bladeEventHook(inst, kind, inst->run.time, &d->state);
+        /* fresh: the functions the switch made active, and the switched one (redefined) */
+        mem->meFresh |= BIT(ev);
+        na = switching(d, after);
+        for (int i = 0; i < na; ++i)
+            if (!(before & BIT(after[i].kind))) mem->meFresh |= BIT(after[i].kind);
+    }
+    return bladeWarnFullStickOnce(inst, fn);
+}
+
+const FmiModelExchange bladeModelExchange = {
+    DYN_NX, NZ, getStates, setStates, nominals, derivatives, eventIndicators, eventUpdate,
+};
