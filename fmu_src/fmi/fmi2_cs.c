@@ -8,7 +8,6 @@
 #include <string.h>
 
 #include "fmi2Functions.h"
-#include "fmi/fmi2_face.h"
 #include "fmi/instance.h"
 #include "fmi/log.h"
 #include "fmi/state_blob.h"
@@ -63,21 +62,7 @@ static const FmiFace FMI2_FACE = {"fmi2ExitInitializationMode", "fmi2SerializedF
 #define MASK_CancelStep FsmStepInProgress
 #define MASK_GetStatus (FsmStepComplete | FsmStepInProgress | FsmStepFailed | FsmTerminated | FsmError)
 
-/* The instance behind c, if c is one and the call is allowed in its state; else NULL (logged
- * when possible). */
-FmiInstance *fmi2FaceEnter(fmi2Component c, const char *fn, int mask, int logCall)
-{
-    FmiInstance *inst = (FmiInstance *)c;
-    if (inst == NULL || inst->magic != FMI_INSTANCE_MAGIC) return NULL;
-    if (logCall) fmiLog(inst, FmiOK, LogCalls, "%s (state: %s)", fn, fsmStateName(inst->fsm));
-    if ((inst->fsm & mask) == 0) {
-        fmiLogStatus(inst, FmiError, "%s: Illegal call sequence (state: %s)", fn, fsmStateName(inst->fsm));
-        return NULL;
-    }
-    return inst;
-}
-
-static FmiInstance *enter(fmi2Component c, const char *fn, int mask) { return fmi2FaceEnter(c, fn, mask, 1); }
+static FmiInstance *enter(fmi2Component c, const char *fn, int mask) { return fmiEnter(c, fn, mask, 1); }
 
 /* enter() for a co-simulation function: refused for a model-exchange instance. */
 static FmiInstance *enterCS(fmi2Component c, const char *fn, int mask)
@@ -158,7 +143,7 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
                                const fmi2String categories[])
 {
     const char *fn = "fmi2SetDebugLogging";
-    FmiInstance *inst = fmi2FaceEnter(c, fn, MASK_SetDebugLogging, 0); /* logs the call after the change */
+    FmiInstance *inst = fmiEnter(c, fn, MASK_SetDebugLogging, 0); /* logs the call after the change */
     if (inst == NULL) return fmi2Error;
     /* FMI 2.0 s.2.1.5: nCategories = 0 switches all categories; with loggingOn = fmi2True and a
      * list, only the listed categories are output; with fmi2False the listed ones are switched off */

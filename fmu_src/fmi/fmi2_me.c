@@ -5,7 +5,8 @@
  * continuous-time mode alternate. A co-simulation instance refuses every function here. */
 #include <math.h>
 
-#include "fmi/fmi2_face.h"
+#include "fmi2Functions.h"
+#include "fmi/instance.h"
 #include "fmi/log.h"
 
 #define MASK_SetTime (FsmEventMode | FsmContinuousTimeMode)
@@ -27,7 +28,7 @@ static FmiInstance *enterME(fmi2Component c, const char *fn, int mask)
                      "(fmuType = fmi2CoSimulation)", fn);
         return NULL;
     }
-    return fmi2FaceEnter(c, fn, mask, 1);
+    return fmiEnter(c, fn, mask, 1);
 }
 
 /* enterME() for a function with an array of n elements: the array must not be NULL and n must be

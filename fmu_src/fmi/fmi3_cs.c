@@ -68,21 +68,7 @@ static const FmiFace FMI3_FACE = {"fmi3ExitInitializationMode", "fmi3SerializedF
 #define MASK_DoStep FsmStepComplete
 #define MASK_Unsupported ALL_STATES
 
-/* The instance behind instance, if it is one and the call is allowed in its state; else NULL
- * (logged when possible). */
-static FmiInstance *enterAs(fmi3Instance instance, const char *fn, int mask, int logCall)
-{
-    FmiInstance *inst = (FmiInstance *)instance;
-    if (inst == NULL || inst->magic != FMI_INSTANCE_MAGIC) return NULL;
-    if (logCall) fmiLog(inst, FmiOK, LogCalls, "%s (state: %s)", fn, fmi3StateName(inst->fsm));
-    if ((inst->fsm & mask) == 0) {
-        fmiLogStatus(inst, FmiError, "%s: Illegal call sequence (state: %s)", fn, fmi3StateName(inst->fsm));
-        return NULL;
-    }
-    return inst;
-}
-
-static FmiInstance *enter(fmi3Instance instance, const char *fn, int mask) { return enterAs(instance, fn, mask, 1); }
+static FmiInstance *enter(fmi3Instance instance, const char *fn, int mask) { return fmiEnter(instance, fn, mask, 1); }
 
 /* enter() for a function with a required pointer argument: ok = 0 logs "<fn>: <what> is NULL". */
 static FmiInstance *enterNonNull(fmi3Instance instance, const char *fn, int mask, int ok, const char *what)
@@ -233,7 +219,7 @@ fmi3Status fmi3SetDebugLogging(fmi3Instance instance, fmi3Boolean loggingOn, siz
                                const fmi3String categories[])
 {
     const char *fn = "fmi3SetDebugLogging";
-    FmiInstance *inst = enterAs(instance, fn, MASK_SetDebugLogging, 0); /* logs the call after the change */
+    FmiInstance *inst = fmiEnter(instance, fn, MASK_SetDebugLogging, 0); /* logs the call after the change */
     if (inst == NULL) return fmi3Error;
     if (fmiSetDebugLogging(inst, fn, loggingOn ? 1 : 0, nCategories, categories) != FmiOK) return fmi3Error;
     fmiLog(inst, FmiOK, LogCalls, "%s (state: %s)", fn, fmi3StateName(inst->fsm));

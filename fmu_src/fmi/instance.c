@@ -61,6 +61,18 @@ void fmiFree(FmiInstance *inst)
     free(inst);
 }
 
+FmiInstance *fmiEnter(void *handle, const char *fn, int mask, int logCall)
+{
+    FmiInstance *inst = (FmiInstance *)handle;
+    if (inst == NULL || inst->magic != FMI_INSTANCE_MAGIC) return NULL;
+    if (logCall) fmiLog(inst, FmiOK, LogCalls, "%s (state: %s)", fn, inst->face->stateName(inst->fsm));
+    if ((inst->fsm & mask) == 0) {
+        fmiLogStatus(inst, FmiError, "%s: Illegal call sequence (state: %s)", fn, inst->face->stateName(inst->fsm));
+        return NULL;
+    }
+    return inst;
+}
+
 void fmiReset(FmiInstance *inst)
 {
     memset(inst->data, 0, inst->model->dataSize);

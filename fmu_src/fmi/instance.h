@@ -66,6 +66,11 @@ FmiInstance *fmiNew(const FmiModel *model, const FmiFace *face, const char *inst
 void fmiFree(FmiInstance *inst);
 void fmiReset(FmiInstance *inst); /* start values, time 0, state machine instantiated; keeps logging */
 
+/* The instance behind a face's handle, if it is one and the call is allowed in its state (a mask of
+ * FsmState bits); else NULL, with "<fn>: Illegal call sequence (state: <the face's state name>)"
+ * logged when the handle is an instance. logCall: log the call (category logCalls) first. */
+FmiInstance *fmiEnter(void *handle, const char *fn, int mask, int logCall);
+
 
 FmiStatus fmiSetupExperiment(FmiInstance *inst, const char *fn, int toleranceDefined, double tolerance,
                              double startTime, int stopTimeDefined, double stopTime);
