@@ -18,8 +18,12 @@
 typedef enum {
     OutQ = 0, OutV, OutNormalForce, OutFrictionForce, OutKeq, OutCeq, OutAmplitude, OutEnergy,
     OutFrequency, OutJenkinsForce, OutRegime, OutContactState, OutRunningMaximum,
-    OutPsi, OutW, OutDer0 /* OutDer0 + i: dx_i/dt */
+    OutPsi, OutW, OutDer0, /* OutDer0 + i: dx_i/dt */
+    OutSens0 = OutDer0 + DYN_NX /* OutSens0 + SENS_NP row + col: the sensitivities (vr_sens0) */
 } OutputId;
+
+/* The rows of the sensitivity outputs (shrouded_blade_config.h) */
+enum { SensRowQ = 0, SensRowV, SensRowJenkinsForce, SensRowRunningMaximum, SensRowAmplitude, SENS_ROWS };
 
 #define INF HUGE_VAL
 #define HALF_PI 1.5707963267948966
@@ -49,6 +53,7 @@ static const VarInfo VARS[] = {
     {vr_amplitudeMode, "amplitudeMode", VarInteger, CausParameter, "", 2, 1, 2, 0, 0, IPAR(IparAmplitudeMode), -1},
     {vr_engineOrder, "engineOrder", VarInteger, CausParameter, "", 3, 1, 100, 0, 0, IPAR(IparEngineOrder), -1},
     {vr_gating, "gating", VarBoolean, CausParameter, "", 1, 0, 1, 0, 0, IPAR(IparGating), -1},
+    {vr_sensitivities, "sensitivities", VarBoolean, CausParameter, "", 0, 0, 1, 0, 0, IPAR(IparSensitivities), -1},
     {vr_aeroLoad, "aeroLoad", VarReal, CausInput, "N/m", 0.0, -INF, INF, 0, 0, INPUT(SOLVER_INPUT_AERO), -1},
     {vr_rotorSpeed, "rotorSpeed", VarReal, CausInput, "rpm", 5000.0, 0.0, ROTOR_SPEED_MAX, 0, 0,
      INPUT(SOLVER_INPUT_SPEED), -1},
@@ -79,6 +84,27 @@ static const VarInfo VARS[] = {
      OutDer0 + 3},
     {vr_der_sliderPosition, "der(sliderPosition)", VarReal, CausLocal, "m/s", 0.0, -INF, INF, 0, 0, NONE,
      OutDer0 + 4},
+    /* sensitivities (docs/model-notes.md s.8) */
+    {vr_sens0 + 0, "dTipDisplacement_dQ0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 0},
+    {vr_sens0 + 1, "dTipDisplacement_dV0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 1},
+    {vr_sens0 + 2, "dTipDisplacement_dF0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 2},
+    {vr_sens0 + 3, "dTipDisplacement_dB", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 3},
+    {vr_sens0 + 4, "dTipVelocity_dQ0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 4},
+    {vr_sens0 + 5, "dTipVelocity_dV0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 5},
+    {vr_sens0 + 6, "dTipVelocity_dF0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 6},
+    {vr_sens0 + 7, "dTipVelocity_dB", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 7},
+    {vr_sens0 + 8, "dJenkinsForce_dQ0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 8},
+    {vr_sens0 + 9, "dJenkinsForce_dV0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 9},
+    {vr_sens0 + 10, "dJenkinsForce_dF0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 10},
+    {vr_sens0 + 11, "dJenkinsForce_dB", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 11},
+    {vr_sens0 + 12, "dRunningMaximum_dQ0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 12},
+    {vr_sens0 + 13, "dRunningMaximum_dV0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 13},
+    {vr_sens0 + 14, "dRunningMaximum_dF0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 14},
+    {vr_sens0 + 15, "dRunningMaximum_dB", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 15},
+    {vr_sens0 + 16, "dAmplitude_dQ0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 16},
+    {vr_sens0 + 17, "dAmplitude_dV0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 17},
+    {vr_sens0 + 18, "dAmplitude_dF0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 18},
+    {vr_sens0 + 19, "dAmplitude_dB", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 19},
 };
 
 /* ------------------------------------------------------------------------------------------- */
@@ -95,11 +121,16 @@ static const StateField FIELDS[] = {
     F64(state.windowMax), F64(state.periods),
     {(long)offsetof(BladeData, ipar), FieldI32, COUNT(ipar)},
     I32(warnedFullStick), I32(state.mode), I32(state.side), I32(state.slipDir), I32(state.vdir),
+    {(long)offsetof(BladeData, sens.S), FieldF64, SENS_NY * SENS_NP},
+    {(long)offsetof(BladeData, sens.dB), FieldF64, SENS_NP},
+    {(long)offsetof(BladeData, sens.peak), FieldF64, SENS_PEAKS},
+    {(long)offsetof(BladeData, sens.gPeak), FieldF64, SENS_PEAKS * SENS_NP},
+    F64(sens.dKeq), F64(sens.dCeqOmega), I32(sens.grazing),
 };
 
-/* 3: the state-machine value left the blob and the layer's run fields moved ahead (2: the start
+/* 4: the sensitivities joined (3: the state-machine value left the blob and the layer's run fields moved ahead (2: the start
  * values of jenkinsForce and runningMaximum joined the parameters). Older versions are refused. */
-#define STATE_VERSION 3
+#define STATE_VERSION 4
 
 /* ------------------------------------------------------------------------------------------- */
 /* Start values, build                                                                          */
@@ -213,8 +244,15 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
     }
     if (initState) {
         if (checkStartForce(inst, fn) != FmiOK) return FmiError;
+        if (d->ipar[IparSensitivities] && inst->modelExchange) {
+            fmiLogStatus(inst, FmiError, "%s: sensitivities = true is for co-simulation only (a model-exchange "
+                         "master integrates the states itself): accepted value false", fn);
+            return FmiError;
+        }
         st = dynInitState(&d->model, &d->state, p[ParQ0], p[ParV0], p[ParE0], p[ParF0], p[ParB],
                           p[ParWindowMax0]);
+        memset(&d->sens, 0, sizeof d->sens);
+        if (st == DynOk && d->ipar[IparSensitivities]) st = sensInit(&d->model, &d->state, p[ParWindowMax0], &d->sens);
     } else {
         st = dynUpdateDescribe(&d->model, &d->state);
     }
@@ -249,6 +287,21 @@ static double derivative(const FmiInstance *inst, int i)
     return f[i];
 }
 
+/* Sensitivity output OutSens0 + k (0 unless sensitivities = true) */
+static double sensitivity(const FmiInstance *inst, int k)
+{
+    const BladeData *d = BLADE_DATA(inst);
+    const int row = k / SENS_NP, col = k % SENS_NP;
+    double g[SENS_NP];
+    switch (row) {
+    case SensRowQ: return d->sens.S[0][col];
+    case SensRowV: return d->sens.S[1][col];
+    case SensRowJenkinsForce: sensJenkinsForceGradient(&d->model, &d->state, &d->sens, g); return g[col];
+    case SensRowRunningMaximum: sensPeakGradient(&d->sens, g); return d->ipar[IparSensitivities] ? g[col] : 0.0;
+    default: return d->sens.dB[col];
+    }
+}
+
 static double output(const FmiInstance *inst, int id)
 {
     const DynState *s = &BLADE_DATA(inst)->state;
@@ -272,6 +325,7 @@ static double output(const FmiInstance *inst, int id)
     default: break;
     }
     if (id >= OutDer0 && id < OutDer0 + DYN_NX) return derivative(inst, id - OutDer0);
+    if (id >= OutSens0 && id < OutSens0 + SENS_ROWS * SENS_NP) return sensitivity(inst, id - OutSens0);
     return 0.0;
 }
 
@@ -298,7 +352,8 @@ static int validData(FmiInstance *inst, const char *fn, const void *data, int in
         !(s->B >= 0.0) || !isfinite(s->B) || !(s->windowMax >= 0.0) || !isfinite(s->windowMax) ||
         !(s->periods >= 0.0) || s->periods > 9e15 || s->periods != floor(s->periods) ||
         s->mode < 0 || s->mode > (td ? ContactSlip : GateOn) || (s->side != 1 && s->side != -1) ||
-        (s->slipDir != 1 && s->slipDir != -1) || (s->vdir != 1 && s->vdir != -1)) {
+        (s->slipDir != 1 && s->slipDir != -1) || (s->vdir != 1 && s->vdir != -1) || !sensFinite(&d->sens) ||
+        d->sens.grazing < 0) {
         fmiLogStatus(inst, FmiError, "%s: invalid solver state in the data", fn);
         return 0;
     }

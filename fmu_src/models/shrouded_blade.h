@@ -19,7 +19,7 @@ typedef enum {
 
 typedef enum {
     IparFrictionModel = 0, IparFormulation, IparProjection, IparAmplitudeMode, IparEngineOrder,
-    IparGating, IPAR_NUM
+    IparGating, IparSensitivities, IPAR_NUM
 } IntParam;
 
 /* Everything of the model an FMU state captures. Plain data (no pointers). The last block is
@@ -31,6 +31,7 @@ typedef struct {
                                                           [unit/s^j] at the communication point */
     int32_t warnedFullStick;     /* the full-stick warning was given in this run */
     DynState state;              /* continuous and discrete state */
+    DynSens sens;                /* sensitivities to the start values and B (if sensitivities) */
     /* derived */
     BladeReduction blade;
     DynModel model;

@@ -29,6 +29,7 @@
 #define vr_engineOrder 24
 /* Boolean parameters */
 #define vr_gating 30
+#define vr_sensitivities 31
 /* Range of rotorSpeed [rpm] (model-notes s.1): its max, also in modelDescription.xml */
 #define ROTOR_SPEED_MAX 30000.0
 
@@ -59,5 +60,9 @@
 #define vr_der_excitationPhase 82
 #define vr_der_dissipatedEnergy 83
 #define vr_der_sliderPosition 84
+/* Sensitivities (co-simulation, parameter sensitivities = true): d(output)/d(p) for the outputs
+ * tipDisplacement, tipVelocity, jenkinsForce, runningMaximum, amplitude (in this order) and
+ * p = (start tipDisplacement, start tipVelocity, start jenkinsForce, B): vr_sens0 + 4 row + col */
+#define vr_sens0 100
 
 #endif

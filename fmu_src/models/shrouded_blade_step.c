@@ -133,6 +133,7 @@ FmiStatus bladeDoStep(FmiInstance *inst, const char *fn, double tc, double h)
     long nSteps;
     SolverInputs in; /* the input polynomials of this step, from d->in (model-notes s.1) */
     DynState backup;
+    DynSens sensBackup;
     DynStatus st;
     /* model-notes s.6: equal internal steps h / ceil(h / maxStep) (1e-9: h an exact multiple of
      * maxStep up to rounding takes h / maxStep steps) */
@@ -157,10 +158,13 @@ FmiStatus bladeDoStep(FmiInstance *inst, const char *fn, double tc, double h)
         return FmiDiscard;
     }
     backup = d->state;
+    sensBackup = d->sens;
     st = solverAdvance(&d->model, &d->state, &in, tc, h, nSteps, fmiLogEnabled(inst, LogEvents) ? bladeEventHook : NULL,
-                       inst, &BLADE_MEMORY(inst)->counters, &tFail);
+                       inst, &BLADE_MEMORY(inst)->counters, &tFail, d->ipar[IparSensitivities] ? &d->sens : NULL);
+    if (st == DynOk && d->ipar[IparSensitivities] && !sensFinite(&d->sens)) st = DynNonFinite;
     if (st != DynOk) {
         d->state = backup;
+        if (d->ipar[IparSensitivities]) d->sens = sensBackup;
         return discard(inst, fn, st, tc, tFail, n0);
     }
     {   /* the state is finite, but a derived force may overflow (q' ~ 1e206 times C_eq ~ 1e214) */
@@ -170,6 +174,7 @@ FmiStatus bladeDoStep(FmiInstance *inst, const char *fn, double tc, double h)
         bad = dynNonFiniteOutput(&o);
         if (bad != NULL) {
             d->state = backup;
+            if (d->ipar[IparSensitivities]) d->sens = sensBackup;
             fmiLogStatus(inst, FmiDiscard, "%s: the output %s is not finite at the step end t = %.17g s "
                          "(numerical instability: try a smaller maxStep = %g s%s); the step from t = %.17g s "
                          "is discarded and the state restored", fn, bad, tc + h, d->par[ParMaxStep],

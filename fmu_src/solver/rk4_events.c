@@ -38,10 +38,11 @@ double solverInputAt(const SolverInputs *in, int i, double tau) { return inputAt
 /* RK4                                                                                          */
 
 /* One classical RK4 step from (tau0, x0) to tau1 with k1 = f(tau0, x0) given. Returns the
- * omega flag of dynRhs(); the inputs at tau1 are returned for the FSAL evaluation. */
+ * omega flag of dynRhs(); the inputs at tau1 are returned for the FSAL evaluation. stages (may be
+ * NULL) receives the states of stages 2-4 for the sensitivities. */
 static int rk4(const DynModel *m, const DynState *s, const SolverInputs *in, double tau0,
                double tau1, const double x0[DYN_NX], const double k1[DYN_NX],
-               double x1[DYN_NX], double *fw1, double *n1)
+               double x1[DYN_NX], double *fw1, double *n1, double stages[3][DYN_NX])
 {
     double k2[DYN_NX], k3[DYN_NX], k4[DYN_NX], xt[DYN_NX];
     const double h = tau1 - tau0, hh = 0.5 * h, h6 = h / 6.0;
@@ -50,15 +51,27 @@ static int rk4(const DynModel *m, const DynState *s, const SolverInputs *in, dou
     const double fwe = inputAt(in, SOLVER_INPUT_AERO, tau1), ne = inputAt(in, SOLVER_INPUT_SPEED, tau1);
     int bad = 0, i;
     for (i = 0; i < DYN_NX; ++i) xt[i] = x0[i] + hh * k1[i];
+    if (stages) memcpy(stages[0], xt, sizeof xt);
     bad |= dynRhs(m, s, fwm, nm, xt, k2);
     for (i = 0; i < DYN_NX; ++i) xt[i] = x0[i] + hh * k2[i];
+    if (stages) memcpy(stages[1], xt, sizeof xt);
     bad |= dynRhs(m, s, fwm, nm, xt, k3);
     for (i = 0; i < DYN_NX; ++i) xt[i] = x0[i] + h * k3[i];
+    if (stages) memcpy(stages[2], xt, sizeof xt);
     bad |= dynRhs(m, s, fwe, ne, xt, k4);
     for (i = 0; i < DYN_NX; ++i) x1[i] = x0[i] + h6 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
     *fw1 = fwe;
     *n1 = ne;
     return bad;
+}
+
+/* The variational equations' RK4 step over the same stages (physics/variational.h). */
+static void rk4Sens(const DynModel *m, const DynState *s, DynSens *e, const SolverInputs *in, double tau0,
+                    double tau1, const double x0[DYN_NX], const double stages[3][DYN_NX])
+{
+    const double n[3] = {inputAt(in, SOLVER_INPUT_SPEED, tau0), inputAt(in, SOLVER_INPUT_SPEED, 0.5 * (tau0 + tau1)),
+                         inputAt(in, SOLVER_INPUT_SPEED, tau1)};
+    sensRk4(m, s, e, tau1 - tau0, n, x0, stages);
 }
 
 /* ------------------------------------------------------------------------------------------- */
@@ -183,10 +196,23 @@ static inline int allFinite(const double x[DYN_NX])
     return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]) && isfinite(x[3]) && isfinite(x[4]);
 }
 
+/* The sensitivities' jump at an event (the discrete state before it in *before, after it in *s,
+ * the continuous state xe at the instant te) */
+static DynStatus sensJump(const DynModel *m, const DynState *before, const DynState *s, DynSwitch sw,
+                          const SolverInputs *in, double te, const double xe[DYN_NX], DynSens *e)
+{
+    double fm[DYN_NX], fp[DYN_NX], xp[DYN_NX];
+    const double fw = inputAt(in, SOLVER_INPUT_AERO, te), n = inputAt(in, SOLVER_INPUT_SPEED, te);
+    loadX(s, xp);
+    if (dynRhs(m, before, fw, n, xe, fm) || dynRhs(m, s, fw, n, xp, fp)) return DynOmegaZero;
+    return sensEvent(m, before, s, sw, fm, fp, e);
+}
+
 DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
                            double tStart, double h, long nSteps, SolverEventHook hook, void *ctx,
-                           SolverCounters *counters, double *tFail)
+                           SolverCounters *counters, double *tFail, DynSens *sens)
 {
+    double stages[3][DYN_NX];
     const double hi = h / (double)nSteps;
     double x0[DYN_NX], x1[DYN_NX], f0[DYN_NX], f1[DYN_NX];
     double fwB = 0.0, nB = 0.0;
@@ -211,7 +237,7 @@ DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
                 f0Valid = 1;
             }
             nRhs += 4;
-            if (rk4(m, s, in, tau0, tauB, x0, f0, x1, &fwB, &nB)) { status = DynOmegaZero; break; }
+            if (rk4(m, s, in, tau0, tauB, x0, f0, x1, &fwB, &nB, sens ? stages : NULL)) { status = DynOmegaZero; break; }
             if (!allFinite(x1)) { status = DynNonFinite; break; }
             if (dynRhs(m, s, fwB, nB, x1, f1)) { status = DynOmegaZero; break; } /* FSAL: next k1 */
             hs = tauB - tau0;
@@ -220,6 +246,7 @@ DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
             if (tol < 4.0 * DBL_EPSILON) tol = 4.0 * DBL_EPSILON;
             ev = detect(m, s, hs, x0, f0, x1, f1, tol, &theta);
             if (ev == DynSwitchNone) { /* no switch: accept the whole step */
+                if (sens) rk4Sens(m, s, sens, in, tau0, tauB, x0, (const double(*)[DYN_NX])stages);
                 storeX(s, x1);
                 memcpy(x0, x1, sizeof x0);
                 memcpy(f0, f1, sizeof f0);
@@ -230,16 +257,24 @@ DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
             te = tau0 + theta * hs;
             if (theta >= 1.0 || te >= tauB) {
                 te = tauB;
+                if (sens) rk4Sens(m, s, sens, in, tau0, tauB, x0, (const double(*)[DYN_NX])stages);
                 storeX(s, x1);
             } else if (te > tau0) {
                 double xe[DYN_NX], fwE, nE;
                 nRhs += 3;
-                if (rk4(m, s, in, tau0, te, x0, f0, xe, &fwE, &nE)) { status = DynOmegaZero; break; }
+                if (rk4(m, s, in, tau0, te, x0, f0, xe, &fwE, &nE, sens ? stages : NULL)) { status = DynOmegaZero; break; }
                 if (!allFinite(xe)) { status = DynNonFinite; break; }
+                if (sens) rk4Sens(m, s, sens, in, tau0, te, x0, (const double(*)[DYN_NX])stages);
                 storeX(s, xe);
             } /* else: te == tau0, the switch happens at the step start */
             ++nEvents;
-            status = dynApplyEvent(m, s, ev, &kind);
+            {
+                const DynState before = *s;
+                double xe[DYN_NX];
+                loadX(s, xe);
+                status = dynApplyEvent(m, s, ev, &kind);
+                if (status == DynOk && sens) status = sensJump(m, &before, s, ev, in, te, xe, sens);
+            }
             if (status != DynOk) break;
             if (hook) hook(ctx, kind, tStart + te, s);
             loadX(s, x0);

@@ -11,6 +11,7 @@
 #define RK4_EVENTS_H
 
 #include "physics/dynamics_step.h"
+#include "physics/variational.h"
 
 #define SOLVER_MAX_ORDER 8          /* highest input derivative order (model-notes s.1) */
 #define SOLVER_NUM_INPUTS 2
@@ -43,8 +44,10 @@ double solverInputAt(const SolverInputs *in, int i, double tau);
 /* Advances *s over [0, h] (relative time tau; tStart = absolute time of tau = 0, used for the
  * event-time tolerance and the hook) in nSteps internal steps of size h / nSteps.
  * On failure *s holds a partially advanced state: the caller restores its copy. *tFail receives
- * the relative time reached (may be NULL). */
+ * the relative time reached (may be NULL). sens (may be NULL: the hot path) is advanced with the
+ * state: the variational equations and their jumps at the events (physics/variational.h). */
 DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in, double tStart, double h,
-                        long nSteps, SolverEventHook hook, void *ctx, SolverCounters *counters, double *tFail);
+                        long nSteps, SolverEventHook hook, void *ctx, SolverCounters *counters, double *tFail,
+                        DynSens *sens);
 
 #endif

@@ -142,6 +142,8 @@ class _Problem:
     def __init__(self, pm: PeriodMap, sc: np.ndarray):
         self.pm, self.sc = pm, sc
         self.m = pm.dim
+        self.sens = pm.s.sensitivities
+        self._last: tuple[np.ndarray, np.ndarray] | None = None  # (z, DP) of the last evaluation
 
     def to_z(self, x: np.ndarray, n: float) -> np.ndarray:
         return np.append(x / self.sc, n / SPEED_SCALE)
@@ -155,7 +157,28 @@ class _Problem:
         pulled back by the residual."""
         x, n = self.from_z(z)
         Px, A = self.pm(x, n)
+        if self.sens:
+            self._last = (z.copy(), self.pm.DP)
         return (Px - z[:-1] * self.sc) / self.sc, Px, A
+
+    def state_columns(self, z: np.ndarray) -> np.ndarray | None:
+        """dH/dz in the unknowns from the FMU's sensitivities of the last evaluation, if it was
+        at z (else None): DP_ij sc_j / sc_i - delta_ij."""
+        if self._last is None or not np.array_equal(self._last[0], z):
+            return None
+        return self._last[1] * self.sc[None, :] / self.sc[:, None] - np.eye(self.m)
+
+    def speed_column(self, z: np.ndarray, Hz: np.ndarray) -> np.ndarray:
+        """dH/dn (scaled) by a forward difference (backward at the top of the rotorSpeed range)."""
+        eps = self.pm.s.fd_rel
+        n = z[-1] * SPEED_SCALE
+        h = eps * (1.0 if n * (1 + 2 * eps) <= SPEED_RANGE[1] else -1.0) * max(abs(z[-1]), 1e-3)
+        zp = z.copy()
+        zp[-1] += h
+        last = self._last  # the sensitivities at z stay the last ones
+        col = (self.H(zp)[0] - Hz) / h
+        self._last = last
+        return col
 
     def jac(self, z: np.ndarray, Hz: np.ndarray, Px: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(dH/dz (m x m+1), DP in physical units (m x m)): central differences in the unknowns
@@ -163,6 +186,13 @@ class _Problem:
         Central, because max |q| is a kink at every half-wave symmetric orbit (the positive and the
         negative peak are equal): a one-sided DP picks one peak and misplaces the multipliers."""
         x, n = self.from_z(z)
+        if self.sens:
+            cols = self.state_columns(z)
+            if cols is None:
+                Hz, Px, _ = self.H(z)
+                cols = self.state_columns(z)
+            DP = self._last[1]
+            return np.column_stack([cols, self.speed_column(z, Hz)]), DP
         eps = self.pm.s.fd_rel
         Jz = np.empty((self.m, self.m + 1))
         for j in range(self.m + 1):
@@ -283,7 +313,11 @@ def _correct(prob: _Problem, zp: np.ndarray, t: np.ndarray, Jz: np.ndarray, s: C
     Hz, Px, A = prob.H(zk)
     J = Jz.copy()
     for it in range(1, s.max_corrector + 1):
-        if not quasi:
+        if prob.sens:  # exact in the unknowns; the speed column from the last point, or fresh
+            J[:, :-1] = prob.state_columns(zk)
+            if not quasi:
+                J[:, -1] = prob.speed_column(zk, Hz)
+        elif not quasi:
             J = prob.jac(zk, Hz, Px)[0]
         G = np.append(Hz, t @ (zk - zp))
         try:
@@ -294,7 +328,7 @@ def _correct(prob: _Problem, zp: np.ndarray, t: np.ndarray, Jz: np.ndarray, s: C
         if not np.all(np.isfinite(zn)):
             return None
         Hn, Px, A = prob.H(zn)
-        if quasi:
+        if quasi and not prob.sens:
             J = J + np.outer(Hn - Hz - J @ dz, dz) / float(dz @ dz)  # Broyden, in scaled coordinates
         zk, Hz = zn, Hn
         if np.max(np.abs(Hz)) <= prob.pm.s.tol * 10:

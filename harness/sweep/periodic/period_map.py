@@ -36,6 +36,8 @@ from harness.model.params import ParameterError, fmu_parameters, validate
 MODELS = ("fixedB", "fixedPoint", "jenkins", "coulomb")
 STATE_STARTS = ("tipDisplacement", "tipVelocity", "jenkinsForce", "runningMaximum")
 _OUT = ("tipDisplacement", "tipVelocity", "jenkinsForce", "runningMaximum", "amplitude")
+# the FMU's sensitivities: d(row)/d(column), rows as _OUT, columns the start values q0, q0', F0 and B
+_SENS = tuple(f"d{r[0].upper()}{r[1:]}_d{c}" for r in _OUT for c in ("Q0", "V0", "F0", "B"))
 
 
 @dataclass(frozen=True)
@@ -46,6 +48,7 @@ class ShootingSettings:
     fd_rel: float = 1e-6  # finite-difference step relative to each unknown's scale
     tol: float = 1e-10  # Newton converged: max scaled residual |P(x) - x| / scale
     max_iter: int = 30  # Newton iterations
+    sensitivities: bool = True  # DP from the FMU's variational equations (else finite differences)
 
     def check(self) -> "ShootingSettings":
         if not (isinstance(self.steps_per_period, int) and 2 <= self.steps_per_period <= 4096):
@@ -56,6 +59,8 @@ class ShootingSettings:
                 raise ParameterError(f"{name} = {v!r} must be a number in [{lo:g}, {hi:g}]")
         if not (isinstance(self.max_iter, int) and self.max_iter >= 1):
             raise ParameterError(f"max_iter = {self.max_iter!r} must be an integer >= 1")
+        if not isinstance(self.sensitivities, bool):
+            raise ParameterError(f"sensitivities = {self.sensitivities!r} must be true or false")
         return self
 
 
@@ -87,6 +92,8 @@ class PeriodMap:
                  settings: ShootingSettings = ShootingSettings()):
         self.fmu, self.model, self.s = fmu, model, settings.check()
         self.p = model_params(params, model)
+        self.p["sensitivities"] = settings.sensitivities
+        self.DP: np.ndarray | None = None  # DP at the last evaluation (with sensitivities)
         self.dim = 2 if model == "fixedB" else 3
         self.B = float(self.p["B"])  # the fixed amplitude of fixedB (settable: scans in B) [m]
         self.d = float(self.p["d"])
@@ -109,11 +116,13 @@ class PeriodMap:
         self._ival = (ctypes.c_int * len(ints))(*[int(x) for _, x in ints])
         self._bvr = (ctypes.c_uint * len(bools))(*[v[k].valueReference for k, _ in bools])
         self._bval = (ctypes.c_int * len(bools))(*[int(bool(x)) for _, x in bools])
-        self._ovr = (ctypes.c_uint * len(_OUT))(*[v[k].valueReference for k in _OUT])
-        self._oval = (ctypes.c_double * len(_OUT))()
+        out = _OUT + (_SENS if settings.sensitivities else ())
+        self._ovr = (ctypes.c_uint * len(out))(*[v[k].valueReference for k in out])
+        self._oval = (ctypes.c_double * len(out))()
         K = MAX_ORDER
-        self._dvr = (ctypes.c_uint * (2 * K))(*([VR_AERO] * K + [VR_SPEED] * K))
-        self._dord = (ctypes.c_int * (2 * K))(*(list(range(1, K + 1)) * 2))
+        # per step the load's derivatives 1..K; the speed's stay 0 from the reset (constant speed)
+        self._dvr = (ctypes.c_uint * K)(*([VR_AERO] * K))
+        self._dord = (ctypes.c_int * K)(*range(1, K + 1))
         self._invr = (ctypes.c_uint * 2)(VR_AERO, VR_SPEED)
         self._speed: float | None = None
         self._unit: np.ndarray | None = None
@@ -139,13 +148,16 @@ class PeriodMap:
             raise ParameterError(f"speed = {speed!r} rpm outside (0, {SPEED_RANGE[1]:g}] (the FMU's rotorSpeed range)")
         N, K = self.s.steps_per_period, MAX_ORDER
         T = 2.0 * math.pi / omega(self.p, speed)
-        grid = T * np.arange(N + 1) / N
-        grid[-1] = T
-        ua = self._unit_load() * (1.0 / T) ** np.arange(K + 1)[:, None]
-        self._der = np.ascontiguousarray(np.concatenate([ua[1:].T, np.zeros((N, K))], axis=1))
-        self._val = (ctypes.c_double * 2)(float(ua[0, 0]), float(speed))
-        self._steps = list(zip(grid[:-1].tolist(), np.diff(grid).tolist(),
-                               (self._der.ctypes.data + 8 * 2 * K * np.arange(N)).tolist()))
+        if self._unit is None:  # per step: the load's derivatives 1..K
+            ua = self._unit_load()
+            self._der = np.zeros((N, K))
+            self._val = (ctypes.c_double * 2)(float(ua[0, 0]), 0.0)
+            self._addr = (self._der.ctypes.data + 8 * K * np.arange(N)).tolist()
+            self._ks = np.arange(1, K + 1, dtype=float)
+        np.multiply(self._unit[1:].T, (1.0 / T) ** self._ks, out=self._der)
+        self._val[1] = float(speed)
+        grid = [T * k / N for k in range(N)] + [T]
+        self._steps = [(grid[k], grid[k + 1] - grid[k], self._addr[k]) for k in range(N)]
         self.T, self._speed = T, speed
 
     # ---- unknowns <-> FMU start values ----
@@ -205,13 +217,36 @@ class PeriodMap:
         q, v, F, run_max, amp = o[0], o[1], o[2], o[3], o[4]
         # the period-end update at T may or may not have happened within the last step: if it did,
         # `amplitude` holds the new maximum and the running maximum restarted at |q(T)|
-        A = amp if amp != B else max(run_max, abs(q))
+        ended = amp != B
+        A = amp if ended else max(run_max, abs(q))
+        if self.s.sensitivities:
+            self.DP = self._dp(np.frombuffer(o, dtype=np.float64)[len(_OUT):].reshape(len(_OUT), 4), q0, F0, q,
+                               F, 4 if ended else (3 if run_max >= abs(q) else -1))
         if self.dim == 2:
             return np.array([q, v]), A
         if self.model == "jenkins":
             L = self.slip_limit(q)
             return np.array([q, v, F / L if L > 0.0 else 0.0]), A
         return np.array([q, v, A]), A
+
+    def _dp(self, S: np.ndarray, q0: float, F0: float, q: float, F: float, arow: int) -> np.ndarray:
+        """DP in the unknowns from the FMU's sensitivities S (rows q, q', F, runningMaximum,
+        amplitude; columns q0, q0', F0, B); arow: the row of A = max |q| (-1: |q(T)|)."""
+        Arow = S[arow] if arow >= 0 else math.copysign(1.0, q) * S[0]
+        if self.dim == 2:
+            return S[:2, :2].copy()
+        if self.model != "jenkins":
+            return np.vstack([S[:2][:, [0, 1, 3]], Arow[[0, 1, 3]]])
+        # jenkins: F0 = phi0 L(q0), the image's phi = F / L(q) (L = muKnCos (|q| - d) in contact)
+        L0, L = self.slip_limit(q0), self.slip_limit(q)
+        dL0 = self.muKnCos * math.copysign(1.0, q0) if L0 > 0.0 else 0.0
+        phi0 = F0 / L0 if L0 > 0.0 else 0.0
+        cols = np.column_stack([S[:3, 0] + S[:3, 2] * phi0 * dL0, S[:3, 1], S[:3, 2] * L0])
+        if L > 0.0:
+            cols[2] = (cols[2] - F / L * self.muKnCos * math.copysign(1.0, q) * cols[0]) / L
+        else:
+            cols[2] = 0.0
+        return cols
 
     def with_model(self, model: str) -> "PeriodMap":
         """A period map of another model on the same FMU and parameters, whose evaluations count

@@ -1,10 +1,12 @@
 """Newton shooting on the FMU's period map, Floquet multipliers and their labels.
 
 A periodic orbit is a fixed point x = P(x) of the period map (harness.sweep.periodic.period_map). Newton
-on R(x) = P(x) - x with a forward-difference Jacobian DP (one period per unknown), damped by
-halving while the scaled residual grows. The monodromy matrix is DP at the orbit (central
-differences once converged, one-sided where the unknown sits on a bound: the Jenkins element's
-slip limit |phi| = 1); its eigenvalues are the Floquet multipliers. An orbit is stable if every
+on R(x) = P(x) - x, damped by halving while the scaled residual grows, with DP from the FMU's
+sensitivities (every period brings its exact DP, docs/model-notes.md s.8), or else a
+forward-difference DP (one period per unknown) updated by Broyden. The monodromy matrix is DP at
+the orbit (sensitivities, or central differences once converged, one-sided where the unknown
+sits on a bound: the Jenkins element's slip limit |phi| = 1); its eigenvalues are the Floquet
+multipliers. An orbit is stable if every
 multiplier lies inside the unit circle; an unstable one is labelled by how it lost stability:
 "fold" (a real multiplier > 1), "period-doubling" (a real one < -1), "Neimark-Sacker" (a complex
 pair outside).
@@ -133,7 +135,8 @@ class Solution:
     amplitude: float
     residual: float
     iterations: int
-    J: np.ndarray | None  # DP near x, Broyden-updated (an estimate, not the monodromy); None if none was needed
+    J: np.ndarray | None  # DP near x, Broyden-updated (an estimate), or exact at x; None if none was needed
+    exact: bool = False  # J is DP at x from the FMU's sensitivities (the monodromy matrix)
 
 
 def newton(pm: PeriodMap, x0: np.ndarray, speed: float, J0: np.ndarray | None = None,
@@ -143,20 +146,24 @@ def newton(pm: PeriodMap, x0: np.ndarray, speed: float, J0: np.ndarray | None = 
     differences (one period per unknown), updated by Broyden after every step, a fresh DP only when
     a step fails to halve the residual. Without quasi every step takes a fresh DP."""
     tol = pm.s.tol if tol is None else tol
+    sens = pm.s.sensitivities  # every evaluation brings its exact DP: Newton proper
     x = bounded(pm, np.asarray(x0, dtype=float))
     try:
         Px, A = pm(x, speed)
     except (FMUError, ParameterError):
         return None
+    Jx = pm.DP
     J, fresh = (None, False) if J0 is None else (np.array(J0, dtype=float), False)
     uphill = 0  # steps with a fresh DP that did not lower the residual (give up after MAX_UPHILL)
     for it in range(1, pm.s.max_iter + 1):
         sc = pm.scales(x, speed)
         res = float(np.max(np.abs((Px - x) / sc)))
         if res <= tol:
-            return Solution(x, Px, float(A), res, it - 1, J)
+            return Solution(x, Px, float(A), res, it - 1, Jx if sens else J, exact=sens)
         try:
-            if J is None:
+            if sens:
+                J, fresh = Jx, True
+            elif J is None:
                 J, fresh = jacobian(pm, x, speed, Px), True
             dx = np.linalg.solve(J - np.eye(pm.dim), -(Px - x))
         except (FMUError, ParameterError, np.linalg.LinAlgError):
@@ -166,6 +173,7 @@ def newton(pm: PeriodMap, x0: np.ndarray, speed: float, J0: np.ndarray | None = 
             xn = bounded(pm, x + lam * dx)
             try:
                 Pn, An = pm(xn, speed)
+                Jn = pm.DP
                 rn = float(np.max(np.abs((Pn - xn) / pm.scales(xn, speed))))
             except (FMUError, ParameterError):
                 rn = math.inf
@@ -182,9 +190,9 @@ def newton(pm: PeriodMap, x0: np.ndarray, speed: float, J0: np.ndarray | None = 
             uphill += 1
             if uphill > MAX_UPHILL:
                 return None  # Newton crawls away from a root it cannot reach from here
-        if J is not None:
+        if J is not None and not sens:
             J, fresh = (broyden(J, xn - x, Pn - Px, sc), False) if quasi else (None, False)
-        x, Px, A = xn, Pn, An
+        x, Px, A, Jx = xn, Pn, An, Jn
     return None
 
 
@@ -199,7 +207,7 @@ def orbit(pm: PeriodMap, sol: Solution, speed: float, central: bool = True) -> O
     """The Orbit of a converged root: its monodromy matrix taken afresh (central differences, or
     forward ones), its multipliers and the FMU start values that start a run on it."""
     x = sol.x
-    J = jacobian(pm, x, speed, sol.Px, central=central)
+    J = sol.J if sol.exact else jacobian(pm, x, speed, sol.Px, central=central)
     B = math.nan if pm.model == "jenkins" else (pm.B if pm.dim == 2 else float(x[2]))
     return Orbit(pm.model, float(speed), x.copy(), sol.amplitude, B, multipliers(J), sol.residual, sol.iterations,
                  pm.start_values(x))
