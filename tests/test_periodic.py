@@ -237,3 +237,23 @@ def test_every_orbit_at_the_top_of_the_speed_range(fmu):
     q0, v0 = linear_orbit(pm.p, 30000.0, None)
     assert abs(orbits[0].x[0] - q0) <= 1e-6 * orbits[0].amplitude
     assert abs(orbits[0].x[1] - v0) <= 1e-6 * orbits[0].amplitude * omega(pm.p, 30000.0)
+
+
+@pytest.mark.parametrize("model, n", [("fixedPoint", 7000.0), ("coulomb", 6000.0), ("jenkins", 6000.0),
+                                      ("jenkins", 8000.0)])
+def test_multipliers_from_sensitivities_equal_central_differences(fmu, model, n):
+    """Every orbit found at n: the monodromy matrix from the FMU's sensitivities (the default) has
+    the multipliers of the central-difference one (sensitivities off) within 1e-5: the two differ
+    by the differences' truncation and the kink of max |q| at half-wave symmetric orbits (the
+    sensitivities take the mean gradient of equal peaks, the central difference's limit)."""
+    from harness.sweep.periodic.period_map import ShootingSettings
+    from harness.sweep.periodic.search import solutions_at
+    from harness.sweep.periodic.shooting import orbit
+    pm_s = PeriodMap(fmu, {}, model)
+    pm_f = PeriodMap(fmu, {}, model, ShootingSettings(sensitivities=False))
+    sols = solutions_at(pm_f, n)
+    assert len(sols) >= 2
+    for sol in sols:
+        a = orbit(pm_f, sol, n).multipliers
+        b = shoot(pm_s, sol.x, n).multipliers
+        assert np.allclose(np.sort(np.abs(a)), np.sort(np.abs(b)), rtol=0, atol=1e-5), (sol.amplitude, a, b)
