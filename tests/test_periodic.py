@@ -245,12 +245,14 @@ def test_multipliers_from_sensitivities_equal_central_differences(fmu, model, n)
     """Every orbit found at n: the monodromy matrix from the FMU's sensitivities (the default) has
     the multipliers of the central-difference one (sensitivities off) within 1e-5: the two differ
     by the differences' truncation and the kink of max |q| at half-wave symmetric orbits (the
-    sensitivities take the mean gradient of equal peaks, the central difference's limit)."""
+    sensitivities take the mean gradient of equal peaks, the central difference's limit). The
+    differences run at 8 steps per period: at 4 the load interpolant leaves the two peaks ~1e-10
+    apart, so a difference step of 1e-6 no longer straddles the kink."""
     from harness.sweep.periodic.period_map import ShootingSettings
     from harness.sweep.periodic.search import solutions_at
     from harness.sweep.periodic.shooting import orbit
     pm_s = PeriodMap(fmu, {}, model)
-    pm_f = PeriodMap(fmu, {}, model, ShootingSettings(sensitivities=False))
+    pm_f = PeriodMap(fmu, {}, model, ShootingSettings(sensitivities=False, steps_per_period=8))
     sols = solutions_at(pm_f, n)
     assert len(sols) >= 2
     for sol in sols:

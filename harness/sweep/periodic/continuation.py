@@ -328,8 +328,8 @@ def _correct(prob: _Problem, zp: np.ndarray, t: np.ndarray, Jz: np.ndarray, s: C
         if not np.all(np.isfinite(zn)):
             return None
         Hn, Px, A = prob.H(zn)
-        if quasi and not prob.sens:
-            J = J + np.outer(Hn - Hz - J @ dz, dz) / float(dz @ dz)  # Broyden, in scaled coordinates
+        if quasi:  # Broyden, in scaled coordinates (with sensitivities: its speed column counts)
+            J = J + np.outer(Hn - Hz - J @ dz, dz) / float(dz @ dz)
         zk, Hz = zn, Hn
         if np.max(np.abs(Hz)) <= prob.pm.s.tol * 10:
             return zk, Hz, Px, A, it
