@@ -22,7 +22,7 @@ import numpy as np
 from harness.fmu.blade import SPEED_RANGE, BladeFMU
 from harness.sweep.periodic.continuation import Branch, ContinuationSettings, continue_branch
 from harness.sweep.periodic.period_map import PeriodMap, ShootingSettings
-from harness.sweep.periodic.search import SearchSettings, same_orbit, solutions_at
+from harness.sweep.periodic.search import SearchSettings, hb_guesses, same_orbit, solutions_at
 from harness.sweep.periodic.shooting import Orbit, newton, orbit
 from harness.model.params import ParameterError
 
@@ -64,8 +64,9 @@ def trace_branches(fmu: BladeFMU, params: Mapping[str, Any] | None, model: str, 
     pm = pm or PeriodMap(fmu, params, model, s.shooting)
     branches: list[Branch] = []
     seeds = 0
-    for n in seed_speeds(lo, hi, s.seed_step):
-        for sol in solutions_at(pm, n, s.search):
+    speeds = seed_speeds(lo, hi, s.seed_step)
+    for n, hb in zip(speeds, hb_guesses(pm, speeds)):
+        for sol in solutions_at(pm, n, s.search, hb):
             seeds += 1
             if any(b.contains(n, sol.amplitude) for b in branches):
                 continue

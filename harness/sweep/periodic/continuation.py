@@ -175,10 +175,8 @@ class _Problem:
         h = eps * (1.0 if n * (1 + 2 * eps) <= SPEED_RANGE[1] else -1.0) * max(abs(z[-1]), 1e-3)
         zp = z.copy()
         zp[-1] += h
-        last = self._last  # the sensitivities at z stay the last ones
-        col = (self.H(zp)[0] - Hz) / h
-        self._last = last
-        return col
+        x, n = self.from_z(zp)
+        return ((self.pm(x, n, jacobian=False)[0] - zp[:-1] * self.sc) / self.sc - Hz) / h
 
     def jac(self, z: np.ndarray, Hz: np.ndarray, Px: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(dH/dz (m x m+1), DP in physical units (m x m)): central differences in the unknowns

@@ -117,6 +117,7 @@ class PeriodMap:
         self._ival = (ctypes.c_int * len(ints))(*[int(x) for _, x in ints])
         self._bvr = (ctypes.c_uint * len(bools))(*[v[k].valueReference for k, _ in bools])
         self._bval = (ctypes.c_int * len(bools))(*[int(bool(x)) for _, x in bools])
+        self._isens = next((i for i, (k, _) in enumerate(bools) if k == "sensitivities"), None)
         out = _OUT + (_SENS if settings.sensitivities else ())
         self._ovr = (ctypes.c_uint * len(out))(*[v[k].valueReference for k in out])
         self._oval = (ctypes.c_double * len(out))()
@@ -174,10 +175,15 @@ class PeriodMap:
         third = 1.0 if self.model == "jenkins" else max(abs(x[2]), self.d, 1e-9)
         return np.array([S, S * omega(self.p, speed), third])
 
-    def __call__(self, x: np.ndarray, speed: float) -> tuple[np.ndarray, float]:
-        """(image of x, max |q| over the period). Raises FMUError if the FMU refuses the start
-        (e.g. B <= 0) or fails in the period."""
+    def __call__(self, x: np.ndarray, speed: float, jacobian: bool = True) -> tuple[np.ndarray, float]:
+        """(image of x, max |q| over the period); with sensitivities (the settings) and jacobian,
+        also DP at x in self.DP (else None). Raises FMUError if the FMU refuses the start (e.g.
+        B <= 0) or fails in the period."""
         self._prepare(float(speed))
+        want = self.s.sensitivities and jacobian
+        self.DP = None
+        if self._isens is not None:
+            self._bval[self._isens] = int(want)
         q0, v0 = float(x[0]), float(x[1])
         if self.model == "jenkins":
             B, F0 = self.B, float(np.clip(x[2], -1.0, 1.0)) * self.slip_limit(q0)
@@ -211,7 +217,7 @@ class PeriodMap:
             if st > 1:
                 raise self.fmu.failure("fmi2DoStep", st, t)
         o = self._oval
-        st = r.getReal(c, ctypes.addressof(self._ovr), len(o), ctypes.addressof(o))
+        st = r.getReal(c, ctypes.addressof(self._ovr), len(o) if want else len(_OUT), ctypes.addressof(o))
         acct.fmi_seconds += time.perf_counter() - t_in
         if st > 1:
             raise self.fmu.failure("fmi2GetReal", st, self.T)
@@ -220,9 +226,9 @@ class PeriodMap:
         # `amplitude` holds the new maximum and the running maximum restarted at |q(T)|
         ended = amp != B
         A = amp if ended else max(run_max, abs(q))
-        if self.s.sensitivities:
-            self.DP = self._dp(np.frombuffer(o, dtype=np.float64)[len(_OUT):].reshape(len(_OUT), 4), q0, F0, q,
-                               F, 4 if ended else (3 if run_max >= abs(q) else -1))
+        if want:
+            self.DP = self._dp(o[len(_OUT):len(_OUT) + len(_SENS)], q0, F0, q, F,
+                               4 if ended else (3 if run_max >= abs(q) else -1))
         if self.dim == 2:
             return np.array([q, v]), A
         if self.model == "jenkins":
@@ -230,19 +236,24 @@ class PeriodMap:
             return np.array([q, v, F / L if L > 0.0 else 0.0]), A
         return np.array([q, v, A]), A
 
-    def _dp(self, S: np.ndarray, q0: float, F0: float, q: float, F: float, arow: int) -> np.ndarray:
-        """DP in the unknowns from the FMU's sensitivities S (rows q, q', F, runningMaximum,
-        amplitude; columns q0, q0', F0, B); arow: the row of A = max |q| (-1: |q(T)|)."""
-        Arow = S[arow] if arow >= 0 else math.copysign(1.0, q) * S[0]
+    def _dp(self, s: list[float], q0: float, F0: float, q: float, F: float, arow: int) -> np.ndarray:
+        """DP in the unknowns from the FMU's sensitivities s (row-major 5 x 4: rows q, q', F,
+        runningMaximum, amplitude; columns q0, q0', F0, B); arow: the row of A = max |q| (-1:
+        |q(T)|)."""
         if self.dim == 2:
-            return S[:2, :2].copy()
+            return np.array([[s[0], s[1]], [s[4], s[5]]])
+        if arow >= 0:
+            a = s[4 * arow:4 * arow + 4]
+        else:
+            a = [math.copysign(1.0, q) * g for g in s[0:4]]
         if self.model != "jenkins":
-            return np.vstack([S[:2][:, [0, 1, 3]], Arow[[0, 1, 3]]])
+            return np.array([[s[0], s[1], s[3]], [s[4], s[5], s[7]], [a[0], a[1], a[3]]])
         # jenkins: F0 = phi0 L(q0), the image's phi = F / L(q) (L = muKnCos (|q| - d) in contact)
         L0, L = self.slip_limit(q0), self.slip_limit(q)
         dL0 = self.muKnCos * math.copysign(1.0, q0) if L0 > 0.0 else 0.0
         phi0 = F0 / L0 if L0 > 0.0 else 0.0
-        cols = np.column_stack([S[:3, 0] + S[:3, 2] * phi0 * dL0, S[:3, 1], S[:3, 2] * L0])
+        S = np.array(s[:12]).reshape(3, 4)
+        cols = np.column_stack([S[:, 0] + S[:, 2] * phi0 * dL0, S[:, 1], S[:, 2] * L0])
         if L > 0.0:
             cols[2] = (cols[2] - F / L * self.muKnCos * math.copysign(1.0, q) * cols[0]) / L
         else:

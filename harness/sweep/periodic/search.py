@@ -46,8 +46,17 @@ def _b_max(pm: PeriodMap, speed: float) -> float:
     return 1.5 * linear_bound(pm.p, speed)
 
 
-def _guesses(pm: PeriodMap, speed: float, s: SearchSettings) -> list[np.ndarray]:
-    """Starting states: contact-free orbit, linearised orbits at amplitude levels, HB solutions."""
+def hb_guesses(pm: PeriodMap, speeds: list[float]) -> list[list]:
+    """The harmonic-balance solutions that seed the search at each of `speeds` (one vectorised
+    call; none for fixedB)."""
+    if pm.model == "fixedB":
+        return [[] for _ in speeds]
+    return harmonic_balance(_df_params(pm), np.asarray(speeds, dtype=float))
+
+
+def _guesses(pm: PeriodMap, speed: float, s: SearchSettings, hb: list | None = None) -> list[np.ndarray]:
+    """Starting states: contact-free orbit, linearised orbits at amplitude levels, HB solutions
+    (hb: those at this speed if known, else computed here)."""
     p, d = _df_params(pm), pm.d
     w = omega(pm.p, speed)
     levels = [None] + list(np.geomspace(d * (1 + 1e-6), max(_b_max(pm, speed), 2 * d), s.n_levels)) if d > 0 else [None]
@@ -60,7 +69,7 @@ def _guesses(pm: PeriodMap, speed: float, s: SearchSettings) -> list[np.ndarray]
             # the B scan of fixed_point_candidates covers every amplitude level systematically
             break
     if pm.model != "fixedB":
-        for sol in harmonic_balance(p, speed):
+        for sol in (harmonic_balance(p, speed) if hb is None else hb):
             states.append((sol.B * math.sin(sol.phase), sol.B * w * math.cos(sol.phase), sol.B))
     out = []
     for q0, v0, B in states:
@@ -81,10 +90,12 @@ def _add(pm: PeriodMap, found: list[Solution], sol: Solution | None, speed: floa
         found.append(sol)
 
 
-def solutions_at(pm: PeriodMap, speed: float, s: SearchSettings = SearchSettings()) -> list[Solution]:
-    """Every root of the period map found at `speed` (no multipliers), sorted by amplitude."""
+def solutions_at(pm: PeriodMap, speed: float, s: SearchSettings = SearchSettings(),
+                 hb: list | None = None) -> list[Solution]:
+    """Every root of the period map found at `speed` (no multipliers), sorted by amplitude (hb:
+    the harmonic-balance solutions at `speed`, if already known: hb_guesses)."""
     found: list[Solution] = []
-    for x0 in _guesses(pm, speed, s):
+    for x0 in _guesses(pm, speed, s, hb):
         _add(pm, found, newton(pm, x0, speed), speed, s)
     if pm.model in ("fixedPoint", "coulomb") and pm.d > 0:
         for x0 in fixed_point_candidates(pm, speed, s):
