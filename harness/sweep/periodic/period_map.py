@@ -186,7 +186,7 @@ class PeriodMap:
             self._bval[self._isens] = int(want)
         q0, v0 = float(x[0]), float(x[1])
         if self.model == "jenkins":
-            B, F0 = self.B, float(np.clip(x[2], -1.0, 1.0)) * self.slip_limit(q0)
+            B, F0 = self.B, min(max(float(x[2]), -1.0), 1.0) * self.slip_limit(q0)
         else:
             B, F0 = (self.B if self.dim == 2 else float(x[2])), 0.0
         r, i = self._raw, self._iB
@@ -252,13 +252,13 @@ class PeriodMap:
         L0, L = self.slip_limit(q0), self.slip_limit(q)
         dL0 = self.muKnCos * math.copysign(1.0, q0) if L0 > 0.0 else 0.0
         phi0 = F0 / L0 if L0 > 0.0 else 0.0
-        S = np.array(s[:12]).reshape(3, 4)
-        cols = np.column_stack([S[:, 0] + S[:, 2] * phi0 * dL0, S[:, 1], S[:, 2] * L0])
+        rows = [[s[4 * i] + s[4 * i + 2] * phi0 * dL0, s[4 * i + 1], s[4 * i + 2] * L0] for i in range(3)]
         if L > 0.0:
-            cols[2] = (cols[2] - F / L * self.muKnCos * math.copysign(1.0, q) * cols[0]) / L
+            dL = F / L * self.muKnCos * math.copysign(1.0, q)
+            rows[2] = [(rows[2][j] - dL * rows[0][j]) / L for j in range(3)]
         else:
-            cols[2] = 0.0
-        return cols
+            rows[2] = [0.0, 0.0, 0.0]
+        return np.array(rows)
 
     def with_model(self, model: str) -> "PeriodMap":
         """A period map of another model on the same FMU and parameters, whose evaluations count

@@ -76,7 +76,7 @@ def bounded(pm: PeriodMap, x: np.ndarray) -> np.ndarray:
     """x moved into the unknowns' domain: B > 0, |phi| <= 1 (and phi = 0 while open)."""
     x = x.copy()
     if pm.model == "jenkins":
-        x[2] = 0.0 if abs(x[0]) <= pm.d else float(np.clip(x[2], -1.0, 1.0))
+        x[2] = 0.0 if abs(x[0]) <= pm.d else min(max(float(x[2]), -1.0), 1.0)
     elif pm.dim == 3:
         x[2] = max(x[2], 1e-3 * max(pm.d, 1e-9))
     return x
