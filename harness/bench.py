@@ -198,6 +198,37 @@ def hb_all() -> dict[str, Any]:
             "solutions": n, "wall": time.perf_counter() - t}
 
 
+# representative curves: (model, parameters over the base case)
+JACOBIAN_CURVES = (("fixedPoint", {}), ("jenkins", {}), ("coulomb", {}), ("fixedPoint", {"d": 6e-5}),
+                   ("jenkins", {"kn": 1e5}), ("fixedPoint", {"gamma": math.pi / 7}))
+
+
+def branch_jacobians(fmu: Any) -> dict[str, Any]:
+    """Branches of JACOBIAN_CURVES over 3000..12000 rpm (seeds every 1000 rpm, as `make run`),
+    one process, with DP from the FMU's sensitivities (4 steps per period) vs by finite
+    differences (the former path: Broyden in Newton, central monodromy, 8 steps per period)."""
+    from harness.paper.studies import base_params
+    from harness.sweep.periodic.branches import BranchSettings, trace_branches
+    from harness.sweep.periodic.period_map import ShootingSettings
+
+    out = {}
+    for label, sh in (("sensitivities", ShootingSettings()),
+                      ("finite differences", ShootingSettings(sensitivities=False, steps_per_period=8))):
+        wall = cpu = fmi = 0.0
+        periods = points = 0
+        for model, extra in JACOBIAN_CURVES:
+            t, c = time.perf_counter(), time.process_time()
+            branches, st = trace_branches(fmu, dict(base_params(), **extra), model, (3000.0, 12000.0),
+                                          BranchSettings(seed_step=1000.0, shooting=sh))
+            wall += time.perf_counter() - t
+            cpu += time.process_time() - c
+            fmi += st.fmi_s
+            periods += st.evaluations
+            points += sum(len(b.points) for b in branches)
+        out[label] = {"wall": wall, "cpu": cpu, "fmi": fmi, "periods": periods, "points": points}
+    return out
+
+
 def reproduce_cold(size: str, workers: int | None) -> dict[str, Any]:
     """`reproduce` as `make run` does it: the studies as periodic-orbit branches, plus extras."""
     from harness.sweep.executor import Runner
@@ -284,6 +315,21 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
         L += ["## Harmonic balance for all studies (target <= 1 s)", "",
               f"{h['curves']} curves x {h['speeds_per_curve']} speeds ({h['solutions']} solutions, every branch with "
               f"stability), one process: **{h['wall']:.3f} s**.", ""]
+    if "jacobians" in data:
+        j = data["jacobians"]
+        L += ["## Branches: the Jacobian from the FMU's sensitivities vs by finite differences", "",
+              f"{len(JACOBIAN_CURVES)} representative curves (fixed point, Jenkins element, Coulomb, d = 0.06 mm, "
+              "kn = 1e5 N/m with the Jenkins element, gamma = pi/7), 3000..12000 rpm, seeds every 1000 rpm, one "
+              "process; finite differences = the former path (Broyden-updated forward differences in Newton, "
+              "central ones for the monodromy, 8 steps per period).", "",
+              "| Jacobian | periods | branch points | wall | CPU | in the FMI calls | CPU / FMI |", "|---|---|---|---|---|---|---|"]
+        for k, v in j.items():
+            L.append(f"| {k} | {v['periods']} | {v['points']} | {v['wall']:.2f} s | {v['cpu']:.2f} s | "
+                     f"{v['fmi']:.2f} s | {v['cpu'] / v['fmi']:.2f} |")
+        a, b = j.get("sensitivities"), j.get("finite differences")
+        if a and b:
+            L += ["", f"Sensitivities: **{b['wall'] / a['wall']:.2f}x less wall time**, "
+                      f"{b['periods'] / a['periods']:.2f}x fewer periods.", ""]
     if "reproduce" in data:
         r = data["reproduce"]
         nan = math.nan
@@ -338,6 +384,8 @@ def run(args: argparse.Namespace) -> int:
         data["dostep"] = dostep_cost(fmu, p)
         print("reference ratio ...", flush=True)
         data["reference"] = reference_ratio(fmu, p)
+        print("branch Jacobians: sensitivities vs finite differences ...", flush=True)
+        data["jacobians"] = branch_jacobians(fmu)
     print("sweep overhead ...", flush=True)
     data["sweep"] = sweep_overhead(path)
     from dataclasses import asdict
