@@ -106,37 +106,58 @@ static Linear linearAt(const DynModel *m, const DynState *s, const DynSens *e, d
     return a;
 }
 
-/* dS/dt = A S + (df/dB) dB^T at the state x (DYN_NX components) */
-static inline void sensRhs(const Linear *a, const DynSens *e, const double x[DYN_NX],
+/* The live block of S: the describing-function models have no w (dw/dt = 0) and no F0 column;
+ * the Jenkins element has no B column (B is an output only). The other entries stay 0. */
+#define LIVE_COLS 3
+static const int DF_COLS[LIVE_COLS] = {P_Q0, P_V0, P_B};
+static const int TD_COLS[LIVE_COLS] = {P_Q0, P_V0, P_F0};
+
+/* dS/dt = A S + (df/dB) dB^T on the live block (ny rows, columns col) at the state x */
+static inline void sensRhs(const Linear *a, const DynSens *e, const double x[DYN_NX], int ny, const int col[],
                            const double S[SENS_NY][SENS_NP], double dS[SENS_NY][SENS_NP])
 {
     const double bB = a->bQ * x[0] + a->bV * x[1];
-    for (int j = 0; j < SENS_NP; ++j) {
+    for (int k = 0; k < LIVE_COLS; ++k) {
+        const int j = col[k];
         dS[Q][j] = S[V][j];
-        dS[V][j] = a->aQ * S[Q][j] + a->aV * S[V][j] + a->aW * S[W][j] + bB * e->dB[j];
-        dS[W][j] = a->cV * S[V][j];
+        dS[V][j] = a->aQ * S[Q][j] + a->aV * S[V][j] + bB * e->dB[j];
+        if (ny == SENS_NY) {
+            dS[V][j] += a->aW * S[W][j];
+            dS[W][j] = a->cV * S[V][j];
+        }
     }
+}
+
+/* RK4 on the live block; inlined with constant ny and col, so the loops unroll */
+static inline void rk4Block(const Linear *const a[4], DynSens *e, double h, const double *const x[4], int ny,
+                            const int col[])
+{
+    double L[4][SENS_NY][SENS_NP], St[SENS_NY][SENS_NP];
+    const double hh = 0.5 * h, c[3] = {hh, hh, h};
+    int k, i, j;
+    sensRhs(a[0], e, x[0], ny, col, (const double(*)[SENS_NP])e->S, L[0]);
+    for (k = 0; k < 3; ++k) {
+        for (i = 0; i < ny; ++i)
+            for (j = 0; j < LIVE_COLS; ++j) St[i][col[j]] = e->S[i][col[j]] + c[k] * L[k][i][col[j]];
+        sensRhs(a[k + 1], e, x[k + 1], ny, col, (const double(*)[SENS_NP])St, L[k + 1]);
+    }
+    for (i = 0; i < ny; ++i)
+        for (j = 0; j < LIVE_COLS; ++j) {
+            const int jj = col[j];
+            e->S[i][jj] += h / 6.0 * (L[0][i][jj] + 2.0 * (L[1][i][jj] + L[2][i][jj]) + L[3][i][jj]);
+        }
 }
 
 void sensRk4(const DynModel *m, const DynState *s, DynSens *e, double h, const double n[3],
              const double x0[DYN_NX], const double stages[3][DYN_NX])
 {
-    double L[4][SENS_NY][SENS_NP], St[SENS_NY][SENS_NP];
-    const double hh = 0.5 * h, c[3] = {hh, hh, h};
     const Linear a0 = linearAt(m, s, e, n[0]);
     const Linear am = n[1] == n[0] ? a0 : linearAt(m, s, e, n[1]);
     const Linear a1 = n[2] == n[1] ? am : linearAt(m, s, e, n[2]);
-    const Linear *a[3] = {&am, &am, &a1};
-    int k, i, j;
-    sensRhs(&a0, e, x0, (const double(*)[SENS_NP])e->S, L[0]);
-    for (k = 0; k < 3; ++k) {
-        for (i = 0; i < SENS_NY; ++i)
-            for (j = 0; j < SENS_NP; ++j) St[i][j] = e->S[i][j] + c[k] * L[k][i][j];
-        sensRhs(a[k], e, stages[k], (const double(*)[SENS_NP])St, L[k + 1]);
-    }
-    for (i = 0; i < SENS_NY; ++i)
-        for (j = 0; j < SENS_NP; ++j)
-            e->S[i][j] += h / 6.0 * (L[0][i][j] + 2.0 * (L[1][i][j] + L[2][i][j]) + L[3][i][j]);
+    const Linear *const a[4] = {&a0, &am, &am, &a1};
+    const double *const x[4] = {x0, stages[0], stages[1], stages[2]};
+    if (m->friction == FrictionMacroslipTD) rk4Block(a, e, h, x, SENS_NY, TD_COLS);
+    else rk4Block(a, e, h, x, 2, DF_COLS);
 }
 
 /* grad g over y of the switching function sw in the discrete state s (dynSwitching's functions). */
