@@ -34,6 +34,9 @@ typedef struct {
     /* derived */
     BladeReduction blade;
     DynModel model;
+    /* model exchange: contactState of the last event, held in continuous-time mode (a discrete
+     * variable, model-notes s.4); -1: none yet (set by build, so also after deserialization) */
+    int32_t meContactState;
 } BladeData;
 
 /* Per-instance memory outside the FMU state. */
@@ -61,5 +64,7 @@ void bladeEventHook(void *ctx, DynEventKind kind, double t, const DynState *s);
 extern const FmiModelExchange bladeModelExchange;
 /* Warns once per run when the describing function is in full stick (docs/model.md s.3). */
 FmiStatus bladeWarnFullStickOnce(FmiInstance *inst, const char *fn);
+/* Model exchange: takes contactState from the current state as the held value (at events). */
+void bladeHoldContactState(FmiInstance *inst);
 
 #endif
