@@ -61,9 +61,18 @@ SIGNATURES = {  # name: (restype, argtypes), FMI 3.0 s.2.3 and s.4.2
 }
 
 
+_built: list[bool] = []
+
+
 def fmu3_binary() -> Path:
     env = os.environ.get("SB_FMU3_BINARY")
-    return Path(env) if env else F.extract_fmu(FMU3_FILE) / "binaries" / "x86_64-linux" / "ShroudedBlade.so"
+    if env:
+        return Path(env)
+    if not _built:  # once per process: the FMU as the sources are now (a no-op when up to date)
+        from harness.fmu import build as _build
+        _build.build(("fmu3",))
+        _built.append(True)
+    return F.extract_fmu(FMU3_FILE) / "binaries" / "x86_64-linux" / "ShroudedBlade.so"
 
 
 class Fmi3Library:

@@ -58,6 +58,7 @@ def run_python_suite(binary: Path, args: list[str], extra_env: dict[str, str] | 
     stderr (pytest's fd capture would swallow it when the sanitizer ends the process)."""
     env = F.sanitizer_env(python=True)
     env["SB_FMU_BINARY"] = str(binary)
+    env["SB_FMU3_BINARY"] = str(F.ASAN_FMI3_BINARY)  # the FMI 3.0 rows and fuzz machine (fmi3raw.py)
     env.update(extra_env or {})
     return subprocess.run([sys.executable, "-m", "pytest", "-q", "-s", "-p", "no:cacheprovider",
                            "-o", "addopts=", *args], cwd=str(TESTS.parent), capture_output=True,

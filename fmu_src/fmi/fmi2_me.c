@@ -99,8 +99,7 @@ fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], s
     const char *fn = "fmi2GetEventIndicators";
     FmiInstance *inst = enterArray(c, fn, MASK_GetStates, eventIndicators, ni, 1);
     if (inst == NULL) return fmi2Error;
-    inst->model->me->eventIndicators(inst, eventIndicators);
-    return fmi2OK;
+    return (fmi2Status)inst->model->me->eventIndicators(inst, fn, eventIndicators);
 }
 
 fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx)

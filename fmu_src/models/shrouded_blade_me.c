@@ -72,6 +72,13 @@ static FmiStatus derivatives(FmiInstance *inst, const char *fn, double dx[])
                      inst->run.time, d->state.B, d->par[ParD]);
         return FmiDiscard;
     }
+    for (int i = 0; i < DYN_NX; ++i) {
+        if (!isfinite(dx[i])) { /* a state set far out (e.g. q = 1e300): no silent inf for the solver */
+            fmiLogStatus(inst, FmiDiscard, "%s: der(x[%d]) = %g is not finite at t = %.17g s (q = %g m, q' = %g m/s)",
+                         fn, i, dx[i], inst->run.time, d->state.q, d->state.v);
+            return FmiDiscard;
+        }
+    }
     return FmiOK;
 }
 
@@ -135,7 +142,7 @@ void bladeHoldContactState(FmiInstance *inst)
     }
 }
 
-static void eventIndicators(FmiInstance *inst, double z[])
+static FmiStatus eventIndicators(FmiInstance *inst, const char *fn, double z[])
 {
     DynSwitchValue sv[DYN_MAX_SWITCHING];
     const int n = switching(BLADE_DATA(inst), sv);
@@ -143,6 +150,14 @@ static void eventIndicators(FmiInstance *inst, double z[])
     for (int i = 0; i < n; ++i) z[slotOf(sv[i].kind)] = sv[i].g;
     loopIndicators(BLADE_DATA(inst), z + ZLoop);
     unfresh(inst, sv, n);
+    for (int i = 0; i < NZ; ++i) {
+        if (!isfinite(z[i])) {
+            fmiLogStatus(inst, FmiDiscard, "%s: event indicator %d = %g is not finite at t = %.17g s", fn, i, z[i],
+                         inst->run.time);
+            return FmiDiscard;
+        }
+    }
+    return FmiOK;
 }
 
 /* The event iteration (model-notes s.6), the first triggered function in priority order applied,
