@@ -159,6 +159,12 @@ def value_cases() -> list[Case]:
                                _states_with(i, v), needle=f"x[{i}]"))
     cases.append(_case(k, "fmi2SetContinuousStates x[0] = 1e300 (huge, finite)", ct, "fmi2SetContinuousStates",
                        _states_with(0, 1e300), "either"))
+    def huge_rhs(c: Instance, m: Me) -> int:
+        assert _states_with(1, 1e200)(c, m) == OK
+        return m.get_dx(c.c, arr(NX), NX)
+    # the dissipated power c q'^2 overflows: a solver must not get inf with fmi2OK
+    cases.append(_case(k, "fmi2GetDerivatives at x[1] = q' = 1e200 m/s (the right-hand side overflows)", ct,
+                       "fmi2GetDerivatives", huge_rhs, needle="not finite"))
     rs = VARIABLES["rotorSpeed"]
     for v in (math.nan, -1.0, 30001.0):
         cases.append(_case(k, f"rotorSpeed = {v!r}", ct, "fmi2SetReal",
