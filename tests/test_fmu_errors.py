@@ -889,7 +889,7 @@ Groups: {counts}.
 | the catalogue, logger rules | `.venv/bin/python -m pytest tests/test_fmu_errors.py` | ~3 s |
 | FMU state, reset, blobs | `.venv/bin/python -m pytest tests/test_fmu_state.py` | ~3 s |
 | threads | `.venv/bin/python -m pytest tests/test_fmu_threads.py` | ~4 s |
-| stateful fuzz | `.venv/bin/python -m pytest tests/test_fmu_fuzz.py` (`SB_FUZZ_EXAMPLES=n`, slow: `-m slow`, 10,000 sequences) | 300 sequences, ~15 s |
+| stateful fuzz | `.venv/bin/python -m pytest tests/test_fmu_fuzz.py` (`SB_FUZZ_EXAMPLES=n`, slow: `-m slow`, 10,000 sequences; model exchange and FMI 3.0: tests/fuzz_me.py, tests/fuzz_fmi3.py, 2,500 each) | 300 sequences per interface, ~25 s |
 | ASan/UBSan: C importer + Python suites | `.venv/bin/python -m pytest tests/test_fmu_sanitizers.py` | ~60 s |
 | LeakSanitizer cycles | `.venv/bin/python -m pytest tests/test_fmu_leaks.py` | 1,000 + 10,000 cycles, ~10 s |
 

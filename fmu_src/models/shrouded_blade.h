@@ -34,8 +34,9 @@ typedef struct {
     /* derived */
     BladeReduction blade;
     DynModel model;
-    /* model exchange: contactState of the last event, held in continuous-time mode (a discrete
-     * variable, model-notes s.4); -1: none yet (set by build, so also after deserialization) */
+    /* model exchange: contactState taken at the last fmi2NewDiscreteStates and held until the next
+     * (a discrete variable, model-notes s.6); -1: none yet (set by build, so also after
+     * deserialization: then taken from the state at the next read) */
     int32_t meContactState;
 } BladeData;
 

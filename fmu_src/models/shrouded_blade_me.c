@@ -14,7 +14,7 @@
 /* Event indicator slots: a switching function of dynSwitching goes to a fixed slot; a slot with
  * no active function holds 1 (constant between events). ZLoop..: the phases where the
  * describing-function loop changes contactState (model-notes s.4): contactState is a discrete
- * variable, so its changes must be events too (it is held between them, see heldContactState). */
+ * variable, so its changes must be events too (it is held between them, see bladeHoldContactState). */
 enum { ZGate0 = 0, ZGate1, ZFriction0, ZFriction1, ZPeriod, ZExtremum, ZLoop, NZ = ZLoop + 5 };
 
 static int slotOf(DynSwitch k)
