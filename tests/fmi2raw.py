@@ -684,9 +684,10 @@ SANITIZER_REPORT = re.compile(r"ERROR: AddressSanitizer|ERROR: LeakSanitizer|run
 
 
 def build_asan() -> tuple[Path, Path]:
-    """Configures (once) and builds build-asan/: the FMU binary and tests/c/sb_importer, both with
+    """Configures (once) and builds build-asan/: the FMU binaries (FMI 2.0; FMI 3.0 in
+    build-asan/fmi3/, see ASAN_FMI3_BINARY) and tests/c/sb_importer, all with
     -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all. Returns
-    (FMU binary, importer)."""
+    (FMI 2.0 FMU binary, importer)."""
     import sys
     d = ASAN_BUILD_DIR
     with _locked(d / ".build.lock"):
@@ -695,10 +696,13 @@ def build_asan() -> tuple[Path, Path]:
                             "-DCMAKE_BUILD_TYPE=RelWithDebInfo", f"-DPython3_EXECUTABLE={sys.executable}"],
                            check=True, capture_output=True, text=True)
         proc = subprocess.run(["cmake", "--build", str(d), "-j", "2", "--target", "ShroudedBlade",
-                               "sb_importer"], capture_output=True, text=True)
+                               "ShroudedBlade3", "sb_importer"], capture_output=True, text=True)
         if proc.returncode != 0:
             raise RuntimeError(f"sanitizer build failed:\n{proc.stdout[-4000:]}\n{proc.stderr[-4000:]}")
     return d / "ShroudedBlade.so", d / "tests" / "c" / "sb_importer"
+
+
+ASAN_FMI3_BINARY = ASAN_BUILD_DIR / "fmi3" / "ShroudedBlade.so"
 
 
 def sanitizer_env(python: bool) -> dict[str, str]:

@@ -15,16 +15,15 @@ steps and set at every root-finding evaluation, CS: held over each communication
 from __future__ import annotations
 
 import ctypes
-from ctypes import POINTER, c_double, c_int, c_size_t, c_void_p
+from ctypes import c_int
 
 import numpy as np
 import pytest
 from fmpy import simulate_fmu
 from fmpy.validation import validate_fmu
 
+from fmi2me import NX, NZ, EventInfo, Me, arr
 from fmi2raw import CO_SIMULATION, DISCARD, ERROR, MODEL_EXCHANGE, OK, VR, Instance
-
-NX, NZ = 5, 6
 OUT = ["tipDisplacement", "tipVelocity", "dissipatedEnergy", "amplitude", "runningMaximum",
        "jenkinsForce", "contactState"]
 FREE = dict(tipDisplacement=1.5e-4, aeroLoad=100.0, rotorSpeed=5000.0)
@@ -110,35 +109,7 @@ def test_euler_equals_cs(fmu_path, friction) -> None:
 # ---------------------------------------------------------------------------------------------
 # the raw API: call sequence, arguments, consistency with the variables
 
-def _fn(lib, name, *argtypes):
-    """A fresh prototype bound to the binary (the shared binding's prototypes stay untouched)."""
-    return ctypes.CFUNCTYPE(c_int, c_void_p, *argtypes)((name, lib.dll))
-
-
-class EventInfo(ctypes.Structure):
-    _fields_ = [("newDiscreteStatesNeeded", c_int), ("terminateSimulation", c_int),
-                ("nominalsOfContinuousStatesChanged", c_int), ("valuesOfContinuousStatesChanged", c_int),
-                ("nextEventTimeDefined", c_int), ("nextEventTime", c_double)]
-
-
-class Me:
-    def __init__(self, lib) -> None:
-        arr = POINTER(c_double)
-        self.get_x = _fn(lib, "fmi2GetContinuousStates", arr, c_size_t)
-        self.set_x = _fn(lib, "fmi2SetContinuousStates", arr, c_size_t)
-        self.get_dx = _fn(lib, "fmi2GetDerivatives", arr, c_size_t)
-        self.get_z = _fn(lib, "fmi2GetEventIndicators", arr, c_size_t)
-        self.nominals = _fn(lib, "fmi2GetNominalsOfContinuousStates", arr, c_size_t)
-        self.set_time = _fn(lib, "fmi2SetTime", c_double)
-        self.new_discrete = _fn(lib, "fmi2NewDiscreteStates", POINTER(EventInfo))
-        self.enter_ct = _fn(lib, "fmi2EnterContinuousTimeMode")
-        self.enter_event = _fn(lib, "fmi2EnterEventMode")
-        self.completed = _fn(lib, "fmi2CompletedIntegratorStep", c_int, POINTER(c_int), POINTER(c_int))
-        self.do_step = _fn(lib, "fmi2DoStep", c_double, c_double, c_int)
-
-
-def _arr(n: int, value: float = 0.0):
-    return (c_double * n)(*([value] * n))
+_arr = arr
 
 
 def _error(inst: Instance, status: int, *fragments: str, expected: int = ERROR) -> None:
@@ -208,7 +179,7 @@ def test_invalid_me_calls(lib) -> None:
         _error(inst, me.set_x(inst.c, x, NX), "fmi2SetContinuousStates: Illegal call sequence (state: eventMode)")
         _error(inst, me.completed(inst.c, 1, None, None), "Illegal call sequence (state: eventMode)")
         _error(inst, me.get_x(inst.c, x, 4), "fmi2GetContinuousStates: nx = 4, but this FMU has 5")
-        _error(inst, me.get_z(inst.c, _arr(NZ), 5), "fmi2GetEventIndicators: ni = 5, but this FMU has 6")
+        _error(inst, me.get_z(inst.c, _arr(NZ), 5), f"fmi2GetEventIndicators: ni = 5, but this FMU has {NZ}")
         _error(inst, me.get_dx(inst.c, None, NX), "fmi2GetDerivatives: NULL array argument")
         _error(inst, me.new_discrete(inst.c, None), "fmi2NewDiscreteStates: fmi2eventInfo is NULL")
         _error(inst, me.set_time(inst.c, float("nan")), "fmi2SetTime: time = nan s is not a finite number")
@@ -268,5 +239,70 @@ def test_me_fmu_state(lib) -> None:
         assert me.new_discrete(inst.c, ctypes.byref(info)) == OK
         for handle in (in_event, h, h2):
             assert inst.free_state(handle) == OK
+    finally:
+        inst.free()
+
+
+def test_getters_in_initialization_mode(lib) -> None:
+    """FMI 2.0 s.3.2.3: the states, their derivatives and the event indicators can be read in
+    initialization mode (initial unknowns), like fmi2GetReal; they follow the start values set there."""
+    me = Me(lib)
+    inst = Instance(lib, name="me", fmu_type=MODEL_EXCHANGE)
+    try:
+        assert inst.setup() == OK and inst.enter_init() == OK
+        assert inst.set_real(["tipDisplacement", "tipVelocity"], [1.5e-4, -0.25]) == OK
+        x, dx, z = _arr(NX), _arr(NX), _arr(NZ)
+        assert me.get_x(inst.c, x, NX) == OK, inst.log_text()
+        assert (x[0], x[1]) == (1.5e-4, -0.25)
+        assert me.get_dx(inst.c, dx, NX) == OK, inst.log_text()
+        assert dx[0] == -0.25  # dq/dt = q'
+        assert me.get_z(inst.c, z, NZ) == OK, inst.log_text()
+        st, q = inst.get_real(["tipDisplacement"])
+        assert st == OK and q[0] == 1.5e-4
+        assert inst.exit_init() == OK
+        assert me.get_x(inst.c, x, NX) == OK and (x[0], x[1]) == (1.5e-4, -0.25)
+    finally:
+        inst.free()
+
+
+def _loop_angles(B: float, d: float = 3e-5, kn: float = 1e7, kd_ratio: float = 0.608695652173913,
+                 mu: float = 0.33, gamma: float = np.pi / 3) -> tuple[float, float, float]:
+    """th1, th2, th3 of the macroslip loop (docs/model.md eq. 5, written here from the doc's
+    versine forms): 1 - cos th1 = 2 b r/(a + b), 1 - cos th2 = r, 1 + cos th3 = (a - b) r/a."""
+    a, b, r = kd_ratio * kn * np.sin(gamma), mu * kn * np.cos(gamma), (B - d) / B
+    return (np.arccos(1 - 2 * b * r / (a + b)), np.arccos(1 - r), np.arccos((a - b) * r / a - 1))
+
+
+def test_contact_state_changes_only_at_events(lib) -> None:
+    """contactState is declared discrete: in model exchange the describing-function loop state
+    (which follows the phase theta = atan2(-q'/omega, q)) changes at events only. A state moved
+    in continuous-time mode from the stick interval [0, th1) into the slip interval [th1, th2)
+    leaves contactState at stick, an event indicator changes sign, and the event switches it."""
+    B, omega = 6e-5, 3 * 2 * np.pi * 5000 / 60
+    th1, th2, _ = _loop_angles(B)
+    R = B  # |q| = R cos(theta) > d on both sides
+
+    def state(theta):
+        return R * np.cos(theta), -omega * R * np.sin(theta)
+
+    me = Me(lib)
+    q0, v0 = state(th1 / 2)
+    inst = Instance(lib, name="me", fmu_type=MODEL_EXCHANGE)
+    try:
+        assert inst.setup() == OK and inst.enter_init() == OK
+        assert inst.set_integer(["frictionModel", "amplitudeMode"], [1, 1]) == OK
+        assert inst.set_real(["tipDisplacement", "tipVelocity", "B"], [q0, v0, B]) == OK
+        assert inst.exit_init() == OK
+        info = EventInfo()
+        assert me.new_discrete(inst.c, ctypes.byref(info)) == OK and me.enter_ct(inst.c) == OK
+        assert inst.get_integer(["contactState"])[1][0] == 1  # stick
+        x, z0, z1 = _arr(NX), _arr(NZ), _arr(NZ)
+        assert me.get_x(inst.c, x, NX) == OK and me.get_z(inst.c, z0, NZ) == OK
+        x[0], x[1] = state((th1 + th2) / 2)
+        assert me.set_x(inst.c, x, NX) == OK and me.get_z(inst.c, z1, NZ) == OK
+        assert any(a * b < 0 for a, b in zip(z0, z1)), "no event indicator saw the stick -> slip switch"
+        assert inst.get_integer(["contactState"])[1][0] == 1  # held until the event
+        assert me.enter_event(inst.c) == OK and me.new_discrete(inst.c, ctypes.byref(info)) == OK
+        assert inst.get_integer(["contactState"])[1][0] == 2  # slip
     finally:
         inst.free()

@@ -492,3 +492,25 @@ def test_ecos_bit_identical(fmu_path: Path, fmu3_path: Path) -> None:
     r2, r3 = go(fmu_path), go(fmu3_path)
     assert np.array_equal(_bits(r2), _bits(r3))
     assert np.max(np.abs(r2[:, 0])) > 3e-5 and np.any(r2[1:, -1] != r2[:-1, -1])
+
+
+def test_undeclared_references_are_unknown(fmus) -> None:
+    """The FMI 2.0 model exchange's locals (excitationPhase, sliderPosition, der(...)) are not in
+    modelDescription3.xml: the FMI 3.0 binary refuses their value references like any unknown one."""
+    md2, _, md3, _ = fmus
+    declared3 = {v.valueReference for v in md3.modelVariables}
+    undeclared = sorted(v.valueReference for v in md2.modelVariables
+                        if v.causality == "local" and v.valueReference not in declared3)
+    assert undeclared, "modelDescription.xml has no locals missing from modelDescription3.xml"
+    log = _Log()
+    f = _slave(fmus, log)
+    try:
+        f.enterInitializationMode()
+        f.exitInitializationMode()
+        for vr in undeclared:
+            _expect_error(log, lambda: f.getFloat64([vr]), f"fmi3GetFloat64: unknown value reference {vr}")
+            _expect_error(log, lambda: f.setFloat64([vr], [0.0]), f"fmi3SetFloat64: unknown value reference {vr}")
+            _expect_error(log, lambda: f.getInt64([vr]), f"fmi3GetInt64: unknown value reference {vr}")
+        assert len(f.getFloat64([50, 51])) == 2  # the declared ones still answer
+    finally:
+        f.freeInstance()

@@ -32,85 +32,13 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import fmi2raw as F  # noqa: E402
 from fmi2raw import (DISCARD, ERROR, OK, STATUS_NAMES, Fmi2Library, Instance,  # noqa: E402
                      message_names_value_and_range)
+from catalogue import (INT_MAX, INT_MIN, NOT_EXPORTED, NULL_INSTANCE, REFUSED, Case,  # noqa: E402
+                       Outcome, _sequence)
+import errors_fmi3  # noqa: E402
+import errors_me  # noqa: E402
 
 sys.path.insert(0, str(F.REPO_ROOT))
 from harness.model.params import specs  # noqa: E402
-
-REFUSED = (ERROR, DISCARD)
-NULL_INSTANCE = -1  # pseudo status: fmi2Instantiate returned NULL
-NOT_EXPORTED = -2   # pseudo status: the function is not exported (fine for model-exchange ones)
-INT_MIN, INT_MAX = -2**31, 2**31 - 1
-
-
-@dataclass
-class Outcome:
-    status: int                    # first non-OK status (OK if everything passed), or NULL_INSTANCE
-    call: str                      # the call that returned it
-    log: list = field(default_factory=list)  # LogRecords logged during the case
-    after: str = ""                # what happened afterwards (e.g. "a later doStep: Error")
-
-    @property
-    def refused(self) -> bool:
-        return self.status in REFUSED or self.status in (NULL_INSTANCE, NOT_EXPORTED)
-
-    def status_text(self) -> str:
-        if self.status == NULL_INSTANCE:
-            return "NULL (no instance)"
-        if self.status == NOT_EXPORTED:
-            return "not exported"
-        return "fmi2" + STATUS_NAMES.get(self.status, str(self.status))
-
-    def errors(self) -> list:
-        return [r for r in self.log if r.status >= F.WARNING]
-
-    def first_message(self) -> str:
-        """The first Warning/Error message, else the first message that is not a call trace."""
-        recs = self.errors() or [r for r in self.log if r.category != "logCalls"]
-        return recs[0].message if recs and recs[0].message else ""
-
-
-@dataclass
-class Case:
-    kind: str                            # table group
-    label: str                           # the invalid input, as shown in the table
-    run: Callable[[Fmi2Library], Outcome]
-    expect: str = "refuse"               # refuse | accept | either
-    name: str | None = None              # variable the message must name
-    value: float | None = None           # value the message must show
-    low: float | None = None             # range the message must show
-    high: float | None = None
-    needle: str | None = None            # a word the message must contain (instead of name/value)
-    isolated: bool = False               # run in a child process (could hang or kill the process)
-
-    @property
-    def id(self) -> str:
-        return f"{self.kind}: {self.label}"
-
-    def outcome(self, lib: Fmi2Library) -> Outcome:
-        if not self.isolated:
-            return self.run(lib)
-        if self.id not in _ISOLATED_CACHE:  # a child process each: run once per session
-            _ISOLATED_CACHE[self.id] = _run_isolated(self.id)
-        return _ISOLATED_CACHE[self.id]
-
-
-_ISOLATED_CACHE: dict[str, Outcome] = {}
-
-
-ISOLATED_TIMEOUT = 300.0  # [s] a hang guard only (a refused huge step returns at once)
-
-
-def _run_isolated(case_id: str) -> Outcome:
-    """Runs one case in a child process (`python tests/test_fmu_errors.py --case ID`)."""
-    proc = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--case", case_id],
-                          capture_output=True, text=True, timeout=ISOLATED_TIMEOUT,
-                          env=os.environ.copy())
-    if proc.returncode != 0:
-        raise AssertionError(f"child process for {case_id!r} died with code {proc.returncode}:\n"
-                             f"{proc.stdout[-2000:]}\n{proc.stderr[-3000:]}")
-    d = json.loads(proc.stdout.strip().splitlines()[-1])
-    return Outcome(d["status"], d["call"], [F.LogRecord(*r) for r in d["log"]], d["after"])
-
 
 def _child(case_id: str) -> None:
     lib = Fmi2Library.get()
@@ -123,19 +51,6 @@ def _child(case_id: str) -> None:
 def _steps(c: Instance, t0: float, n: int, h: float = 1e-4) -> int:
     st, _ = F.run_steps(c, t0, h, n)
     return st
-
-
-def _sequence(c: Instance, calls: list[tuple[str, Callable[[], int]]]) -> Outcome:
-    """Runs the calls until one fails (a Warning is a success); the first failure or the last
-    call with the worst success status."""
-    worst, where = OK, calls[-1][0] if calls else ""
-    for name, fn in calls:
-        st = fn()
-        if st not in (OK, F.WARNING):
-            return Outcome(st, name, list(c.log))
-        if st > worst:
-            worst, where = st, name
-    return Outcome(worst, where, list(c.log))
 
 
 def _ready(lib: Fmi2Library, params: dict | None = None, **kw) -> Instance:
@@ -927,7 +842,8 @@ def all_cases() -> list[Case]:
     return (parameter_cases() + start_value_cases() + boundary_cases() + input_cases() + order_cases()
             + [_after_error_case()] + step_cases() + huge_step_cases() + stop_time_cases()
             + vr_cases() + pointer_cases() + null_component_cases() + unsupported_cases()
-            + model_exchange_cases() + instantiate_cases() + resource_cases() + blob_cases())
+            + model_exchange_cases() + instantiate_cases() + resource_cases() + blob_cases()
+            + errors_me.all_cases() + errors_fmi3.all_cases())
 
 
 def _md_escape(s: str) -> str:
@@ -953,11 +869,13 @@ def write_doc(path: Path = F.REPO_ROOT / "docs" / "invalid-inputs.md") -> int:
     head = f"""# Invalid inputs and what the FMU answers
 
 Generated by `.venv/bin/python tests/test_fmu_errors.py` from an actual run of `build/ShroudedBlade.fmu`
+(FMI 2.0 co-simulation; the groups `ME ...`: its model exchange, tests/errors_me.py) and
+`build/fmi3/ShroudedBlade.fmu` (the groups `FMI 3.0 ...`, tests/errors_fmi3.py)
 ({len(rows)} cases in {len(kinds)} groups; do not edit by hand). Every case starts from a fresh
 instance; tests/test_fmu_errors.py asserts the same catalogue (status, and for parameters and
 inputs that the message names the variable, the value and the accepted range). "expect" is what
-the FMI 2.0 standard and docs/model-notes.md require: `refuse` = fmi2Error or fmi2Discard (NULL
-for fmi2Instantiate), `accept` = fmi2OK, `either` = both are legal, only a crash is not. "call" is
+the FMI 2.0 (3.0) standard and docs/model-notes.md require: `refuse` = fmi2Error or fmi2Discard (NULL
+for fmi2Instantiate; fmi3Error, fmi3Discard or NULL for the FMI 3.0 rows), `accept` = fmi2OK, `either` = both are legal, only a crash is not. "call" is
 the call that answered (the first one that did not return fmi2OK). The message is the first
 Warning/Error message the FMU logged (all categories enabled).
 
@@ -971,7 +889,7 @@ Groups: {counts}.
 | the catalogue, logger rules | `.venv/bin/python -m pytest tests/test_fmu_errors.py` | ~3 s |
 | FMU state, reset, blobs | `.venv/bin/python -m pytest tests/test_fmu_state.py` | ~3 s |
 | threads | `.venv/bin/python -m pytest tests/test_fmu_threads.py` | ~4 s |
-| stateful fuzz | `.venv/bin/python -m pytest tests/test_fmu_fuzz.py` (`SB_FUZZ_EXAMPLES=n`, slow: `-m slow`, 10,000 sequences) | 300 sequences, ~15 s |
+| stateful fuzz | `.venv/bin/python -m pytest tests/test_fmu_fuzz.py` (`SB_FUZZ_EXAMPLES=n`, slow: `-m slow`, 10,000 sequences; model exchange and FMI 3.0: tests/fuzz_me.py, tests/fuzz_fmi3.py, 2,500 each) | 300 sequences per interface, ~25 s |
 | ASan/UBSan: C importer + Python suites | `.venv/bin/python -m pytest tests/test_fmu_sanitizers.py` | ~60 s |
 | LeakSanitizer cycles | `.venv/bin/python -m pytest tests/test_fmu_leaks.py` | 1,000 + 10,000 cycles, ~10 s |
 
@@ -1053,7 +971,7 @@ def test_invalid_input(lib: Fmi2Library, case: Case) -> None:
         assert out.refused, where
         # an Error always says why (all categories are enabled in these instances); so does a
         # refused parameter, input or step (a Discard from a status query needs no message)
-        if (out.status == ERROR and case.kind != "NULL component") or case.kind in (
+        if (out.status == ERROR and not case.kind.endswith("NULL component")) or case.kind in (
                 "parameter", "start value", "input", "input derivative", "step", "huge step"):
             assert out.errors(), f"refused without a message: {where}"
         if case.kind == "call order" and case.name is not None:
@@ -1071,7 +989,7 @@ def test_invalid_input(lib: Fmi2Library, case: Case) -> None:
     assert "fmi2OK" not in out.after and "moved" not in out.after and "not finite" not in out.after, \
         f"{out.after}: {where}"
     for r in out.log:  # logger rules: a name, a known category, a valid status, a message
-        assert r.instance is not None and (r.instance or case.kind == "instantiate"), where
+        assert r.instance is not None and (r.instance or case.kind.endswith("instantiate")), where
         assert r.category in F.LOG_CATEGORIES, where
         assert r.status in F.VALID_STATUSES, where
         assert r.message, where

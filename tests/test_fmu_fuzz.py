@@ -17,6 +17,8 @@ the enabled log categories, and checks after every call:
   fmi2False at instantiation: none), always with our instance name and a known category;
 - valid parameters, inputs and derivatives are accepted; a changed state blob is refused unless
   its checksum was recomputed (then its content is validated or it is safe to use).
+The same file runs the machines of the FMI 2.0 model-exchange interface (tests/fuzz_me.py) and of
+the FMI 3.0 co-simulation FMU (tests/fuzz_fmi3.py), SB_FUZZ_EXAMPLES sequences each.
 Default: SB_FUZZ_EXAMPLES sequences (default 300, deterministic). The `slow` test runs
 SB_FUZZ_SLOW_EXAMPLES (default 10000, random, in chunks of 500 because hypothesis keeps per-run
 bookkeeping). SB_FUZZ_VERBOSE=1 prints how often each call returned each status. A failure
@@ -37,6 +39,8 @@ from hypothesis.stateful import Bundle, RuleBasedStateMachine, consumes, initial
 
 import fmi2raw as F
 from fmi2raw import DISCARD, ERROR, OK, VALID_STATUSES, WARNING, Fmi2Library, Instance
+from fuzz_fmi3 import Fmi3Machine
+from fuzz_me import MeMachine
 
 FUZZ_EXAMPLES = int(os.environ.get("SB_FUZZ_EXAMPLES", "300"))
 FUZZ_SLOW_EXAMPLES = int(os.environ.get("SB_FUZZ_SLOW_EXAMPLES", "10000"))
@@ -559,3 +563,38 @@ def test_fuzz_fmi_sequences(lib: Fmi2Library) -> None:
 @pytest.mark.slow
 def test_fuzz_fmi_sequences_long(lib: Fmi2Library) -> None:
     _run(FUZZ_SLOW_EXAMPLES)
+
+
+def _run_machine(machine: type, examples: int, counters: tuple[str, ...]) -> None:
+    """Runs `examples` sequences of another interface's machine (chunks, seeds as _run)."""
+    machine.sequences = machine.calls = 0
+    for name in counters:
+        setattr(machine, name, 0)
+    randomize = os.environ.get("SB_FUZZ_RANDOM") is not None
+    left, chunk = examples, 0
+    while left > 0:
+        n = min(CHUNK, left)
+        test = (machine if randomize else seed(chunk)(machine)).TestCase
+        chunk += 1
+        test.settings = settings(max_examples=n, stateful_step_count=STEPS_PER_SEQUENCE,
+                                 deadline=None, suppress_health_check=list(HealthCheck), database=None)
+        test("runTest").runTest()
+        left -= n
+    print(f"\nfuzz {machine.__name__}: {machine.sequences} sequences, {machine.calls} FMI calls, "
+          + ", ".join(f"{getattr(machine, c)} {c}" for c in counters))
+    assert machine.sequences >= examples // 2
+    assert all(getattr(machine, c) > 0 for c in counters), "the sequences never reached the common path"
+
+
+def test_fuzz_model_exchange(lib: Fmi2Library) -> None:
+    _run_machine(MeMachine, FUZZ_EXAMPLES, ("integrated", "events"))
+
+
+def test_fuzz_fmi3(lib: Fmi2Library) -> None:  # the FMI 3.0 binary: tests/fmi3raw.py (SB_FMU3_BINARY)
+    _run_machine(Fmi3Machine, FUZZ_EXAMPLES, ("steps_ok",))
+
+
+@pytest.mark.slow
+def test_fuzz_model_exchange_and_fmi3_long(lib: Fmi2Library) -> None:
+    _run_machine(MeMachine, FUZZ_SLOW_EXAMPLES // 4, ("integrated", "events"))
+    _run_machine(Fmi3Machine, FUZZ_SLOW_EXAMPLES // 4, ("steps_ok",))

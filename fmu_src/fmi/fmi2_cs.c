@@ -36,7 +36,7 @@ static void fmi2Sink(void *ctx, const char *instanceName, FmiStatus status, cons
 
 /* The names the generic layer's messages use. */
 static const FmiFace FMI2_FACE = {"fmi2ExitInitializationMode", "fmi2SerializedFMUstateSize",
-                                  {"Real", "Integer", "Boolean"}, fsmStateName};
+                                  {"Real", "Integer", "Boolean"}, fsmStateName, 1};
 
 /* Allowed states per function (co-simulation and model-exchange states: an instance reaches only
  * those of its kind). The error state additionally allows fmi2GetStatus and friends. */

@@ -8,10 +8,13 @@
 #include "fmi2Functions.h"
 #include "fmi/instance.h"
 #include "fmi/log.h"
+#include "fmi/variables.h"
 
 #define MASK_SetTime (FsmEventMode | FsmContinuousTimeMode)
 #define MASK_SetContinuousStates FsmContinuousTimeMode
-#define MASK_GetStates (FsmEventMode | FsmContinuousTimeMode | FsmTerminated | FsmError)
+/* the getters also in initialization mode, as fmi2GetReal (FMI 2.0 s.3.2.3: the initial states,
+ * derivatives and event indicators are initial unknowns) */
+#define MASK_GetStates (FsmInitializationMode | FsmEventMode | FsmContinuousTimeMode | FsmTerminated | FsmError)
 #define MASK_GetNominals (FsmInstantiated | MASK_GetStates)
 #define MASK_EnterEventMode (FsmEventMode | FsmContinuousTimeMode)
 #define MASK_NewDiscreteStates FsmEventMode
@@ -48,6 +51,9 @@ static FmiInstance *enterArray(fmi2Component c, const char *fn, int mask, const 
         fmiLogStatus(inst, FmiError, "%s: NULL array argument with %s = %lu", fn, what, (unsigned long)n);
         return NULL;
     }
+    /* the model's data follow the parameters (in initialization mode: the state follows the start
+     * values, as for fmi2GetReal; after a deserialized FMU state: the derived data) */
+    if (mask != MASK_GetNominals && fmiEnsureBuilt(inst, fn) != FmiOK) return NULL;
     return inst;
 }
 
@@ -93,8 +99,7 @@ fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], s
     const char *fn = "fmi2GetEventIndicators";
     FmiInstance *inst = enterArray(c, fn, MASK_GetStates, eventIndicators, ni, 1);
     if (inst == NULL) return fmi2Error;
-    inst->model->me->eventIndicators(inst, eventIndicators);
-    return fmi2OK;
+    return (fmi2Status)inst->model->me->eventIndicators(inst, fn, eventIndicators);
 }
 
 fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx)
@@ -134,6 +139,7 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *eventInfo)
         fmiLogStatus(inst, FmiError, "%s: fmi2eventInfo is NULL", fn);
         return fmi2Error;
     }
+    if (fmiEnsureBuilt(inst, fn) != FmiOK) return fmi2Error;
     /* the model iterates to the end in one call; no time events (the period ends are state
      * events of the excitation phase, which follows the rotorSpeed input) */
     status = inst->model->me->eventUpdate(inst, fn, &changed);

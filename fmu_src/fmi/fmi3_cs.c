@@ -51,7 +51,7 @@ static const char *fmi3StateName(int32_t state)
 
 /* The names the generic layer's messages use. */
 static const FmiFace FMI3_FACE = {"fmi3ExitInitializationMode", "fmi3SerializedFMUStateSize",
-                                  {"Float64", "Int32", "Boolean"}, fmi3StateName};
+                                  {"Float64", "Int32", "Boolean"}, fmi3StateName, 0};
 
 /* Allowed states per function (FMI 3.0 s.4.3 and the common states of s.3.1; only the states this
  * FMU can be in). */
@@ -200,7 +200,7 @@ static fmi3Status noVariables(fmi3Instance instance, const char *fn, int mask, c
         fmiLogStatus(inst, FmiError, "%s: NULL array argument with nValueReferences = %lu", fn, (unsigned long)nvr);
         return fmi3Error;
     }
-    v = fmiFindVar(inst->model, vr[0]);
+    v = fmiFaceVar(inst, vr[0]);
     if (v != NULL)
         fmiLogStatus(inst, FmiError, "%s: %s (vr %u) is of type %s, not %s", fn, v->name, (unsigned)vr[0],
                      FMI3_FACE.typeNames[v->type], type);

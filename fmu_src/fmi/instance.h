@@ -24,6 +24,8 @@ typedef struct {
     const char *serializedStateSize;      /* e.g. "fmi2SerializedFMUstateSize" */
     const char *typeNames[3];             /* VarReal, VarInteger, VarBoolean: "Real", ... */
     const char *(*stateName)(int32_t state);
+    int declaresLocals;                   /* 0: the face's model description has no local variables
+                                             (FMI 3.0 CS): their value references are unknown there */
 } FmiFace;
 
 /* The generic part of an FMU state. */

@@ -18,7 +18,8 @@ typedef struct FmiModelExchange {
     void (*nominals)(const struct FmiInstance *inst, double x[]);
     /* dx/dt; FmiDiscard (logged) if the right-hand side is not defined at this state */
     FmiStatus (*derivatives)(struct FmiInstance *inst, const char *fn, double dx[]);
-    void (*eventIndicators)(struct FmiInstance *inst, double z[]);
+    /* FmiDiscard (logged) if an indicator is not finite at this state */
+    FmiStatus (*eventIndicators)(struct FmiInstance *inst, const char *fn, double z[]);
     /* The discrete update at an event, iterated to the end; *statesChanged = 1 if the continuous
      * states changed. FmiError (logged) if it cannot be done. */
     FmiStatus (*eventUpdate)(struct FmiInstance *inst, const char *fn, int *statesChanged);

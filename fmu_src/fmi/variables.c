@@ -31,6 +31,13 @@ const VarInfo *fmiFindVar(const FmiModel *model, FmiValueRef vr)
     return NULL;
 }
 
+const VarInfo *fmiFaceVar(const FmiInstance *inst, FmiValueRef vr)
+{
+    const VarInfo *v = fmiFindVar(inst->model, vr);
+    if (v != NULL && v->causality == CausLocal && !inst->face->declaresLocals) return NULL;
+    return v;
+}
+
 const char *fmiVarTypeName(VarType t)
 {
     return t == VarReal ? "Real" : (t == VarInteger ? "Integer" : "Boolean");
@@ -65,7 +72,7 @@ static double storedValue(const VarInfo *v, const void *data)
 }
 
 /* Outputs need the model's derived data; before initialization they follow the parameters. */
-static FmiStatus ensureBuilt(FmiInstance *inst, const char *fn)
+FmiStatus fmiEnsureBuilt(FmiInstance *inst, const char *fn)
 {
     FmiStatus status;
     if (inst->built) return FmiOK;
@@ -77,7 +84,7 @@ static FmiStatus ensureBuilt(FmiInstance *inst, const char *fn)
 /* Looks up vr, checks its type; logs and returns NULL if unknown or of another type. */
 static const VarInfo *lookup(FmiInstance *inst, const char *fn, FmiValueRef vr, VarType type)
 {
-    const VarInfo *v = fmiFindVar(inst->model, vr);
+    const VarInfo *v = fmiFaceVar(inst, vr);
     if (v == NULL) {
         fmiLogStatus(inst, FmiError, "%s: unknown value reference %u", fn, (unsigned)vr);
         return NULL;
@@ -109,7 +116,7 @@ FmiStatus fmiGetValues(FmiInstance *inst, const char *fn, const FmiValueRef vr[]
             continue;
         }
         if (!haveOutputs) {
-            if (ensureBuilt(inst, fn) != FmiOK) return FmiError;
+            if (fmiEnsureBuilt(inst, fn) != FmiOK) return FmiError;
             m->outputs(inst);
             haveOutputs = 1;
         }

@@ -15,6 +15,11 @@ typedef struct {
 
 const VarInfo *fmiFindVar(const FmiModel *model, FmiValueRef vr);
 const char *fmiVarTypeName(VarType type);
+/* fmiFindVar as the instance's face declares the variables (NULL: unknown there). */
+const VarInfo *fmiFaceVar(const FmiInstance *inst, FmiValueRef vr);
+/* Builds the model's derived data from the parameters if they changed (before the end of
+ * initialization also the state from the start values). Logs and returns FmiError on failure. */
+FmiStatus fmiEnsureBuilt(FmiInstance *inst, const char *fn);
 
 /* Unknown or mistyped references give 0 and FmiError, the others are still read. */
 FmiStatus fmiGetValues(FmiInstance *inst, const char *fn, const FmiValueRef vr[], size_t nvr,

@@ -242,6 +242,7 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
                      "d = %g m are not usable together", fn, cp.kn, cp.kdRatio, cp.mu, cp.gamma, cp.d);
         return FmiError;
     }
+    d->meContactState = -1;
     if (initState) {
         if (checkStartForce(inst, fn) != FmiOK) return FmiError;
         if (d->ipar[IparSensitivities] && inst->modelExchange) {
@@ -269,10 +270,17 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
 /* ------------------------------------------------------------------------------------------- */
 /* Outputs                                                                                      */
 
+/* In model exchange contactState is discrete: after initialization it is the value taken at the
+ * last event (fmi2NewDiscreteStates; event indicators at the loop phases, shrouded_blade_me.c),
+ * held in between, also where the phase has moved past a crossing whose event is not yet handled. */
 static void outputs(FmiInstance *inst)
 {
-    const BladeData *d = BLADE_DATA(inst);
-    dynOutputs(&d->model, &d->state, d->in[SOLVER_INPUT_SPEED][0], &BLADE_MEMORY(inst)->out);
+    BladeData *d = BLADE_DATA(inst);
+    DynOutputs *o = &BLADE_MEMORY(inst)->out;
+    dynOutputs(&d->model, &d->state, d->in[SOLVER_INPUT_SPEED][0], o);
+    if (!inst->modelExchange || fsmPreInit(inst->fsm)) return;
+    if (d->meContactState < 0) bladeHoldContactState(inst); /* no event since a restore */
+    o->contactState = d->meContactState;
 }
 
 /* dx_i/dt, the der(...) variables, evaluated only when asked for (at omega = 0 with a

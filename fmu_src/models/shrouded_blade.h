@@ -35,6 +35,10 @@ typedef struct {
     /* derived */
     BladeReduction blade;
     DynModel model;
+    /* model exchange: contactState taken at the last fmi2NewDiscreteStates and held until the next
+     * (a discrete variable, model-notes s.6); -1: none yet (set by build, so also after
+     * deserialization: then taken from the state at the next read) */
+    int32_t meContactState;
 } BladeData;
 
 /* Per-instance memory outside the FMU state. */
@@ -62,5 +66,7 @@ void bladeEventHook(void *ctx, DynEventKind kind, double t, const DynState *s);
 extern const FmiModelExchange bladeModelExchange;
 /* Warns once per run when the describing function is in full stick (docs/model.md s.3). */
 FmiStatus bladeWarnFullStickOnce(FmiInstance *inst, const char *fn);
+/* Model exchange: takes contactState from the current state as the held value (at events). */
+void bladeHoldContactState(FmiInstance *inst);
 
 #endif

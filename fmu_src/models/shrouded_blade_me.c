@@ -12,8 +12,10 @@
 #include "physics/dynamics_step.h"
 
 /* Event indicator slots: a switching function of dynSwitching goes to a fixed slot; a slot with
- * no active function holds 1 (constant between events). */
-enum { ZGate0 = 0, ZGate1, ZFriction0, ZFriction1, ZPeriod, ZExtremum, NZ };
+ * no active function holds 1 (constant between events). ZLoop..: the phases where the
+ * describing-function loop changes contactState (model-notes s.4): contactState is a discrete
+ * variable, so its changes must be events too (it is held between them, see bladeHoldContactState). */
+enum { ZGate0 = 0, ZGate1, ZFriction0, ZFriction1, ZPeriod, ZExtremum, ZLoop, NZ = ZLoop + 5 };
 
 static int slotOf(DynSwitch k)
 {
@@ -70,6 +72,13 @@ static FmiStatus derivatives(FmiInstance *inst, const char *fn, double dx[])
                      inst->run.time, d->state.B, d->par[ParD]);
         return FmiDiscard;
     }
+    for (int i = 0; i < DYN_NX; ++i) {
+        if (!isfinite(dx[i])) { /* a state set far out (e.g. q = 1e300): no silent inf for the solver */
+            fmiLogStatus(inst, FmiDiscard, "%s: der(x[%d]) = %g is not finite at t = %.17g s (q = %g m, q' = %g m/s)",
+                         fn, i, dx[i], inst->run.time, d->state.q, d->state.v);
+            return FmiDiscard;
+        }
+    }
     return FmiOK;
 }
 
@@ -93,13 +102,62 @@ static void unfresh(FmiInstance *inst, const DynSwitchValue sv[], int n)
         if (sv[i].g > 0.0) mem->meFresh &= ~BIT(sv[i].kind);
 }
 
-static void eventIndicators(FmiInstance *inst, double z[])
+/* The loop phase theta = atan2(y, x), x = q, y = -q'/omega, of dynOutputs crosses a switching
+ * angle a (or a + pi) where r sin(theta - a) = y cos a - x sin a [m] changes sign. Only in a
+ * describing-function contact in the stick-slip regime at omega > 0; else the slots hold 1. */
+static void loopIndicators(const BladeData *d, double z[5])
+{
+    const DynModel *m = &d->model;
+    const DynState *s = &d->state;
+    const double omega = m->omegaPerRpm * d->in[SOLVER_INPUT_SPEED][0];
+    double a[5];
+    int n = 0;
+    if (m->friction != FrictionMacroslipTD && omega > 0.0 && dynContactOn(m, s) && s->df.regime == RegimeStickSlip)
+        n = contactLoopSwitchAngles(&m->contact, m->friction, s->B, a);
+    for (int i = 0; i < 5; ++i)
+        z[i] = i < n ? (-s->v / omega) * cos(a[i]) - s->q * sin(a[i]) : 1.0;
+}
+
+/* The contactState an event leaves: as dynOutputs computes it, but a describing-function loop state
+ * is taken a little ahead (LOOP_AHEAD rad) along the phase's motion: a root finder stops within its
+ * tolerance on either side of a crossing, and the event is the change to the next state. */
+#define LOOP_AHEAD 1e-8
+
+void bladeHoldContactState(FmiInstance *inst)
+{
+    BladeData *d = BLADE_DATA(inst);
+    const DynModel *m = &d->model;
+    const DynState *s = &d->state;
+    const double omega = m->omegaPerRpm * d->in[SOLVER_INPUT_SPEED][0];
+    DynOutputs o;
+    dynOutputs(m, s, d->in[SOLVER_INPUT_SPEED][0], &o);
+    d->meContactState = o.contactState;
+    if (m->friction != FrictionMacroslipTD && omega > 0.0 && dynContactOn(m, s) && s->df.regime == RegimeStickSlip) {
+        double x[DYN_NX], f[DYN_NX], theta;
+        loadX(s, x);
+        (void)dynRhs(m, s, d->in[SOLVER_INPUT_AERO][0], d->in[SOLVER_INPUT_SPEED][0], x, f);
+        /* d theta/dt has the sign of v^2 - q a (theta = atan2(-v/omega, q), omega > 0) */
+        theta = atan2(-s->v / omega, s->q) + (s->v * s->v - s->q * f[1] >= 0.0 ? LOOP_AHEAD : -LOOP_AHEAD);
+        d->meContactState = (int32_t)contactLoopState(&m->contact, m->friction, s->B, theta);
+    }
+}
+
+static FmiStatus eventIndicators(FmiInstance *inst, const char *fn, double z[])
 {
     DynSwitchValue sv[DYN_MAX_SWITCHING];
     const int n = switching(BLADE_DATA(inst), sv);
     for (int i = 0; i < NZ; ++i) z[i] = 1.0;
     for (int i = 0; i < n; ++i) z[slotOf(sv[i].kind)] = sv[i].g;
+    loopIndicators(BLADE_DATA(inst), z + ZLoop);
     unfresh(inst, sv, n);
+    for (int i = 0; i < NZ; ++i) {
+        if (!isfinite(z[i])) {
+            fmiLogStatus(inst, FmiDiscard, "%s: event indicator %d = %g is not finite at t = %.17g s", fn, i, z[i],
+                         inst->run.time);
+            return FmiDiscard;
+        }
+    }
+    return FmiOK;
 }
 
 /* The event iteration (model-notes s.6), the first triggered function in priority order applied,
@@ -148,6 +206,7 @@ static FmiStatus eventUpdate(FmiInstance *inst, const char *fn, int *statesChang
         for (int i = 0; i < na; ++i)
             if (!(before & BIT(after[i].kind))) mem->meFresh |= BIT(after[i].kind);
     }
+    bladeHoldContactState(inst); /* the discrete contactState of this event, until the next one */
     return bladeWarnFullStickOnce(inst, fn);
 }
 

@@ -264,6 +264,20 @@ double contactLoopFriction(const ContactParams *p, FrictionModel model, double B
     return -halfLoopFriction(&L, t - CONTACT_PI);
 }
 
+int contactLoopSwitchAngles(const ContactParams *p, FrictionModel model, double B, double angle[5]) {
+    Loop L;
+    if (!contactParamsValid(p) || !modelValid(model) || !isfinite(B) || B <= p->d) return 0;
+    loopSetup(p, model, B, &L);
+    if (L.regime != RegimeStickSlip) return 0; /* full stick: always 1, no phase dependence */
+    /* the interval ends of contactLoopState, in the same order */
+    angle[0] = 0.0;
+    angle[1] = L.th1;
+    angle[2] = L.th2;
+    angle[3] = CONTACT_PI - L.th2;
+    angle[4] = L.th3;
+    return 5;
+}
+
 ContactState contactLoopState(const ContactParams *p, FrictionModel model, double B, double theta) {
     Loop L;
     double t;

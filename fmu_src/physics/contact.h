@@ -60,4 +60,10 @@ double contactLoopFriction(const ContactParams *p, FrictionModel model, double B
  * open for B <= d or invalid input. */
 ContactState contactLoopState(const ContactParams *p, FrictionModel model, double B, double theta);
 
+/* The phases t in [0, pi) where contactLoopState changes (each again at t + pi: interval k + 5
+ * mirrors interval k), for model exchange's event indicators: writes 5 angles [rad] and returns 5
+ * in the stick-slip regime; returns 0 (no phase dependence) when open, in full stick or for
+ * invalid input. Angles may coincide (Coulomb: th1 = 0, th3 = pi - th2). */
+int contactLoopSwitchAngles(const ContactParams *p, FrictionModel model, double B, double angle[5]);
+
 #endif

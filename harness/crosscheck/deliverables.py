@@ -13,6 +13,13 @@ spacing (frictionForce, Keq, Ceq, contactState) fail even against themselves and
 Importer results are filed under `results/.../<Importer>/<ver>/ShroudedBlade/<ver>/ShroudedBlade/`
 with `_out.csv` and `passed`/`failed`; `python -m fmpy.cross_check.validate_vendor_repo <root>`
 checks the whole tree.
+
+The same layout holds three flavours (`fmus/<2.0|3.0>/<cs|me>/linux64/...`): FMI 2.0 co-simulation,
+FMI 2.0 model exchange (the same FMU file, which carries both) and FMI 3.0 co-simulation
+(build/fmi3/ShroudedBlade.fmu). The model-exchange `_in.csv` writes the held inputs as steps (each
+t_k twice: the value before and after), because a model-exchange importer interpolates the table
+linearly; its reference is fmpy's CVode at RelTol ME_REL_TOL. The FMI 3.0 reference is fmpy's
+simulate_fmu as for 2.0 (the outputs are bit-identical to FMI 2.0's, tests/test_fmi3.py).
 """
 from __future__ import annotations
 
@@ -40,6 +47,8 @@ REF_VARIABLES = ["tipDisplacement", "tipVelocity", "normalForce", "amplitude", "
                  "naturalFrequency", "regime"]
 INTEGER_VARIABLES = ["regime"]
 REL_TOL = 1e-6  # reported in _ref.opt; the FMU's fixed-step RK4 does not use it
+ME_REL_TOL = 1e-9  # CVode's relative tolerance for the model-exchange reference (in its _ref.opt)
+FLAVOURS = (("2.0", "cs"), ("2.0", "me"), ("3.0", "cs"))  # (FMI version, interface) folders
 
 
 def fmu_version(fmu: Path) -> str:
@@ -48,8 +57,8 @@ def fmu_version(fmu: Path) -> str:
     return root.get("version") or "0"
 
 
-def model_dir(root: Path, version: str) -> Path:
-    return Path(root) / "fmus" / "2.0" / "cs" / "linux64" / TOOL / version / MODEL_NAME
+def model_dir(root: Path, version: str, fmi: str = "2.0", kind: str = "cs") -> Path:
+    return Path(root) / "fmus" / fmi / kind / "linux64" / TOOL / version / MODEL_NAME
 
 
 @dataclass
@@ -60,33 +69,60 @@ class Deliverables:
     ref_csv: Path
     ref_opt: Path
     readme: Path
+    fmi: str = "2.0"   # FMI version folder
+    kind: str = "cs"   # cs | me
 
 
-def generate(fmu: Path, scenario: Scenario, root: Path = DEFAULT_ROOT) -> Deliverables:
-    """Write the deliverables of `scenario` for `fmu` under `root`; returns the paths."""
+def held_steps(table: np.ndarray) -> np.ndarray:
+    """A held input table (value at t_k kept until t_{k+1}) as steps for linear interpolation: row k
+    at t_k, then the same values again at t_{k+1} before row k+1 (repeated times are steps)."""
+    out = np.empty(2 * len(table) - 1, dtype=table.dtype)
+    out[0::2] = table
+    out[1::2] = table[:-1]
+    out["time"][1::2] = table["time"][1:]
+    return out
+
+
+def me_reference(fmu: Path, scenario: Scenario, table: np.ndarray, rel_tol: float, names: list[str]) -> np.ndarray:
+    """fmpy's model exchange (CVode at `rel_tol`) with the step input table, output every step."""
+    return simulate_fmu(str(fmu), fmi_type="ModelExchange", solver="CVode", relative_tolerance=rel_tol,
+                        start_time=scenario.start_time, stop_time=scenario.stop_time, output_interval=scenario.step,
+                        input=table, output=names, record_events=False)
+
+
+def generate(fmu: Path, scenario: Scenario, root: Path = DEFAULT_ROOT, fmi: str = "2.0",
+             kind: str = "cs") -> Deliverables:
+    """Write the deliverables of `scenario` for `fmu` (an FMI `fmi` FMU, used as `kind`) under
+    `root`; returns the paths."""
     from harness.crosscheck.plan import make_plan
 
     if scenario.fmu_overrides():
         raise ValueError("the cross-check FMU runs with its default parameters: pick a scenario without overrides")
+    if (fmi, kind) not in FLAVOURS:
+        raise ValueError(f"no deliverables for FMI {fmi} {kind}")
     version = fmu_version(fmu)
-    d = model_dir(root, version)
+    d = model_dir(root, version, fmi, kind)
     if d.exists():
         shutil.rmtree(d)
     d.mkdir(parents=True)
     out = Deliverables(d, d / f"{MODEL_NAME}.fmu", d / f"{MODEL_NAME}_in.csv", d / f"{MODEL_NAME}_ref.csv",
-                       d / f"{MODEL_NAME}_ref.opt", d / "README.md")
+                       d / f"{MODEL_NAME}_ref.opt", d / "README.md", fmi, kind)
     shutil.copyfile(fmu, out.fmu)
 
-    write_csv(out.in_csv, make_plan(scenario, 0).input_table())
+    held = make_plan(scenario, 0).input_table()
+    write_csv(out.in_csv, held_steps(held) if kind == "me" else held)
     table = read_csv(out.in_csv)  # the reference uses exactly the numbers in the file
-    res = simulate_fmu(str(out.fmu), start_time=scenario.start_time, stop_time=scenario.stop_time,
-                       output_interval=scenario.step, input=table, output=REF_VARIABLES)
+    if kind == "me":
+        res = me_reference(out.fmu, scenario, table, ME_REL_TOL, REF_VARIABLES)
+    else:
+        res = simulate_fmu(str(out.fmu), start_time=scenario.start_time, stop_time=scenario.stop_time,
+                           output_interval=scenario.step, input=table, output=REF_VARIABLES)
     write_csv(out.ref_csv, as_float_result(res, REF_VARIABLES))
     _integer_columns(out.ref_csv, INTEGER_VARIABLES)
 
     out.ref_opt.write_text(f"StartTime, {scenario.start_time!r}\nStopTime, {scenario.stop_time!r}\n"
-                           f"StepSize, {scenario.step!r}\nRelTol, {REL_TOL!r}\n")
-    out.readme.write_text(_readme(scenario, version))
+                           f"StepSize, {scenario.step!r}\nRelTol, {ME_REL_TOL if kind == 'me' else REL_TOL!r}\n")
+    out.readme.write_text(_readme(scenario, version, fmi, kind))
     return out
 
 
@@ -103,9 +139,40 @@ def _integer_columns(csv: Path, names: list[str]) -> None:
     csv.write_text("\n".join(rows) + "\n")
 
 
-def _readme(scenario: Scenario, version: str) -> str:
-    return f"""# {MODEL_NAME} {version}: FMI 2.0 co-simulation, linux64
+_FLAVOUR_TEXT = {
+    ("2.0", "cs"): "FMI 2.0 co-simulation",
+    ("2.0", "me"): "FMI 2.0 model exchange",
+    ("3.0", "cs"): "FMI 3.0 co-simulation",
+}
 
+
+def _flavour_notes(scenario: Scenario, fmi: str, kind: str) -> str:
+    if kind == "me":
+        return f"""
+Model exchange: the same archive as fmus/2.0/cs (it carries <ModelExchange> too): 5 continuous
+states (q, dq/dt, excitationPhase, dissipatedEnergy, sliderPosition), 11 event indicators (contact
+gate, stick/slip, period end, extremum, the describing function's loop phases: state events only).
+`{MODEL_NAME}_in.csv` holds the same inputs as the co-simulation folder, written as steps (every
+time twice: the value before and after), so that linear interpolation gives the held inputs.
+Reference: fmpy.simulate_fmu(fmi_type="ModelExchange", solver="CVode", relative_tolerance={ME_REL_TOL!r}),
+output every {scenario.step!r} s, to StopTime {scenario.stop_time!r} s only: the default response is
+sensitive (see below), and integrations that differ by 4e-6 at 0.02 s (fmpy applies the input steps
+at its own solver points, FMI4j's RK4 and the co-simulation FMU hold them exactly) drift apart after
+~0.12 s; up to 0.1 s fmpy, FMI4j and the co-simulation reference agree within 1.3e-4 (relative, in q).
+"""
+    if fmi == "3.0":
+        return """
+FMI 3.0: build/fmi3/ShroudedBlade.fmu, from the same C sources with the FMI 3.0 face
+(fmu_src/fmi/fmi3_cs.c), instantiationToken = the FMI 2.0 guid, `time` is vr 0. FMI 3.0 has no
+function to set input derivatives: inputs are held over each step. Given the same communication
+points its outputs are bit-identical to the FMI 2.0 co-simulation FMU's (tests/test_fmi3.py).
+"""
+    return ""
+
+
+def _readme(scenario: Scenario, version: str, fmi: str = "2.0", kind: str = "cs") -> str:
+    return f"""# {MODEL_NAME} {version}: {_FLAVOUR_TEXT[(fmi, kind)]}, linux64
+{_flavour_notes(scenario, fmi, kind)}
 Reduced-order model of a shrouded turbine blade rubbing/impacting its neighbours (one-mode Galerkin
 model, macroslip friction; Nan et al., Shock and Vibration 2020). Hand-written C99, fixed-step RK4
 with located switching events; `canInterpolateInputs` (input derivatives up to order 8),
@@ -127,8 +194,8 @@ irregular and sensitive: a change of the step sizes by one ulp grows to ~1e-8 re
 t = 0.3 s, and an importer that interpolates the inputs inside the step (input derivatives) sees a
 different input and follows a visibly different trajectory after a few excitation periods.
 
-Generated by `make crosscheck` (harness/crosscheck/deliverables.py) from build/ShroudedBlade.fmu;
-do not edit by hand.
+Generated by `make crosscheck` (harness/crosscheck/deliverables.py) from build/ShroudedBlade.fmu
+(FMI 3.0: build/fmi3/ShroudedBlade.fmu); do not edit by hand.
 """
 
 
@@ -154,7 +221,8 @@ def write_result(root: Path, deliverables: Deliverables, importer: str, importer
     version = deliverables.directory.parent.name
     safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in importer)
     safe_ver = "".join(c if c.isalnum() or c in "-_." else "_" for c in importer_version.split(" ")[0])
-    d = (Path(root) / "results" / "2.0" / "cs" / "linux64" / safe / safe_ver / TOOL / version / MODEL_NAME)
+    d = (Path(root) / "results" / deliverables.fmi / deliverables.kind / "linux64" / safe / safe_ver / TOOL / version
+         / MODEL_NAME)
     if d.exists():
         shutil.rmtree(d)
     d.mkdir(parents=True)
@@ -183,8 +251,67 @@ IMPORTER_IDS = {"fmpy": ("FMPy", "fmpy.simulate_fmu with the input table (inputs
                 "fmi4j": ("FMI4j", "crosscheck/java Fmi4jDriver: inputs set before every step (held)")}
 
 
+#: who is filed for the other flavours: (FMI version, kind) -> importers (libcosim imports neither
+#: FMI 2.0 model exchange nor FMI 3.0, Ecos no model exchange, FMI4j 0.38 no FMI 3.0: README)
+FLAVOUR_IMPORTERS = {("2.0", "me"): ("fmpy", "fmi4j"), ("3.0", "cs"): ("fmpy", "ecos")}
+ME_CHECK_REL_TOL = 1e-11  # fmpy's filed model-exchange run: CVode tighter than the reference
+#: [s] the model-exchange folder's StopTime. The default response is sensitive: two integrations
+#: that differ by 4e-6 (relative, in q) at 0.02 s (fmpy's model exchange applies the table's steps at
+#: its own solver points; FMI4j's RK4 and the co-simulation FMU hold them exactly) are 2e-4 apart at
+#: 0.12 s and 0.85 apart at 0.3 s, and the tracked amplitude then falls out of the band; up to 0.1 s
+#: all three stay within 1.3e-4 (measured for issue 12).
+ME_STOP_TIME = 0.1
+
+
+def _flavour_run(tool: str, dl: Deliverables, scenario: Scenario) -> tuple[str, str, str, np.ndarray]:
+    """(importer, version, how, result with the reference's variables) of one importer on one flavour."""
+    import fmpy
+
+    from harness.crosscheck.plan import make_plan
+
+    table = read_csv(dl.in_csv)
+    if tool == "fmpy" and dl.kind == "me":
+        res = me_reference(dl.fmu, scenario, table, ME_CHECK_REL_TOL, REF_VARIABLES)
+        return "FMPy", fmpy.__version__, f"fmpy.simulate_fmu, model exchange, CVode at RelTol {ME_CHECK_REL_TOL!r}, " \
+            "_in.csv interpolated linearly (steps)", res
+    if tool == "fmpy":
+        res = simulate_fmu(str(dl.fmu), start_time=scenario.start_time, stop_time=scenario.stop_time,
+                           output_interval=scenario.step, input=table, output=REF_VARIABLES)
+        return "FMPy", fmpy.__version__, "fmpy.simulate_fmu (FMI 3.0 co-simulation, inputs held over each step)", res
+    plan = make_plan(scenario, 0)
+    if tool == "fmi4j":
+        from harness.crosscheck.importers import fmi4j as xj
+        r = xj.run(dl.fmu, scenario, plan, model_exchange=True)
+        return "FMI4j", r.version, f"crosscheck/java Fmi4jMeDriver: {r.note}", r.result
+    from harness.crosscheck.importers import ecos as xe
+    r = xe.run(dl.fmu, scenario, plan)
+    return "Ecos", r.version, "ecospy (fmi4c): fixed-step simulation, inputs set before every step (held)", r.result
+
+
+def _flavour_results(fmu: Path, scenario: Scenario, root: Path, fmi: str, kind: str) -> tuple[list[str], bool]:
+    """Deliverables of one more flavour and its importers' filed results: Markdown lines, all passed."""
+    if kind == "me":
+        scenario = scenario.shortened(ME_STOP_TIME)
+    dl = generate(fmu, scenario, root, fmi, kind)
+    lines = ["", f"FMI {fmi} {kind} ({dl.directory.relative_to(Path(root).parent)}):", "",
+             "| importer | version | validate_result (fraction outside band) | same, without the stop-time test | filed |",
+             "|---|---|---|---|---|"]
+    ok = True
+    for tool in FLAVOUR_IMPORTERS[(fmi, kind)]:
+        try:
+            name, version, how, result = _flavour_run(tool, dl, scenario)
+        except Exception as exc:  # report, do not stop the others
+            lines.append(f"| {tool} | - | FAILED: {type(exc).__name__}: {str(exc)[:300]} | - | - |")
+            ok = False
+            continue
+        d, rel_out, values_out = write_result(root, dl, name, version, result, how)
+        ok &= values_out == 0
+        lines.append(f"| {name} | {version} | {rel_out:g} | {values_out:g} | {d.relative_to(Path(root).parent)} |")
+    return lines, ok
+
+
 def make_all(fmu: Path, scenario: Scenario, tools: tuple[str, ...], root: Path = DEFAULT_ROOT,
-             rebuild: bool = True) -> tuple[str, bool]:
+             rebuild: bool = True, fmu3: Path | None = None) -> tuple[str, bool]:
     """Regenerate the deliverables, file every importer's result, rebuild from sources, validate the
     tree; returns a Markdown section and whether everything passed."""
     from harness.crosscheck.common import max_rel_diff
@@ -222,6 +349,12 @@ def make_all(fmu: Path, scenario: Scenario, tools: tuple[str, ...], root: Path =
         d, rel_out, values_out = write_result(root, dl, name, r.version, r.result, how)
         ok &= values_out == 0  # a run short of StopTime (accumulated time) is filed as failed, and explained
         lines.append(f"| {name} | {r.version} | {rel_out:g} | {values_out:g} | {d.relative_to(Path(root).parent)} |")
+    for fmi, kind, flavour_fmu in (("2.0", "me", fmu), ("3.0", "cs", fmu3)):
+        if flavour_fmu is None:
+            continue
+        more, flavour_ok = _flavour_results(Path(flavour_fmu), scenario, root, fmi, kind)
+        lines += more
+        ok &= flavour_ok
     rc, out = validate_tree(root)
     ok &= rc == 0
     summary = [ln for ln in out.splitlines() if "problems found" in ln or "Validated" in ln]

@@ -256,7 +256,9 @@ def _run(args: argparse.Namespace, fmu: Path) -> int:
     ok &= st_ok
     if args.deliverables:
         from harness.crosscheck.deliverables import make_all
-        text, d_ok = make_all(fmu, SCENARIOS["steady"], tools)
+        from harness.fmu import build as _build
+        _build.build(("fmu3",))  # the FMI 3.0 FMU of the same sources (fmus/3.0/cs)
+        text, d_ok = make_all(fmu, SCENARIOS["steady"], tools, fmu3=_build.FMU3_PATH)
         print(text + "\n")
         parts += [text, ""]
         ok &= d_ok

@@ -64,7 +64,8 @@ def run(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
                 raise RuntimeError("ecos: simulation init failed")
             rows = np.empty((plan.n_steps + 1, len(outs)))
             times = np.empty(plan.n_steps + 1)
-            getters = [(sim.get_real if o.type == "Real" else sim.get_integer, ident[o.name]) for o in outs]
+            getters = [(sim.get_real if o.type in ("Real", "Float64") else sim.get_integer, ident[o.name])
+                       for o in outs]  # FMI 2.0 or 3.0 type names
             rows[0] = [g(i) for g, i in getters]
             times[0] = sim.get_time()
             values = np.column_stack([plan.values(n) for n in INPUTS])
