@@ -11,17 +11,27 @@
 /* ------------------------------------------------------------------------------------------- */
 /* Inputs (model-notes s.1): Taylor polynomials in tau = t - t_k.                                 */
 
+static void setPoly(SolverInputs *in, int i, const double deriv[SOLVER_MAX_ORDER + 1])
+{
+    double fact = 1.0; /* j! */
+    in->top[i] = 0;
+    for (int j = 0; j <= SOLVER_MAX_ORDER; ++j) {
+        if (j > 0) fact *= (double)j;
+        in->coef[i][j] = deriv[j] / fact;
+        if (j > 0 && in->coef[i][j] != 0.0) in->top[i] = j;
+    }
+}
+
 void solverSetInputs(SolverInputs *in, const double deriv[SOLVER_NUM_INPUTS][SOLVER_MAX_ORDER + 1])
 {
-    for (int i = 0; i < SOLVER_NUM_INPUTS; ++i) {
-        double fact = 1.0; /* j! */
-        in->top[i] = 0;
-        for (int j = 0; j <= SOLVER_MAX_ORDER; ++j) {
-            if (j > 0) fact *= (double)j;
-            in->coef[i][j] = deriv[i][j] / fact;
-            if (j > 0 && in->coef[i][j] != 0.0) in->top[i] = j;
-        }
-    }
+    static const double zero[SOLVER_MAX_ORDER + 1] = {0.0};
+    for (int i = 0; i < SOLVER_NUM_INPUTS; ++i) setPoly(in, i, deriv[i]);
+    setPoly(in, SOLVER_INPUT_FORCE, zero);
+}
+
+void solverSetForce(SolverInputs *in, const double deriv[SOLVER_MAX_ORDER + 1])
+{
+    setPoly(in, SOLVER_INPUT_FORCE, deriv);
 }
 
 static inline double inputAt(const SolverInputs *in, int i, double tau)
@@ -34,30 +44,66 @@ static inline double inputAt(const SolverInputs *in, int i, double tau)
 
 double solverInputAt(const SolverInputs *in, int i, double tau) { return inputAt(in, i, tau); }
 
+void solverShiftInput(const SolverInputs *in, int i, double h, double out[SOLVER_MAX_ORDER + 1])
+{
+    double c[SOLVER_MAX_ORDER + 1];
+    const int top = in->top[i];
+    double fact = 1.0;
+    memcpy(c, in->coef[i], sizeof c);
+    for (int j = 0; j < top; ++j) /* repeated synthetic division: Taylor shift */
+        for (int k = top - 1; k >= j; --k) c[k] += h * c[k + 1];
+    for (int j = 0; j <= SOLVER_MAX_ORDER; ++j) {
+        if (j > 0) fact *= (double)j;
+        out[j] = j <= top ? c[j] * fact : 0.0;
+    }
+    out[0] = inputAt(in, i, h);
+}
+
 /* ------------------------------------------------------------------------------------------- */
 /* RK4                                                                                          */
+
+/* Inputs at one instant. */
+typedef struct {
+    double fw, n, fe; /* aeroLoad [N/m], rotorSpeed [rpm], external force [N] */
+} InputValues;
+
+static inline InputValues inputsAt(const SolverInputs *in, double tau)
+{
+    InputValues u;
+    u.fw = inputAt(in, SOLVER_INPUT_AERO, tau);
+    u.n = inputAt(in, SOLVER_INPUT_SPEED, tau);
+    u.fe = inputAt(in, SOLVER_INPUT_FORCE, tau);
+    return u;
+}
+
+/* dx/dt of the integrated state (dynRhsExt, plus W' = F q'). */
+static inline int rhs(const DynModel *m, const DynState *s, const InputValues *u, const double x[SOLVER_NX],
+                      double f[SOLVER_NX])
+{
+    const int bad = dynRhsExt(m, s, u->fw, u->n, u->fe, x, f);
+    f[DYN_NX] = u->fe * x[1];
+    return bad;
+}
 
 /* One classical RK4 step from (tau0, x0) to tau1 with k1 = f(tau0, x0) given. Returns the
  * omega flag of dynRhs(); the inputs at tau1 are returned for the FSAL evaluation. */
 static int rk4(const DynModel *m, const DynState *s, const SolverInputs *in, double tau0,
-               double tau1, const double x0[DYN_NX], const double k1[DYN_NX],
-               double x1[DYN_NX], double *fw1, double *n1)
+               double tau1, const double x0[SOLVER_NX], const double k1[SOLVER_NX],
+               double x1[SOLVER_NX], InputValues *u1)
 {
-    double k2[DYN_NX], k3[DYN_NX], k4[DYN_NX], xt[DYN_NX];
+    double k2[SOLVER_NX], k3[SOLVER_NX], k4[SOLVER_NX], xt[SOLVER_NX];
     const double h = tau1 - tau0, hh = 0.5 * h, h6 = h / 6.0;
     const double tm = tau0 + hh;
-    const double fwm = inputAt(in, SOLVER_INPUT_AERO, tm), nm = inputAt(in, SOLVER_INPUT_SPEED, tm);
-    const double fwe = inputAt(in, SOLVER_INPUT_AERO, tau1), ne = inputAt(in, SOLVER_INPUT_SPEED, tau1);
+    const InputValues um = inputsAt(in, tm), ue = inputsAt(in, tau1);
     int bad = 0, i;
-    for (i = 0; i < DYN_NX; ++i) xt[i] = x0[i] + hh * k1[i];
-    bad |= dynRhs(m, s, fwm, nm, xt, k2);
-    for (i = 0; i < DYN_NX; ++i) xt[i] = x0[i] + hh * k2[i];
-    bad |= dynRhs(m, s, fwm, nm, xt, k3);
-    for (i = 0; i < DYN_NX; ++i) xt[i] = x0[i] + h * k3[i];
-    bad |= dynRhs(m, s, fwe, ne, xt, k4);
-    for (i = 0; i < DYN_NX; ++i) x1[i] = x0[i] + h6 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
-    *fw1 = fwe;
-    *n1 = ne;
+    for (i = 0; i < SOLVER_NX; ++i) xt[i] = x0[i] + hh * k1[i];
+    bad |= rhs(m, s, &um, xt, k2);
+    for (i = 0; i < SOLVER_NX; ++i) xt[i] = x0[i] + hh * k2[i];
+    bad |= rhs(m, s, &um, xt, k3);
+    for (i = 0; i < SOLVER_NX; ++i) xt[i] = x0[i] + h * k3[i];
+    bad |= rhs(m, s, &ue, xt, k4);
+    for (i = 0; i < SOLVER_NX; ++i) x1[i] = x0[i] + h6 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+    *u1 = ue;
     return bad;
 }
 
@@ -168,19 +214,20 @@ static DynSwitch detect(const DynModel *m, const DynState *s, double h, const do
     return sw;
 }
 
-static inline void loadX(const DynState *s, double x[DYN_NX])
+static inline void loadX(const DynState *s, double x[SOLVER_NX])
 {
-    x[0] = s->q; x[1] = s->v; x[2] = s->psi; x[3] = s->E; x[4] = s->w;
+    x[0] = s->q; x[1] = s->v; x[2] = s->psi; x[3] = s->E; x[4] = s->w; x[5] = s->W;
 }
 
-static inline void storeX(DynState *s, const double x[DYN_NX])
+static inline void storeX(DynState *s, const double x[SOLVER_NX])
 {
-    s->q = x[0]; s->v = x[1]; s->psi = x[2]; s->E = x[3]; s->w = x[4];
+    s->q = x[0]; s->v = x[1]; s->psi = x[2]; s->E = x[3]; s->w = x[4]; s->W = x[5];
 }
 
-static inline int allFinite(const double x[DYN_NX])
+static inline int allFinite(const double x[SOLVER_NX])
 {
-    return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]) && isfinite(x[3]) && isfinite(x[4]);
+    return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]) && isfinite(x[3]) && isfinite(x[4]) &&
+           isfinite(x[5]);
 }
 
 DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
@@ -188,8 +235,8 @@ DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
                            SolverCounters *counters, double *tFail)
 {
     const double hi = h / (double)nSteps;
-    double x0[DYN_NX], x1[DYN_NX], f0[DYN_NX], f1[DYN_NX];
-    double fwB = 0.0, nB = 0.0;
+    double x0[SOLVER_NX], x1[SOLVER_NX], f0[SOLVER_NX], f1[SOLVER_NX];
+    InputValues uB = {0.0, 0.0, 0.0};
     long long nRhs = 0, nEvents = 0, nAccepted = 0;
     DynStatus status = DynOk;
     double tau0 = 0.0;
@@ -205,15 +252,15 @@ DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
             double theta, hs, tAbs, tol, te;
             DynSwitch ev;
             if (!f0Valid) {
-                const double fw0 = inputAt(in, SOLVER_INPUT_AERO, tau0), n0 = inputAt(in, SOLVER_INPUT_SPEED, tau0);
+                const InputValues u0 = inputsAt(in, tau0);
                 ++nRhs;
-                if (dynRhs(m, s, fw0, n0, x0, f0)) { status = DynOmegaZero; break; }
+                if (rhs(m, s, &u0, x0, f0)) { status = DynOmegaZero; break; }
                 f0Valid = 1;
             }
             nRhs += 4;
-            if (rk4(m, s, in, tau0, tauB, x0, f0, x1, &fwB, &nB)) { status = DynOmegaZero; break; }
+            if (rk4(m, s, in, tau0, tauB, x0, f0, x1, &uB)) { status = DynOmegaZero; break; }
             if (!allFinite(x1)) { status = DynNonFinite; break; }
-            if (dynRhs(m, s, fwB, nB, x1, f1)) { status = DynOmegaZero; break; } /* FSAL: next k1 */
+            if (rhs(m, s, &uB, x1, f1)) { status = DynOmegaZero; break; } /* FSAL: next k1 */
             hs = tauB - tau0;
             tAbs = fabs(tStart + tau0);
             tol = 1e-15 * (tAbs > hs ? tAbs : hs) / hs; /* ~1e-15 relative in time */
@@ -232,9 +279,10 @@ DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
                 te = tauB;
                 storeX(s, x1);
             } else if (te > tau0) {
-                double xe[DYN_NX], fwE, nE;
+                double xe[SOLVER_NX];
+                InputValues uE;
                 nRhs += 3;
-                if (rk4(m, s, in, tau0, te, x0, f0, xe, &fwE, &nE)) { status = DynOmegaZero; break; }
+                if (rk4(m, s, in, tau0, te, x0, f0, xe, &uE)) { status = DynOmegaZero; break; }
                 if (!allFinite(xe)) { status = DynNonFinite; break; }
                 storeX(s, xe);
             } /* else: te == tau0, the switch happens at the step start */
