@@ -3,7 +3,9 @@
 #ifndef CONTACT_H
 #define CONTACT_H
 
-typedef enum { FrictionMacroslipDF = 1, FrictionCoulombDF = 2, FrictionMacroslipTD = 3 } FrictionModel;
+/* FrictionNone: no built-in contact (the blade whose contact force is an input, BladeExternalContact);
+ * only physics/dynamics accepts it, contactDescribe refuses it. */
+typedef enum { FrictionNone = 0, FrictionMacroslipDF = 1, FrictionCoulombDF = 2, FrictionMacroslipTD = 3 } FrictionModel;
 typedef enum { ProjectionPaper = 1, ProjectionConsistent = 2 } Projection;
 typedef enum { RegimeOpen = 0, RegimeStickSlip = 1, RegimeFullStick = 2 } Regime;
 typedef enum { ContactOpen = 0, ContactStick = 1, ContactSlip = 2 } ContactState;

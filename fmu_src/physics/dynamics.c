@@ -19,17 +19,24 @@ int dynBuildModel(DynModel *m, const BladeReduction *r, const ContactParams *cp,
 {
     memset(m, 0, sizeof *m);
     if (!(r->M > 0.0) || !isfinite(r->M) || engineOrder < 1) return 1;
+    if (friction != FrictionNone && cp == NULL) return 1;
     m->friction = friction;
     m->projection = projection;
     m->gating = gating ? 1 : 0;
     m->tracked = tracked ? 1 : 0;
-    m->contact = *cp;
     m->invM = 1.0 / r->M;
     m->C0 = r->C0;
     m->K0static = r->K0static;
     m->K0omega2 = r->K0omega2;
     m->G = r->loadGain;
     m->omegaPerRpm = (double)engineOrder * DYN_TWO_PI / 60.0;
+    if (friction == FrictionNone) {
+        /* no built-in contact: no gate, no amplitude, no contact constants (all 0) */
+        m->gating = 0;
+        m->tracked = 0;
+        return 0;
+    }
+    m->contact = *cp;
     m->sinG = sin(cp->gamma);
     m->cosG = cos(cp->gamma);
     m->kd = cp->kdRatio * cp->kn;
@@ -48,6 +55,7 @@ DynStatus dynUpdateDescribe(const DynModel *m, DynState *s)
     DescribingFunction df;
     memset(&s->df, 0, sizeof s->df);
     s->df.regime = RegimeOpen;
+    if (m->friction == FrictionNone) return DynOk; /* no contact: nothing to describe */
     if (!(s->B > m->contact.d)) return DynOk; /* docs/model.md s.3: B <= d is the open regime, all zero */
     /* nonzero also for a non-finite result (contactDescribe checks every field) */
     if (contactDescribe(&m->contact, dfModel, m->projection, s->B, &df) != 0) return DynDescribeFailed;
@@ -116,6 +124,8 @@ DynStatus dynInitState(const DynModel *m, DynState *s, double q0, double v0, dou
          * where an arriving contact would slip (kept as it was before F0 existed) */
         s->mode = fabs(q0) > m->contact.d ? ContactStick : ContactOpen;
         if (s->mode == ContactStick && F0 != 0.0) initContactForce(m, s, F0);
+    } else if (m->friction == FrictionNone) {
+        s->mode = GateOff; /* no contact force ever */
     } else {
         s->mode = (!m->gating || fabs(q0) > m->contact.d) ? GateOn : GateOff;
     }

@@ -72,10 +72,12 @@ typedef struct {
     int32_t slipDir;   /* Jenkins slip direction s = sign(F_f), +1 or -1 */
     int32_t vdir;      /* sign of q' since the last extremum, +1 or -1 (tracking) */
     DescribingFunction df; /* describing function at B (derived: recomputed when B changes) */
+    double W;          /* work done on q by the external force (solver/rk4_events.h) [J]; 0 without one */
 } DynState;
 
 /* Builds the model constants. friction, projection, gating, tracked as the FMU parameters;
- * engineOrder >= 1. Returns 0 on success. */
+ * engineOrder >= 1. FrictionNone (no built-in contact, the blade of BladeExternalContact): cp may be
+ * NULL, gating and tracking are off, the contact force is 0. Returns 0 on success. */
 int dynBuildModel(DynModel *m, const BladeReduction *r, const ContactParams *cp, FrictionModel friction,
                   Projection projection, int gating, int tracked, int engineOrder);
 

@@ -15,10 +15,11 @@ static inline int dynContactOn(const DynModel *m, const DynState *s)
     return s->mode == GateOn;
 }
 
-/* f = dx/dt at state x for inputs fw [N/m], n [rpm] with the discrete state of s (eq. 27).
+/* f = dx/dt at state x for inputs fw [N/m], n [rpm] and an external force fext [N] on q (positive
+ * along q; 0 for ShroudedBlade) with the discrete state of s (eq. 27 plus fext on the right).
  * Returns 1 if omega <= 0 while a describing-function force is needed (model-notes s.2). */
-static inline int dynRhs(const DynModel *m, const DynState *s, double fw, double n, const double x[DYN_NX],
-                         double f[DYN_NX])
+static inline int dynRhsExt(const DynModel *m, const DynState *s, double fw, double n, double fext,
+                            const double x[DYN_NX], double f[DYN_NX])
 {
     const double q = x[0], v = x[1];
     const double Omega = DYN_RAD_PER_RPM * n;
@@ -57,11 +58,22 @@ static inline int dynRhs(const DynModel *m, const DynState *s, double fw, double
         P = Ceq * v * v;
     }
     f[0] = v;
-    f[1] = (m->G * fw - m->C0 * v - K0 * q - Fc) * m->invM;
+    {
+        double a = m->G * fw - m->C0 * v - K0 * q - Fc; /* generalized force [N] */
+        if (fext != 0.0) a += fext; /* skipped for 0: bit-identical to the blade without it */
+        f[1] = a * m->invM;
+    }
     f[2] = omega;
     f[3] = m->C0 * v * v + P;
     f[4] = dw;
     return bad;
+}
+
+/* dynRhsExt without an external force (ShroudedBlade, model exchange). */
+static inline int dynRhs(const DynModel *m, const DynState *s, double fw, double n, const double x[DYN_NX],
+                         double f[DYN_NX])
+{
+    return dynRhsExt(m, s, fw, n, 0.0, x, f);
 }
 
 /* The switching functions active in the discrete state of s, at state x with f = dx/dt, in

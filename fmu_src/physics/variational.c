@@ -113,7 +113,7 @@ static const int DF_COLS[LIVE_COLS] = {P_Q0, P_V0, P_B};
 static const int TD_COLS[LIVE_COLS] = {P_Q0, P_V0, P_F0};
 
 /* dS/dt = A S + (df/dB) dB^T on the live block (ny rows, columns col) at the state x */
-static inline void sensRhs(const Linear *a, const DynSens *e, const double x[DYN_NX], int ny, const int col[],
+static inline void sensRhs(const Linear *a, const DynSens *e, const double x[], int ny, const int col[],
                            const double S[SENS_NY][SENS_NP], double dS[SENS_NY][SENS_NP])
 {
     const double bB = a->bQ * x[0] + a->bV * x[1];
@@ -149,13 +149,12 @@ static inline void rk4Block(const Linear *const a[4], DynSens *e, double h, cons
 }
 
 void sensRk4(const DynModel *m, const DynState *s, DynSens *e, double h, const double n[3],
-             const double x0[DYN_NX], const double stages[3][DYN_NX])
+             const double *const x[4])
 {
     const Linear a0 = linearAt(m, s, e, n[0]);
     const Linear am = n[1] == n[0] ? a0 : linearAt(m, s, e, n[1]);
     const Linear a1 = n[2] == n[1] ? am : linearAt(m, s, e, n[2]);
     const Linear *const a[4] = {&a0, &am, &am, &a1};
-    const double *const x[4] = {x0, stages[0], stages[1], stages[2]};
     if (m->friction == FrictionMacroslipTD) rk4Block(a, e, h, x, SENS_NY, TD_COLS);
     else rk4Block(a, e, h, x, 2, DF_COLS);
 }

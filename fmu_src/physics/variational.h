@@ -38,10 +38,10 @@ typedef struct {
 DynStatus sensInit(const DynModel *m, const DynState *s, double windowMax0, DynSens *e);
 
 /* One RK4 step of size h of the variational equations dS/dt = A(mode, n) S + (df/dB) dB^T over
- * the state's step from x0 with stage states stages (2-4) and rotor speeds n (start, middle, end)
- * [rpm]: the exact derivative of that step. */
+ * the state's step with stage states x[0..3] (q, q' first; x[0] the step start) and rotor speeds
+ * n (start, middle, end) [rpm]: the exact derivative of that step. */
 void sensRk4(const DynModel *m, const DynState *s, DynSens *e, double h, const double n[3],
-             const double x0[DYN_NX], const double stages[3][DYN_NX]);
+             const double *const x[4]);
 
 /* The jump of S at the event of switching function sw. before/after: the discrete state before
  * and after dynApplyEvent (continuous state at the event instant); fMinus, fPlus: dx/dt just

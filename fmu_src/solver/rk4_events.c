@@ -11,17 +11,27 @@
 /* ------------------------------------------------------------------------------------------- */
 /* Inputs (model-notes s.1): Taylor polynomials in tau = t - t_k.                                 */
 
+static void setPoly(SolverInputs *in, int i, const double deriv[SOLVER_MAX_ORDER + 1])
+{
+    double fact = 1.0; /* j! */
+    in->top[i] = 0;
+    for (int j = 0; j <= SOLVER_MAX_ORDER; ++j) {
+        if (j > 0) fact *= (double)j;
+        in->coef[i][j] = deriv[j] / fact;
+        if (j > 0 && in->coef[i][j] != 0.0) in->top[i] = j;
+    }
+}
+
 void solverSetInputs(SolverInputs *in, const double deriv[SOLVER_NUM_INPUTS][SOLVER_MAX_ORDER + 1])
 {
-    for (int i = 0; i < SOLVER_NUM_INPUTS; ++i) {
-        double fact = 1.0; /* j! */
-        in->top[i] = 0;
-        for (int j = 0; j <= SOLVER_MAX_ORDER; ++j) {
-            if (j > 0) fact *= (double)j;
-            in->coef[i][j] = deriv[i][j] / fact;
-            if (j > 0 && in->coef[i][j] != 0.0) in->top[i] = j;
-        }
-    }
+    static const double zero[SOLVER_MAX_ORDER + 1] = {0.0};
+    for (int i = 0; i < SOLVER_NUM_INPUTS; ++i) setPoly(in, i, deriv[i]);
+    setPoly(in, SOLVER_INPUT_FORCE, zero);
+}
+
+void solverSetForce(SolverInputs *in, const double deriv[SOLVER_MAX_ORDER + 1])
+{
+    setPoly(in, SOLVER_INPUT_FORCE, deriv);
 }
 
 static inline double inputAt(const SolverInputs *in, int i, double tau)
@@ -34,44 +44,81 @@ static inline double inputAt(const SolverInputs *in, int i, double tau)
 
 double solverInputAt(const SolverInputs *in, int i, double tau) { return inputAt(in, i, tau); }
 
+void solverShiftInput(const SolverInputs *in, int i, double h, double out[SOLVER_MAX_ORDER + 1])
+{
+    double c[SOLVER_MAX_ORDER + 1];
+    const int top = in->top[i];
+    double fact = 1.0;
+    memcpy(c, in->coef[i], sizeof c);
+    for (int j = 0; j < top; ++j) /* repeated synthetic division: Taylor shift */
+        for (int k = top - 1; k >= j; --k) c[k] += h * c[k + 1];
+    for (int j = 0; j <= SOLVER_MAX_ORDER; ++j) {
+        if (j > 0) fact *= (double)j;
+        out[j] = j <= top ? c[j] * fact : 0.0;
+    }
+    out[0] = inputAt(in, i, h);
+}
+
 /* ------------------------------------------------------------------------------------------- */
 /* RK4                                                                                          */
+
+/* Inputs at one instant. */
+typedef struct {
+    double fw, n, fe; /* aeroLoad [N/m], rotorSpeed [rpm], external force [N] */
+} InputValues;
+
+static inline InputValues inputsAt(const SolverInputs *in, double tau)
+{
+    InputValues u;
+    u.fw = inputAt(in, SOLVER_INPUT_AERO, tau);
+    u.n = inputAt(in, SOLVER_INPUT_SPEED, tau);
+    u.fe = inputAt(in, SOLVER_INPUT_FORCE, tau);
+    return u;
+}
+
+/* dx/dt of the integrated state (dynRhsExt, plus W' = F q'). */
+static inline int rhs(const DynModel *m, const DynState *s, const InputValues *u, const double x[SOLVER_NX],
+                      double f[SOLVER_NX])
+{
+    const int bad = dynRhsExt(m, s, u->fw, u->n, u->fe, x, f);
+    f[DYN_NX] = u->fe * x[1];
+    return bad;
+}
 
 /* One classical RK4 step from (tau0, x0) to tau1 with k1 = f(tau0, x0) given. Returns the
  * omega flag of dynRhs(); the inputs at tau1 are returned for the FSAL evaluation. stages (may be
  * NULL) receives the states of stages 2-4 for the sensitivities. */
 static int rk4(const DynModel *m, const DynState *s, const SolverInputs *in, double tau0,
-               double tau1, const double x0[DYN_NX], const double k1[DYN_NX],
-               double x1[DYN_NX], double *fw1, double *n1, double stages[3][DYN_NX])
+               double tau1, const double x0[SOLVER_NX], const double k1[SOLVER_NX],
+               double x1[SOLVER_NX], InputValues *u1, double stages[3][SOLVER_NX])
 {
-    double k2[DYN_NX], k3[DYN_NX], k4[DYN_NX], xt[DYN_NX];
+    double k2[SOLVER_NX], k3[SOLVER_NX], k4[SOLVER_NX], xt[SOLVER_NX];
     const double h = tau1 - tau0, hh = 0.5 * h, h6 = h / 6.0;
     const double tm = tau0 + hh;
-    const double fwm = inputAt(in, SOLVER_INPUT_AERO, tm), nm = inputAt(in, SOLVER_INPUT_SPEED, tm);
-    const double fwe = inputAt(in, SOLVER_INPUT_AERO, tau1), ne = inputAt(in, SOLVER_INPUT_SPEED, tau1);
+    const InputValues um = inputsAt(in, tm), ue = inputsAt(in, tau1);
     int bad = 0, i;
-    for (i = 0; i < DYN_NX; ++i) xt[i] = x0[i] + hh * k1[i];
+    for (i = 0; i < SOLVER_NX; ++i) xt[i] = x0[i] + hh * k1[i];
     if (stages) memcpy(stages[0], xt, sizeof xt);
-    bad |= dynRhs(m, s, fwm, nm, xt, k2);
-    for (i = 0; i < DYN_NX; ++i) xt[i] = x0[i] + hh * k2[i];
+    bad |= rhs(m, s, &um, xt, k2);
+    for (i = 0; i < SOLVER_NX; ++i) xt[i] = x0[i] + hh * k2[i];
     if (stages) memcpy(stages[1], xt, sizeof xt);
-    bad |= dynRhs(m, s, fwm, nm, xt, k3);
-    for (i = 0; i < DYN_NX; ++i) xt[i] = x0[i] + h * k3[i];
+    bad |= rhs(m, s, &um, xt, k3);
+    for (i = 0; i < SOLVER_NX; ++i) xt[i] = x0[i] + h * k3[i];
     if (stages) memcpy(stages[2], xt, sizeof xt);
-    bad |= dynRhs(m, s, fwe, ne, xt, k4);
-    for (i = 0; i < DYN_NX; ++i) x1[i] = x0[i] + h6 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
-    *fw1 = fwe;
-    *n1 = ne;
+    bad |= rhs(m, s, &ue, xt, k4);
+    for (i = 0; i < SOLVER_NX; ++i) x1[i] = x0[i] + h6 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+    *u1 = ue;
     return bad;
 }
 
 /* The variational equations' RK4 step over the same stages (physics/variational.h). */
 static void rk4Sens(const DynModel *m, const DynState *s, DynSens *e, const SolverInputs *in, double tau0,
-                    double tau1, const double x0[DYN_NX], const double stages[3][DYN_NX])
+                    double tau1, const double x0[SOLVER_NX], const double stages[3][SOLVER_NX])
 {
     const double n[3] = {inputAt(in, SOLVER_INPUT_SPEED, tau0), inputAt(in, SOLVER_INPUT_SPEED, 0.5 * (tau0 + tau1)),
                          inputAt(in, SOLVER_INPUT_SPEED, tau1)};
-    sensRk4(m, s, e, tau1 - tau0, n, x0, stages);
+    const double *const x[4] = {x0, stages[0], stages[1], stages[2]};
+    sensRk4(m, s, e, tau1 - tau0, n, x);
 }
 
 /* ------------------------------------------------------------------------------------------- */
@@ -181,30 +228,31 @@ static DynSwitch detect(const DynModel *m, const DynState *s, double h, const do
     return sw;
 }
 
-static inline void loadX(const DynState *s, double x[DYN_NX])
+static inline void loadX(const DynState *s, double x[SOLVER_NX])
 {
-    x[0] = s->q; x[1] = s->v; x[2] = s->psi; x[3] = s->E; x[4] = s->w;
+    x[0] = s->q; x[1] = s->v; x[2] = s->psi; x[3] = s->E; x[4] = s->w; x[5] = s->W;
 }
 
-static inline void storeX(DynState *s, const double x[DYN_NX])
+static inline void storeX(DynState *s, const double x[SOLVER_NX])
 {
-    s->q = x[0]; s->v = x[1]; s->psi = x[2]; s->E = x[3]; s->w = x[4];
+    s->q = x[0]; s->v = x[1]; s->psi = x[2]; s->E = x[3]; s->w = x[4]; s->W = x[5];
 }
 
-static inline int allFinite(const double x[DYN_NX])
+static inline int allFinite(const double x[SOLVER_NX])
 {
-    return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]) && isfinite(x[3]) && isfinite(x[4]);
+    return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]) && isfinite(x[3]) && isfinite(x[4]) &&
+           isfinite(x[5]);
 }
 
 /* The sensitivities' jump at an event (the discrete state before it in *before, after it in *s,
  * the continuous state xe at the instant te) */
 static DynStatus sensJump(const DynModel *m, const DynState *before, const DynState *s, DynSwitch sw,
-                          const SolverInputs *in, double te, const double xe[DYN_NX], DynSens *e)
+                          const SolverInputs *in, double te, const double xe[SOLVER_NX], DynSens *e)
 {
-    double fm[DYN_NX], fp[DYN_NX], xp[DYN_NX];
-    const double fw = inputAt(in, SOLVER_INPUT_AERO, te), n = inputAt(in, SOLVER_INPUT_SPEED, te);
+    double fm[SOLVER_NX], fp[SOLVER_NX], xp[SOLVER_NX];
+    const InputValues u = inputsAt(in, te);
     loadX(s, xp);
-    if (dynRhs(m, before, fw, n, xe, fm) || dynRhs(m, s, fw, n, xp, fp)) return DynOmegaZero;
+    if (rhs(m, before, &u, xe, fm) || rhs(m, s, &u, xp, fp)) return DynOmegaZero;
     return sensEvent(m, before, s, sw, fm, fp, e);
 }
 
@@ -212,10 +260,10 @@ DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
                            double tStart, double h, long nSteps, SolverEventHook hook, void *ctx,
                            SolverCounters *counters, double *tFail, DynSens *sens)
 {
-    double stages[3][DYN_NX];
+    double stages[3][SOLVER_NX];
     const double hi = h / (double)nSteps;
-    double x0[DYN_NX], x1[DYN_NX], f0[DYN_NX], f1[DYN_NX];
-    double fwB = 0.0, nB = 0.0;
+    double x0[SOLVER_NX], x1[SOLVER_NX], f0[SOLVER_NX], f1[SOLVER_NX];
+    InputValues uB = {0.0, 0.0, 0.0};
     long long nRhs = 0, nEvents = 0, nAccepted = 0;
     DynStatus status = DynOk;
     double tau0 = 0.0;
@@ -231,22 +279,22 @@ DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
             double theta, hs, tAbs, tol, te;
             DynSwitch ev;
             if (!f0Valid) {
-                const double fw0 = inputAt(in, SOLVER_INPUT_AERO, tau0), n0 = inputAt(in, SOLVER_INPUT_SPEED, tau0);
+                const InputValues u0 = inputsAt(in, tau0);
                 ++nRhs;
-                if (dynRhs(m, s, fw0, n0, x0, f0)) { status = DynOmegaZero; break; }
+                if (rhs(m, s, &u0, x0, f0)) { status = DynOmegaZero; break; }
                 f0Valid = 1;
             }
             nRhs += 4;
-            if (rk4(m, s, in, tau0, tauB, x0, f0, x1, &fwB, &nB, sens ? stages : NULL)) { status = DynOmegaZero; break; }
+            if (rk4(m, s, in, tau0, tauB, x0, f0, x1, &uB, sens ? stages : NULL)) { status = DynOmegaZero; break; }
             if (!allFinite(x1)) { status = DynNonFinite; break; }
-            if (dynRhs(m, s, fwB, nB, x1, f1)) { status = DynOmegaZero; break; } /* FSAL: next k1 */
+            if (rhs(m, s, &uB, x1, f1)) { status = DynOmegaZero; break; } /* FSAL: next k1 */
             hs = tauB - tau0;
             tAbs = fabs(tStart + tau0);
             tol = 1e-15 * (tAbs > hs ? tAbs : hs) / hs; /* ~1e-15 relative in time */
             if (tol < 4.0 * DBL_EPSILON) tol = 4.0 * DBL_EPSILON;
             ev = detect(m, s, hs, x0, f0, x1, f1, tol, &theta);
             if (ev == DynSwitchNone) { /* no switch: accept the whole step */
-                if (sens) rk4Sens(m, s, sens, in, tau0, tauB, x0, (const double(*)[DYN_NX])stages);
+                if (sens) rk4Sens(m, s, sens, in, tau0, tauB, x0, (const double(*)[SOLVER_NX])stages);
                 storeX(s, x1);
                 memcpy(x0, x1, sizeof x0);
                 memcpy(f0, f1, sizeof f0);
@@ -257,20 +305,21 @@ DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
             te = tau0 + theta * hs;
             if (theta >= 1.0 || te >= tauB) {
                 te = tauB;
-                if (sens) rk4Sens(m, s, sens, in, tau0, tauB, x0, (const double(*)[DYN_NX])stages);
+                if (sens) rk4Sens(m, s, sens, in, tau0, tauB, x0, (const double(*)[SOLVER_NX])stages);
                 storeX(s, x1);
             } else if (te > tau0) {
-                double xe[DYN_NX], fwE, nE;
+                double xe[SOLVER_NX];
+                InputValues uE;
                 nRhs += 3;
-                if (rk4(m, s, in, tau0, te, x0, f0, xe, &fwE, &nE, sens ? stages : NULL)) { status = DynOmegaZero; break; }
+                if (rk4(m, s, in, tau0, te, x0, f0, xe, &uE, sens ? stages : NULL)) { status = DynOmegaZero; break; }
                 if (!allFinite(xe)) { status = DynNonFinite; break; }
-                if (sens) rk4Sens(m, s, sens, in, tau0, te, x0, (const double(*)[DYN_NX])stages);
+                if (sens) rk4Sens(m, s, sens, in, tau0, te, x0, (const double(*)[SOLVER_NX])stages);
                 storeX(s, xe);
             } /* else: te == tau0, the switch happens at the step start */
             ++nEvents;
             {
                 const DynState before = *s;
-                double xe[DYN_NX];
+                double xe[SOLVER_NX];
                 loadX(s, xe);
                 status = dynApplyEvent(m, s, ev, &kind);
                 if (status == DynOk && sens) status = sensJump(m, &before, s, ev, in, te, xe, sens);

@@ -14,16 +14,19 @@
 #include "physics/variational.h"
 
 #define SOLVER_MAX_ORDER 8          /* highest input derivative order (model-notes s.1) */
-#define SOLVER_NUM_INPUTS 2
+#define SOLVER_NUM_INPUTS 2          /* the blade's inputs (ShroudedBlade) */
 #define SOLVER_INPUT_AERO 0         /* aeroLoad f_w [N/m] */
 #define SOLVER_INPUT_SPEED 1        /* rotorSpeed n [rpm] */
+#define SOLVER_INPUT_FORCE 2        /* external force on q [N] (BladeExternalContact; 0 by default) */
+#define SOLVER_NUM_POLY 3           /* input polynomials of a step: the blade's inputs + the force */
+#define SOLVER_NX (DYN_NX + 1)      /* integrated: DynState's x plus W, the work of the force [J] */
 #define SOLVER_MAX_EVENTS_PER_STEP 1000 /* more is chattering (model-notes s.6) */
 
 /* Inputs inside a communication step: u(tau) = sum_j coef[j] tau^j, tau = t - t_k [s],
  * coef[j] = u^(j)(t_k) / j! (model-notes s.1). */
 typedef struct {
-    double coef[SOLVER_NUM_INPUTS][SOLVER_MAX_ORDER + 1]; /* [unit / s^j] */
-    int top[SOLVER_NUM_INPUTS];                           /* highest j with coef != 0 (>= 0) */
+    double coef[SOLVER_NUM_POLY][SOLVER_MAX_ORDER + 1]; /* [unit / s^j] */
+    int top[SOLVER_NUM_POLY];                           /* highest j with coef != 0 (>= 0) */
 } SolverInputs;
 
 /* Optional event hook (for logging; NULL on the hot path). t is the absolute time [s]. */
@@ -35,11 +38,21 @@ typedef struct {
     long long rhsCalls;      /* right-hand-side evaluations */
 } SolverCounters;
 
-/* Builds inputs from values and derivatives: deriv[i][j] = u_i^(j) (j = 0 value, 1..8). */
+/* Builds inputs from values and derivatives: deriv[i][j] = u_i^(j) (j = 0 value, 1..8); the
+ * external force is 0. */
 void solverSetInputs(SolverInputs *in, const double deriv[SOLVER_NUM_INPUTS][SOLVER_MAX_ORDER + 1]);
 
-/* Input i at tau [s] (Horner). */
+/* Sets the external force on q [N] from its value and derivatives deriv[j] = F^(j) (after
+ * solverSetInputs). Its work W' = F q' is integrated into DynState.W. */
+void solverSetForce(SolverInputs *in, const double deriv[SOLVER_MAX_ORDER + 1]);
+
+/* Input polynomial i (SOLVER_INPUT_*) at tau [s] (Horner). */
 double solverInputAt(const SolverInputs *in, int i, double tau);
+
+/* Input polynomial i re-expanded at tau = h as values and derivatives out[j] = u^(j)(h) (out[0]
+ * exactly solverInputAt(in, i, h)): an input the master does not set again continues as the same
+ * polynomial (model-notes s.7). */
+void solverShiftInput(const SolverInputs *in, int i, double h, double out[SOLVER_MAX_ORDER + 1]);
 
 /* Advances *s over [0, h] (relative time tau; tStart = absolute time of tau = 0, used for the
  * event-time tolerance and the hook) in nSteps internal steps of size h / nSteps.

@@ -1,0 +1,185 @@
+"""A bladed disk as a co-simulation (issue 11): a ring of N BladeExternalContact FMUs coupled by N
+ShroudContact FMUs, each blade loaded by its own Excitation FMU (travelling wave: blade i's load
+leads blade 0's by 2 pi EO i / N), run by a fixed-step Jacobi master on fmpy.
+
+Coupling (docs/model.md s.8): contact j joins blade j (side A) and blade j+1 mod N (side B),
+u_j = q_j - q_{j+1}. At each communication point t_k the master
+1. reads every blade's tipDisplacement q and tipVelocity v (state outputs: no feedthrough) and every
+   excitation's aeroLoad and rotorSpeed;
+2. sets each contact's displacementA/velocityA, displacementB/velocityB (the velocities with the
+   derivatives extrapolated from their history, so u(tau) inside the step is a polynomial of
+   order `order` + 1) and reads its forces (direct feedthrough, at the q just set);
+3. sets each blade's contactForce_i = forceB_{i-1} + forceA_i (equal and opposite pairs: the sum
+   over the ring is 0), aeroLoad and rotorSpeed, with derivatives of order 1..`order` extrapolated
+   from the last `order` + 1 communication points (order 0: inputs held);
+4. steps every FMU from t_k to t_k + h (Jacobi: all from the data at t_k).
+`python -m harness.system.ring --n 6` runs one ring and prints the amplitudes and phase lags.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+from dataclasses import dataclass, field
+from math import factorial
+from typing import Any, Mapping
+
+import numpy as np
+
+from harness.fmu.build import EXCITATION_FMU, build
+from harness.fmu.slave import Unpacked, build_ring_fmus
+
+
+@dataclass(frozen=True)
+class Ring:
+    """A tuned ring: N blades, N contacts, constant speed; parameters of the FMUs by name."""
+
+    n: int = 4
+    engine_order: int = 3
+    speed: float = 5000.0  # [rpm]
+    fw0: float = 100.0  # [N/m]
+    blade: Mapping[str, Any] = field(default_factory=dict)  # BladeExternalContact parameters
+    contact: Mapping[str, Any] = field(default_factory=dict)  # ShroudContact parameters
+    step: float = 1e-4  # communication step h [s]
+    stop_time: float = 0.1  # [s]
+    order: int = 1  # extrapolation order of the input derivatives (0: held inputs)
+
+    @property
+    def n_steps(self) -> int:
+        return round(self.stop_time / self.step)
+
+
+def extrapolation_weights(p: int, h: float) -> np.ndarray:
+    """D[m, j]: derivative m (0..p) at t_k of the polynomial through y_{k-j} at t_k - j h,
+    j = 0..p (Lagrange extrapolation; D @ y gives the value and derivatives)."""
+    tau = -h * np.arange(p + 1)
+    V = np.vander(tau, p + 1, increasing=True)  # V[j, m] = tau_j^m
+    C = np.linalg.inv(V)  # coefficients c = C y
+    return np.array([factorial(m) * C[m] for m in range(p + 1)])
+
+
+class _History:
+    """The last p + 1 values of an array of signals, for their extrapolated derivatives."""
+
+    def __init__(self, p: int, h: float, size: int):
+        self.p, self.h = p, h
+        self.buf: list[np.ndarray] = []
+        self.w = {q: extrapolation_weights(q, h) for q in range(p + 1)}
+
+    def push(self, y: np.ndarray) -> np.ndarray:
+        """Adds y (at t_k); returns derivatives 1..p at t_k, shape (p, size) (lower order at the start)."""
+        self.buf.insert(0, np.array(y, dtype=float))
+        del self.buf[self.p + 1:]
+        q = len(self.buf) - 1
+        out = np.zeros((self.p, len(y)))
+        if q > 0:
+            out[:q] = (self.w[q] @ np.array(self.buf))[1:]
+        return out
+
+
+def run(ring: Ring, record_inputs: bool = False) -> dict[str, np.ndarray]:
+    """Runs the ring from rest; returns time [s] and, per blade (columns), q, v, dissipatedEnergy,
+    contactWork, contactForce (the input set at t_k), the contacts' forceA, forceB, dissipatedEnergy,
+    contactState, all at the communication points t_0..t_K (inputs and forces: those set/read at t_k,
+    the last row repeats the last set). With record_inputs: the aeroLoad value and derivatives each
+    blade got (for a replay into ShroudedBlade)."""
+    bx_path, sc_path = build_ring_fmus()
+    build(("excitation_fmu",))
+    N, h, K, p = ring.n, ring.step, ring.n_steps, ring.order
+    if N < 2:
+        raise ValueError(f"a ring needs n >= 2 blades, got {N}")
+    res = {k: np.zeros((K + 1, N)) for k in ("q", "v", "E", "W", "contactForce", "forceA", "forceB", "Ec", "state")}
+    res["time"] = np.arange(K + 1) * h
+    if record_inputs:
+        res["aeroLoad"] = np.zeros((K + 1, N, p + 1))
+    with Unpacked(bx_path) as BX, Unpacked(sc_path) as SC, Unpacked(EXCITATION_FMU) as EX:
+        blades = [BX.instance(f"blade{i}", dict(ring.blade)) for i in range(N)]
+        contacts = [SC.instance(f"contact{j}", {**dict(ring.contact), "engineOrder": ring.engine_order})
+                    for j in range(N)]
+        excs = [EX.instance(f"exc{i}", {"Fw0": ring.fw0, "n0": ring.speed, "n1": ring.speed,
+                                        "engineOrder": ring.engine_order, "bladeIndex": i, "bladeCount": N})
+                for i in range(N)]
+        try:
+            bv = [blades[0].vr(n) for n in ("tipDisplacement", "tipVelocity", "dissipatedEnergy", "contactWork")]
+            ev = [excs[0].vr("aeroLoad"), excs[0].vr("rotorSpeed")]
+            c_in = [contacts[0].vr(n) for n in ("displacementA", "velocityA", "displacementB", "velocityB", "rotorSpeed")]
+            c_out = [contacts[0].vr(n) for n in ("forceA", "forceB", "dissipatedEnergy")]
+            c_state = contacts[0].vr("contactState")
+            b_in = [blades[0].vr(n) for n in ("aeroLoad", "rotorSpeed", "contactForce")]
+            hv, hf, ha = _History(p, h, N), _History(p, h, N), _History(p, h, N)
+            for k in range(K + 1):
+                t = k * h
+                st = np.array([b.s.getReal(bv) for b in blades])  # q, v, E, W
+                q, v = st[:, 0], st[:, 1]
+                ex = np.array([e.s.getReal(ev) for e in excs])
+                dv, da = hv.push(v), ha.push(ex[:, 0])
+                res["q"][k], res["v"][k], res["E"][k], res["W"][k] = st.T
+                fA, fB = np.zeros(N), np.zeros(N)
+                for j, c in enumerate(contacts):
+                    a, b = j, (j + 1) % N
+                    c.s.setReal(c_in, [q[a], v[a], q[b], v[b], ex[a, 1]])
+                    if p > 0:
+                        _set_derivatives(c, [c_in[1]] * p + [c_in[3]] * p, list(range(1, p + 1)) * 2,
+                                         list(dv[:, a]) + list(dv[:, b]))
+                    fA[j], fB[j], res["Ec"][k, j] = c.s.getReal(c_out)
+                    res["state"][k, j] = c.s.getInteger([c_state])[0]
+                res["forceA"][k], res["forceB"][k] = fA, fB
+                force = np.array([fB[(i - 1) % N] + fA[i] for i in range(N)])
+                df = hf.push(force)
+                res["contactForce"][k] = force
+                if record_inputs:
+                    res["aeroLoad"][k, :, 0] = ex[:, 0]
+                    res["aeroLoad"][k, :, 1:] = da.T
+                if k == K:
+                    break
+                for i, bl in enumerate(blades):
+                    bl.s.setReal(b_in, [ex[i, 0], ex[i, 1], force[i]])
+                    if p > 0:
+                        _set_derivatives(bl, [b_in[0]] * p + [b_in[2]] * p, list(range(1, p + 1)) * 2,
+                                         list(da[:, i]) + list(df[:, i]))
+                for fmu in (*blades, *contacts, *excs):
+                    fmu.s.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+        finally:
+            for fmu in (*blades, *contacts, *excs):
+                fmu.free()
+    return res
+
+
+def _set_derivatives(slave, vrs: list[int], orders: list[int], values: list[float]) -> None:
+    from fmpy.fmi2 import fmi2Integer, fmi2Real, fmi2ValueReference
+    m = len(vrs)
+    slave.s.fmi2SetRealInputDerivatives(slave.s.component, (fmi2ValueReference * m)(*vrs), m,
+                                       (fmi2Integer * m)(*orders), (fmi2Real * m)(*[float(x) for x in values]))
+
+
+def harmonic(res: Mapping[str, np.ndarray], omega: float, periods: int = 1) -> np.ndarray:
+    """Complex first-harmonic coefficient of q per blade over the last `periods` excitation
+    periods (trapezoidal rule on the communication points; exact to rounding for a trigonometric
+    polynomial when the window holds a whole number of steps)."""
+    t, q = res["time"], res["q"]
+    T = 2 * math.pi / omega * periods
+    sel = t >= t[-1] - T - 1e-12
+    ts, qs = t[sel], q[sel]
+    w = np.full(len(ts), ts[1] - ts[0])
+    w[0] = w[-1] = 0.5 * (ts[1] - ts[0])
+    e = np.exp(-1j * omega * ts)
+    return 2.0 / T * (w * e) @ qs
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, default=4)
+    ap.add_argument("--eo", type=int, default=3)
+    ap.add_argument("--step", type=float, default=1e-4)
+    ap.add_argument("--stop", type=float, default=0.1)
+    ap.add_argument("--order", type=int, default=1)
+    a = ap.parse_args(argv)
+    ring = Ring(n=a.n, engine_order=a.eo, step=a.step, stop_time=a.stop, order=a.order)
+    res = run(ring)
+    omega = ring.engine_order * 2 * math.pi * ring.speed / 60
+    c = harmonic(res, omega)
+    print("amplitude [m]:", np.abs(c))
+    print("phase lag to blade 0 [rad]:", np.angle(c / c[0]))
+
+
+if __name__ == "__main__":
+    main()
