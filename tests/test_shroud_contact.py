@@ -212,3 +212,33 @@ def test_state_round_trip(contact):
         assert runs[0] == runs[1]
     finally:
         s.free()
+
+
+def test_inputs_carried_on_without_a_new_set(contact):
+    """A master that sets values only and reads before setting again (libcosim) sees the state at
+    the step's end: u moved along the velocities, no back-and-forth path (no extra dissipation)."""
+    s = contact.instance("c", {})
+    try:
+        s.set_inputs({"displacementA": 2.5 * D, "velocityA": 0.02, "displacementB": -0.5 * D, "velocityB": -0.01})
+        e = []
+        for k in range(20):
+            s.step(k * H, H)
+            u, E = s.get(["relativeDisplacement", "dissipatedEnergy"])
+            e.append(E)
+            assert abs(u - (3 * D + 0.03 * (k + 1) * H)) <= 1e-15
+        assert all(np.diff(e) >= 0.0) and e[-1] > 0.0  # slipping forward all the time
+        # the same motion set explicitly at every point: the same forces and energy
+        s2 = contact.instance("c2", {})
+        try:
+            for k in range(20):
+                s2.set_inputs({"displacementA": 2.5 * D + 0.02 * k * H, "velocityA": 0.02,
+                               "displacementB": -0.5 * D - 0.01 * k * H, "velocityB": -0.01})
+                s2.step(k * H, H)
+            s2.set_inputs({"displacementA": 2.5 * D + 0.02 * 20 * H, "velocityA": 0.02,
+                           "displacementB": -0.5 * D - 0.01 * 20 * H, "velocityB": -0.01})
+            a, b = s.get(["forceB", "dissipatedEnergy"]), s2.get(["forceB", "dissipatedEnergy"])
+            assert np.allclose(a, b, rtol=1e-12, atol=0.0), (a, b)
+        finally:
+            s2.free()
+    finally:
+        s.free()
