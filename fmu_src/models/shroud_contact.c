@@ -3,7 +3,7 @@
  * over physics/contact_element. Direct feedthrough: the forces at a communication point follow the
  * inputs set there (the element is first moved along the straight path from the state's u to the
  * new u, ceProject); over a step u(tau) is the difference of the two displacement polynomials,
- * each q + sum_j q^(j) tau^j / j! with the displacement's own derivatives if the master set any,
+ * each q + sum_j q^(j) tau^j / j! with the displacement's own derivatives if any is nonzero,
  * else q^(j) = (velocity)^(j-1) (a master that sets values only gets u linear in tau). Inputs not
  * set again go on as the polynomials of the step (the displacements from their end values). */
 #include <math.h>
