@@ -126,3 +126,27 @@ def test_invalid_parameter_message(fmus):
         assert any("maxStep" in m and "1e-08" in m for m in s.messages), s.messages
     finally:
         s.free()
+
+
+def test_second_force_input_adds(fmus):
+    """contactForce2 (a ring's other contact, for masters that cannot add) adds to contactForce:
+    F split as 30 % + 70 % equals F in contactForce alone to rounding (1e-13 of max |q|)."""
+    bx, _ = fmus
+    f = lambda t: 40.0 * math.sin(2 * math.pi * 180 * t)  # noqa: E731
+    out = []
+    for split in (False, True):
+        s = bx.instance("bx", {})
+        try:
+            rows = []
+            for k in range(300):
+                t = k * H
+                s.set_inputs({"aeroLoad": 0.0, "rotorSpeed": 5000.0,
+                              "contactForce": 0.3 * f(t) if split else f(t), "contactForce2": 0.7 * f(t) if split else 0.0})
+                s.step(t, H)
+                rows.append(s.get(["tipDisplacement", "contactWork"]))
+        finally:
+            s.free()
+        out.append(np.array(rows))
+    scale = np.abs(out[0]).max(axis=0)
+    assert scale[0] > 1e-6
+    assert np.all(np.abs(out[0] - out[1]) <= 1e-13 * scale)

@@ -1,6 +1,7 @@
 """Every FMU binary links what it uses, so a C master without libm can load it (issue 13).
 
-For each FMU the build produces (ShroudedBlade, Excitation) and for the same FMU rebuilt from its
+For each FMU the build produces (ShroudedBlade, Excitation, BladeExternalContact; ShroudContact:
+the ldd check, its outputs are 0 at rest) and for the same FMU rebuilt from its
 own `sources/` by fmpy.build (harness.crosscheck.static.rebuild_from_sources):
 - `ldd -r` on the binary reports no undefined symbol;
 - tests/c/dlopen_step (a C program built here without -lm, checked to have no libm in its
@@ -28,7 +29,8 @@ from harness.crosscheck.static import rebuild_from_sources
 LOADER_SRC = Path(__file__).parent / "c" / "dlopen_step.c"
 FMI_HEADERS = Path(fmpy.__file__).parent / "c-code"
 # (FMU, output read after the step): naturalFrequency of the blade, aeroLoad (a sine) of the excitation
-CASES = {"ShroudedBlade": (_build.FMU_PATH, "naturalFrequency"), "Excitation": (_build.EXCITATION_FMU, "aeroLoad")}
+CASES = {"ShroudedBlade": (_build.FMU_PATH, "naturalFrequency"), "Excitation": (_build.EXCITATION_FMU, "aeroLoad"),
+         "BladeExternalContact": (_build.BUILD_DIR / "BladeExternalContact.fmu", "naturalFrequency")}
 
 
 def _needed(binary: Path) -> list[str]:
@@ -48,7 +50,7 @@ def loader(tmp_path_factory) -> Path:
 @pytest.fixture(scope="module")
 def unpacked(tmp_path_factory) -> dict[tuple[str, str], Path]:
     """(model, 'built' | 'rebuilt') -> extracted FMU directory."""
-    _build.build(("fmu", "excitation_fmu"))
+    _build.build(("fmu", "excitation_fmu", "blade_external_fmu", "shroud_contact_fmu"))
     root = tmp_path_factory.mktemp("fmus")
     dirs = {}
     for model, (fmu, _) in CASES.items():
@@ -112,3 +114,17 @@ def test_loader_catches_a_binary_without_libm(loader, tmp_path):
     assert proc.returncode == 1
     assert "undefined symbol" in proc.stderr
     shutil.rmtree(tmp_path, ignore_errors=True)
+
+
+@pytest.mark.parametrize("flavour", ["built", "rebuilt"])
+def test_shroud_contact_links_its_symbols(flavour, unpacked, tmp_path):
+    """ShroudContact (outputs 0 at rest, so no loader value check): no undefined symbol, built and
+    rebuilt from its sources/ by fmpy.build."""
+    fmu = _build.BUILD_DIR / "ShroudContact.fmu"
+    path = fmu if flavour == "built" else rebuild_from_sources(fmu, tmp_path / "ShroudContact_rebuilt.fmu")
+    with zipfile.ZipFile(path) as z:
+        z.extractall(tmp_path / "sc")
+    binary = tmp_path / "sc" / "binaries" / "linux64" / "ShroudContact.so"
+    ldd = subprocess.run(["ldd", "-r", str(binary)], capture_output=True, text=True)
+    assert "undefined symbol" not in ldd.stdout + ldd.stderr, ldd.stdout + ldd.stderr
+    assert any(n.startswith("libm.") for n in _needed(binary))

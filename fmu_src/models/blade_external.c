@@ -20,7 +20,8 @@
 #define BLADE_EXTERNAL_GUID "{3f6b2a14-8c0e-4d57-b1a9-7e20c5d4f861}"
 #define ROTOR_SPEED_MAX 30000.0 /* [rpm], as ShroudedBlade (model-notes s.1) */
 #define MAX_INTERNAL_STEPS 1e7
-#define NUM_INPUTS 3 /* aeroLoad, rotorSpeed, contactForce = SOLVER_INPUT_AERO, _SPEED, _FORCE */
+#define NUM_INPUTS 4 /* aeroLoad, rotorSpeed, contactForce (= SOLVER_INPUT_AERO, _SPEED, _FORCE), contactForce2 */
+#define INPUT_FORCE2 3
 
 typedef enum {
     ParEI = 0, ParRho, ParA, ParL, ParC, ParM0, ParMaxStep,
@@ -65,6 +66,7 @@ static const VarInfo VARS[] = {
     {40, "aeroLoad", VarReal, CausInput, "N/m", 0.0, -INF, INF, 0, 0, INPUT(SOLVER_INPUT_AERO), -1},
     {41, "rotorSpeed", VarReal, CausInput, "rpm", 5000.0, 0.0, ROTOR_SPEED_MAX, 0, 0, INPUT(SOLVER_INPUT_SPEED), -1},
     {42, "contactForce", VarReal, CausInput, "N", 0.0, -INF, INF, 0, 0, INPUT(SOLVER_INPUT_FORCE), -1},
+    {43, "contactForce2", VarReal, CausInput, "N", 0.0, -INF, INF, 0, 0, INPUT(INPUT_FORCE2), -1},
     {50, "tipDisplacement", VarReal, CausOutput, "m", 0.0, -INF, INF, 0, 0, PAR(ParQ0), OutQ},
     {51, "tipVelocity", VarReal, CausOutput, "m/s", 0.0, -INF, INF, 0, 0, PAR(ParV0), OutV},
     {57, "dissipatedEnergy", VarReal, CausOutput, "J", 0.0, -INF, INF, 0, 0, PAR(ParE0), OutE},
@@ -150,7 +152,14 @@ static FmiStatus doStep(FmiInstance *inst, const char *fn, double tc, double h)
     nSteps = (long)ceil(ratio - 1e-9);
     if (nSteps < 1) nSteps = 1;
     solverSetInputs(&in, (const double(*)[SOLVER_MAX_ORDER + 1])d->in);
-    solverSetForce(&in, d->in[SOLVER_INPUT_FORCE]);
+    {   /* F = contactForce + contactForce2 (a master that cannot add signals connects one contact to
+         * each); a derivative of contactForce2 that is 0 leaves contactForce's bits as they are */
+        double F[SOLVER_MAX_ORDER + 1];
+        for (int j = 0; j <= SOLVER_MAX_ORDER; ++j)
+            F[j] = d->in[INPUT_FORCE2][j] != 0.0 ? d->in[SOLVER_INPUT_FORCE][j] + d->in[INPUT_FORCE2][j]
+                                                  : d->in[SOLVER_INPUT_FORCE][j];
+        solverSetForce(&in, F);
+    }
     n0 = solverInputAt(&in, SOLVER_INPUT_SPEED, 0.0);
     n1 = solverInputAt(&in, SOLVER_INPUT_SPEED, h);
     if (!(n0 >= 0.0 && n0 <= ROTOR_SPEED_MAX && n1 >= 0.0 && n1 <= ROTOR_SPEED_MAX)) {
@@ -169,7 +178,15 @@ static FmiStatus doStep(FmiInstance *inst, const char *fn, double tc, double h)
                      "t = %.17g s is discarded and the state restored", fn, tc + tFail, d->par[ParMaxStep], tc);
         return FmiDiscard;
     }
-    for (int i = 0; i < NUM_INPUTS; ++i) solverShiftInput(&in, i, h, d->in[i]);
+    /* the inputs carried to the next point (model-notes s.7); each force on its own polynomial */
+    solverShiftInput(&in, SOLVER_INPUT_AERO, h, d->in[SOLVER_INPUT_AERO]);
+    solverShiftInput(&in, SOLVER_INPUT_SPEED, h, d->in[SOLVER_INPUT_SPEED]);
+    for (int f = SOLVER_INPUT_FORCE; f <= INPUT_FORCE2; ++f) {
+        SolverInputs one;
+        memset(&one, 0, sizeof one);
+        solverSetForce(&one, d->in[f]);
+        solverShiftInput(&one, SOLVER_INPUT_FORCE, h, d->in[f]);
+    }
     return FmiOK;
 }
 

@@ -3,8 +3,9 @@
  * over physics/contact_element. Direct feedthrough: the forces at a communication point follow the
  * inputs set there (the element is first moved along the straight path from the state's u to the
  * new u, ceProject); over a step u(tau) is the difference of the two displacement polynomials,
- * each q + sum_j q^(j) tau^j / j! with the displacement's own derivatives if the master set any,
- * else q^(j) = (velocity)^(j-1) (a master that sets values only gets u linear in tau). */
+ * each q + sum_j q^(j) tau^j / j! with the displacement's own derivatives if any is nonzero,
+ * else q^(j) = (velocity)^(j-1) (a master that sets values only gets u linear in tau). Inputs not
+ * set again go on as the polynomials of the step (the displacements from their end values). */
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
@@ -227,7 +228,17 @@ static FmiStatus doStep(FmiInstance *inst, const char *fn, double tc, double h)
                      "state restored", fn, failure(st), tc);
         return FmiDiscard;
     }
-    for (int i = 0; i < NUM_INPUTS; ++i) shiftInput(d->in[i], h);
+    /* inputs carried to the next point: each as the polynomial the step used, so a master that
+     * does not set them again reads the forces at the step's end state (a displacement without
+     * derivatives of its own moved along its velocity: it takes the value reached) */
+    {
+        CePoly pa, pb;
+        sidePoly(d, InQA, InVA, &pa);
+        sidePoly(d, InQB, InVB, &pb);
+        for (int i = 0; i < NUM_INPUTS; ++i) shiftInput(d->in[i], h);
+        d->in[InQA][0] = cePolyAt(&pa, h);
+        d->in[InQB][0] = cePolyAt(&pb, h);
+    }
     return FmiOK;
 }
 

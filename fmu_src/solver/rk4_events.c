@@ -62,51 +62,61 @@ void solverShiftInput(const SolverInputs *in, int i, double h, double out[SOLVER
 /* ------------------------------------------------------------------------------------------- */
 /* RK4                                                                                          */
 
+/* The step functions below take `ext` (1: an external force acts, integrate W too; 0: it is
+ * identically 0) as a constant: solverAdvance instantiates them once per value, so the blade
+ * without a force (ShroudedBlade) runs exactly the arithmetic and the cost it had before. */
+#if defined(__GNUC__)
+#define SOLVER_INLINE static inline __attribute__((always_inline))
+#else
+#define SOLVER_INLINE static inline
+#endif
+
 /* Inputs at one instant. */
 typedef struct {
     double fw, n, fe; /* aeroLoad [N/m], rotorSpeed [rpm], external force [N] */
 } InputValues;
 
-static inline InputValues inputsAt(const SolverInputs *in, double tau)
+SOLVER_INLINE InputValues inputsAt(const SolverInputs *in, double tau, const int ext)
 {
     InputValues u;
     u.fw = inputAt(in, SOLVER_INPUT_AERO, tau);
     u.n = inputAt(in, SOLVER_INPUT_SPEED, tau);
-    u.fe = inputAt(in, SOLVER_INPUT_FORCE, tau);
+    u.fe = ext ? inputAt(in, SOLVER_INPUT_FORCE, tau) : 0.0;
     return u;
 }
 
 /* dx/dt of the integrated state (dynRhsExt, plus W' = F q'). */
-static inline int rhs(const DynModel *m, const DynState *s, const InputValues *u, const double x[SOLVER_NX],
-                      double f[SOLVER_NX])
+SOLVER_INLINE int rhs(const DynModel *m, const DynState *s, const InputValues *u, const double x[SOLVER_NX],
+                      double f[SOLVER_NX], const int ext)
 {
-    const int bad = dynRhsExt(m, s, u->fw, u->n, u->fe, x, f);
-    f[DYN_NX] = u->fe * x[1];
+    const int bad = dynRhsExt(m, s, u->fw, u->n, ext ? u->fe : 0.0, x, f);
+    if (ext) f[DYN_NX] = u->fe * x[1];
     return bad;
 }
 
 /* One classical RK4 step from (tau0, x0) to tau1 with k1 = f(tau0, x0) given. Returns the
  * omega flag of dynRhs(); the inputs at tau1 are returned for the FSAL evaluation. stages (may be
  * NULL) receives the states of stages 2-4 for the sensitivities. */
-static int rk4(const DynModel *m, const DynState *s, const SolverInputs *in, double tau0,
-               double tau1, const double x0[SOLVER_NX], const double k1[SOLVER_NX],
-               double x1[SOLVER_NX], InputValues *u1, double stages[3][SOLVER_NX])
+SOLVER_INLINE int rk4(const DynModel *m, const DynState *s, const SolverInputs *in, double tau0,
+                      double tau1, const double x0[SOLVER_NX], const double k1[SOLVER_NX],
+                      double x1[SOLVER_NX], InputValues *u1, double stages[3][SOLVER_NX], const int ext)
 {
     double k2[SOLVER_NX], k3[SOLVER_NX], k4[SOLVER_NX], xt[SOLVER_NX];
     const double h = tau1 - tau0, hh = 0.5 * h, h6 = h / 6.0;
     const double tm = tau0 + hh;
-    const InputValues um = inputsAt(in, tm), ue = inputsAt(in, tau1);
+    const InputValues um = inputsAt(in, tm, ext), ue = inputsAt(in, tau1, ext);
+    const int nx = ext ? SOLVER_NX : DYN_NX;
     int bad = 0, i;
-    for (i = 0; i < SOLVER_NX; ++i) xt[i] = x0[i] + hh * k1[i];
+    for (i = 0; i < nx; ++i) xt[i] = x0[i] + hh * k1[i];
     if (stages) memcpy(stages[0], xt, sizeof xt);
-    bad |= rhs(m, s, &um, xt, k2);
-    for (i = 0; i < SOLVER_NX; ++i) xt[i] = x0[i] + hh * k2[i];
+    bad |= rhs(m, s, &um, xt, k2, ext);
+    for (i = 0; i < nx; ++i) xt[i] = x0[i] + hh * k2[i];
     if (stages) memcpy(stages[1], xt, sizeof xt);
-    bad |= rhs(m, s, &um, xt, k3);
-    for (i = 0; i < SOLVER_NX; ++i) xt[i] = x0[i] + h * k3[i];
+    bad |= rhs(m, s, &um, xt, k3, ext);
+    for (i = 0; i < nx; ++i) xt[i] = x0[i] + h * k3[i];
     if (stages) memcpy(stages[2], xt, sizeof xt);
-    bad |= rhs(m, s, &ue, xt, k4);
-    for (i = 0; i < SOLVER_NX; ++i) x1[i] = x0[i] + h6 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+    bad |= rhs(m, s, &ue, xt, k4, ext);
+    for (i = 0; i < nx; ++i) x1[i] = x0[i] + h6 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
     *u1 = ue;
     return bad;
 }
@@ -228,37 +238,40 @@ static DynSwitch detect(const DynModel *m, const DynState *s, double h, const do
     return sw;
 }
 
-static inline void loadX(const DynState *s, double x[SOLVER_NX])
+SOLVER_INLINE void loadX(const DynState *s, double x[SOLVER_NX], const int ext)
 {
-    x[0] = s->q; x[1] = s->v; x[2] = s->psi; x[3] = s->E; x[4] = s->w; x[5] = s->W;
+    x[0] = s->q; x[1] = s->v; x[2] = s->psi; x[3] = s->E; x[4] = s->w;
+    if (ext) x[5] = s->W;
 }
 
-static inline void storeX(DynState *s, const double x[SOLVER_NX])
+SOLVER_INLINE void storeX(DynState *s, const double x[SOLVER_NX], const int ext)
 {
-    s->q = x[0]; s->v = x[1]; s->psi = x[2]; s->E = x[3]; s->w = x[4]; s->W = x[5];
+    s->q = x[0]; s->v = x[1]; s->psi = x[2]; s->E = x[3]; s->w = x[4];
+    if (ext) s->W = x[5];
 }
 
-static inline int allFinite(const double x[SOLVER_NX])
+SOLVER_INLINE int allFinite(const double x[SOLVER_NX], const int ext)
 {
     return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]) && isfinite(x[3]) && isfinite(x[4]) &&
-           isfinite(x[5]);
+           (!ext || isfinite(x[5]));
 }
 
 /* The sensitivities' jump at an event (the discrete state before it in *before, after it in *s,
  * the continuous state xe at the instant te) */
-static DynStatus sensJump(const DynModel *m, const DynState *before, const DynState *s, DynSwitch sw,
-                          const SolverInputs *in, double te, const double xe[SOLVER_NX], DynSens *e)
+SOLVER_INLINE DynStatus sensJump(const DynModel *m, const DynState *before, const DynState *s, DynSwitch sw,
+                                 const SolverInputs *in, double te, const double xe[SOLVER_NX], DynSens *e,
+                                 const int ext)
 {
     double fm[SOLVER_NX], fp[SOLVER_NX], xp[SOLVER_NX];
-    const InputValues u = inputsAt(in, te);
-    loadX(s, xp);
-    if (rhs(m, before, &u, xe, fm) || rhs(m, s, &u, xp, fp)) return DynOmegaZero;
+    const InputValues u = inputsAt(in, te, ext);
+    loadX(s, xp, ext);
+    if (rhs(m, before, &u, xe, fm, ext) || rhs(m, s, &u, xp, fp, ext)) return DynOmegaZero;
     return sensEvent(m, before, s, sw, fm, fp, e);
 }
 
-DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
-                           double tStart, double h, long nSteps, SolverEventHook hook, void *ctx,
-                           SolverCounters *counters, double *tFail, DynSens *sens)
+SOLVER_INLINE DynStatus advance(const DynModel *m, DynState *s, const SolverInputs *in, double tStart, double h,
+                                long nSteps, SolverEventHook hook, void *ctx, SolverCounters *counters,
+                                double *tFail, DynSens *sens, const int ext)
 {
     double stages[3][SOLVER_NX];
     const double hi = h / (double)nSteps;
@@ -269,7 +282,7 @@ DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
     double tau0 = 0.0;
     int f0Valid = 0;
     long k;
-    loadX(s, x0);
+    loadX(s, x0, ext);
     for (k = 0; k < nSteps && status == DynOk; ++k) {
         const double tauB = (k + 1 == nSteps) ? h : (double)(k + 1) * hi;
         int events = 0;
@@ -279,15 +292,15 @@ DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
             double theta, hs, tAbs, tol, te;
             DynSwitch ev;
             if (!f0Valid) {
-                const InputValues u0 = inputsAt(in, tau0);
+                const InputValues u0 = inputsAt(in, tau0, ext);
                 ++nRhs;
-                if (rhs(m, s, &u0, x0, f0)) { status = DynOmegaZero; break; }
+                if (rhs(m, s, &u0, x0, f0, ext)) { status = DynOmegaZero; break; }
                 f0Valid = 1;
             }
             nRhs += 4;
-            if (rk4(m, s, in, tau0, tauB, x0, f0, x1, &uB, sens ? stages : NULL)) { status = DynOmegaZero; break; }
-            if (!allFinite(x1)) { status = DynNonFinite; break; }
-            if (rhs(m, s, &uB, x1, f1)) { status = DynOmegaZero; break; } /* FSAL: next k1 */
+            if (rk4(m, s, in, tau0, tauB, x0, f0, x1, &uB, sens ? stages : NULL, ext)) { status = DynOmegaZero; break; }
+            if (!allFinite(x1, ext)) { status = DynNonFinite; break; }
+            if (rhs(m, s, &uB, x1, f1, ext)) { status = DynOmegaZero; break; } /* FSAL: next k1 */
             hs = tauB - tau0;
             tAbs = fabs(tStart + tau0);
             tol = 1e-15 * (tAbs > hs ? tAbs : hs) / hs; /* ~1e-15 relative in time */
@@ -295,7 +308,7 @@ DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
             ev = detect(m, s, hs, x0, f0, x1, f1, tol, &theta);
             if (ev == DynSwitchNone) { /* no switch: accept the whole step */
                 if (sens) rk4Sens(m, s, sens, in, tau0, tauB, x0, (const double(*)[SOLVER_NX])stages);
-                storeX(s, x1);
+                storeX(s, x1, ext);
                 memcpy(x0, x1, sizeof x0);
                 memcpy(f0, f1, sizeof f0);
                 ++nAccepted;
@@ -306,27 +319,27 @@ DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
             if (theta >= 1.0 || te >= tauB) {
                 te = tauB;
                 if (sens) rk4Sens(m, s, sens, in, tau0, tauB, x0, (const double(*)[SOLVER_NX])stages);
-                storeX(s, x1);
+                storeX(s, x1, ext);
             } else if (te > tau0) {
                 double xe[SOLVER_NX];
                 InputValues uE;
                 nRhs += 3;
-                if (rk4(m, s, in, tau0, te, x0, f0, xe, &uE, sens ? stages : NULL)) { status = DynOmegaZero; break; }
-                if (!allFinite(xe)) { status = DynNonFinite; break; }
+                if (rk4(m, s, in, tau0, te, x0, f0, xe, &uE, sens ? stages : NULL, ext)) { status = DynOmegaZero; break; }
+                if (!allFinite(xe, ext)) { status = DynNonFinite; break; }
                 if (sens) rk4Sens(m, s, sens, in, tau0, te, x0, (const double(*)[SOLVER_NX])stages);
-                storeX(s, xe);
+                storeX(s, xe, ext);
             } /* else: te == tau0, the switch happens at the step start */
             ++nEvents;
             {
                 const DynState before = *s;
                 double xe[SOLVER_NX];
-                loadX(s, xe);
+                loadX(s, xe, ext);
                 status = dynApplyEvent(m, s, ev, &kind);
-                if (status == DynOk && sens) status = sensJump(m, &before, s, ev, in, te, xe, sens);
+                if (status == DynOk && sens) status = sensJump(m, &before, s, ev, in, te, xe, sens, ext);
             }
             if (status != DynOk) break;
             if (hook) hook(ctx, kind, tStart + te, s);
-            loadX(s, x0);
+            loadX(s, x0, ext);
             f0Valid = 0;
             tau0 = te;
             if (++events > SOLVER_MAX_EVENTS_PER_STEP) { status = DynChattering; break; }
@@ -342,3 +355,12 @@ DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in,
     return status;
 }
 
+DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in, double tStart, double h,
+                        long nSteps, SolverEventHook hook, void *ctx, SolverCounters *counters, double *tFail,
+                        DynSens *sens)
+{
+    /* the external force is identically 0 unless its polynomial has a nonzero coefficient */
+    const int ext = in->top[SOLVER_INPUT_FORCE] > 0 || in->coef[SOLVER_INPUT_FORCE][0] != 0.0;
+    return ext ? advance(m, s, in, tStart, h, nSteps, hook, ctx, counters, tFail, sens, 1)
+               : advance(m, s, in, tStart, h, nSteps, hook, ctx, counters, tFail, sens, 0);
+}

@@ -35,8 +35,9 @@ class Unpacked:
         self.vars = {v.name: v for v in self.md.modelVariables}
 
     def instance(self, name: str, params: Mapping[str, Any] | None = None, start_time: float = 0.0,
-                 initialize: bool = True) -> "Slave":
-        return Slave(self, name, params or {}, start_time, initialize)
+                 initialize: bool = True, inputs: Mapping[str, float] | None = None) -> "Slave":
+        """inputs: values set before the end of initialization (the start state follows them)."""
+        return Slave(self, name, params or {}, start_time, initialize, inputs or {})
 
     def close(self) -> None:
         shutil.rmtree(self.dir, ignore_errors=True)
@@ -53,7 +54,8 @@ class Slave:
     status messages (logStatus* categories) are collected in `messages` through a per-instance
     logger callback (no fmpy logger proxy: it is process-global)."""
 
-    def __init__(self, u: Unpacked, name: str, params: Mapping[str, Any], start_time: float, initialize: bool):
+    def __init__(self, u: Unpacked, name: str, params: Mapping[str, Any], start_time: float, initialize: bool,
+                 inputs: Mapping[str, float]):
         self.u = u
         self.messages: list[str] = []
         self.s = FMU2Slave(guid=u.md.guid, unzipDirectory=u.dir, modelIdentifier=u.md.coSimulation.modelIdentifier,
@@ -69,6 +71,8 @@ class Slave:
         self.s.setupExperiment(startTime=start_time)
         if initialize:
             self.set_params(params)
+            if inputs:
+                self.set_inputs(inputs)
             self.s.enterInitializationMode()
             self.s.exitInitializationMode()
 

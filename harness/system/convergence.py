@@ -5,7 +5,7 @@ slope of log error over log h on the finest points), and the largest stable h.
 
 Error: max over blades and over the reference's output grid (every 1e-4 s up to stop_time) of
 |q_cosim - q_ref|, relative to max |q_ref|. `python -m harness.system.convergence` writes
-results/ring_convergence.csv and .png (log-log) and prints the table.
+results/ring_convergence.csv and .png (log-log; also libcosim) and prints the table.
 """
 from __future__ import annotations
 
@@ -41,16 +41,22 @@ class Study:
                     stop_time=self.stop_time, order=order)
 
 
-def errors(study: Study) -> list[tuple[int, float, float]]:
-    """(order, h, relative error); inf where the co-simulation diverged."""
+def errors(study: Study, libcosim: bool = False) -> list[tuple[int | str, float, float]]:
+    """(order, h, relative error) of the fmpy master per extrapolation order, and with libcosim
+    (harness/system/ring_libcosim.py, held inputs) as order "libcosim"; inf where it diverged."""
     t = np.arange(round(study.stop_time / GRID) + 1) * GRID
     q = MonolithicRing(study.spec()).solve(t)["q"]
-    rows = []
-    for p in study.orders:
+    rows: list[tuple[int | str, float, float]] = []
+    masters: list[int | str] = [*study.orders, *(["libcosim"] if libcosim else [])]
+    for p in masters:
         for h in study.steps:
             k = round(GRID / h)
             try:
-                c = run(study.ring(h, p))["q"][::k]
+                if p == "libcosim":
+                    from harness.system import ring_libcosim
+                    c = ring_libcosim.run(study.ring(h, 0))["q"][::k]
+                else:
+                    c = run(study.ring(h, int(p)))["q"][::k]
                 e = float(np.abs(c - q).max() / np.abs(q).max())
             except Exception:  # an FMU refused a step (state out of range): diverged
                 e = math.inf
@@ -58,14 +64,14 @@ def errors(study: Study) -> list[tuple[int, float, float]]:
     return rows
 
 
-def measured_order(rows: list[tuple[int, float, float]], order: int, last: int = 3) -> float:
+def measured_order(rows: list[tuple[int | str, float, float]], order: int | str, last: int = 3) -> float:
     """Least-squares slope of log(error) over log(h) on the `last` smallest steps."""
     pts = sorted((h, e) for p, h, e in rows if p == order and math.isfinite(e))[:last]
     x, y = np.log([h for h, _ in pts]), np.log([e for _, e in pts])
     return float(np.polyfit(x, y, 1)[0])
 
 
-def write(rows: list[tuple[int, float, float]], out: Path) -> None:
+def write(rows: list[tuple[int | str, float, float]], out: Path) -> None:
     out.parent.mkdir(parents=True, exist_ok=True)
     with open(out.with_suffix(".csv"), "w", newline="") as f:
         w = csv.writer(f)
@@ -75,9 +81,10 @@ def write(rows: list[tuple[int, float, float]], out: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=(5, 4))
-    for p in sorted({r[0] for r in rows}):
+    for p in dict.fromkeys(r[0] for r in rows):
         pts = [(h, e) for q, h, e in rows if q == p and math.isfinite(e)]
-        ax.loglog(*zip(*pts), "o-", label=f"extrapolation order {p} (measured {measured_order(rows, p):.2f})")
+        name = "libcosim (held inputs)" if p == "libcosim" else f"fmpy master, extrapolation order {p}"
+        ax.loglog(*zip(*pts), "o-", label=f"{name} (measured {measured_order(rows, p):.2f})")
     ax.set_xlabel("communication step h [s]")
     ax.set_ylabel("max |q - q_ref| / max |q_ref|")
     ax.set_title("ring N = 4, EO = 3: Jacobi vs monolithic", fontsize=10)
@@ -91,12 +98,12 @@ def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=Path("results/ring_convergence"))
     a = ap.parse_args(argv)
-    rows = errors(Study())
+    rows = errors(Study(), libcosim=True)
     write(rows, a.out)
     for r in rows:
         print(*r)
-    for p in Study().orders:
-        print(f"order {p}: measured convergence order {measured_order(rows, p):.2f}")
+    for p in dict.fromkeys(r[0] for r in rows):
+        print(f"{p}: measured convergence order {measured_order(rows, p):.2f}")
 
 
 if __name__ == "__main__":

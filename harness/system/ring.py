@@ -12,7 +12,8 @@ u_j = q_j - q_{j+1}. At each communication point t_k the master
 3. sets each blade's contactForce_i = forceB_{i-1} + forceA_i (equal and opposite pairs: the sum
    over the ring is 0), aeroLoad and rotorSpeed, with derivatives of order 1..`order` extrapolated
    from the last `order` + 1 communication points (order 0: inputs held);
-4. steps every FMU from t_k to t_k + h (Jacobi: all from the data at t_k).
+4. steps every FMU from t_k to t_{k+1} (Jacobi: all from the data at t_k); t_k are libcosim's
+   integer-nanosecond points (harness/system/ring_libcosim.py runs the same ring in libcosim).
 `python -m harness.system.ring --n 6` runs one ring and prints the amplitudes and phase lags.
 """
 from __future__ import annotations
@@ -25,6 +26,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from harness.crosscheck.importers.libcosim import ns_time_grid
 from harness.fmu.build import EXCITATION_FMU, build
 from harness.fmu.slave import Unpacked, build_ring_fmus
 
@@ -88,7 +90,8 @@ def run(ring: Ring, record_inputs: bool = False) -> dict[str, np.ndarray]:
     if N < 2:
         raise ValueError(f"a ring needs n >= 2 blades, got {N}")
     res = {k: np.zeros((K + 1, N)) for k in ("q", "v", "E", "W", "contactForce", "forceA", "forceB", "Ec", "state")}
-    res["time"] = np.arange(K + 1) * h
+    # libcosim's communication points (integer nanoseconds), so both masters see the same times
+    res["time"] = tk = ns_time_grid(0.0, h, K)
     if record_inputs:
         res["aeroLoad"] = np.zeros((K + 1, N, p + 1))
     with Unpacked(bx_path) as BX, Unpacked(sc_path) as SC, Unpacked(EXCITATION_FMU) as EX:
@@ -107,7 +110,7 @@ def run(ring: Ring, record_inputs: bool = False) -> dict[str, np.ndarray]:
             b_in = [blades[0].vr(n) for n in ("aeroLoad", "rotorSpeed", "contactForce")]
             hv, hf, ha = _History(p, h, N), _History(p, h, N), _History(p, h, N)
             for k in range(K + 1):
-                t = k * h
+                t = float(tk[k])
                 st = np.array([b.s.getReal(bv) for b in blades])  # q, v, E, W
                 q, v = st[:, 0], st[:, 1]
                 ex = np.array([e.s.getReal(ev) for e in excs])
@@ -137,7 +140,7 @@ def run(ring: Ring, record_inputs: bool = False) -> dict[str, np.ndarray]:
                         _set_derivatives(bl, [b_in[0]] * p + [b_in[2]] * p, list(range(1, p + 1)) * 2,
                                          list(da[:, i]) + list(df[:, i]))
                 for fmu in (*blades, *contacts, *excs):
-                    fmu.s.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+                    fmu.s.doStep(currentCommunicationPoint=t, communicationStepSize=float(tk[k + 1] - tk[k]))
         finally:
             for fmu in (*blades, *contacts, *excs):
                 fmu.free()
