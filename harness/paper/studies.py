@@ -487,6 +487,7 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
     summary = Summary(size.name, base_p)
     rep = Reproduction(summary)
     try:
+        runner.warm_up("harness.sweep.periodic.studies")  # the workers start while HB runs here
         t0 = _time.perf_counter()
         hb = {n: {v: hb_curve(dict(base_p, **{STUDIES[n].param: v}), size.hb_speeds) for v in values[n]}
               for n in names}

@@ -180,6 +180,13 @@ class PointCache:
 # ---------------------------------------------------------------------------------------------
 # Parallel map
 # ---------------------------------------------------------------------------------------------
+def _import_modules(modules: Sequence[str]) -> None:
+    import importlib
+
+    for name in modules:
+        importlib.import_module(name)
+
+
 @dataclass
 class Runner:
     """Maps a picklable function over tasks: in-process, on a local process pool, or on dask.
@@ -229,6 +236,16 @@ class Runner:
 
             self._pool = ProcessPoolExecutor(max_workers=self.n_workers, mp_context=mp.get_context("spawn"))
         return self._pool
+
+    def warm_up(self, *modules: str) -> None:
+        """Start the local pool's workers now and import `modules` in them, without waiting: a
+        spawned worker takes ~0.5 s to start, which then overlaps the caller's own work (e.g. the
+        harmonic balance before the branches). No-op in-process and on dask."""
+        if self.scheduler is not None or self.n_workers <= 1:
+            return
+        pool = self._local_pool()
+        for _ in range(self.n_workers):
+            pool.submit(_import_modules, modules)
 
     def close(self, kill: bool = False) -> None:
         if self._pool is not None:
