@@ -2,7 +2,6 @@
  * the input polynomials, the rotor speed range, solverAdvance with the events logged, the state
  * restored and the step discarded on numerical trouble, and the inputs carried to the next point. */
 #include <math.h>
-#include <string.h>
 
 #include "fmi/log.h"
 #include "models/shrouded_blade.h"
@@ -70,19 +69,7 @@ void bladeEventHook(void *ctx, DynEventKind kind, double t, const DynState *s)
  * so an input the master does not set again continues as the same polynomial (model-notes s.7). */
 static void shiftInputs(BladeData *d, const SolverInputs *in, double h)
 {
-    for (int i = 0; i < SOLVER_NUM_INPUTS; ++i) {
-        double c[SOLVER_MAX_ORDER + 1];
-        const int top = in->top[i];
-        double fact = 1.0;
-        memcpy(c, in->coef[i], sizeof c);
-        for (int j = 0; j < top; ++j) /* repeated synthetic division: Taylor shift */
-            for (int k = top - 1; k >= j; --k) c[k] += h * c[k + 1];
-        for (int j = 0; j <= SOLVER_MAX_ORDER; ++j) {
-            if (j > 0) fact *= (double)j;
-            d->in[i][j] = j <= top ? c[j] * fact : 0.0;
-        }
-        d->in[i][0] = solverInputAt(in, i, h); /* exactly the value checked */
-    }
+    for (int i = 0; i < SOLVER_NUM_INPUTS; ++i) solverShiftInput(in, i, h, d->in[i]);
 }
 
 /* Addendum to an instability message: why a low speed makes a describing-function contact stiff. */
