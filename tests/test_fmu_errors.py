@@ -19,9 +19,7 @@ import math
 import os
 import re
 import struct
-import subprocess
 import sys
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
@@ -30,7 +28,7 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import fmi2raw as F  # noqa: E402
-from fmi2raw import (DISCARD, ERROR, OK, STATUS_NAMES, Fmi2Library, Instance,  # noqa: E402
+from fmi2raw import (ERROR, OK, STATUS_NAMES, Fmi2Library, Instance,  # noqa: E402
                      message_names_value_and_range)
 from catalogue import (INT_MAX, INT_MIN, NOT_EXPORTED, NULL_INSTANCE, REFUSED, Case,  # noqa: E402
                        Outcome, _sequence)

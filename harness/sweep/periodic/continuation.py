@@ -3,11 +3,13 @@
 The branch is a curve H(x, n) = P(x; n) - x = 0 in (unknowns, speed). Coordinates are scaled,
 z = (x / sc, n / SPEED_SCALE) with sc the unknowns' scales at the branch start, so one unit of arc
 is about one branch amplitude or 1000 rpm. Predictor: tangent t (null vector of [H_x H_n], oriented
-along the previous one). Corrector on (H(z) = 0, t . (z - z_pred) = 0): quasi-Newton from the last
-point's Jacobian with Broyden updates (one period per iteration), Newton with a fresh Jacobian per
-iteration where that fails (a kink of the map). The Jacobian is taken once per accepted point
-(central differences in the unknowns: max |q| has a kink at half-wave symmetric orbits; forward in
-speed): it gives the point's Floquet multipliers and the next tangent. Step control: ds grows 1.4x
+along the previous one). Corrector on (H(z) = 0, t . (z - z_pred) = 0), one period per iteration:
+with the FMU's sensitivities H_x is exact at every iterate and the speed column is the last
+point's, Broyden-updated; without them the whole Jacobian is Broyden-updated. Where that fails (a
+kink of the map) Newton with a fresh speed column (or a fresh Jacobian) per iteration. At each
+accepted point: DP (sensitivities, or central differences in the unknowns: max |q| has a kink at
+half-wave symmetric orbits) and a forward difference in speed give the point's Floquet multipliers
+and the next tangent. Step control: ds grows 1.4x
 after an easy corrector (<= EASY_CORRECTOR iterations), halves after a failure or when a step
 longer than ds_fold passes a fold (resolving its tip); the branch ends outside the speed range,
 after max_points, when ds falls below ds_min, or when it closes on itself (an isola). Changes of
@@ -18,7 +20,6 @@ outside the circle changes).
 from __future__ import annotations
 
 import csv
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 

@@ -20,7 +20,7 @@ import numpy as np
 
 from harness.fmu.blade import FMUError
 from harness.model.params import ParameterError
-from harness.sweep.periodic.period_map import PeriodMap, omega
+from harness.sweep.periodic.period_map import PeriodMap
 
 MAX_UPHILL = 3  # Newton steps that raise the residual even at the smallest damping, then give up
 UNIT_CIRCLE_TOL = 1e-6  # |mu| within this of 1 counts as on the circle (finite-difference accuracy)
@@ -141,10 +141,12 @@ class Solution:
 
 def newton(pm: PeriodMap, x0: np.ndarray, speed: float, J0: np.ndarray | None = None,
            tol: float | None = None, quasi: bool = True) -> Solution | None:
-    """Damped Newton on R(x) = P(x) - x from x0, or None. With quasi (default) it is a quasi-Newton
-    method: DP from J0 (DP of a nearby problem, e.g. the previous point of a scan) or forward
-    differences (one period per unknown), updated by Broyden after every step, a fresh DP only when
-    a step fails to halve the residual. Without quasi every step takes a fresh DP."""
+    """Damped Newton on R(x) = P(x) - x from x0, or None. With the FMU's sensitivities (the
+    default settings) every evaluation brings DP at its point: Newton proper, J0 and quasi unused.
+    Without them, quasi (default) makes it a quasi-Newton method: DP from J0 (DP of a nearby
+    problem, e.g. the previous point of a scan) or forward differences (one period per unknown),
+    updated by Broyden after every step, a fresh DP only when a step fails to halve the residual;
+    without quasi every step takes a fresh DP."""
     tol = pm.s.tol if tol is None else tol
     sens = pm.s.sensitivities  # every evaluation brings its exact DP: Newton proper
     x = bounded(pm, np.asarray(x0, dtype=float))
