@@ -28,6 +28,8 @@ COMMANDS: dict[str, str] = {
     "bench": "harness.bench",
     "periodic": "harness.cli.periodic",
     "continue": "harness.cli.continuation",
+    "ring": "harness.cli.ring",
+    "mistuning": "harness.cli.mistuning",
 }
 
 EXIT_USAGE = 2

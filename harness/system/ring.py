@@ -41,6 +41,7 @@ class Ring:
     fw0: float = 100.0  # [N/m]
     blade: Mapping[str, Any] = field(default_factory=dict)  # BladeExternalContact parameters
     contact: Mapping[str, Any] = field(default_factory=dict)  # ShroudContact parameters
+    blade_each: tuple[Mapping[str, Any], ...] = ()  # per-blade overrides of `blade` (mistuning), empty or N
     step: float = 1e-4  # communication step h [s]
     stop_time: float = 0.1  # [s]
     order: int = 1  # extrapolation order of the input derivatives (0: held inputs)
@@ -48,6 +49,15 @@ class Ring:
     @property
     def n_steps(self) -> int:
         return round(self.stop_time / self.step)
+
+    def blade_params(self, i: int) -> dict[str, Any]:
+        """Parameters of blade i: the common ones with blade i's own overrides on top."""
+        return {**dict(self.blade), **(dict(self.blade_each[i]) if self.blade_each else {})}
+
+    @property
+    def omega(self) -> float:
+        """Excitation frequency EO 2 pi n / 60 [rad/s]."""
+        return self.engine_order * 2 * math.pi * self.speed / 60
 
 
 def extrapolation_weights(p: int, h: float) -> np.ndarray:
@@ -89,13 +99,15 @@ def run(ring: Ring, record_inputs: bool = False) -> dict[str, np.ndarray]:
     N, h, K, p = ring.n, ring.step, ring.n_steps, ring.order
     if N < 2:
         raise ValueError(f"a ring needs n >= 2 blades, got {N}")
+    if ring.blade_each and len(ring.blade_each) != N:
+        raise ValueError(f"blade_each has {len(ring.blade_each)} entries for {N} blades")
     res = {k: np.zeros((K + 1, N)) for k in ("q", "v", "E", "W", "contactForce", "forceA", "forceB", "Ec", "state")}
     # libcosim's communication points (integer nanoseconds), so both masters see the same times
     res["time"] = tk = ns_time_grid(0.0, h, K)
     if record_inputs:
         res["aeroLoad"] = np.zeros((K + 1, N, p + 1))
     with Unpacked(bx_path) as BX, Unpacked(sc_path) as SC, Unpacked(EXCITATION_FMU) as EX:
-        blades = [BX.instance(f"blade{i}", dict(ring.blade)) for i in range(N)]
+        blades = [BX.instance(f"blade{i}", ring.blade_params(i)) for i in range(N)]
         contacts = [SC.instance(f"contact{j}", {**dict(ring.contact), "engineOrder": ring.engine_order})
                     for j in range(N)]
         excs = [EX.instance(f"exc{i}", {"Fw0": ring.fw0, "n0": ring.speed, "n1": ring.speed,
@@ -166,6 +178,15 @@ def harmonic(res: Mapping[str, np.ndarray], omega: float, periods: int = 1) -> n
     w[0] = w[-1] = 0.5 * (ts[1] - ts[0])
     e = np.exp(-1j * omega * ts)
     return 2.0 / T * (w * e) @ qs
+
+
+def amplitudes(time: np.ndarray, q: np.ndarray, omega: float) -> np.ndarray:
+    """Steady amplitude per blade: max |q| over the communication points of the last excitation
+    period 2 pi / omega (the run must be at least one period long)."""
+    T = 2 * math.pi / omega
+    if time[-1] - time[0] < T * (1 - 1e-9):
+        raise ValueError(f"the run ({time[-1] - time[0]:g} s) is shorter than one excitation period ({T:g} s)")
+    return np.abs(q[time >= time[-1] - T - 1e-12]).max(axis=0)
 
 
 def main(argv: list[str] | None = None) -> None:

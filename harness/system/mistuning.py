@@ -1,0 +1,168 @@
+"""Mistuning study of the ring (issue 11): random blade-to-blade scatter of one blade parameter
+(EI, the bending stiffness, or m0, the shroud mass), relative standard deviation per level, patterns
+from a seeded generator; every pattern is one ring run (harness/system/ring.py) on the Runner
+(local process pool, or dask with a scheduler address), cached in its own file (PointCache), so a
+killed study resumes where it stopped.
+
+Amplification of a pattern = largest blade amplitude (max |q| over the last excitation period) /
+the tuned ring's blade amplitude at the same speed, the speed being the tuned ring's resonance with
+the contacts open (EO n / 60 = contact-free first bending frequency, Campbell crossing, from the
+Galerkin reduction of the Python reference). Compared with Whitehead's bound (1 + sqrt(N)) / 2, a
+theorem for linear rings with light damping. Variants: `friction` (the contacts as given) and
+`open` (d = 1 m: the contacts never close, the blades are uncoupled).
+"""
+from __future__ import annotations
+
+import hashlib
+import math
+import time
+from dataclasses import asdict, dataclass, field, replace
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from harness.system.ring import Ring, amplitudes, run
+
+PARAMETERS = ("EI", "m0")  # the blade parameters a pattern scatters
+VARIANTS = {"friction": {}, "open": {"d": 1.0}}  # contact parameters on top of the ring's
+CACHE_VERSION = 1  # bump when the meaning of a cached record changes
+
+
+@dataclass(frozen=True)
+class Study:
+    n: int = 6
+    levels: tuple[float, ...] = (0.005, 0.01, 0.02, 0.05)  # relative standard deviations
+    patterns: int = 3
+    parameter: str = "EI"
+    seed: int = 1
+    variants: tuple[str, ...] = ("friction", "open")
+    stop_time: float = 0.15  # [s] (transient 2 M / C0 = 0.022 s at c = 298 N s/m2)
+    step: float = 1e-4
+    speed: float | None = None  # [rpm]; None: the tuned resonance
+    engine_order: int = 3
+    fw0: float = 300.0
+    blade: dict = field(default_factory=lambda: {"c": 298.0})
+    contact: dict = field(default_factory=dict)
+
+
+SIZES = {
+    # `make run`-like: ~26 ring runs of 6 blades, 0.15 s each (~15 s on 2 cores)
+    "small": Study(),
+    # a cluster: 100 patterns per level, 24 blades, paper damping needs longer runs
+    "cluster": Study(n=24, patterns=100, stop_time=0.3),
+}
+
+
+def whitehead(n: int) -> float:
+    """Whitehead's largest amplification of a mistuned linear ring of n blades."""
+    return (1 + math.sqrt(n)) / 2
+
+
+def factors(n: int, sigma: float, seed: int, index: int) -> np.ndarray:
+    """Pattern `index`: 1 + sigma z, z standard normal from a generator seeded (seed, index), the
+    same z at every level (common random numbers: the levels differ in sigma only)."""
+    f = 1.0 + sigma * np.random.default_rng([seed, index]).standard_normal(n)
+    if np.any(f <= 0):
+        raise ValueError(f"mistuning level {sigma} gives a non-positive factor {f.min():g}")
+    return f
+
+
+def resonance_speed(blade: dict, engine_order: int) -> float:
+    """Speed [rpm] where engine_order n / 60 equals the contact-free first bending frequency:
+    Omega^2 (EO^2 M - K0omega2) = K0static (Galerkin reduction, harness/reference/blade.py)."""
+    from harness.reference.blade import galerkin
+    g = galerkin({k: v for k, v in blade.items() if k in ("EI", "rho", "A", "l", "c", "m0", "formulation")})
+    return math.sqrt(g.K0static / (engine_order ** 2 * g.M - g.K0omega2)) * 60 / (2 * math.pi)
+
+
+def blade_value(ring: Ring, name: str) -> float:
+    """The tuned value of a blade parameter (the ring's, else the FMU's start value)."""
+    from harness.system.ring_values import settable
+    if name in ring.blade:
+        return float(ring.blade[name])
+    from fmpy import read_model_description
+    from harness.fmu.slave import build_ring_fmus
+    md = read_model_description(str(build_ring_fmus()[0]))
+    assert name in settable()["blade"]
+    return float(next(v.start for v in md.modelVariables if v.name == name))
+
+
+def mistuned(ring: Ring, parameter: str, f: Sequence[float]) -> Ring:
+    """`ring` with blade i's `parameter` = tuned value * f[i]."""
+    if parameter not in PARAMETERS:
+        raise ValueError(f"mistuned parameter {parameter!r}: one of {', '.join(PARAMETERS)}")
+    base = blade_value(ring, parameter)
+    return replace(ring, blade_each=tuple({parameter: base * float(x)} for x in f))
+
+
+def tuned_ring(study: Study, variant: str) -> Ring:
+    speed = study.speed or resonance_speed(study.blade, study.engine_order)
+    return Ring(n=study.n, engine_order=study.engine_order, speed=speed, fw0=study.fw0, blade=dict(study.blade),
+                contact={**study.contact, **VARIANTS[variant]}, step=study.step, stop_time=study.stop_time)
+
+
+def _fmu_digest() -> str:
+    """The ring FMUs' bytes: a rebuilt FMU invalidates the cache."""
+    from harness.fmu.build import EXCITATION_FMU
+    from harness.fmu.slave import build_ring_fmus
+    h = hashlib.sha256()
+    for p in (*build_ring_fmus(), EXCITATION_FMU):
+        h.update(Path(p).read_bytes())
+    return h.hexdigest()
+
+
+def simulate(ring: Ring) -> list[float]:
+    """Steady amplitude of every blade [m] (one ring run)."""
+    res = run(ring)
+    return [float(a) for a in amplitudes(res["time"], res["q"], ring.omega)]
+
+
+def _task(job: tuple[Ring, str, str | None]) -> dict:
+    """One pattern on a worker: run, store in the cache at once (atomic file), return the record."""
+    from harness.sweep.executor import PointCache
+    ring, key, cache_dir = job
+    t0 = time.perf_counter()
+    rec = {"amplitudes": simulate(ring), "wall_s": time.perf_counter() - t0}
+    PointCache(Path(cache_dir) if cache_dir else None).put(key, rec)
+    return rec
+
+
+def run_study(study: Study, runner: Any, cache_dir: Path | None) -> dict:
+    """Every (variant, level, pattern) ring, cached ones read, the rest on `runner`; returns the
+    tuned amplitudes, the amplitudes and amplifications per pattern, and how many were computed."""
+    from harness.sweep.executor import PointCache, point_key
+    cache = PointCache(cache_dir)
+    digest = _fmu_digest()
+    jobs: list[tuple[str, int, int, Ring]] = []  # (variant, level index or -1 for tuned, pattern, ring)
+    for v in study.variants:
+        base = tuned_ring(study, v)
+        jobs.append((v, -1, 0, base))
+        for li, sigma in enumerate(study.levels):
+            for k in range(study.patterns):
+                jobs.append((v, li, k, mistuned(base, study.parameter, factors(study.n, sigma, study.seed, k))))
+    keys = [point_key(kind="ring-mistuning", version=CACHE_VERSION, fmus=digest, ring=asdict(r)) for *_, r in jobs]
+    records: dict[int, dict] = {}
+    for i, key in enumerate(keys):
+        rec = cache.get(key)
+        if rec is not None:
+            records[i] = rec
+    todo = [i for i in range(len(jobs)) if i not in records]
+    cdir = str(cache_dir) if cache_dir else None
+    for i, rec in zip(todo, runner.map(_task, [(jobs[i][3], keys[i], cdir) for i in todo],
+                                       desc="mistuning", unit="ring")):
+        records[i] = rec
+    out: dict[str, Any] = {"n": study.n, "levels": list(study.levels), "patterns": study.patterns,
+                           "parameter": study.parameter, "seed": study.seed, "whitehead": whitehead(study.n),
+                           "speed_rpm": jobs[0][3].speed, "computed": len(todo), "cached": len(jobs) - len(todo),
+                           "variants": {}}
+    for v in study.variants:
+        tuned = [records[i]["amplitudes"] for i, j in enumerate(jobs) if j[0] == v and j[1] == -1][0]
+        ref = max(tuned)
+        amps = np.full((len(study.levels), study.patterns, study.n), np.nan)
+        for i, (vv, li, k, _) in enumerate(jobs):
+            if vv == v and li >= 0:
+                amps[li, k] = records[i]["amplitudes"]
+        out["variants"][v] = {"tuned": tuned, "amplitudes": amps.tolist(),
+                              "amplification": (amps.max(axis=2) / ref).tolist()}
+    return out

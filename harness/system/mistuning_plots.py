@@ -1,0 +1,71 @@
+"""Figures of the mistuning study (harness/system/mistuning.py), each a PNG with its CSV:
+amplitude per blade around the disk (the worst pattern of the largest level against the tuned ring),
+amplification vs mistuning level (mean, max, Whitehead's bound), histogram of the amplification at
+the largest level."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from harness.sweep.executor import write_csv
+
+
+def write(out: dict, directory: Path) -> list[Path]:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    d = Path(directory)
+    d.mkdir(parents=True, exist_ok=True)
+    n, levels, V = out["n"], out["levels"], out["variants"]
+    files = []
+
+    # amplitude per blade around the disk
+    fig, ax = plt.subplots(figsize=(6, 4))
+    rows = []
+    for v, r in V.items():
+        amp = np.array(r["amplitudes"])[-1]
+        k = int(np.argmax(amp.max(axis=1)))
+        ax.plot(range(n), amp[k] * 1e3, "o-", label=f"{v}: worst pattern ({k})")
+        ax.plot(range(n), np.array(r["tuned"]) * 1e3, "k--", lw=0.8)
+        rows += [(v, i, r["tuned"][i], amp[k, i]) for i in range(n)]
+    ax.set(xlabel="blade", ylabel="max |q| [mm]", title=f"sigma = {levels[-1]:g} ({out['parameter']}), dashed: tuned")
+    ax.legend()
+    files += _save(fig, d / "mistuning_blades", rows,
+                   [("variant", "U10"), ("blade", "i4"), ("tuned_m", "f8"), ("mistuned_m", "f8")])
+
+    # amplification vs level
+    fig, ax = plt.subplots(figsize=(6, 4))
+    rows = []
+    for v, r in V.items():
+        a = np.array(r["amplification"])
+        ax.plot(levels, a.max(axis=1), "o-", label=f"{v}: max")
+        ax.plot(levels, a.mean(axis=1), "s:", label=f"{v}: mean")
+        rows += [(v, s, a[i].mean(), a[i].max(), a[i].min()) for i, s in enumerate(levels)]
+    ax.axhline(out["whitehead"], color="r", label=f"Whitehead (1 + sqrt({n})) / 2")
+    ax.set(xlabel="relative standard deviation", ylabel="amplification", title=f"N = {n}, {out['patterns']} patterns")
+    ax.legend(fontsize=8)
+    files += _save(fig, d / "mistuning_amplification", rows,
+                   [("variant", "U10"), ("sigma", "f8"), ("mean", "f8"), ("max", "f8"), ("min", "f8")])
+
+    # histogram at the largest level
+    fig, ax = plt.subplots(figsize=(6, 4))
+    rows = []
+    for v, r in V.items():
+        a = np.array(r["amplification"])[-1]
+        ax.hist(a, bins=max(5, len(a) // 5), alpha=0.6, label=v)
+        rows += [(v, k, x) for k, x in enumerate(a)]
+    ax.set(xlabel="amplification", ylabel="patterns", title=f"sigma = {levels[-1]:g}")
+    ax.legend()
+    files += _save(fig, d / "mistuning_histogram", rows, [("variant", "U10"), ("pattern", "i4"), ("amplification", "f8")])
+    return files
+
+
+def _save(fig, stem: Path, rows: list, dtype: list) -> list[Path]:
+    import matplotlib.pyplot as plt
+    fig.tight_layout()
+    fig.savefig(stem.with_suffix(".png"), dpi=120)
+    plt.close(fig)
+    write_csv(stem.with_suffix(".csv"), np.array(rows, dtype=dtype))
+    return [stem.with_suffix(".png"), stem.with_suffix(".csv")]

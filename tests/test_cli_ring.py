@@ -1,0 +1,112 @@
+"""`python -m harness ring` (harness/cli/ring.py).
+
+- --json prints the documented keys, `amplitudes` has one entry per blade;
+- `--start-values d 1.0` opens every contact: each blade's amplitude equals that of ShroudedBlade
+  alone (contact open, amplitudeMode 1) fed blade i's load, computed here without the ring master:
+  the Excitation FMU run alone (bladeIndex i) and the master's linear extrapolation written out as
+  the backward difference (y_k - y_{k-1}) / h; within 1e-12 relative (rounding of the difference);
+- bad values exit with code 2 and a message naming the value and the range;
+- --write-ssp writes DIR/SystemStructure.ssd + DIR/resources/*.fmu that libcosim's from_ssp_file
+  loads; with the contacts open and a mistuning pattern it gives the fmpy master's held-input
+  amplitudes (the per-blade EI reaches the SSP parameter sets; 1e-12 relative).
+"""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from harness.cli.main import main
+from harness.crosscheck.importers.libcosim import ns_time_grid
+from harness.fmu.build import EXCITATION_FMU, FMU_PATH, build
+from harness.fmu.slave import Unpacked
+
+
+def ring_json(capsys, *args: str) -> dict:
+    assert main(["ring", *args, "--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_json_keys_and_one_amplitude_per_blade(capsys):
+    out = ring_json(capsys, "--blades", "3", "--stop-time", "0.02")
+    assert {"blades", "master", "speed_rpm", "engine_order", "stop_time_s", "step_s", "amplitudes",
+            "first_harmonic", "phase_lags_rad", "mistuning", "wall_time_s"} <= set(out)
+    assert len(out["amplitudes"]) == 3 and min(out["amplitudes"]) > 1e-7
+
+
+def single_blade_amplitude(i: int, n: int, speed: float, h: float, K: int, eo: int = 3) -> float:
+    """ShroudedBlade alone, contact open, fed blade i's aeroLoad with a first-order derivative."""
+    build(("fmu", "excitation_fmu"))
+    t = ns_time_grid(0.0, h, K)
+    with Unpacked(EXCITATION_FMU) as EX, Unpacked(FMU_PATH) as SB:
+        ex = EX.instance("exc", {"Fw0": 100.0, "n0": speed, "n1": speed, "engineOrder": eo,
+                                 "bladeIndex": i, "bladeCount": n})
+        s = SB.instance("alone", {"d": 1.0, "amplitudeMode": 1})
+        q, prev = [s.get(["tipDisplacement"])[0]], None
+        try:
+            for k in range(K):
+                y = ex.get(["aeroLoad"])[0]
+                dy = 0.0 if prev is None else (y - prev) / h
+                s.set_inputs({"aeroLoad": y, "rotorSpeed": speed}, {"aeroLoad": [dy]})
+                dt = float(t[k + 1] - t[k])
+                s.step(float(t[k]), dt)
+                ex.step(float(t[k]), dt)
+                q.append(s.get(["tipDisplacement"])[0])
+                prev = y
+        finally:
+            s.free()
+            ex.free()
+    T = 60.0 / (eo * speed)
+    return float(np.abs(np.array(q)[t >= t[-1] - T - 1e-12]).max())
+
+
+def test_open_contacts_give_the_single_blade_amplitude(capsys):
+    n, speed, stop = 4, 6000.0, 0.03
+    out = ring_json(capsys, "--blades", str(n), "--speed", str(speed), "--stop-time", str(stop),
+                    "--start-values", "d", "1.0")
+    K = round(stop / 1e-4)
+    ref = [single_blade_amplitude(i, n, speed, 1e-4, K) for i in range(n)]
+    assert min(ref) > 1e-5
+    assert np.allclose(out["amplitudes"], ref, rtol=1e-12, atol=0), (out["amplitudes"], ref)
+
+
+@pytest.mark.parametrize("args,words", [
+    (["--blades", "1"], ["--blades 1", "[2, 10000]"]),
+    (["--blades", "3", "--speed", "-5"], ["-5", "(0, 30000]"]),
+    (["--blades", "3", "--speed", "31000"], ["31000", "(0, 30000]"]),
+    (["--blades", "3", "--stop-time", "0"], ["--stop-time 0", "> 0"]),
+    (["--blades", "3", "--stop-time", "0.001"], ["0.001", "one excitation period"]),
+    (["--blades", "3", "--step", "1"], ["--step 1", "(0, --stop-time"]),
+    (["--blades", "3", "--start-values", "nosuch", "1"], ["nosuch", "no FMU of the ring"]),
+    (["--blades", "3", "--start-values", "d", "-1e-5"], ["d", "-1e-5", "[0, inf]"]),
+    (["--blades", "3", "--start-values", "gamma", "2"], ["gamma", "'2'", "[0, 1.5708]"]),
+    (["--blades", "3", "--start-values", "frictionModel", "x"], ["frictionModel", "'x'", "Integer"]),
+    (["--blades", "3", "--start-values", "bladeIndex", "1"], ["bladeIndex", "set by the ring"]),
+    (["--blades", "3", "--mistuning", "0.5"], ["--mistuning 0.5", "[0, 0.2]"]),
+    (["--blades", "3", "--master", "libcosim", "--order", "2"], ["--order 2", "hold inputs"]),
+])
+def test_bad_values_are_named(capsys, args, words):
+    assert main(["ring", *args]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: ") and all(w in err for w in words), err
+
+
+@pytest.mark.crosscheck
+def test_write_ssp_loads_in_libcosim(capsys, tmp_path):
+    from harness.system import ssp
+    from harness.system.ring import Ring, amplitudes
+
+    common = ["--blades", "3", "--stop-time", "0.01", "--step", "2.5e-5", "--start-values", "d", "1.0",
+              "--mistuning", "0.02"]
+    w = ring_json(capsys, *common, "--write-ssp", str(tmp_path / "r3"))
+    d = tmp_path / "r3"
+    assert w["ssp"] == str(d) and (d / "SystemStructure.ssd").is_file()
+    assert sorted(p.name for p in (d / "resources").iterdir()) == [
+        "BladeExternalContact.fmu", "Excitation.fmu", "ShroudContact.fmu"]
+    ref = ring_json(capsys, *common, "--order", "0")
+    ring = Ring(n=3, step=2.5e-5, stop_time=0.01)
+    res = ssp.run_libcosim(d, ring)
+    amp = amplitudes(res["time"], res["q"], ring.omega)
+    assert len(set(ref["mistuning"]["values"])) == 3  # three different EI
+    assert np.allclose(amp, ref["amplitudes"], rtol=1e-12, atol=0), (amp, ref["amplitudes"])
