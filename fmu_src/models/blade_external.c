@@ -92,12 +92,7 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
     BxData *d = DATA(inst);
     const double *p = d->par;
     BladeParams bp;
-    bp.EI = p[ParEI];
-    bp.rho = p[ParRho];
-    bp.A = p[ParA];
-    bp.l = p[ParL];
-    bp.c = p[ParC];
-    bp.m0 = p[ParM0];
+    bp = bladeParamsOf(&p[ParEI]); /* ParEI..ParM0 in that order */
     if (bladeReduce(&bp, (Formulation)d->formulation, &d->blade) != 0 || !(d->blade.K0static > 0.0) ||
         dynBuildModel(&d->model, &d->blade, NULL, FrictionNone, ProjectionPaper, 0, 0, 1) != 0) {
         fmiLogStatus(inst, FmiError,

@@ -212,12 +212,7 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
     BladeParams bp;
     ContactParams cp;
     DynStatus st;
-    bp.EI = p[ParEI];
-    bp.rho = p[ParRho];
-    bp.A = p[ParA];
-    bp.l = p[ParL];
-    bp.c = p[ParC];
-    bp.m0 = p[ParM0];
+    bp = bladeParamsOf(&p[ParEI]); /* ParEI..ParM0 in that order */
     /* bladeReduce succeeds only with finite results and M > 0; the blade must also be stiff */
     if (bladeReduceCached(inst, &bp) != 0 || !(d->blade.K0static > 0.0)) {
         fmiLogStatus(inst, FmiError,

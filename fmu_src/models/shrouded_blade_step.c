@@ -121,6 +121,7 @@ FmiStatus bladeDoStep(FmiInstance *inst, const char *fn, double tc, double h)
     SolverInputs in; /* the input polynomials of this step, from d->in (model-notes s.1) */
     DynState backup;
     DynSens sensBackup;
+    DynSens *const sens = d->ipar[IparSensitivities] ? &d->sens : NULL; /* NULL: the hot path */
     DynStatus st;
     /* model-notes s.6: equal internal steps h / ceil(h / maxStep) (1e-9: h an exact multiple of
      * maxStep up to rounding takes h / maxStep steps) */
@@ -145,13 +146,13 @@ FmiStatus bladeDoStep(FmiInstance *inst, const char *fn, double tc, double h)
         return FmiDiscard;
     }
     backup = d->state;
-    sensBackup = d->sens;
+    if (sens) sensBackup = *sens;
     st = solverAdvance(&d->model, &d->state, &in, tc, h, nSteps, fmiLogEnabled(inst, LogEvents) ? bladeEventHook : NULL,
-                       inst, &BLADE_MEMORY(inst)->counters, &tFail, d->ipar[IparSensitivities] ? &d->sens : NULL);
-    if (st == DynOk && d->ipar[IparSensitivities] && !sensFinite(&d->sens)) st = DynNonFinite;
+                       inst, &BLADE_MEMORY(inst)->counters, &tFail, sens);
+    if (st == DynOk && sens && !sensFinite(sens)) st = DynNonFinite;
     if (st != DynOk) {
         d->state = backup;
-        if (d->ipar[IparSensitivities]) d->sens = sensBackup;
+        if (sens) *sens = sensBackup;
         return discard(inst, fn, st, tc, tFail, n0);
     }
     {   /* the state is finite, but a derived force may overflow (q' ~ 1e206 times C_eq ~ 1e214) */
@@ -161,7 +162,7 @@ FmiStatus bladeDoStep(FmiInstance *inst, const char *fn, double tc, double h)
         bad = dynNonFiniteOutput(&o);
         if (bad != NULL) {
             d->state = backup;
-            if (d->ipar[IparSensitivities]) d->sens = sensBackup;
+            if (sens) *sens = sensBackup;
             fmiLogStatus(inst, FmiDiscard, "%s: the output %s is not finite at the step end t = %.17g s "
                          "(numerical instability: try a smaller maxStep = %g s%s); the step from t = %.17g s "
                          "is discarded and the state restored", fn, bad, tc + h, d->par[ParMaxStep],

@@ -196,3 +196,15 @@ double bladeK0(const BladeReduction *r, double Omega) {
     if (r == NULL) return NAN;
     return r->K0static + r->K0omega2 * Omega * Omega;
 }
+
+BladeParams bladeParamsOf(const double v[6])
+{
+    BladeParams bp;
+    bp.EI = v[0];
+    bp.rho = v[1];
+    bp.A = v[2];
+    bp.l = v[3];
+    bp.c = v[4];
+    bp.m0 = v[5];
+    return bp;
+}

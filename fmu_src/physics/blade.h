@@ -14,6 +14,9 @@ typedef struct {
     double m0;  /* tip (shroud) mass [kg] */
 } BladeParams;
 
+/* BladeParams from six values in the order EI, rho, A, l, c, m0 (the models' parameter slots). */
+BladeParams bladeParamsOf(const double v[6]);
+
 typedef struct {
     double lambdaL;   /* lambda_1 l, first root of eq. 21 [-] */
     double U1;        /* int phi^2 dx [m] (eq. 24) */
