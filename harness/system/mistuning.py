@@ -9,7 +9,16 @@ the tuned ring's blade amplitude at the same speed, the speed being the tuned ri
 the contacts open (EO n / 60 = contact-free first bending frequency, Campbell crossing, from the
 Galerkin reduction of the Python reference). Compared with Whitehead's bound (1 + sqrt(N)) / 2, a
 theorem for linear rings with light damping. Variants: `friction` (the contacts as given) and
-`open` (d = 1 m: the contacts never close, the blades are uncoupled).
+`frictionless` (mu = 0: the shrouds impact, no friction) and `open` (d = 1 m: the contacts never
+close, the blades are uncoupled).
+
+Numerics (docs/model.md s.8): every ring runs through the C communication loop
+(harness/system/ring_c.py) at h = 2.5e-5 s with quadratic extrapolation (error 1e-3 of max |q|
+against the monolithic reference). At h = 1e-4 s (linear extrapolation, stable but 25 % off) the
+coupling's energy error makes the friction ring wander by 10-30 % from period to period and never
+settle, tuned or not; at 2.5e-5 s it settles to 1e-4 within 0.1 s. Each record keeps `settle`, the
+largest relative change of a blade amplitude between the last period and the period five periods
+(20 ms, about one decay time 2 M / C0) earlier; the study reports the worst.
 """
 from __future__ import annotations
 
@@ -22,23 +31,24 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from harness.system.ring import Ring, amplitudes, run
+from harness.system.ring import Ring, amplitudes
 
 PARAMETERS = ("EI", "m0")  # the blade parameters a pattern scatters
-VARIANTS = {"friction": {}, "open": {"d": 1.0}}  # contact parameters on top of the ring's
-CACHE_VERSION = 1  # bump when the meaning of a cached record changes
+VARIANTS = {"friction": {}, "frictionless": {"mu": 0.0}, "open": {"d": 1.0}}  # contact parameters on top of the ring's
+CACHE_VERSION = 2  # bump when the meaning of a cached record changes
 
 
 @dataclass(frozen=True)
 class Study:
     n: int = 6
     levels: tuple[float, ...] = (0.005, 0.01, 0.02, 0.05)  # relative standard deviations
-    patterns: int = 3
+    patterns: int = 100
     parameter: str = "EI"
     seed: int = 1
-    variants: tuple[str, ...] = ("friction", "open")
+    variants: tuple[str, ...] = ("friction", "frictionless")
     stop_time: float = 0.15  # [s] (transient 2 M / C0 = 0.022 s at c = 298 N s/m2)
-    step: float = 1e-4
+    step: float = 2.5e-5
+    order: int = 2  # extrapolation order of the input derivatives
     speed: float | None = None  # [rpm]; None: the tuned resonance
     engine_order: int = 3
     fw0: float = 300.0
@@ -47,10 +57,10 @@ class Study:
 
 
 SIZES = {
-    # `make run`-like: ~26 ring runs of 6 blades, 0.15 s each (~15 s on 2 cores)
+    # `make run`: 802 rings of 6 blades, 0.15 s each
     "small": Study(),
-    # a cluster: 100 patterns per level, 24 blades, paper damping needs longer runs
-    "cluster": Study(n=24, patterns=100, stop_time=0.3),
+    # a cluster: 24 blades, the open (uncoupled) rings too
+    "cluster": Study(n=24, variants=("friction", "frictionless", "open")),
 }
 
 
@@ -99,7 +109,8 @@ def mistuned(ring: Ring, parameter: str, f: Sequence[float]) -> Ring:
 def tuned_ring(study: Study, variant: str) -> Ring:
     speed = study.speed or resonance_speed(study.blade, study.engine_order)
     return Ring(n=study.n, engine_order=study.engine_order, speed=speed, fw0=study.fw0, blade=dict(study.blade),
-                contact={**study.contact, **VARIANTS[variant]}, step=study.step, stop_time=study.stop_time)
+                contact={**study.contact, **VARIANTS[variant]}, step=study.step, stop_time=study.stop_time,
+                order=study.order)
 
 
 def _fmu_digest() -> str:
@@ -112,10 +123,19 @@ def _fmu_digest() -> str:
     return h.hexdigest()
 
 
-def simulate(ring: Ring) -> list[float]:
-    """Steady amplitude of every blade [m] (one ring run)."""
+SETTLE_PERIODS = 5  # the amplitude is compared with the one this many periods earlier
+
+
+def simulate(ring: Ring) -> dict:
+    """One ring run (C loop): the steady amplitude of every blade [m] and `settle`, the largest
+    relative change of a blade amplitude over the last SETTLE_PERIODS periods."""
+    from harness.system.ring_c import run
     res = run(ring)
-    return [float(a) for a in amplitudes(res["time"], res["q"], ring.omega)]
+    t, q = res["time"], res["q"]
+    a = amplitudes(t, q, ring.omega)
+    back = t <= t[-1] - SETTLE_PERIODS * 2 * math.pi / ring.omega + 1e-12
+    earlier = amplitudes(t[back], q[back], ring.omega)
+    return {"amplitudes": [float(x) for x in a], "settle": float(np.max(np.abs(a - earlier)) / np.max(a))}
 
 
 def _task(job: tuple[Ring, str, str | None]) -> dict:
@@ -123,7 +143,7 @@ def _task(job: tuple[Ring, str, str | None]) -> dict:
     from harness.sweep.executor import PointCache
     ring, key, cache_dir = job
     t0 = time.perf_counter()
-    rec = {"amplitudes": simulate(ring), "wall_s": time.perf_counter() - t0}
+    rec = {**simulate(ring), "wall_s": time.perf_counter() - t0}
     PointCache(Path(cache_dir) if cache_dir else None).put(key, rec)
     return rec
 
@@ -163,6 +183,7 @@ def run_study(study: Study, runner: Any, cache_dir: Path | None) -> dict:
         for i, (vv, li, k, _) in enumerate(jobs):
             if vv == v and li >= 0:
                 amps[li, k] = records[i]["amplitudes"]
+        settle = [records[i]["settle"] for i, j in enumerate(jobs) if j[0] == v]
         out["variants"][v] = {"tuned": tuned, "amplitudes": amps.tolist(),
-                              "amplification": (amps.max(axis=2) / ref).tolist()}
+                              "amplification": (amps.max(axis=2) / ref).tolist(), "settle_max": max(settle)}
     return out

@@ -1,0 +1,146 @@
+/* The ring's Jacobi communication loop in C (harness/system/ring_c.py): the data flow of the fmpy
+ * master harness/system/ring.py (docs/model.md s.8) without Python between the FMI calls.
+ *
+ * The instances are made, parameterised and initialised by the harness through fmpy; this loop
+ * gets their fmi2Component handles and the three binaries' function pointers, and per
+ * communication point t_k:
+ *   1. reads every blade's q, v, E, W and every excitation's aeroLoad, rotorSpeed;
+ *   2. sets each contact j's inputs (blade j side A, blade j+1 side B) with the velocities'
+ *      extrapolated derivatives, reads forceA, forceB, dissipatedEnergy, contactState;
+ *   3. sets blade i's aeroLoad, rotorSpeed, contactForce = forceB(i-1) + forceA(i) with the
+ *      derivatives of aeroLoad and contactForce;
+ *   4. steps blades, contacts, excitations from t_k to t_{k+1}.
+ * Derivatives: order 1..p of the polynomial through the last q + 1 <= p + 1 values (weights from the
+ * harness, the same numbers ring.py uses). A status above fmi2Warning stops the loop: the return
+ * value says which call, *failStep and *failFmu where. */
+#include <stddef.h>
+#include <string.h>
+
+#include "fmi2Functions.h"
+
+#define RING_MAX_ORDER 4
+
+typedef struct {
+    fmi2GetRealTYPE *getReal;
+    fmi2SetRealTYPE *setReal;
+    fmi2GetIntegerTYPE *getInteger;
+    fmi2SetRealInputDerivativesTYPE *setRealInputDerivatives;
+    fmi2DoStepTYPE *doStep;
+} RingApi; /* one binary's functions (pointers handed over by ctypes) */
+
+typedef struct {
+    int n, steps, order;          /* N blades, K steps, extrapolation order p */
+    const double *time;           /* t_0..t_K */
+    const double *weights;        /* W[(q (p+1) + m) (p+1) + j]: derivative m at t_k of the order-q fit, value j steps back */
+    RingApi blade, contact, excitation;
+    void **blades, **contacts, **excitations;        /* fmi2Component of each instance */
+    unsigned int bladeOut[4];     /* tipDisplacement, tipVelocity, dissipatedEnergy, contactWork */
+    unsigned int excitationOut[2];/* aeroLoad, rotorSpeed */
+    unsigned int contactIn[5];    /* displacementA, velocityA, displacementB, velocityB, rotorSpeed */
+    unsigned int contactOut[3];   /* forceA, forceB, dissipatedEnergy */
+    unsigned int contactState;
+    unsigned int bladeIn[3];      /* aeroLoad, rotorSpeed, contactForce */
+} RingSetup;
+
+typedef struct {
+    double *q, *v, *E, *W, *contactForce, *forceA, *forceB, *Ec, *state; /* (K+1) x N, row-major */
+} RingRecord;
+
+enum { RING_OK = 0, RING_BAD_SETUP, RING_GET, RING_SET, RING_DERIVATIVES, RING_STEP };
+
+/* A signal's last p + 1 values, newest first (ring.py's _History). */
+typedef struct {
+    double *buf; /* (p + 1) x N */
+    int filled;
+} History;
+
+/* Pushes y (N values) and writes derivatives 1..p at t_k into d (p x N; zero beyond the history). */
+static void historyPush(History *h, const RingSetup *s, const double *y, double *d) {
+    const int n = s->n, p = s->order, P = p + 1;
+    memmove(h->buf + n, h->buf, sizeof(double) * (size_t)(p * n));
+    memcpy(h->buf, y, sizeof(double) * (size_t)n);
+    if (h->filled < P) h->filled++;
+    const int q = h->filled - 1;
+    for (int m = 1; m <= p; m++)
+        for (int i = 0; i < n; i++) {
+            double acc = 0.0;
+            if (m <= q)
+                for (int j = 0; j <= q; j++) acc += s->weights[(q * P + m) * P + j] * h->buf[j * n + i];
+            d[(m - 1) * n + i] = acc;
+        }
+}
+
+/* Sets the values' derivatives 1..p of two inputs (vrA, vrB) from columns a, b of da, db. */
+static int setDerivatives(const RingApi *api, void *c, const RingSetup *s, unsigned int vrA, const double *da, int a,
+                          unsigned int vrB, const double *db, int b) {
+    fmi2ValueReference vr[2 * RING_MAX_ORDER];
+    fmi2Integer ord[2 * RING_MAX_ORDER];
+    fmi2Real val[2 * RING_MAX_ORDER];
+    const int p = s->order;
+    for (int m = 0; m < p; m++) {
+        vr[m] = vrA, ord[m] = m + 1, val[m] = da[m * s->n + a];
+        vr[p + m] = vrB, ord[p + m] = m + 1, val[p + m] = db[m * s->n + b];
+    }
+    return api->setRealInputDerivatives(c, vr, (size_t)(2 * p), ord, val) > fmi2Warning;
+}
+
+#define FAIL(code, fmu) do { *failFmu = (fmu); return (code); } while (0)
+
+/* Runs the loop; work holds 3 (p + 1) N + 3 p N + 10 N doubles. */
+int ringRun(const RingSetup *s, RingRecord *r, double *work, int *failStep, int *failFmu) {
+    const int n = s->n, p = s->order;
+    if (n < 2 || s->steps < 0 || p < 0 || p > RING_MAX_ORDER) return RING_BAD_SETUP;
+    History hv = {work, 0}, hf = {work + (p + 1) * n, 0}, ha = {work + 2 * (p + 1) * n, 0};
+    double *dv = work + 3 * (p + 1) * n, *df = dv + p * n, *da = df + p * n;
+    double *aero = da + p * n, *speed = aero + n, *q = speed + n, *v = q + n, *fA = v + n, *fB = fA + n;
+    double *force = fB + n, *st = force + n; /* st: 4 values per blade */
+    fmi2GetRealTYPE *bGet = s->blade.getReal, *eGet = s->excitation.getReal, *cGet = s->contact.getReal;
+    fmi2SetRealTYPE *cSet = s->contact.setReal, *bSet = s->blade.setReal;
+    fmi2GetIntegerTYPE *cGetInt = s->contact.getInteger;
+    for (int k = 0; k <= s->steps; k++) {
+        const size_t row = (size_t)k * (size_t)n;
+        *failStep = k;
+        for (int i = 0; i < n; i++) {
+            double ex[2];
+            if (bGet(s->blades[i], s->bladeOut, 4, st) > fmi2Warning) FAIL(RING_GET, i);
+            if (eGet(s->excitations[i], s->excitationOut, 2, ex) > fmi2Warning) FAIL(RING_GET, 2 * n + i);
+            q[i] = st[0], v[i] = st[1], aero[i] = ex[0], speed[i] = ex[1];
+            r->q[row + i] = st[0], r->v[row + i] = st[1], r->E[row + i] = st[2], r->W[row + i] = st[3];
+        }
+        historyPush(&hv, s, v, dv);
+        historyPush(&ha, s, aero, da);
+        for (int j = 0; j < n; j++) {
+            const int a = j, b = (j + 1) % n;
+            const double in[5] = {q[a], v[a], q[b], v[b], speed[a]};
+            double out[3];
+            fmi2Integer state;
+            if (cSet(s->contacts[j], s->contactIn, 5, in) > fmi2Warning) FAIL(RING_SET, n + j);
+            if (p > 0 && setDerivatives(&s->contact, s->contacts[j], s, s->contactIn[1], dv, a, s->contactIn[3], dv, b))
+                FAIL(RING_DERIVATIVES, n + j);
+            if (cGet(s->contacts[j], s->contactOut, 3, out) > fmi2Warning) FAIL(RING_GET, n + j);
+            if (cGetInt(s->contacts[j], &s->contactState, 1, &state) > fmi2Warning) FAIL(RING_GET, n + j);
+            fA[j] = out[0], fB[j] = out[1];
+            r->forceA[row + j] = out[0], r->forceB[row + j] = out[1], r->Ec[row + j] = out[2];
+            r->state[row + j] = (double)state;
+        }
+        for (int i = 0; i < n; i++) force[i] = fB[(i + n - 1) % n] + fA[i];
+        historyPush(&hf, s, force, df);
+        memcpy(r->contactForce + row, force, sizeof(double) * (size_t)n);
+        if (k == s->steps) break;
+        for (int i = 0; i < n; i++) {
+            const double in[3] = {aero[i], speed[i], force[i]};
+            if (bSet(s->blades[i], s->bladeIn, 3, in) > fmi2Warning) FAIL(RING_SET, i);
+            if (p > 0 && setDerivatives(&s->blade, s->blades[i], s, s->bladeIn[0], da, i, s->bladeIn[2], df, i))
+                FAIL(RING_DERIVATIVES, i);
+        }
+        const double t = s->time[k], h = s->time[k + 1] - s->time[k];
+        for (int i = 0; i < n; i++)
+            if (s->blade.doStep(s->blades[i], t, h, fmi2True) > fmi2Warning) FAIL(RING_STEP, i);
+        for (int j = 0; j < n; j++)
+            if (s->contact.doStep(s->contacts[j], t, h, fmi2True) > fmi2Warning) FAIL(RING_STEP, n + j);
+        for (int i = 0; i < n; i++)
+            if (s->excitation.doStep(s->excitations[i], t, h, fmi2True) > fmi2Warning)
+                FAIL(RING_STEP, 2 * n + i);
+    }
+    return RING_OK;
+}
