@@ -28,7 +28,7 @@ import argparse
 import math
 from dataclasses import dataclass, field
 from math import factorial
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
 import numpy as np
 
@@ -107,13 +107,15 @@ class _History:
         return out
 
 
-def run(ring: Ring, record_inputs: bool = False) -> dict[str, np.ndarray]:
+def run(ring: Ring, record_inputs: bool = False,
+        instrument: Callable[[Any], None] | None = None) -> dict[str, np.ndarray]:
     """Runs the ring from rest; returns time [s] and, per blade (columns), q, v, dissipatedEnergy,
     contactWork, contactForce (the input set at t_k), the contacts' forceA, forceB, dissipatedEnergy,
     contactState, all at the communication points t_0..t_K (inputs and forces: those set/read at t_k,
     the last row repeats the last set; coupling "libcosim": the forces read after the step to t_k).
     With record_inputs: the aeroLoad value and derivatives each
-    blade got (for a replay into ShroudedBlade)."""
+    blade got (for a replay into ShroudedBlade). `instrument` is called with every FMU instance
+    once made (harness/bench.py times their fmi2DoStep with it)."""
     bx_path, sc_path = build_ring_fmus()
     build(("excitation_fmu",))
     N, h, K, p = ring.n, ring.step, ring.n_steps, ring.order
@@ -135,6 +137,9 @@ def run(ring: Ring, record_inputs: bool = False) -> dict[str, np.ndarray]:
                                         "engineOrder": ring.engine_order, "bladeIndex": i, "bladeCount": N})
                 for i in range(N)]
         try:
+            if instrument is not None:
+                for fmu in (*blades, *contacts, *excs):
+                    instrument(fmu)
             bv = [blades[0].vr(n) for n in ("tipDisplacement", "tipVelocity", "dissipatedEnergy", "contactWork")]
             ev = [excs[0].vr("aeroLoad"), excs[0].vr("rotorSpeed")]
             c_in = [contacts[0].vr(n) for n in ("displacementA", "velocityA", "displacementB", "velocityB", "rotorSpeed")]
