@@ -6,7 +6,8 @@ build/bench_step when it exists), the cost of one fmi2DoStep through the harness
 FMU's own compute for the same work (time spent inside fmi2DoStep), the same stepped-speed run
 through the Python reference as a ratio, harmonic balance for all studies, the wall time of
 `reproduce` (the studies as periodic-orbit branches) with its breakdown and the time spent in the
-FMI calls, and side by side the former transient path of the same studies.
+FMI calls, side by side the former transient path of the same studies, and a 24-blade ring in
+the fmpy master and in libcosim against the FMUs' own compute.
 """
 from __future__ import annotations
 
@@ -69,6 +70,10 @@ class _Timed:
 
     def __init__(self, fn):
         self.fn, self.total, self.calls = fn, 0.0, 0
+        # fmpy's FMU2Slave._call reads these off the ctypes function (status check, call logging)
+        for a in ("restype", "argtypes", "argnames"):
+            if hasattr(fn, a):
+                setattr(self, a, getattr(fn, a))
 
     def __call__(self, *a):
         t = time.perf_counter()
@@ -153,6 +158,77 @@ def sweep_overhead(fmu_path: str, repeats: int = 3) -> dict[str, Any]:
         out[f"{spp} steps per period"] = {
             "plateaus": len(recs), "sim_time": sum(r.sim_time for r in recs), "wall": wall, "cpu": cpu,
             "inside_doStep": inside, "doSteps": n, "ratio_wall": wall / inside, "ratio_cpu": cpu / inside}
+    return out
+
+
+# issue 11's bench ring: 24 blades, EO 3, 5000 rpm, c = 298, F_w0 = 300, default contacts, 0.5 s.
+# h = 2.5e-5 s for both masters: libcosim's held inputs need h <= 5e-5 s (docs/model.md s.8), and
+# at 5e-5 s its 24-blade ring stays bounded but loses the travelling wave's symmetry (30 % spread)
+RING_BENCH = dict(n=24, engine_order=3, fw0=300.0, blade={"c": 298.0}, step=2.5e-5, stop_time=0.5)
+
+
+def _timer_overhead(calls: int = 200_000) -> tuple[float, float]:
+    """Per call of a _Timed wrapper: the time it adds to the caller, and the part of that it counts
+    as inside (its perf_counter pair), from wrapping a no-op; subtracted from the ring timings."""
+    def noop(*a):
+        return 0
+    timed = _Timed(noop)
+    t = time.perf_counter()
+    for _ in range(calls):
+        noop(0, 0.0, 0.0, 1)
+    direct = time.perf_counter() - t
+    t = time.perf_counter()
+    for _ in range(calls):
+        timed(0, 0.0, 0.0, 1)
+    wrapped = time.perf_counter() - t
+    return max(wrapped - direct, 0.0) / calls, timed.total / calls
+
+
+def _fmpy_ring(ring: Any, over: tuple[float, float]) -> tuple[dict[str, Any], np.ndarray]:
+    """One run of the fmpy master with every FMU's fmi2DoStep timed (timer overhead subtracted)."""
+    from harness.system.ring import run
+
+    timers: list[_Timed] = []
+
+    def instrument(slave: Any) -> None:
+        fns = slave.s._functions  # fmpy's table of the FMU's ctypes functions
+        fns["fmi2DoStep"] = _Timed(fns["fmi2DoStep"])
+        timers.append(fns["fmi2DoStep"])
+
+    t, c = time.perf_counter(), time.process_time()
+    res = run(ring, instrument=instrument)
+    wall, cpu = time.perf_counter() - t, time.process_time() - c
+    n = sum(tm.calls for tm in timers)
+    inside = sum(tm.total for tm in timers) - n * over[1]
+    wall, cpu = wall - n * over[0], cpu - n * over[0]
+    return {"doSteps": n, "wall": wall, "cpu": cpu, "inside_doStep": inside, "ratio_wall": wall / inside,
+            "ratio_cpu": cpu / inside, "finite": bool(np.all(np.isfinite(res["q"]))),
+            "max_q": float(np.abs(res["q"]).max())}, res["q"]
+
+
+def ring_cost() -> dict[str, Any]:
+    """The 24-blade ring (RING_BENCH) in the fmpy master (feedthrough, linear extrapolation; and
+    libcosim's data flow, held inputs) and in libcosim: wall of each whole run (loading the 72
+    FMUs included) against the FMUs' own compute, the time inside fmi2DoStep of all 72. libcosim
+    steps in its own C++ loop, so its compute is taken from the fmpy run in libcosim's data flow:
+    the same FMUs, steps and inputs (the trajectories are checked to be equal bit for bit)."""
+    from harness.system import ring_libcosim
+    from harness.system.ring import Ring
+
+    over = _timer_overhead()
+    out: dict[str, Any] = {"setup": {k: (dict(v) if isinstance(v, dict) else v) for k, v in RING_BENCH.items()},
+                           "timer_overhead_us": [o * 1e6 for o in over]}
+    out["fmpy feedthrough"], _ = _fmpy_ring(Ring(**RING_BENCH, order=1), over)
+    out["fmpy libcosim data flow"], q = _fmpy_ring(Ring(**RING_BENCH, order=0, coupling="libcosim"), over)
+    t, c = time.perf_counter(), time.process_time()
+    lc = ring_libcosim.run(Ring(**RING_BENCH, order=0))
+    wall, cpu = time.perf_counter() - t, time.process_time() - c
+    inside = out["fmpy libcosim data flow"]["inside_doStep"]
+    out["libcosim"] = {"doSteps": out["fmpy libcosim data flow"]["doSteps"], "wall": wall, "cpu": cpu,
+                       "inside_doStep": inside, "ratio_wall": wall / inside, "ratio_cpu": cpu / inside,
+                       "step_wall": float(lc["step_wall"]), "ratio_step_wall": float(lc["step_wall"]) / inside,
+                       "finite": bool(np.all(np.isfinite(lc["q"]))), "max_q": float(np.abs(lc["q"]).max()),
+                       "equals_fmpy_libcosim_data_flow": bool(np.array_equal(lc["q"], q))}
     return out
 
 
@@ -330,6 +406,8 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
         if a and b:
             L += ["", f"Sensitivities: **{b['wall'] / a['wall']:.2f}x less wall time**, "
                       f"{b['periods'] / a['periods']:.2f}x fewer periods.", ""]
+    if "ring" in data:
+        L += _ring_section(data["ring"])
     if "reproduce" in data:
         r = data["reproduce"]
         nan = math.nan
@@ -359,6 +437,37 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
                   f"{t['wall'] + r.get('extras_wall', 0.0):.1f} s vs {r['wall']:.1f} s: "
                   f"**{(t['wall'] + r.get('extras_wall', 0.0)) / r['wall']:.2f}x**.", ""]
     atomic_write_text(path, "\n".join(L))
+
+
+def _ring_section(g: dict[str, Any]) -> list[str]:
+    st = g["setup"]
+    lc = g["libcosim"]
+    L = [f"## A {st['n']}-blade ring (issue 11): the fmpy master and libcosim vs the FMUs' own compute "
+         "(goal <= 2x for libcosim)", "",
+         f"{st['n']} blades + {st['n']} shroud contacts + {st['n']} excitations ({3 * st['n']} FMUs), EO "
+         f"{st['engine_order']}, 5000 rpm, c = {st['blade']['c']:g} N s/m2, F_w0 = {st['fw0']:g} N/m, default "
+         f"contacts (k_n = 1e7), {st['stop_time']:g} s at h = {st['step']:g} s in both masters. Wall = the whole "
+         "run (loading the FMUs included); inside = the time inside fmi2DoStep of all FMUs, measured per call in "
+         "the fmpy runs (timer overhead, measured on a no-op, subtracted); libcosim does exactly the work of the "
+         "fmpy run in its data flow (trajectory equal bit for bit: "
+         f"{'yes' if lc.get('equals_fmpy_libcosim_data_flow') else 'NO'}), so that run's inside time is its "
+         "compute. libcosim steps the FMUs on its own worker threads (CPU counts all threads).", "",
+         "| master | doSteps | wall | CPU | inside fmi2DoStep | wall / inside | CPU / inside | max abs q |",
+         "|---|---|---|---|---|---|---|---|"]
+    labels = {"fmpy feedthrough": "fmpy master (feedthrough, linear extrapolation)",
+              "fmpy libcosim data flow": "fmpy master (libcosim's data flow, held inputs)",
+              "libcosim": "libcosim (fixed step, held inputs)"}
+    for k, label in labels.items():
+        v = g[k]
+        L.append(f"| {label} | {v['doSteps']} | {v['wall']:.2f} s | {v['cpu']:.2f} s | {v['inside_doStep']:.2f} s | "
+                 f"**{v['ratio_wall']:.2f}** | {v['ratio_cpu']:.2f} | "
+                 f"{v['max_q']:.3g} m{'' if v['finite'] else ' (NOT finite)'} |")
+    L += ["", f"libcosim: wall / FMU compute = **{lc['ratio_wall']:.2f}x**, goal <= 2x "
+              f"{'met' if lc['ratio_wall'] <= 2 else 'not met'}; its stepping alone (CosimExecution.step, "
+              f"loading and initialization left out) {lc['step_wall']:.2f} s = {lc['ratio_step_wall']:.2f}x. "
+              f"The FMUs' own compute is small ({lc['inside_doStep'] / lc['doSteps'] * 1e6:.2f} us per "
+              "doStep): the masters' per-step data handling dominates.", ""]
+    return L
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
@@ -395,6 +504,8 @@ def run(args: argparse.Namespace) -> int:
     data["sweep_settings"] = asdict(SweepSettings())
     print("harmonic balance ...", flush=True)
     data["hb"] = hb_all()
+    print("24-blade ring: fmpy master and libcosim ...", flush=True)
+    data["ring"] = ring_cost()
     if not args.skip_reproduce:
         print(f"reproduce --size {args.size} (branches) ...", flush=True)
         data["reproduce"] = reproduce_cold(args.size, args.workers)

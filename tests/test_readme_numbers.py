@@ -79,3 +79,16 @@ def test_rk4_step_cost(bench):
     rhs = [float(r[-2]) for r in rows]
     assert (int(m.group(1)), int(m.group(2))) == (round(min(ns)), round(max(ns)))
     assert (m.group(3), m.group(4)) == (f"{min(rhs):.1f}", f"{max(rhs):.1f}")
+
+
+def test_ring_row(bench):
+    """The 24-blade ring row: wall / time inside fmi2DoStep for libcosim (whole run and stepping
+    alone) and the fmpy master (feedthrough and libcosim's data flow), and the compute per doStep."""
+    m = _one(r"\| a 24-blade ring[^|]*\| libcosim \*\*([\d.]+)x\*\* \(stepping alone ([\d.]+)x\), fmpy master "
+             r"([\d.]+)x \(in libcosim's data flow ([\d.]+)x\); ([\d.]+) us per doStep")
+    g = bench["ring"]
+    lc = g["libcosim"]
+    assert m.groups() == (f"{lc['ratio_wall']:.2f}", f"{lc['ratio_step_wall']:.2f}",
+                          f"{g['fmpy feedthrough']['ratio_wall']:.2f}",
+                          f"{g['fmpy libcosim data flow']['ratio_wall']:.2f}",
+                          f"{lc['inside_doStep'] / lc['doSteps'] * 1e6:.2f}")

@@ -13,7 +13,9 @@ N Excitation FMUs under the fmpy Jacobi master.
 - N = 36 (EO = 3, paper parameters, near resonance: the contacts close) runs and keeps the force
   balance;
 - stability with kn = 1e7 (measured, docs/model.md s.8): held inputs diverge at h = 1e-4 s, linear
-  extrapolation of the input derivatives is stable there.
+  extrapolation of the input derivatives is stable there;
+- Ring(coupling=...) accepts "feedthrough" and "libcosim" (with order 0 only): anything else is a
+  ValueError naming the value and the accepted ones.
 """
 from __future__ import annotations
 
@@ -90,3 +92,12 @@ def test_stability_limit_kn_1e7():
     linear = run(Ring(n=4, stop_time=0.1, order=1, step=1e-4, **TUNED))
     assert np.abs(held["q"][-1]).max() > 1e-2  # grows without bound (1e23 m at 0.3 s)
     assert np.abs(linear["q"]).max() < 1e-4
+
+
+@pytest.mark.parametrize("kw, word", [(dict(coupling="jacobi"), "'jacobi'"),
+                                      (dict(coupling="libcosim", order=1), "order must be 0")])
+def test_bad_coupling_is_refused(kw, word):
+    with pytest.raises(ValueError, match=word) as e:
+        Ring(**kw)
+    if "jacobi" in word:
+        assert "'feedthrough'" in str(e.value) and "'libcosim'" in str(e.value)

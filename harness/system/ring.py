@@ -14,6 +14,12 @@ u_j = q_j - q_{j+1}. At each communication point t_k the master
    from the last `order` + 1 communication points (order 0: inputs held);
 4. steps every FMU from t_k to t_{k+1} (Jacobi: all from the data at t_k); t_k are libcosim's
    integer-nanosecond points (harness/system/ring_libcosim.py runs the same ring in libcosim).
+Ring.coupling "libcosim" reproduces libcosim's fixed-step data flow instead (held inputs, order 0):
+at t_0 as above (libcosim's initialization sets the contacts' inputs and reads their forces, so the
+blades start with the feedthrough forces); at t_k, k >= 1, the blades get the forces each contact
+reported right after its previous doStep (the state at the end of its own step, u moved along the
+held velocities), read before its inputs are set to the new q, v. The FMUs then do exactly
+libcosim's work (tests/test_ring_libcosim.py: equal to libcosim and Ecos).
 `python -m harness.system.ring --n 6` runs one ring and prints the amplitudes and phase lags.
 """
 from __future__ import annotations
@@ -22,13 +28,18 @@ import argparse
 import math
 from dataclasses import dataclass, field
 from math import factorial
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
 import numpy as np
 
 from harness.crosscheck.importers.libcosim import ns_time_grid
 from harness.fmu.build import EXCITATION_FMU, build
 from harness.fmu.slave import Unpacked, build_ring_fmus
+
+
+# "feedthrough": the blades get the contact forces read at the q, v just set (our Jacobi master);
+# "libcosim": the forces read after the contacts' previous step (libcosim's fixed-step algorithm)
+COUPLINGS = ("feedthrough", "libcosim")
 
 
 @dataclass(frozen=True)
@@ -45,6 +56,14 @@ class Ring:
     step: float = 1e-4  # communication step h [s]
     stop_time: float = 0.1  # [s]
     order: int = 1  # extrapolation order of the input derivatives (0: held inputs)
+    coupling: str = "feedthrough"  # one of COUPLINGS: how the blades get the contact forces
+
+    def __post_init__(self) -> None:
+        if self.coupling not in COUPLINGS:
+            raise ValueError(f"coupling {self.coupling!r}: not one of {', '.join(map(repr, COUPLINGS))}")
+        if self.coupling == "libcosim" and self.order != 0:
+            # libcosim sets values only: its data flow has no input derivatives
+            raise ValueError(f"coupling 'libcosim' holds the inputs: order must be 0, got {self.order}")
 
     @property
     def n_steps(self) -> int:
@@ -88,12 +107,15 @@ class _History:
         return out
 
 
-def run(ring: Ring, record_inputs: bool = False) -> dict[str, np.ndarray]:
+def run(ring: Ring, record_inputs: bool = False,
+        instrument: Callable[[Any], None] | None = None) -> dict[str, np.ndarray]:
     """Runs the ring from rest; returns time [s] and, per blade (columns), q, v, dissipatedEnergy,
     contactWork, contactForce (the input set at t_k), the contacts' forceA, forceB, dissipatedEnergy,
     contactState, all at the communication points t_0..t_K (inputs and forces: those set/read at t_k,
-    the last row repeats the last set). With record_inputs: the aeroLoad value and derivatives each
-    blade got (for a replay into ShroudedBlade)."""
+    the last row repeats the last set; coupling "libcosim": the forces read after the step to t_k).
+    With record_inputs: the aeroLoad value and derivatives each
+    blade got (for a replay into ShroudedBlade). `instrument` is called with every FMU instance
+    once made (harness/bench.py times their fmi2DoStep with it)."""
     bx_path, sc_path = build_ring_fmus()
     build(("excitation_fmu",))
     N, h, K, p = ring.n, ring.step, ring.n_steps, ring.order
@@ -106,6 +128,7 @@ def run(ring: Ring, record_inputs: bool = False) -> dict[str, np.ndarray]:
     res["time"] = tk = ns_time_grid(0.0, h, K)
     if record_inputs:
         res["aeroLoad"] = np.zeros((K + 1, N, p + 1))
+    after_step = ring.coupling == "libcosim"  # blades get the forces read after the contacts' step
     with Unpacked(bx_path) as BX, Unpacked(sc_path) as SC, Unpacked(EXCITATION_FMU) as EX:
         blades = [BX.instance(f"blade{i}", ring.blade_params(i)) for i in range(N)]
         contacts = [SC.instance(f"contact{j}", {**dict(ring.contact), "engineOrder": ring.engine_order})
@@ -114,6 +137,9 @@ def run(ring: Ring, record_inputs: bool = False) -> dict[str, np.ndarray]:
                                         "engineOrder": ring.engine_order, "bladeIndex": i, "bladeCount": N})
                 for i in range(N)]
         try:
+            if instrument is not None:
+                for fmu in (*blades, *contacts, *excs):
+                    instrument(fmu)
             bv = [blades[0].vr(n) for n in ("tipDisplacement", "tipVelocity", "dissipatedEnergy", "contactWork")]
             ev = [excs[0].vr("aeroLoad"), excs[0].vr("rotorSpeed")]
             c_in = [contacts[0].vr(n) for n in ("displacementA", "velocityA", "displacementB", "velocityB", "rotorSpeed")]
@@ -131,12 +157,16 @@ def run(ring: Ring, record_inputs: bool = False) -> dict[str, np.ndarray]:
                 fA, fB = np.zeros(N), np.zeros(N)
                 for j, c in enumerate(contacts):
                     a, b = j, (j + 1) % N
+                    if after_step and k > 0:  # libcosim: the outputs of the step just done
+                        fA[j], fB[j], res["Ec"][k, j] = c.s.getReal(c_out)
+                        res["state"][k, j] = c.s.getInteger([c_state])[0]
                     c.s.setReal(c_in, [q[a], v[a], q[b], v[b], ex[a, 1]])
                     if p > 0:
                         _set_derivatives(c, [c_in[1]] * p + [c_in[3]] * p, list(range(1, p + 1)) * 2,
                                          list(dv[:, a]) + list(dv[:, b]))
-                    fA[j], fB[j], res["Ec"][k, j] = c.s.getReal(c_out)
-                    res["state"][k, j] = c.s.getInteger([c_state])[0]
+                    if not (after_step and k > 0):  # feedthrough at the q, v just set
+                        fA[j], fB[j], res["Ec"][k, j] = c.s.getReal(c_out)
+                        res["state"][k, j] = c.s.getInteger([c_state])[0]
                 res["forceA"][k], res["forceB"][k] = fA, fB
                 force = np.array([fB[(i - 1) % N] + fA[i] for i in range(N)])
                 df = hf.push(force)

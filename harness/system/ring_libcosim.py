@@ -11,6 +11,8 @@ velocities, harness/system/ring.py docs), so the blades get the force of the ext
 """
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from harness.crosscheck.common import variables_by_name
@@ -22,7 +24,8 @@ from harness.system.ring import Ring
 
 
 def run(ring: Ring) -> dict[str, np.ndarray]:
-    """time [s] and per blade q, v; per contact forceA, forceB, at libcosim's communication points."""
+    """time [s] and per blade q, v; per contact forceA, forceB, at libcosim's communication points;
+    step_wall: the wall time [s] of libcosim's stepping (loading and initialization left out)."""
     require("libcosimpy")
     from libcosimpy.CosimEnums import CosimVariableType
     from libcosimpy.CosimExecution import CosimExecution
@@ -85,8 +88,10 @@ def run(ring: Ring) -> dict[str, np.ndarray]:
         for i in range(N):
             if not obs.start_time_series(idx[kind, i], var[params[kind][0]][name][0], CosimVariableType.REAL):
                 raise RuntimeError(f"libcosim cannot observe {kind}{i}.{name}: {last_error()}")
+    t0 = time.perf_counter()
     if not ex.step(K):
         raise RuntimeError(f"libcosim failed: {last_error()}")
+    step_wall = time.perf_counter() - t0
     res: dict[str, np.ndarray] = {}
     for kind, key, name in series:
         cols = []
@@ -95,4 +100,5 @@ def run(ring: Ring) -> dict[str, np.ndarray]:
             cols.append(vals)
         res[key] = np.array(cols).T
     res["time"] = np.asarray(t_ns, dtype=np.int64) / 1e9
+    res["step_wall"] = np.array(step_wall)  # wall time of the stepping alone (harness/bench.py)
     return res
