@@ -32,9 +32,7 @@ from typing import Any, Callable, Mapping
 
 import numpy as np
 
-from harness.crosscheck.importers.libcosim import ns_time_grid
-from harness.fmu.build import EXCITATION_FMU, build
-from harness.fmu.slave import Unpacked, build_ring_fmus
+from harness.system.ring_instances import open_ring
 
 
 # "feedthrough": the blades get the contact forces read at the q, v just set (our Jacobi master);
@@ -116,76 +114,60 @@ def run(ring: Ring, record_inputs: bool = False,
     With record_inputs: the aeroLoad value and derivatives each
     blade got (for a replay into ShroudedBlade). `instrument` is called with every FMU instance
     once made (harness/bench.py times their fmi2DoStep with it)."""
-    bx_path, sc_path = build_ring_fmus()
-    build(("excitation_fmu",))
     N, h, K, p = ring.n, ring.step, ring.n_steps, ring.order
-    if N < 2:
-        raise ValueError(f"a ring needs n >= 2 blades, got {N}")
-    if ring.blade_each and len(ring.blade_each) != N:
-        raise ValueError(f"blade_each has {len(ring.blade_each)} entries for {N} blades")
     res = {k: np.zeros((K + 1, N)) for k in ("q", "v", "E", "W", "contactForce", "forceA", "forceB", "Ec", "state")}
-    # libcosim's communication points (integer nanoseconds), so both masters see the same times
-    res["time"] = tk = ns_time_grid(0.0, h, K)
     if record_inputs:
         res["aeroLoad"] = np.zeros((K + 1, N, p + 1))
     after_step = ring.coupling == "libcosim"  # blades get the forces read after the contacts' step
-    with Unpacked(bx_path) as BX, Unpacked(sc_path) as SC, Unpacked(EXCITATION_FMU) as EX:
-        blades = [BX.instance(f"blade{i}", ring.blade_params(i)) for i in range(N)]
-        contacts = [SC.instance(f"contact{j}", {**dict(ring.contact), "engineOrder": ring.engine_order})
-                    for j in range(N)]
-        excs = [EX.instance(f"exc{i}", {"Fw0": ring.fw0, "n0": ring.speed, "n1": ring.speed,
-                                        "engineOrder": ring.engine_order, "bladeIndex": i, "bladeCount": N})
-                for i in range(N)]
-        try:
-            if instrument is not None:
-                for fmu in (*blades, *contacts, *excs):
-                    instrument(fmu)
-            bv = [blades[0].vr(n) for n in ("tipDisplacement", "tipVelocity", "dissipatedEnergy", "contactWork")]
-            ev = [excs[0].vr("aeroLoad"), excs[0].vr("rotorSpeed")]
-            c_in = [contacts[0].vr(n) for n in ("displacementA", "velocityA", "displacementB", "velocityB", "rotorSpeed")]
-            c_out = [contacts[0].vr(n) for n in ("forceA", "forceB", "dissipatedEnergy")]
-            c_state = contacts[0].vr("contactState")
-            b_in = [blades[0].vr(n) for n in ("aeroLoad", "rotorSpeed", "contactForce")]
-            hv, hf, ha = _History(p, h, N), _History(p, h, N), _History(p, h, N)
-            for k in range(K + 1):
-                t = float(tk[k])
-                st = np.array([b.s.getReal(bv) for b in blades])  # q, v, E, W
-                q, v = st[:, 0], st[:, 1]
-                ex = np.array([e.s.getReal(ev) for e in excs])
-                dv, da = hv.push(v), ha.push(ex[:, 0])
-                res["q"][k], res["v"][k], res["E"][k], res["W"][k] = st.T
-                fA, fB = np.zeros(N), np.zeros(N)
-                for j, c in enumerate(contacts):
-                    a, b = j, (j + 1) % N
-                    if after_step and k > 0:  # libcosim: the outputs of the step just done
-                        fA[j], fB[j], res["Ec"][k, j] = c.s.getReal(c_out)
-                        res["state"][k, j] = c.s.getInteger([c_state])[0]
-                    c.s.setReal(c_in, [q[a], v[a], q[b], v[b], ex[a, 1]])
-                    if p > 0:
-                        _set_derivatives(c, [c_in[1]] * p + [c_in[3]] * p, list(range(1, p + 1)) * 2,
-                                         list(dv[:, a]) + list(dv[:, b]))
-                    if not (after_step and k > 0):  # feedthrough at the q, v just set
-                        fA[j], fB[j], res["Ec"][k, j] = c.s.getReal(c_out)
-                        res["state"][k, j] = c.s.getInteger([c_state])[0]
-                res["forceA"][k], res["forceB"][k] = fA, fB
-                force = np.array([fB[(i - 1) % N] + fA[i] for i in range(N)])
-                df = hf.push(force)
-                res["contactForce"][k] = force
-                if record_inputs:
-                    res["aeroLoad"][k, :, 0] = ex[:, 0]
-                    res["aeroLoad"][k, :, 1:] = da.T
-                if k == K:
-                    break
-                for i, bl in enumerate(blades):
-                    bl.s.setReal(b_in, [ex[i, 0], ex[i, 1], force[i]])
-                    if p > 0:
-                        _set_derivatives(bl, [b_in[0]] * p + [b_in[2]] * p, list(range(1, p + 1)) * 2,
-                                         list(da[:, i]) + list(df[:, i]))
-                for fmu in (*blades, *contacts, *excs):
-                    fmu.s.doStep(currentCommunicationPoint=t, communicationStepSize=float(tk[k + 1] - tk[k]))
-        finally:
+    # libcosim's communication points (integer nanoseconds), so both masters see the same times
+    with open_ring(ring) as (tk, blades, contacts, excs):
+        res["time"] = tk
+        if instrument is not None:
             for fmu in (*blades, *contacts, *excs):
-                fmu.free()
+                instrument(fmu)
+        bv = [blades[0].vr(n) for n in ("tipDisplacement", "tipVelocity", "dissipatedEnergy", "contactWork")]
+        ev = [excs[0].vr("aeroLoad"), excs[0].vr("rotorSpeed")]
+        c_in = [contacts[0].vr(n) for n in ("displacementA", "velocityA", "displacementB", "velocityB", "rotorSpeed")]
+        c_out = [contacts[0].vr(n) for n in ("forceA", "forceB", "dissipatedEnergy")]
+        c_state = contacts[0].vr("contactState")
+        b_in = [blades[0].vr(n) for n in ("aeroLoad", "rotorSpeed", "contactForce")]
+        hv, hf, ha = _History(p, h, N), _History(p, h, N), _History(p, h, N)
+        for k in range(K + 1):
+            t = float(tk[k])
+            st = np.array([b.s.getReal(bv) for b in blades])  # q, v, E, W
+            q, v = st[:, 0], st[:, 1]
+            ex = np.array([e.s.getReal(ev) for e in excs])
+            dv, da = hv.push(v), ha.push(ex[:, 0])
+            res["q"][k], res["v"][k], res["E"][k], res["W"][k] = st.T
+            fA, fB = np.zeros(N), np.zeros(N)
+            for j, c in enumerate(contacts):
+                a, b = j, (j + 1) % N
+                if after_step and k > 0:  # libcosim: the outputs of the step just done
+                    fA[j], fB[j], res["Ec"][k, j] = c.s.getReal(c_out)
+                    res["state"][k, j] = c.s.getInteger([c_state])[0]
+                c.s.setReal(c_in, [q[a], v[a], q[b], v[b], ex[a, 1]])
+                if p > 0:
+                    _set_derivatives(c, [c_in[1]] * p + [c_in[3]] * p, list(range(1, p + 1)) * 2,
+                                     list(dv[:, a]) + list(dv[:, b]))
+                if not (after_step and k > 0):  # feedthrough at the q, v just set
+                    fA[j], fB[j], res["Ec"][k, j] = c.s.getReal(c_out)
+                    res["state"][k, j] = c.s.getInteger([c_state])[0]
+            res["forceA"][k], res["forceB"][k] = fA, fB
+            force = np.array([fB[(i - 1) % N] + fA[i] for i in range(N)])
+            df = hf.push(force)
+            res["contactForce"][k] = force
+            if record_inputs:
+                res["aeroLoad"][k, :, 0] = ex[:, 0]
+                res["aeroLoad"][k, :, 1:] = da.T
+            if k == K:
+                break
+            for i, bl in enumerate(blades):
+                bl.s.setReal(b_in, [ex[i, 0], ex[i, 1], force[i]])
+                if p > 0:
+                    _set_derivatives(bl, [b_in[0]] * p + [b_in[2]] * p, list(range(1, p + 1)) * 2,
+                                     list(da[:, i]) + list(df[:, i]))
+            for fmu in (*blades, *contacts, *excs):
+                fmu.s.doStep(currentCommunicationPoint=t, communicationStepSize=float(tk[k + 1] - tk[k]))
     return res
 
 

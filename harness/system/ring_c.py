@@ -72,6 +72,8 @@ def weights(p: int, h: float) -> np.ndarray:
 def run(ring: Ring) -> dict[str, np.ndarray]:
     """As harness.system.ring.run(ring) (without record_inputs), the loop in C."""
     N, K, p = ring.n, ring.n_steps, ring.order
+    if ring.coupling != "feedthrough":
+        raise ValueError(f"coupling {ring.coupling!r}: the C loop runs 'feedthrough' only (ring.run has both)")
     if not 0 <= p <= MAX_ORDER:
         raise ValueError(f"extrapolation order {p} outside [0, {MAX_ORDER}] (the C loop's limit)")
     lib = _library()

@@ -1,0 +1,59 @@
+"""The ring's C communication loop (harness/system/ring_c.py, fmu_src/master/ring_master.c) against
+the fmpy master (harness/system/ring.py), which does the same calls from Python:
+
+- contacts open, held inputs: bit for bit (no extrapolation arithmetic);
+- contacts closing, linear and quadratic extrapolation, a tuned ring of 4 and a mistuned ring of 6 blades: every
+  record within 1e-12 of its largest value (the derivative weights are summed in another order:
+  measured <= 4e-12 N on forces of ~20 N, 4e-19 m on q);
+- a diverging ring (held inputs at 1e-3 s, stable only below 5e-5 s: a blade refuses a step once
+  its state overflows) stops with an error that names the FMU instance and the call, as the fmpy master does; a bad order or coupling is refused.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from fmpy.fmi1 import FMICallException
+
+from harness.system import ring_c
+from harness.system.ring import Ring, run
+
+CLOSING = dict(fw0=300.0, blade={"c": 298.0})
+
+
+def test_open_contacts_bit_for_bit():
+    ring = Ring(n=3, stop_time=0.01, contact={"d": 1.0}, order=0)
+    a, b = run(ring), ring_c.run(ring)
+    for k in a:
+        assert np.array_equal(a[k], b[k]), k
+
+
+@pytest.mark.parametrize("n, order, step, each", [
+    (4, 1, 1e-4, ()),
+    (6, 2, 2.5e-5, tuple({"EI": x} for x in (0.97, 1.02, 1.0, 1.05, 0.99, 1.01))),
+])
+def test_closing_contacts_equal_within_rounding(n, order, step, each):
+    ring = Ring(n=n, stop_time=0.02, step=step, order=order, **CLOSING)
+    if each:
+        from harness.system.mistuning import blade_value
+        ring = Ring(n=n, stop_time=0.02, step=step, order=order, **CLOSING,
+                    blade_each=tuple({"EI": blade_value(ring, "EI") * e["EI"]} for e in each))
+    a, b = run(ring), ring_c.run(ring)
+    assert np.any(a["state"] > 0)  # the contacts did close
+    for k in a:
+        scale = max(np.abs(a[k]).max(), 1e-300)
+        assert np.abs(a[k] - b[k]).max() <= 1e-12 * scale, k
+
+
+def test_a_diverging_ring_names_the_fmu():
+    ring = Ring(n=4, stop_time=0.3, step=1e-3, order=0, **CLOSING)
+    with pytest.raises(FMICallException):
+        run(ring)
+    with pytest.raises(RuntimeError, match=r"fmi2DoStep failed for (blade|contact|exc)\d+ at t = .* s"):
+        ring_c.run(ring)
+
+
+@pytest.mark.parametrize("kw, words", [(dict(order=5), "order 5 outside"),
+                                       (dict(coupling="libcosim", order=0), "feedthrough")])
+def test_bad_settings_are_refused(kw, words):
+    with pytest.raises(ValueError, match=words):
+        ring_c.run(Ring(n=2, stop_time=0.001, **kw))
