@@ -22,7 +22,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     from harness.cli.sweep import add_execution_options
     from harness.system.mistuning import PARAMETERS, SIZES, VARIANTS
     p.add_argument("--size", choices=SIZES, default="small",
-                   help="small: 6 blades, 3 patterns per level (~15 s); cluster: 24 blades, 100 patterns")
+                   help="small: 6 blades, 100 patterns per level (in make run); cluster: 24 blades, also the open ring")
     p.add_argument("--blades", type=int, metavar="N", help="blades in the ring (overrides --size)")
     p.add_argument("--levels", type=float, nargs="+", metavar="SIGMA", help="relative standard deviations")
     p.add_argument("--patterns", type=int, metavar="K", help="random patterns per level")
@@ -66,10 +66,16 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(out))
         return 0
-    print(f"N = {out['n']}, {out['speed_rpm']:.1f} rpm (tuned resonance), {out['patterns']} patterns per level, "
+    report(out)
+    return 0
+
+
+def report(out: dict) -> None:
+    """The study's summary on stdout (also used by `make run`)."""
+    print(f"mistuning: N = {out['n']}, {out['speed_rpm']:.1f} rpm (tuned resonance), {out['patterns']} patterns per level, "
           f"{out['computed']} rings computed, {out['cached']} from the cache; Whitehead {out['whitehead']:.4f}")
     for v, r in out["variants"].items():
         for s, a in zip(out["levels"], r["amplification"]):
-            print(f"  {v:8s} sigma {s:6.3f}: amplification mean {sum(a) / len(a):.4f}, max {max(a):.4f}")
+            print(f"  {v:12s} sigma {s:6.3f}: amplification mean {sum(a) / len(a):.4f}, max {max(a):.4f}")
+        print(f"  {v:12s} tuned amplitude {max(r['tuned']):.4e} m (blades within {r['tuned_spread']:.0e}), amplitudes settled to {r['settle_max']:.1e}")
     print("figures:", ", ".join(out["files"]))
-    return 0

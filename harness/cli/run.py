@@ -3,7 +3,9 @@
 `python -m harness run` = `python -m harness reproduce --size default` with all studies and
 extras: Fig. 2, 4/5, 6-9 (the studies as branches of periodic orbits with their stability), the
 section-4 Coulomb comparison and a Campbell diagram as PNG + CSV, summary.json and the claims
-table claims.md. About a minute on 2 cores.
+table claims.md; then the bladed disk's mistuning study at size small (issue 11,
+harness/system/mistuning.py: results/mistuning/, cached per ring under results/cache/mistuning, so
+a second run reads it back). About two minutes on 2 cores.
 """
 from __future__ import annotations
 
@@ -22,6 +24,17 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from harness.cli.reproduce import reproduce_and_report
+    from pathlib import Path
 
-    return reproduce_and_report(args, args.size, None, True)
+    from harness.cli.mistuning import report
+    from harness.cli.reproduce import reproduce_and_report
+    from harness.cli.sweep import make_runner
+    from harness.system import mistuning, mistuning_plots
+
+    rc = reproduce_and_report(args, args.size, None, True)
+    out = Path(args.output_dir)
+    with make_runner(args) as runner:
+        study = mistuning.run_study(mistuning.SIZES["small"], runner, out / "cache" / "mistuning")
+    study["files"] = [str(f) for f in mistuning_plots.write(study, out / "mistuning")]
+    report(study)
+    return rc

@@ -203,6 +203,6 @@ def run_study(study: Study, runner: Any, cache_dir: Path | None) -> dict:
             if vv == v and li >= 0:
                 amps[li, k] = records[i]["amplitudes"]
         settle = [records[i]["settle"] for i, j in enumerate(jobs) if j[0] == v]
-        out["variants"][v] = {"tuned": tuned, "amplitudes": amps.tolist(),
+        out["variants"][v] = {"tuned": tuned, "tuned_spread": (max(tuned) - min(tuned)) / ref, "amplitudes": amps.tolist(),
                               "amplification": (amps.max(axis=2) / ref).tolist(), "settle_max": max(settle)}
     return out
