@@ -43,6 +43,7 @@ class RingSpec:
     fw0: float = 100.0  # [N/m]
     blade: Mapping[str, Any] = field(default_factory=dict)
     contact: Mapping[str, Any] = field(default_factory=dict)
+    blade_each: tuple[Mapping[str, Any], ...] = ()  # per-blade overrides of `blade` (mistuning), empty or N
 
 
 class MonolithicRing:
@@ -50,9 +51,14 @@ class MonolithicRing:
 
     def __init__(self, spec: RingSpec, rtol: float = 1e-11):
         self.spec, self.N, self.rtol = spec, spec.n, rtol
-        g = galerkin(validate(dict(spec.blade)))
+        if spec.blade_each and len(spec.blade_each) != self.N:
+            raise ValueError(f"blade_each has {len(spec.blade_each)} entries for {self.N} blades")
         Omega = 2 * math.pi * spec.speed / 60
-        self.M, self.C0, self.K0, self.G = g.M, g.C0, float(g.K0(Omega)), g.loadGain
+        gs = [galerkin(validate({**dict(spec.blade), **(dict(spec.blade_each[i]) if spec.blade_each else {})}))
+              for i in range(self.N)]
+        # per blade (arrays of N; equal for a tuned ring)
+        self.M, self.C0, self.G = (np.array([getattr(g, a) for g in gs]) for a in ("M", "C0", "loadGain"))
+        self.K0 = np.array([float(g.K0(Omega)) for g in gs])
         self.omega = spec.engine_order * Omega
         self.lead = 2 * math.pi * spec.engine_order * np.arange(self.N) / self.N
         cc = contact_consts(dict(spec.contact))
