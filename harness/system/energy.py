@@ -1,7 +1,7 @@
 """Energy balance of the co-simulated ring over an excitation period (issue 11 acceptance: over a
 steady period the aero work equals the viscous plus friction dissipation).
 
-Books over the window [t_a, t_b] (communication points, t_b = the run's end, t_b - t_a = `periods`
+Books over the window [t_a, t_b] (communication points; t_b the run's end or `shift` steps before, t_b - t_a = `periods`
 excitation periods 2 pi / omega):
 - blade i (BladeExternalContact): M q'' + C0 q' + K0 q = G f_w + F gives
   W_aero,i = dS_i + dE_i - dW_i, S = M v^2 / 2 + K0 q^2 / 2 (kinetic + strain), E the output
@@ -69,16 +69,18 @@ def spring_energy(cc: ContactConsts, q: np.ndarray, force_b: np.ndarray) -> np.n
     return (0.5 * cc.kn * cg * cg * pen ** 2 + ff ** 2 / (2 * cc.kd)).sum(axis=1)
 
 
-def balance(ring: Ring, res: Mapping[str, np.ndarray], periods: int = 1) -> PeriodBalance:
-    """The balance terms over the last `periods` excitation periods of a run(ring) result."""
+def balance(ring: Ring, res: Mapping[str, np.ndarray], periods: int = 1, shift: int = 0) -> PeriodBalance:
+    """The balance terms over `periods` excitation periods of a run(ring) result, ending `shift`
+    communication steps before the run's end (a steady state is periodic: any phase will do)."""
     if ring.blade_each:
         raise ValueError("balance() takes a tuned ring (one blade parameter set)")
     T = 2 * math.pi / ring.omega
     n = round(periods * T / ring.step)  # communication steps in the window
-    if abs(n * ring.step - periods * T) > 1e-9 * T or 2 * n > ring.n_steps:
+    if abs(n * ring.step - periods * T) > 1e-9 * T or 2 * n + shift > ring.n_steps:
         raise ValueError(f"the window ({periods} periods of {T:g} s) must be a whole number of steps h = {ring.step:g} s"
                          " and the run at least two windows long")
-    b, a = ring.n_steps, ring.n_steps - n
+    b = ring.n_steps - shift
+    a = b - n
     g = galerkin(validate(dict(ring.blade)))
     K0 = g.K0(2 * math.pi * ring.speed / 60)
     q, v = res["q"], res["v"]
