@@ -58,6 +58,12 @@ class PeriodBalance:
         return self.aero - self.viscous - self.friction
 
 
+def require_jenkins(ring: Ring) -> None:
+    """The spring energy below is the Jenkins element's (frictionModel 3, the default)."""
+    if int(dict(ring.contact).get("frictionModel", 3)) != 3:
+        raise ValueError("the ring energy books need the time-domain Jenkins contact (frictionModel 3)")
+
+
 def spring_energy(cc: ContactConsts, q: np.ndarray, force_b: np.ndarray) -> np.ndarray:
     """Contact spring energy per row of q (rows: time, columns: blades), summed over the contacts;
     cc = contact_consts(ring.contact)."""
@@ -74,6 +80,7 @@ def balance(ring: Ring, res: Mapping[str, np.ndarray], periods: int = 1, shift: 
     communication steps before the run's end (a steady state is periodic: any phase will do)."""
     if ring.blade_each:
         raise ValueError("balance() takes a tuned ring (one blade parameter set)")
+    require_jenkins(ring)
     T = 2 * math.pi / ring.omega
     n = round(periods * T / ring.step)  # communication steps in the window
     if abs(n * ring.step - periods * T) > 1e-9 * T or 2 * n + shift > ring.n_steps:

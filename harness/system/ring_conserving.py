@@ -30,7 +30,7 @@ from harness.fmu.slave import Unpacked, build_ring_fmus
 from harness.model.params import validate
 from harness.reference.blade import galerkin
 from harness.reference.contact import contact_consts
-from harness.system.energy import spring_energy
+from harness.system.energy import require_jenkins, spring_energy
 from harness.system.ring import Ring, _History, _set_derivatives
 
 
@@ -56,6 +56,7 @@ def run(ring: Ring) -> dict[str, np.ndarray]:
         raise ValueError(f"a ring needs n >= 2 blades, got {N}")
     if ring.blade_each and len(ring.blade_each) != N:
         raise ValueError(f"blade_each has {len(ring.blade_each)} entries for {N} blades")
+    require_jenkins(ring)
     cc = contact_consts(dict(ring.contact))
     cap = min(galerkin(validate(ring.blade_params(i))).C0 for i in range(N))
     res = {k: np.zeros((K + 1, N)) for k in ("q", "v", "E", "W", "contactForce", "forceA", "forceB", "Ec", "state")}
