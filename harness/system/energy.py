@@ -1,8 +1,8 @@
 """Energy balance of the co-simulated ring over an excitation period (issue 11 acceptance: over a
 steady period the aero work equals the viscous plus friction dissipation).
 
-Books over the window [t_a, t_b] (communication points; t_b the run's end or `shift` steps before, t_b - t_a = `periods`
-excitation periods 2 pi / omega):
+Books over the window [t_a, t_b] (communication points; t_b the run's end or `shift` steps
+before it, t_b - t_a = `periods` excitation periods 2 pi / omega):
 - blade i (BladeExternalContact): M q'' + C0 q' + K0 q = G f_w + F gives
   W_aero,i = dS_i + dE_i - dW_i, S = M v^2 / 2 + K0 q^2 / 2 (kinetic + strain), E the output
   dissipatedEnergy (viscous), W the output contactWork (work of the contact force on the blade);
@@ -15,7 +15,8 @@ while each contact works along its own extrapolated u, so sum_i dW_i != -sum_j (
     coupling error = sum_i dW_i + sum_j (dEc_j + dU_j)   (0 for an exact coupling),
     residual       = sum W_aero - sum dE - sum dEc = sum dS + sum dU - coupling error,
 the acceptance residual; over a steady period dS, dU -> 0 and residual = -coupling error.
-`python -m harness.system.energy` prints both, relative to the aero work, vs h and order.
+`python -m harness.system.energy [--conserving]` prints both, relative to the aero work, vs h and
+order, for the plain master or the energy-conserving one (harness/system/ring_conserving.py).
 """
 from __future__ import annotations
 
@@ -84,8 +85,8 @@ def balance(ring: Ring, res: Mapping[str, np.ndarray], periods: int = 1, shift: 
     T = 2 * math.pi / ring.omega
     n = round(periods * T / ring.step)  # communication steps in the window
     if abs(n * ring.step - periods * T) > 1e-9 * T or 2 * n + shift > ring.n_steps:
-        raise ValueError(f"the window ({periods} periods of {T:g} s) must be a whole number of steps h = {ring.step:g} s"
-                         " and the run at least two windows long")
+        raise ValueError(f"the window ({periods} periods of {T:g} s) must be a whole number of steps"
+                         f" h = {ring.step:g} s and the run at least two windows long")
     b = ring.n_steps - shift
     a = b - n
     g = galerkin(validate(dict(ring.blade)))
