@@ -113,7 +113,7 @@ def measure(ring: Ring, periods: int = 1, conserving: bool = False) -> tuple[Per
 
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--stop", type=float, default=0.1, help="run length [s]; the window is its last period")
+    ap.add_argument("--stop", type=float, default=0.2, help="run length [s]; the window is its last period")
     ap.add_argument("--orders", type=int, nargs="+", default=[1, 2, 3])
     ap.add_argument("--conserving", action="store_true", help="with the energy-conserving correction")
     ap.add_argument("--steps", type=float, nargs="+", default=[1e-4, 5e-5, 2.5e-5, 1.25e-5, 6.25e-6])
