@@ -16,6 +16,7 @@ force lambda_k v_i(tau) (v_i the same extrapolated velocity polynomial the conta
 so the added work is -D_k up to the velocity's extrapolation error: the mismatch does not
 accumulate, D_{k+1} is the new step's error only. |lambda_k| is capped at the blade's viscous
 coefficient C0 (the correction never exceeds the blade's own damping; the cap is counted).
+The corrections are not equal and opposite pairs: the blades' contact forces no longer sum to 0.
 Everything else as ring.run (same communication points, extrapolation, order of calls).
 """
 from __future__ import annotations
