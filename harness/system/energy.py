@@ -1,0 +1,136 @@
+"""Energy balance of the co-simulated ring over an excitation period (issue 11 acceptance: over a
+steady period the aero work equals the viscous plus friction dissipation).
+
+Books over the window [t_a, t_b] (communication points; t_b the run's end or `shift` steps
+before it, t_b - t_a = `periods` excitation periods 2 pi / omega):
+- blade i (BladeExternalContact): M q'' + C0 q' + K0 q = G f_w + F gives
+  W_aero,i = dS_i + dE_i - dW_i, S = M v^2 / 2 + K0 q^2 / 2 (kinetic + strain), E the output
+  dissipatedEnergy (viscous), W the output contactWork (work of the contact force on the blade);
+  the blade integrates E and W with its own RK4 alongside q, v, so this identity holds to RK4 accuracy;
+- contact j (ShroudContact, Jenkins): the forces it reports do work -dEc_j - dU_j on the blades,
+  Ec the output dissipatedEnergy (friction), U = k_n cos^2 g pen^2 / 2 + F_f^2 / (2 k_d) the normal
+  and tangential spring energy (pen = max(|u| - d, 0), F_f = (F_c - F_n cos g) / sin g, F_c = forceB).
+The blades receive the contact forces as polynomials extrapolated from past communication points
+while each contact works along its own extrapolated u, so sum_i dW_i != -sum_j (dEc_j + dU_j):
+    coupling error = sum_i dW_i + sum_j (dEc_j + dU_j)   (0 for an exact coupling),
+    residual       = sum W_aero - sum dE - sum dEc = sum dS + sum dU - coupling error,
+the acceptance residual; over a steady period dS, dU -> 0 and residual = -coupling error.
+`python -m harness.system.energy [--conserving]` prints both, relative to the aero work, vs h and
+order, for the plain master or the energy-conserving one (harness/system/ring_conserving.py).
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import time
+from dataclasses import dataclass, replace
+from typing import Mapping
+
+import numpy as np
+
+from harness.reference.blade import galerkin
+from harness.reference.contact import ContactConsts, contact_consts
+from harness.model.params import validate
+from harness.system.ring import Ring, run
+
+# the convergence study's ring (harness/system/convergence.py): tuned, N = 4, EO = 3, 5000 rpm
+STUDY_RING = Ring(n=4, engine_order=3, fw0=300.0, blade={"c": 298.0})
+
+
+@dataclass(frozen=True)
+class PeriodBalance:
+    """Changes over the window, summed over the ring [J]."""
+
+    aero: float  # work of the aero loads on the blades
+    viscous: float  # blade viscous dissipation
+    friction: float  # contact friction dissipation
+    contact_work: float  # work of the contact forces on the blades (as the blades integrated it)
+    stored: float  # blade kinetic + strain energy
+    springs: float  # contact normal + tangential spring energy
+    amplitude_change: float  # max over blades of |A_last - A_previous| / A_last, A = max |q| per period
+
+    @property
+    def coupling_error(self) -> float:
+        return self.contact_work + self.friction + self.springs
+
+    @property
+    def residual(self) -> float:
+        """aero - viscous - friction: the acceptance quantity (0 over an exactly steady period)."""
+        return self.aero - self.viscous - self.friction
+
+
+def require_jenkins(ring: Ring) -> None:
+    """The spring energy below is the Jenkins element's (frictionModel 3, the default)."""
+    if int(dict(ring.contact).get("frictionModel", 3)) != 3:
+        raise ValueError("the ring energy books need the time-domain Jenkins contact (frictionModel 3)")
+
+
+def spring_energy(cc: ContactConsts, q: np.ndarray, force_b: np.ndarray) -> np.ndarray:
+    """Contact spring energy per row of q (rows: time, columns: blades), summed over the contacts;
+    cc = contact_consts(ring.contact)."""
+    cg, sg = math.cos(cc.gamma), math.sin(cc.gamma)
+    u = q - np.roll(q, -1, axis=1)  # contact j: u_j = q_j - q_{j+1}
+    pen = np.maximum(np.abs(u) - cc.d, 0.0)
+    fn = cc.kn * cg * np.sign(u) * pen  # eq. 3 (0 when open)
+    ff = (force_b - fn * cg) / sg  # F_c = F_n cos g + F_f sin g (eq. 14), forceB = +F_c
+    return (0.5 * cc.kn * cg * cg * pen ** 2 + ff ** 2 / (2 * cc.kd)).sum(axis=1)
+
+
+def balance(ring: Ring, res: Mapping[str, np.ndarray], periods: int = 1, shift: int = 0) -> PeriodBalance:
+    """The balance terms over `periods` excitation periods of a run(ring) result, ending `shift`
+    communication steps before the run's end (a steady state is periodic: any phase will do)."""
+    if ring.blade_each:
+        raise ValueError("balance() takes a tuned ring (one blade parameter set)")
+    require_jenkins(ring)
+    T = 2 * math.pi / ring.omega
+    n = round(periods * T / ring.step)  # communication steps in the window
+    if abs(n * ring.step - periods * T) > 1e-9 * T or 2 * n + shift > ring.n_steps:
+        raise ValueError(f"the window ({periods} periods of {T:g} s) must be a whole number of steps"
+                         f" h = {ring.step:g} s and the run at least two windows long")
+    b = ring.n_steps - shift
+    a = b - n
+    g = galerkin(validate(dict(ring.blade)))
+    K0 = g.K0(2 * math.pi * ring.speed / 60)
+    q, v = res["q"], res["v"]
+    S = (0.5 * g.M * v ** 2 + 0.5 * K0 * q ** 2).sum(axis=1)
+    U = spring_energy(contact_consts(dict(ring.contact)), q, res["forceB"])
+    d = lambda x: float(np.sum(x[b]) - np.sum(x[a]))  # noqa: E731
+    amp = lambda k0, k1: np.abs(q[k0:k1 + 1]).max(axis=0)  # noqa: E731
+    A1, A0 = amp(a, b), amp(a - n, a)
+    dS, dE, dW = d(S), d(res["E"]), d(res["W"])
+    return PeriodBalance(aero=dS + dE - dW, viscous=dE, friction=d(res["Ec"]), contact_work=dW, stored=dS,
+                         springs=d(U), amplitude_change=float(np.max(np.abs(A1 - A0) / A1)))
+
+
+def measure(ring: Ring, periods: int = 1, conserving: bool = False) -> tuple[PeriodBalance, float]:
+    """Runs the ring (plain Jacobi master, or with the energy-conserving correction of
+    harness/system/ring_conserving.py); (balance over its last `periods` periods, wall time [s])."""
+    from harness.system import ring_conserving
+    t0 = time.perf_counter()
+    res = (ring_conserving.run if conserving else run)(ring)
+    return balance(ring, res, periods), time.perf_counter() - t0
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--stop", type=float, default=0.2, help="run length [s]; the window is its last period")
+    ap.add_argument("--orders", type=int, nargs="+", default=[1, 2, 3])
+    ap.add_argument("--conserving", action="store_true", help="with the energy-conserving correction")
+    ap.add_argument("--steps", type=float, nargs="+", default=[1e-4, 5e-5, 2.5e-5, 1.25e-5, 6.25e-6])
+    a = ap.parse_args(argv)
+    print("order h[s] residual/aero coupling_error/aero stored/aero springs/aero amplitude_change wall[s]")
+    for p in a.orders:
+        for h in a.steps:
+            ring = replace(STUDY_RING, step=h, stop_time=a.stop, order=p)
+            try:
+                bal, wall = measure(ring, conserving=a.conserving)
+            except Exception as e:  # an FMU refused a step (state out of range): diverged
+                print(p, h, f"failed: {type(e).__name__}", flush=True)
+                continue
+            W = bal.aero
+            print(p, h, f"{bal.residual / W:.3e} {bal.coupling_error / W:.3e} {bal.stored / W:.3e} "
+                  f"{bal.springs / W:.3e} {bal.amplitude_change:.2e} {wall:.1f}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
