@@ -167,88 +167,45 @@ def sweep_overhead(fmu_path: str, repeats: int = 3) -> dict[str, Any]:
 RING_BENCH = dict(n=24, engine_order=3, fw0=300.0, blade={"c": 298.0}, step=2.5e-5, stop_time=0.5)
 
 
-def _timer_overhead(calls: int = 200_000) -> tuple[float, float]:
-    """Per call of a _Timed wrapper: the time it adds to the caller, and the part of that it counts
-    as inside (its perf_counter pair), from wrapping a no-op; subtracted from the ring timings."""
-    def noop(*a):
-        return 0
-    timed = _Timed(noop)
-    t = time.perf_counter()
-    for _ in range(calls):
-        noop(0, 0.0, 0.0, 1)
-    direct = time.perf_counter() - t
-    t = time.perf_counter()
-    for _ in range(calls):
-        timed(0, 0.0, 0.0, 1)
-    wrapped = time.perf_counter() - t
-    return max(wrapped - direct, 0.0) / calls, timed.total / calls
-
-
-def _fmpy_ring(ring: Any, over: tuple[float, float]) -> tuple[dict[str, Any], np.ndarray]:
-    """One run of the fmpy master with every FMU's fmi2DoStep timed (timer overhead subtracted)."""
-    from harness.system.ring import run
-
-    timers: list[_Timed] = []
-
-    def instrument(slave: Any) -> None:
-        fns = slave.s._functions  # fmpy's table of the FMU's ctypes functions
-        fns["fmi2DoStep"] = _Timed(fns["fmi2DoStep"])
-        timers.append(fns["fmi2DoStep"])
-
+def _timed(f, *a, **kw) -> tuple[Any, float, float]:
     t, c = time.perf_counter(), time.process_time()
-    res = run(ring, instrument=instrument)
-    wall, cpu = time.perf_counter() - t, time.process_time() - c
-    n = sum(tm.calls for tm in timers)
-    inside = sum(tm.total for tm in timers) - n * over[1]
-    wall, cpu = wall - n * over[0], cpu - n * over[0]
-    return {"doSteps": n, "wall": wall, "cpu": cpu, "inside_doStep": inside, "ratio_wall": wall / inside,
-            "ratio_cpu": cpu / inside, "finite": bool(np.all(np.isfinite(res["q"]))),
-            "max_q": float(np.abs(res["q"]).max())}, res["q"]
+    out = f(*a, **kw)
+    return out, time.perf_counter() - t, time.process_time() - c
+
+
+def _row(wall: float, cpu: float, inside: float, doSteps: int, q: np.ndarray) -> dict[str, Any]:
+    return {"doSteps": doSteps, "wall": wall, "cpu": cpu, "inside_doStep": inside, "ratio_wall": wall / inside,
+            "ratio_cpu": cpu / inside, "finite": bool(np.all(np.isfinite(q))), "max_q": float(np.abs(q).max())}
 
 
 def ring_cost() -> dict[str, Any]:
     """The 24-blade ring (RING_BENCH) in the fmpy master (feedthrough, linear extrapolation; and
-    libcosim's data flow, held inputs) and in libcosim: wall of each whole run (loading the 72
-    FMUs included) against the FMUs' own compute, the time inside fmi2DoStep of all 72. libcosim
-    steps in its own C++ loop, so its compute is taken from the fmpy run in libcosim's data flow:
-    the same FMUs, steps and inputs (the trajectories are checked to be equal bit for bit)."""
-    from harness.system import ring_libcosim
-    from harness.system.ring import Ring
+    libcosim's data flow, held inputs), in libcosim, and in our C loop: wall of each whole run
+    (instantiating the 72 FMUs included) against the FMUs' own compute, the time inside fmi2DoStep
+    of all 72, measured in C around each call (harness/system/ring_c.py, time_dosteps) for each
+    data flow. libcosim's trajectory is checked to equal the C loop's in its data flow bit for bit,
+    so that run's inside time is libcosim's compute."""
+    from harness.system import ring_c, ring_libcosim
+    from harness.system.ring import Ring, run
 
-    over = _timer_overhead()
-    out: dict[str, Any] = {"setup": {k: (dict(v) if isinstance(v, dict) else v) for k, v in RING_BENCH.items()},
-                           "timer_overhead_us": [o * 1e6 for o in over]}
-    out["fmpy feedthrough"], q_ft = _fmpy_ring(Ring(**RING_BENCH, order=1), over)
-    out["fmpy libcosim data flow"], q = _fmpy_ring(Ring(**RING_BENCH, order=0, coupling="libcosim"), over)
-    t, c = time.perf_counter(), time.process_time()
-    lc = ring_libcosim.run(Ring(**RING_BENCH, order=0))
-    wall, cpu = time.perf_counter() - t, time.process_time() - c
-    inside = out["fmpy libcosim data flow"]["inside_doStep"]
-    out["libcosim"] = {"doSteps": out["fmpy libcosim data flow"]["doSteps"], "wall": wall, "cpu": cpu,
-                       "inside_doStep": inside, "ratio_wall": wall / inside, "ratio_cpu": cpu / inside,
-                       "step_wall": float(lc["step_wall"]), "ratio_step_wall": float(lc["step_wall"]) / inside,
-                       "finite": bool(np.all(np.isfinite(lc["q"]))), "max_q": float(np.abs(lc["q"]).max()),
-                       "equals_fmpy_libcosim_data_flow": bool(np.array_equal(lc["q"], q))}
-    out["C loop"] = _c_ring(out["fmpy feedthrough"], q_ft)
+    ft, lc_flow = Ring(**RING_BENCH, order=1), Ring(**RING_BENCH, order=0, coupling="libcosim")
+    ring_c.run(Ring(**{**RING_BENCH, "stop_time": 10 * RING_BENCH["step"]}))  # build, extract, load once
+    n = 3 * ft.n * ft.n_steps
+    inside = {k: float(ring_c.run(r, time_dosteps=True)["inside_doStep"]) for k, r in (("ft", ft), ("lc", lc_flow))}
+    out: dict[str, Any] = {"setup": {k: (dict(v) if isinstance(v, dict) else v) for k, v in RING_BENCH.items()}}
+    c_ft, wall, cpu = _timed(ring_c.run, ft)
+    out["C loop"] = _row(wall, cpu, inside["ft"], n, c_ft["q"])
+    c_lc = ring_c.run(lc_flow)
+    r, wall, cpu = _timed(run, ft)
+    out["fmpy feedthrough"] = _row(wall, cpu, inside["ft"], n, r["q"])
+    out["C loop"]["deviation_from_fmpy"] = float(np.abs(c_ft["q"] - r["q"]).max() / np.abs(r["q"]).max())
+    r, wall, cpu = _timed(run, lc_flow)
+    out["fmpy libcosim data flow"] = _row(wall, cpu, inside["lc"], n, r["q"])
+    lc, wall, cpu = _timed(ring_libcosim.run, Ring(**RING_BENCH, order=0))
+    out["libcosim"] = {**_row(wall, cpu, inside["lc"], n, lc["q"]), "step_wall": float(lc["step_wall"]),
+                       "ratio_step_wall": float(lc["step_wall"]) / inside["lc"],
+                       "equals_fmpy_libcosim_data_flow": bool(np.array_equal(lc["q"], c_lc["q"]))}
     return out
-
-
-def _c_ring(fmpy_run: dict[str, Any], q_fmpy: np.ndarray) -> dict[str, Any]:
-    """The feedthrough ring through the C loop (harness/system/ring_c.py): the fmpy run's FMI calls
-    without Python in between, so that run's inside time is its compute (trajectory within 1e-12)."""
-    from harness.system import ring_c
-    from harness.system.ring import Ring
-
-    ring = Ring(**RING_BENCH, order=1)
-    ring_c.run(Ring(**{**RING_BENCH, "stop_time": 10 * RING_BENCH["step"]}, order=1))  # build, extract, load
-    t, c = time.perf_counter(), time.process_time()
-    r = ring_c.run(ring)
-    wall, cpu = time.perf_counter() - t, time.process_time() - c
-    inside = fmpy_run["inside_doStep"]
-    return {"doSteps": fmpy_run["doSteps"], "wall": wall, "cpu": cpu, "inside_doStep": inside,
-            "ratio_wall": wall / inside, "ratio_cpu": cpu / inside, "finite": bool(np.all(np.isfinite(r["q"]))),
-            "max_q": float(np.abs(r["q"]).max()),
-            "deviation_from_fmpy": float(np.abs(r["q"] - q_fmpy).max() / np.abs(q_fmpy).max())}
 
 
 def reference_ratio(fmu: Any, params: dict) -> dict[str, Any]:
@@ -460,26 +417,24 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
 
 def _ring_section(g: dict[str, Any]) -> list[str]:
     st = g["setup"]
-    lc = g["libcosim"]
-    L = [f"## A {st['n']}-blade ring (issue 11): the fmpy master and libcosim vs the FMUs' own compute "
-         "(goal <= 2x for libcosim)", "",
+    lc, cl = g["libcosim"], g["C loop"]
+    L = [f"## A {st['n']}-blade ring (issue 11): the masters vs the FMUs' own compute (goal <= 2x for libcosim)", "",
          f"{st['n']} blades + {st['n']} shroud contacts + {st['n']} excitations ({3 * st['n']} FMUs), EO "
          f"{st['engine_order']}, 5000 rpm, c = {st['blade']['c']:g} N s/m2, F_w0 = {st['fw0']:g} N/m, default "
-         f"contacts (k_n = 1e7), {st['stop_time']:g} s at h = {st['step']:g} s in both masters. Wall = the whole "
-         "run (loading the FMUs included); inside = the time inside fmi2DoStep of all FMUs, measured per call in "
-         "the fmpy runs (timer overhead, measured on a no-op, subtracted); libcosim does exactly the work of the "
-         "fmpy run in its data flow (trajectory equal bit for bit: "
-         f"{'yes' if lc.get('equals_fmpy_libcosim_data_flow') else 'NO'}), so that run's inside time is its "
-         "compute. libcosim steps the FMUs on its own worker threads (CPU counts all threads).", "",
+         f"contacts (k_n = 1e7), {st['stop_time']:g} s at h = {st['step']:g} s in every master. Wall = the whole "
+         "run (instantiating the FMUs included); inside = the time inside fmi2DoStep of all FMUs, measured in C "
+         "around each call by the C loop (harness/system/ring_c.py) in the same data flow: feedthrough with "
+         "linear extrapolation, or libcosim's (held inputs, the forces of the contacts' previous step). libcosim's "
+         f"trajectory equals the C loop's in its data flow bit for bit: "
+         f"{'yes' if lc['equals_fmpy_libcosim_data_flow'] else 'NO'}. libcosim steps the FMUs on its own worker "
+         "threads (CPU counts all threads).", "",
          "| master | doSteps | wall | CPU | inside fmi2DoStep | wall / inside | CPU / inside | max abs q |",
          "|---|---|---|---|---|---|---|---|"]
     labels = {"fmpy feedthrough": "fmpy master (feedthrough, linear extrapolation)",
               "fmpy libcosim data flow": "fmpy master (libcosim's data flow, held inputs)",
               "libcosim": "libcosim (fixed step, held inputs)",
-              "C loop": "our C loop (feedthrough, linear extrapolation; ring_c.py)"}
+              "C loop": "our C loop (feedthrough, linear extrapolation)"}
     for k, label in labels.items():
-        if k not in g:
-            continue
         v = g[k]
         L.append(f"| {label} | {v['doSteps']} | {v['wall']:.2f} s | {v['cpu']:.2f} s | {v['inside_doStep']:.2f} s | "
                  f"**{v['ratio_wall']:.2f}** | {v['ratio_cpu']:.2f} | "
@@ -487,14 +442,9 @@ def _ring_section(g: dict[str, Any]) -> list[str]:
     L += ["", f"libcosim: wall / FMU compute = **{lc['ratio_wall']:.2f}x**, goal <= 2x "
               f"{'met' if lc['ratio_wall'] <= 2 else 'not met'}; its stepping alone (CosimExecution.step, "
               f"loading and initialization left out) {lc['step_wall']:.2f} s = {lc['ratio_step_wall']:.2f}x. "
-              f"The FMUs' own compute is small ({lc['inside_doStep'] / lc['doSteps'] * 1e6:.2f} us per "
-              "doStep): the masters' per-step data handling dominates."]
-    if "C loop" in g:
-        cl = g["C loop"]
-        L[-1] += (f" The same feedthrough ring with the loop in C (the fmpy run's calls, no Python between them; "
-                  f"q within {cl['deviation_from_fmpy']:.1e} of the fmpy master): wall / FMU compute = "
-                  f"**{cl['ratio_wall']:.2f}x** (the FMUs built and extracted before the timed run, instantiated in it).")
-    L.append("")
+              f"One doStep costs {lc['inside_doStep'] / lc['doSteps'] * 1e6:.2f} us inside the FMU, so a master's "
+              f"per-step data handling decides. Our C loop makes the fmpy master's calls without Python between "
+              f"them (q within {cl['deviation_from_fmpy']:.1e} of the fmpy master): **{cl['ratio_wall']:.2f}x**.", ""]
     return L
 
 

@@ -11,10 +11,15 @@
  *      derivatives of aeroLoad and contactForce;
  *   4. steps blades, contacts, excitations from t_k to t_{k+1}.
  * Derivatives: order 1..p of the polynomial through the last q + 1 <= p + 1 values (weights from the
- * harness, the same numbers ring.py uses). A status above fmi2Warning stops the loop: the return
- * value says which call, *failStep and *failFmu where. */
+ * harness, the same numbers ring.py uses). afterStep (libcosim's data flow, ring.py coupling
+ * "libcosim"): from t_1 on, the blades get the forces the contacts reported at the end of their
+ * own step, read before their inputs are set again. timeDoSteps: the time inside every fmi2DoStep
+ * is summed into *inside [s] (the FMUs' own compute, for harness/bench.py). A status above
+ * fmi2Warning stops the loop: the return value says which call, *failStep and *failFmu where. */
+#define _POSIX_C_SOURCE 199309L /* clock_gettime */
 #include <stddef.h>
 #include <string.h>
+#include <time.h>
 
 #include "fmi2Functions.h"
 
@@ -30,6 +35,8 @@ typedef struct {
 
 typedef struct {
     int n, steps, order;          /* N blades, K steps, extrapolation order p */
+    int afterStep, timeDoSteps;   /* libcosim's data flow; time the doSteps */
+    int recordEvery;              /* record t_k for k a multiple of it (it divides K): row k / recordEvery */
     const double *time;           /* t_0..t_K */
     const double *weights;        /* W[(q (p+1) + m) (p+1) + j]: derivative m at t_k of the order-q fit, value j steps back */
     RingApi blade, contact, excitation;
@@ -43,7 +50,7 @@ typedef struct {
 } RingSetup;
 
 typedef struct {
-    double *q, *v, *E, *W, *contactForce, *forceA, *forceB, *Ec, *state; /* (K+1) x N, row-major */
+    double *q, *v, *E, *W, *contactForce, *forceA, *forceB, *Ec, *state; /* (K/every+1) x N, row-major */
 } RingRecord;
 
 enum { RING_OK = 0, RING_BAD_SETUP, RING_GET, RING_SET, RING_DERIVATIVES, RING_STEP };
@@ -86,19 +93,52 @@ static int setDerivatives(const RingApi *api, void *c, const RingSetup *s, unsig
 
 #define FAIL(code, fmu) do { *failFmu = (fmu); return (code); } while (0)
 
-/* Runs the loop; work holds 3 (p + 1) N + 3 p N + 10 N doubles. */
-int ringRun(const RingSetup *s, RingRecord *r, double *work, int *failStep, int *failFmu) {
+static double now(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* fmi2DoStep, timed into *inside when asked */
+static int doStep(fmi2DoStepTYPE *f, void *c, double t, double h, int timed, double *inside) {
+    if (!timed) return f(c, t, h, fmi2True) > fmi2Warning;
+    const double t0 = now();
+    const fmi2Status st = f(c, t, h, fmi2True);
+    *inside += now() - t0;
+    return st > fmi2Warning;
+}
+
+/* Reads contact j's forces, energy and state into fA, fB and the record row. */
+static int readContact(const RingSetup *s, int j, double *fA, double *fB, RingRecord *r, size_t row) {
+    double out[3];
+    fmi2Integer state;
+    if (s->contact.getReal(s->contacts[j], s->contactOut, 3, out) > fmi2Warning) return 1;
+    if (s->contact.getInteger(s->contacts[j], &s->contactState, 1, &state) > fmi2Warning) return 1;
+    fA[j] = out[0], fB[j] = out[1];
+    r->forceA[row + j] = out[0], r->forceB[row + j] = out[1], r->Ec[row + j] = out[2];
+    r->state[row + j] = (double)state;
+    return 0;
+}
+
+/* Runs the loop; work holds 3 (p + 1) N + 3 p N + 20 N doubles. */
+int ringRun(const RingSetup *s, RingRecord *rec, double *work, int *failStep, int *failFmu, double *inside) {
     const int n = s->n, p = s->order;
-    if (n < 2 || s->steps < 0 || p < 0 || p > RING_MAX_ORDER) return RING_BAD_SETUP;
+    if (n < 2 || s->steps < 0 || p < 0 || p > RING_MAX_ORDER || s->recordEvery < 1 || s->steps % s->recordEvery)
+        return RING_BAD_SETUP;
     History hv = {work, 0}, hf = {work + (p + 1) * n, 0}, ha = {work + 2 * (p + 1) * n, 0};
     double *dv = work + 3 * (p + 1) * n, *df = dv + p * n, *da = df + p * n;
     double *aero = da + p * n, *speed = aero + n, *q = speed + n, *v = q + n, *fA = v + n, *fB = fA + n;
-    double *force = fB + n, *st = force + n; /* st: 4 values per blade */
-    fmi2GetRealTYPE *bGet = s->blade.getReal, *eGet = s->excitation.getReal, *cGet = s->contact.getReal;
+    double *force = fB + n, *st = force + n; /* st: one blade's 4 values, then 9 scratch records */
+    RingRecord scratch = {st + 4 * n, st + 5 * n, st + 6 * n, st + 7 * n, st + 8 * n, st + 9 * n, st + 10 * n,
+                          st + 11 * n, st + 12 * n}; /* rows not kept are written here (row 0) */
+    fmi2GetRealTYPE *bGet = s->blade.getReal, *eGet = s->excitation.getReal;
     fmi2SetRealTYPE *cSet = s->contact.setReal, *bSet = s->blade.setReal;
-    fmi2GetIntegerTYPE *cGetInt = s->contact.getInteger;
+    const int timed = s->timeDoSteps;
+    *inside = 0.0;
     for (int k = 0; k <= s->steps; k++) {
-        const size_t row = (size_t)k * (size_t)n;
+        const int kept = k % s->recordEvery == 0;
+        RingRecord *r = kept ? rec : &scratch;
+        const size_t row = kept ? (size_t)(k / s->recordEvery) * (size_t)n : 0;
         *failStep = k;
         for (int i = 0; i < n; i++) {
             double ex[2];
@@ -109,19 +149,15 @@ int ringRun(const RingSetup *s, RingRecord *r, double *work, int *failStep, int 
         }
         historyPush(&hv, s, v, dv);
         historyPush(&ha, s, aero, da);
+        const int lagged = s->afterStep && k > 0; /* libcosim: the outputs of the step just done */
         for (int j = 0; j < n; j++) {
             const int a = j, b = (j + 1) % n;
             const double in[5] = {q[a], v[a], q[b], v[b], speed[a]};
-            double out[3];
-            fmi2Integer state;
+            if (lagged && readContact(s, j, fA, fB, r, row)) FAIL(RING_GET, n + j);
             if (cSet(s->contacts[j], s->contactIn, 5, in) > fmi2Warning) FAIL(RING_SET, n + j);
             if (p > 0 && setDerivatives(&s->contact, s->contacts[j], s, s->contactIn[1], dv, a, s->contactIn[3], dv, b))
                 FAIL(RING_DERIVATIVES, n + j);
-            if (cGet(s->contacts[j], s->contactOut, 3, out) > fmi2Warning) FAIL(RING_GET, n + j);
-            if (cGetInt(s->contacts[j], &s->contactState, 1, &state) > fmi2Warning) FAIL(RING_GET, n + j);
-            fA[j] = out[0], fB[j] = out[1];
-            r->forceA[row + j] = out[0], r->forceB[row + j] = out[1], r->Ec[row + j] = out[2];
-            r->state[row + j] = (double)state;
+            if (!lagged && readContact(s, j, fA, fB, r, row)) FAIL(RING_GET, n + j); /* feedthrough */
         }
         for (int i = 0; i < n; i++) force[i] = fB[(i + n - 1) % n] + fA[i];
         historyPush(&hf, s, force, df);
@@ -135,12 +171,11 @@ int ringRun(const RingSetup *s, RingRecord *r, double *work, int *failStep, int 
         }
         const double t = s->time[k], h = s->time[k + 1] - s->time[k];
         for (int i = 0; i < n; i++)
-            if (s->blade.doStep(s->blades[i], t, h, fmi2True) > fmi2Warning) FAIL(RING_STEP, i);
+            if (doStep(s->blade.doStep, s->blades[i], t, h, timed, inside)) FAIL(RING_STEP, i);
         for (int j = 0; j < n; j++)
-            if (s->contact.doStep(s->contacts[j], t, h, fmi2True) > fmi2Warning) FAIL(RING_STEP, n + j);
+            if (doStep(s->contact.doStep, s->contacts[j], t, h, timed, inside)) FAIL(RING_STEP, n + j);
         for (int i = 0; i < n; i++)
-            if (s->excitation.doStep(s->excitations[i], t, h, fmi2True) > fmi2Warning)
-                FAIL(RING_STEP, 2 * n + i);
+            if (doStep(s->excitation.doStep, s->excitations[i], t, h, timed, inside)) FAIL(RING_STEP, 2 * n + i);
     }
     return RING_OK;
 }

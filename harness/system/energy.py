@@ -76,18 +76,21 @@ def spring_energy(cc: ContactConsts, q: np.ndarray, force_b: np.ndarray) -> np.n
     return (0.5 * cc.kn * cg * cg * pen ** 2 + ff ** 2 / (2 * cc.kd)).sum(axis=1)
 
 
-def balance(ring: Ring, res: Mapping[str, np.ndarray], periods: int = 1, shift: int = 0) -> PeriodBalance:
+def balance(ring: Ring, res: Mapping[str, np.ndarray], periods: int = 1, shift: int = 0,
+            stride: int = 1) -> PeriodBalance:
     """The balance terms over `periods` excitation periods of a run(ring) result, ending `shift`
-    communication steps before the run's end (a steady state is periodic: any phase will do)."""
+    recorded points before the run's end (a steady state is periodic: any phase will do); stride:
+    the result keeps every stride-th communication point (harness/system/ring_c.py record_every)."""
     if ring.blade_each:
         raise ValueError("balance() takes a tuned ring (one blade parameter set)")
     require_jenkins(ring)
     T = 2 * math.pi / ring.omega
-    n = round(periods * T / ring.step)  # communication steps in the window
-    if abs(n * ring.step - periods * T) > 1e-9 * T or 2 * n + shift > ring.n_steps:
-        raise ValueError(f"the window ({periods} periods of {T:g} s) must be a whole number of steps"
-                         f" h = {ring.step:g} s and the run at least two windows long")
-    b = ring.n_steps - shift
+    h = ring.step * stride  # spacing of the recorded points
+    n = round(periods * T / h)  # recorded intervals in the window
+    if abs(n * h - periods * T) > 1e-9 * T or 2 * n + shift > ring.n_steps // stride:
+        raise ValueError(f"the window ({periods} periods of {T:g} s) must be a whole number of recorded"
+                         f" intervals {h:g} s and the run at least two windows long")
+    b = ring.n_steps // stride - shift
     a = b - n
     g = galerkin(validate(dict(ring.blade)))
     K0 = g.K0(2 * math.pi * ring.speed / 60)

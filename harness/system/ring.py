@@ -28,7 +28,7 @@ import argparse
 import math
 from dataclasses import dataclass, field
 from math import factorial
-from typing import Any, Callable, Mapping
+from typing import Any, Mapping
 
 import numpy as np
 
@@ -105,15 +105,13 @@ class _History:
         return out
 
 
-def run(ring: Ring, record_inputs: bool = False,
-        instrument: Callable[[Any], None] | None = None) -> dict[str, np.ndarray]:
+def run(ring: Ring, record_inputs: bool = False) -> dict[str, np.ndarray]:
     """Runs the ring from rest; returns time [s] and, per blade (columns), q, v, dissipatedEnergy,
     contactWork, contactForce (the input set at t_k), the contacts' forceA, forceB, dissipatedEnergy,
     contactState, all at the communication points t_0..t_K (inputs and forces: those set/read at t_k,
     the last row repeats the last set; coupling "libcosim": the forces read after the step to t_k).
     With record_inputs: the aeroLoad value and derivatives each
-    blade got (for a replay into ShroudedBlade). `instrument` is called with every FMU instance
-    once made (harness/bench.py times their fmi2DoStep with it)."""
+    blade got (for a replay into ShroudedBlade)."""
     N, h, K, p = ring.n, ring.step, ring.n_steps, ring.order
     res = {k: np.zeros((K + 1, N)) for k in ("q", "v", "E", "W", "contactForce", "forceA", "forceB", "Ec", "state")}
     if record_inputs:
@@ -122,9 +120,6 @@ def run(ring: Ring, record_inputs: bool = False,
     # libcosim's communication points (integer nanoseconds), so both masters see the same times
     with open_ring(ring) as (tk, blades, contacts, excs):
         res["time"] = tk
-        if instrument is not None:
-            for fmu in (*blades, *contacts, *excs):
-                instrument(fmu)
         bv = [blades[0].vr(n) for n in ("tipDisplacement", "tipVelocity", "dissipatedEnergy", "contactWork")]
         ev = [excs[0].vr("aeroLoad"), excs[0].vr("rotorSpeed")]
         c_in = [contacts[0].vr(n) for n in ("displacementA", "velocityA", "displacementB", "velocityB", "rotorSpeed")]

@@ -1,6 +1,7 @@
 """The ring of harness/system/ring.py with its communication loop in C (fmu_src/master/ring_master.c):
-the same instances (made, parameterised and initialised through fmpy), the same data flow and
-extrapolation weights, but no Python between the FMI calls. Returns what `ring.run` returns (the
+the same instances (made, parameterised and initialised through fmpy), the same data flow (both
+couplings, "feedthrough" and "libcosim") and extrapolation weights, but no Python between the FMI
+calls. Returns what `ring.run` returns (the
 fmpy master stays the readable reference; tests/test_ring_c.py holds the two together).
 """
 from __future__ import annotations
@@ -26,7 +27,8 @@ class _Api(C.Structure):
 
 
 class _Setup(C.Structure):
-    _fields_ = [("n", C.c_int), ("steps", C.c_int), ("order", C.c_int), ("time", C.POINTER(C.c_double)),
+    _fields_ = [("n", C.c_int), ("steps", C.c_int), ("order", C.c_int), ("afterStep", C.c_int),
+                ("timeDoSteps", C.c_int), ("recordEvery", C.c_int), ("time", C.POINTER(C.c_double)),
                 ("weights", C.POINTER(C.c_double)), ("blade", _Api), ("contact", _Api), ("excitation", _Api),
                 ("blades", C.POINTER(C.c_void_p)), ("contacts", C.POINTER(C.c_void_p)),
                 ("excitations", C.POINTER(C.c_void_p)), ("bladeOut", C.c_uint * 4), ("excitationOut", C.c_uint * 2),
@@ -47,7 +49,7 @@ def _library() -> C.CDLL:
         build(("ring_master",))
         _lib = C.CDLL(str(LIBRARY))
         _lib.ringRun.argtypes = [C.POINTER(_Setup), C.POINTER(_Record), C.POINTER(C.c_double), C.POINTER(C.c_int),
-                                 C.POINTER(C.c_int)]
+                                 C.POINTER(C.c_int), C.POINTER(C.c_double)]
         _lib.ringRun.restype = C.c_int
     return _lib
 
@@ -69,21 +71,24 @@ def weights(p: int, h: float) -> np.ndarray:
     return W
 
 
-def run(ring: Ring) -> dict[str, np.ndarray]:
-    """As harness.system.ring.run(ring) (without record_inputs), the loop in C."""
+def run(ring: Ring, time_dosteps: bool = False, record_every: int = 1) -> dict[str, np.ndarray]:
+    """As harness.system.ring.run(ring) (without record_inputs), the loop in C; with time_dosteps,
+    res["inside_doStep"] is the time spent inside fmi2DoStep of all FMUs [s]; record_every = m keeps
+    the communication points t_0, t_m, t_2m, ... (m must divide the number of steps)."""
     N, K, p = ring.n, ring.n_steps, ring.order
-    if ring.coupling != "feedthrough":
-        raise ValueError(f"coupling {ring.coupling!r}: the C loop runs 'feedthrough' only (ring.run has both)")
+    if record_every < 1 or K % record_every:
+        raise ValueError(f"record_every {record_every}: must be >= 1 and divide the {K} steps")
     if not 0 <= p <= MAX_ORDER:
         raise ValueError(f"extrapolation order {p} outside [0, {MAX_ORDER}] (the C loop's limit)")
     lib = _library()
     with open_ring(ring) as (tk, blades, contacts, excs):
-        res = {k: np.zeros((K + 1, N)) for k in _RECORDS}
-        res["time"] = tk
+        res = {k: np.zeros((K // record_every + 1, N)) for k in _RECORDS}
+        res["time"] = tk[::record_every]
         b0, c0, e0 = blades[0], contacts[0], excs[0]
         W = np.ascontiguousarray(weights(p, ring.step))
         handles = [(C.c_void_p * N)(*(x.s.component for x in group)) for group in (blades, contacts, excs)]
-        s = _Setup(n=N, steps=K, order=p, time=_ptr(tk), weights=_ptr(W), blade=_api(b0), contact=_api(c0),
+        s = _Setup(n=N, steps=K, order=p, afterStep=int(ring.coupling == "libcosim"), timeDoSteps=int(time_dosteps),
+                   recordEvery=record_every, time=_ptr(tk), weights=_ptr(W), blade=_api(b0), contact=_api(c0),
                    excitation=_api(e0), blades=handles[0], contacts=handles[1], excitations=handles[2])
         s.bladeOut[:] = [b0.vr(n) for n in ("tipDisplacement", "tipVelocity", "dissipatedEnergy", "contactWork")]
         s.excitationOut[:] = [e0.vr("aeroLoad"), e0.vr("rotorSpeed")]
@@ -92,13 +97,15 @@ def run(ring: Ring) -> dict[str, np.ndarray]:
         s.contactState = c0.vr("contactState")
         s.bladeIn[:] = [b0.vr(n) for n in ("aeroLoad", "rotorSpeed", "contactForce")]
         rec = _Record(*(_ptr(res[k]) for k in _RECORDS))
-        work = np.zeros(3 * (p + 1) * N + 3 * p * N + 10 * N)
-        step, fmu = C.c_int(0), C.c_int(-1)
-        rc = lib.ringRun(C.byref(s), C.byref(rec), _ptr(work), C.byref(step), C.byref(fmu))
+        work = np.zeros(3 * (p + 1) * N + 3 * p * N + 20 * N)
+        step, fmu, inside = C.c_int(0), C.c_int(-1), C.c_double(0.0)
+        rc = lib.ringRun(C.byref(s), C.byref(rec), _ptr(work), C.byref(step), C.byref(fmu), C.byref(inside))
         if rc != 0:
             who = [*blades, *contacts, *excs][fmu.value] if fmu.value >= 0 else None
             name = who.s.instanceName if who else "the setup"
             said = "; ".join(who.messages) if who and who.messages else "no message"
             raise RuntimeError(f"ring (C loop): {_FAILED.get(rc, rc)} failed for {name} at t = "
                                f"{tk[min(step.value, K)]:.9g} s (step {step.value}): {said}")
+    if time_dosteps:
+        res["inside_doStep"] = np.array(inside.value)
     return res
