@@ -4,7 +4,8 @@
 - `--start-values d 1.0` opens every contact: each blade's amplitude equals that of ShroudedBlade
   alone (contact open, amplitudeMode 1) fed blade i's load, computed here without the ring master:
   the Excitation FMU run alone (bladeIndex i) and the master's linear extrapolation written out as
-  the backward difference (y_k - y_{k-1}) / h; within 1e-12 relative (rounding of the difference);
+  the backward difference (y_k - y_{k-1}) / h; within 1e-12 relative (rounding of the difference),
+  through the Python loop (`--master fmpy`) and the C loop (`--master c`), at h = 1e-4 s, order 1;
 - bad values exit with code 2 and a message naming the value and the range;
 - --write-ssp writes DIR/SystemStructure.ssd + DIR/resources/*.fmu that libcosim's from_ssp_file
   loads; with the contacts open and a mistuning pattern it gives the fmpy master's held-input
@@ -63,12 +64,13 @@ def single_blade_amplitude(i: int, n: int, speed: float, h: float, K: int, eo: i
 
 def test_open_contacts_give_the_single_blade_amplitude(capsys):
     n, speed, stop = 4, 6000.0, 0.03
-    out = ring_json(capsys, "--blades", str(n), "--speed", str(speed), "--stop-time", str(stop),
-                    "--start-values", "d", "1.0")
     K = round(stop / 1e-4)
     ref = [single_blade_amplitude(i, n, speed, 1e-4, K) for i in range(n)]
     assert min(ref) > 1e-5
-    assert np.allclose(out["amplitudes"], ref, rtol=1e-12, atol=0), (out["amplitudes"], ref)
+    for master in ("fmpy", "c"):  # the Python loop and the C loop
+        out = ring_json(capsys, "--blades", str(n), "--speed", str(speed), "--stop-time", str(stop), "--step",
+                        "1e-4", "--order", "1", "--master", master, "--start-values", "d", "1.0")
+        assert np.allclose(out["amplitudes"], ref, rtol=1e-12, atol=0), (master, out["amplitudes"], ref)
 
 
 @pytest.mark.parametrize("args,words", [

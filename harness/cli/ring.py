@@ -1,7 +1,8 @@
-"""Run the bladed disk: a ring of N blades coupled by shroud contacts, in the fmpy master, libcosim or Ecos.
+"""Run the bladed disk: a ring of N blades coupled by shroud contacts, in the fmpy master (its loop in
+Python or in C), libcosim or Ecos.
 
 `python -m harness ring --blades N [--speed RPM] [--stop-time S] [--step H] [--order P]
-[--master fmpy|libcosim|ecos] [--start-values NAME VALUE ...] [--mistuning SIGMA [--mistuned-parameter
+[--master fmpy|c|libcosim|ecos] [--start-values NAME VALUE ...] [--mistuning SIGMA [--mistuned-parameter
 EI|m0] [--seed S]] [--json]` prints the steady amplitude of every blade (max |q| over the last
 excitation period, key `amplitudes` [m]) and the phase lags of the first harmonic. --start-values sets
 the variable on every FMU instance that has it (`d 1.0` opens every contact). `--write-ssp DIR` writes
@@ -18,7 +19,8 @@ from pathlib import Path
 
 from harness.model.params import ParameterError
 
-MASTERS = ("fmpy", "libcosim", "ecos")
+MASTERS = ("fmpy", "c", "libcosim", "ecos")
+EXTRAPOLATING = ("fmpy", "c")  # the masters that set input derivatives (ours)
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
@@ -26,11 +28,12 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--speed", type=float, default=5000.0, metavar="RPM", help="rotor speed [rpm] (default 5000)")
     p.add_argument("--stop-time", type=float, default=0.1, metavar="S", help="simulated time [s] (default 0.1)")
     p.add_argument("--step", type=float, default=None, metavar="H",
-                   help="communication step [s] (default 1e-4 fmpy; 2.5e-5 libcosim/ecos: held inputs are "
-                        "unstable at 1e-4 s with k_n = 1e7)")
-    p.add_argument("--order", type=int, default=1, choices=range(0, 4), metavar="P",
-                   help="fmpy master: extrapolation order of the input derivatives, 0..3 (default 1)")
-    p.add_argument("--master", choices=MASTERS, default="fmpy", help="co-simulation master (default fmpy)")
+                   help="communication step [s] (default 2.5e-5: at 1e-4 s the friction ring is stable with "
+                        "linear extrapolation but 25 %% off and never settles, docs/model.md s.8)")
+    p.add_argument("--order", type=int, default=None, choices=range(0, 4), metavar="P",
+                   help="fmpy and c masters: extrapolation order of the input derivatives, 0..3 (default 2)")
+    p.add_argument("--master", choices=MASTERS, default="fmpy",
+                   help="co-simulation master: fmpy (default), c (the same data flow, loop in C), libcosim, ecos")
     p.add_argument("--start-values", nargs="+", default=[], metavar="NAME VALUE",
                    help="set on every FMU instance that has it, e.g. `--start-values d 1.0 c 298 Fw0 300`")
     p.add_argument("--mistuning", type=float, default=0.0, metavar="SIGMA",
@@ -61,8 +64,9 @@ def check(args: argparse.Namespace) -> None:
         raise ParameterError(f"--step {args.step!r} s outside (0, --stop-time = {args.stop_time:g}]")
     if not (math.isfinite(args.mistuning) and 0 <= args.mistuning <= 0.2):
         raise ParameterError(f"--mistuning {args.mistuning!r} outside [0, 0.2] (relative standard deviation)")
-    if args.master != "fmpy" and args.order != 1:
-        raise ParameterError(f"--order {args.order}: only the fmpy master extrapolates; libcosim and Ecos hold inputs")
+    if args.master not in EXTRAPOLATING and args.order not in (None, 0):
+        raise ParameterError(f"--order {args.order}: only the fmpy and c masters extrapolate; libcosim and Ecos "
+                             "hold inputs")
 
 
 def make_ring(args: argparse.Namespace):
@@ -70,9 +74,9 @@ def make_ring(args: argparse.Namespace):
     from harness.system import mistuning, ring_values
     from harness.system.ring import Ring
 
-    step = args.step if args.step is not None else (1e-4 if args.master == "fmpy" else 2.5e-5)
-    ring = Ring(n=args.blades, speed=args.speed, stop_time=args.stop_time, step=step,
-                order=args.order if args.master == "fmpy" else 0)
+    step = args.step if args.step is not None else 2.5e-5
+    order = (2 if args.order is None else args.order) if args.master in EXTRAPOLATING else 0
+    ring = Ring(n=args.blades, speed=args.speed, stop_time=args.stop_time, step=step, order=order)
     ring = ring_values.apply(ring, parse_start_values(args.start_values))
     T = 60.0 / (ring.engine_order * ring.speed)
     if ring.n_steps * ring.step < T * (1 - 1e-9):
@@ -88,6 +92,9 @@ def simulate(ring, master: str) -> dict:
     if master == "fmpy":
         from harness.system.ring import run
         return run(ring)
+    if master == "c":
+        from harness.system import ring_c
+        return ring_c.run(ring)
     if master == "libcosim":
         from harness.system import ring_libcosim
         return ring_libcosim.run(ring)
