@@ -83,3 +83,17 @@ def test_cli_writes_figures(tmp_path, capsys):
         f"mistuning_{k}.{e}" for k in ("blades", "amplification", "histogram") for e in ("png", "csv"))
     assert main(["mistuning", "--levels", "0.5"]) == 2
     assert "--levels 0.5" in capsys.readouterr().err
+
+
+def test_unsettled_rings_have_no_amplification():
+    """A pattern whose ring did not settle gets NaN; a variant whose tuned ring did not settle
+    gets NaN everywhere (the response is not periodic)."""
+    st = Study(n=2, levels=(0.01,), patterns=2)
+    rec = lambda a, s: {"amplitudes": a, "settle": s}  # noqa: E731
+    v = mistuning._variant(st, [(-1, 0, rec([1.0, 1.0], 0.0)), (0, 0, rec([1.2, 0.9], 1e-4)),
+                                (0, 1, rec([1.5, 0.8], 0.1))])
+    assert v["amplification"][0][0] == pytest.approx(1.2) and np.isnan(v["amplification"][0][1])
+    assert v["unsettled"] == 1 and v["tuned_settled"]
+    v = mistuning._variant(st, [(-1, 0, rec([1.0, 0.8], 0.3)), (0, 0, rec([1.2, 0.9], 1e-4)),
+                                (0, 1, rec([1.1, 0.8], 1e-4))])
+    assert np.all(np.isnan(v["amplification"])) and not v["tuned_settled"]

@@ -74,8 +74,17 @@ def report(out: dict) -> None:
     """The study's summary on stdout (also used by `make run`)."""
     print(f"mistuning: N = {out['n']}, {out['speed_rpm']:.1f} rpm (tuned resonance), {out['patterns']} patterns per level, "
           f"{out['computed']} rings computed, {out['cached']} from the cache; Whitehead {out['whitehead']:.4f}")
+    import numpy as np
     for v, r in out["variants"].items():
-        for s, a in zip(out["levels"], r["amplification"]):
-            print(f"  {v:12s} sigma {s:6.3f}: amplification mean {sum(a) / len(a):.4f}, max {max(a):.4f}")
-        print(f"  {v:12s} tuned amplitude {max(r['tuned']):.4e} m (blades within {r['tuned_spread']:.0e}), amplitudes settled to {r['settle_max']:.1e}")
+        if not r["tuned_settled"]:
+            print(f"  {v:12s} the tuned ring does not settle (amplitudes still move by {r['settle_max']:.1e}, "
+                  f"blades {r['tuned_spread']:.0e} apart): not periodic, no amplification")
+            continue
+        for s, a in zip(out["levels"], np.array(r["amplification"], dtype=float)):
+            ok = a[~np.isnan(a)]
+            print(f"  {v:12s} sigma {s:6.3f}: amplification mean {ok.mean():.4f}, max {ok.max():.4f}"
+                  + (f" ({len(a) - len(ok)} patterns did not settle)" if len(ok) < len(a) else ""))
+        print(f"  {v:12s} tuned amplitude {max(r['tuned']):.4e} m (blades within {r['tuned_spread']:.0e}), "
+              f"settled to {r['settle_max']:.1e}, {r['unsettled']} rings not settled")
+    print(f"  ShroudedBlade alone (rigid neighbour behind the gap): {out['single_blade']:.4e} m")
     print("figures:", ", ".join(out["files"]))

@@ -125,6 +125,21 @@ def tuned_ring(study: Study, variant: str) -> Ring:
                 order=study.order)
 
 
+def single_blade_amplitude(study: Study, stop_time: float = 0.3) -> float:
+    """ShroudedBlade alone (its built-in Jenkins contact: a rigid neighbour behind the gap d) at the
+    study's speed, load and damping, run from rest: max |q| over the last period [m]."""
+    from harness.fmu.blade import BladeFMU
+    from harness.model.excitation import AeroLoad
+    speed = study.speed or resonance_speed(study.blade, study.engine_order)
+    T = 60 / (study.engine_order * speed)
+    p = {**study.blade, "Fw0": study.fw0, "engineOrder": study.engine_order, "frictionModel": 3}
+    with BladeFMU() as f:
+        r = f.run(p, stop_time, T / study.steps_per_period, aero=AeroLoad(study.fw0, study.engine_order, speed),
+                  speed=speed, outputs=["tipDisplacement"])
+    t, q = r["time"], r["tipDisplacement"]
+    return float(np.abs(q[t >= t[-1] - T - 1e-12]).max())
+
+
 def _fmu_digest() -> str:
     """The ring FMUs' bytes: a rebuilt FMU invalidates the cache."""
     from harness.fmu.build import EXCITATION_FMU
@@ -167,6 +182,27 @@ def _task(job: tuple[Ring, str, str | None]) -> dict:
     return rec
 
 
+def _variant(study: Study, recs: list[tuple[int, int, dict]]) -> dict:
+    """One variant's results from its (level index or -1 for tuned, pattern, record) triples. A ring
+    that did not settle (settle > SETTLE_TOL after the doublings) has no steady amplitude: its
+    amplification is NaN, and if the tuned ring did not settle, every amplification of the variant
+    is (the response is not periodic: no amplification factor exists)."""
+    tuned_rec = next(r for li, _, r in recs if li == -1)
+    tuned, ref = tuned_rec["amplitudes"], max(tuned_rec["amplitudes"])
+    amps = np.full((len(study.levels), study.patterns, study.n), np.nan)
+    settled = np.zeros((len(study.levels), study.patterns), dtype=bool)
+    for li, k, r in recs:
+        if li >= 0:
+            amps[li, k] = r["amplitudes"]
+            settled[li, k] = r["settle"] <= SETTLE_TOL
+    tuned_settled = tuned_rec["settle"] <= SETTLE_TOL
+    amplification = np.where(settled & tuned_settled, amps.max(axis=2) / ref, np.nan)
+    return {"tuned": tuned, "tuned_spread": (max(tuned) - min(tuned)) / ref, "tuned_settled": tuned_settled,
+            "amplitudes": amps.tolist(), "amplification": amplification.tolist(),
+            "unsettled": int((~settled).sum()) + (0 if tuned_settled else 1),
+            "settle_max": max(r["settle"] for *_, r in recs)}
+
+
 def run_study(study: Study, runner: Any, cache_dir: Path | None) -> dict:
     """Every (variant, level, pattern) ring, cached ones read, the rest on `runner`; returns the
     tuned amplitudes, the amplitudes and amplifications per pattern, and how many were computed."""
@@ -194,15 +230,8 @@ def run_study(study: Study, runner: Any, cache_dir: Path | None) -> dict:
     out: dict[str, Any] = {"n": study.n, "levels": list(study.levels), "patterns": study.patterns,
                            "parameter": study.parameter, "seed": study.seed, "whitehead": whitehead(study.n),
                            "speed_rpm": jobs[0][3].speed, "computed": len(todo), "cached": len(jobs) - len(todo),
+                           "single_blade": single_blade_amplitude(study),
                            "variants": {}}
     for v in study.variants:
-        tuned = [records[i]["amplitudes"] for i, j in enumerate(jobs) if j[0] == v and j[1] == -1][0]
-        ref = max(tuned)
-        amps = np.full((len(study.levels), study.patterns, study.n), np.nan)
-        for i, (vv, li, k, _) in enumerate(jobs):
-            if vv == v and li >= 0:
-                amps[li, k] = records[i]["amplitudes"]
-        settle = [records[i]["settle"] for i, j in enumerate(jobs) if j[0] == v]
-        out["variants"][v] = {"tuned": tuned, "tuned_spread": (max(tuned) - min(tuned)) / ref, "amplitudes": amps.tolist(),
-                              "amplification": (amps.max(axis=2) / ref).tolist(), "settle_max": max(settle)}
+        out["variants"][v] = _variant(study, [(j[1], j[2], records[i]) for i, j in enumerate(jobs) if j[0] == v])
     return out
