@@ -5,7 +5,7 @@ extras: Fig. 2, 4/5, 6-9 (the studies as branches of periodic orbits with their 
 section-4 Coulomb comparison and a Campbell diagram as PNG + CSV, summary.json and the claims
 table claims.md; then the bladed disk's mistuning study at size small (issue 11,
 harness/system/mistuning.py: results/mistuning/, cached per ring under results/cache/mistuning, so
-a second run reads it back). About two minutes on 2 cores.
+a second run reads it back). About 70 s on 2 cores (12 s with the ring cache warm).
 """
 from __future__ import annotations
 
