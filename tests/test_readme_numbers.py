@@ -82,13 +82,15 @@ def test_rk4_step_cost(bench):
 
 
 def test_ring_row(bench):
-    """The 24-blade ring row: wall / time inside fmi2DoStep for libcosim (whole run and stepping
-    alone) and the fmpy master (feedthrough and libcosim's data flow), and the compute per doStep."""
+    """The 24-blade ring row: wall / time inside fmi2DoStep (measured in C) for libcosim (whole run
+    and stepping alone), the fmpy master (feedthrough and libcosim's data flow) and the C loop, and
+    the compute per doStep."""
     m = _one(r"\| a 24-blade ring[^|]*\| libcosim \*\*([\d.]+)x\*\* \(stepping alone ([\d.]+)x\), fmpy master "
-             r"([\d.]+)x \(in libcosim's data flow ([\d.]+)x\); ([\d.]+) us per doStep")
+             r"([\d.]+)x \(in libcosim's data flow ([\d.]+)x\), C loop \*\*([\d.]+)x\*\*; ([\d.]+) us per doStep")
     g = bench["ring"]
     lc = g["libcosim"]
     assert m.groups() == (f"{lc['ratio_wall']:.2f}", f"{lc['ratio_step_wall']:.2f}",
                           f"{g['fmpy feedthrough']['ratio_wall']:.2f}",
                           f"{g['fmpy libcosim data flow']['ratio_wall']:.2f}",
+                          f"{g['C loop']['ratio_wall']:.2f}",
                           f"{lc['inside_doStep'] / lc['doSteps'] * 1e6:.2f}")
