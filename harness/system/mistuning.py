@@ -1,6 +1,6 @@
 """Mistuning study of the ring (issue 11): random blade-to-blade scatter of one blade parameter
 (EI, the bending stiffness, or m0, the shroud mass), relative standard deviation per level, patterns
-from a seeded generator; every pattern is one ring run (harness/system/ring.py) on the Runner
+from a seeded generator; every pattern is one ring run (harness/system/ring_c.py) on the Runner
 (local process pool, or dask with a scheduler address), cached in its own file (PointCache), so a
 killed study resumes where it stopped.
 
@@ -8,13 +8,14 @@ Amplification of a pattern = largest blade amplitude (max |q| over the last exci
 the tuned ring's blade amplitude at the same speed, the speed being the tuned ring's resonance with
 the contacts open (EO n / 60 = contact-free first bending frequency, Campbell crossing, from the
 Galerkin reduction of the Python reference). Compared with Whitehead's bound (1 + sqrt(N)) / 2, a
-theorem for linear rings with light damping. Variants: `friction` (the contacts as given) and
+theorem for linear rings with light damping. Variants: `friction` (the contacts as given),
 `frictionless` (mu = 0: the shrouds impact, no friction) and `open` (d = 1 m: the contacts never
-close, the blades are uncoupled).
+close, the blades are uncoupled). A ring that does not settle has no amplification (NaN), and a
+variant whose tuned ring does not settle has none at all (its response is not periodic).
 
 Numerics (docs/model.md s.8): every ring runs through the C communication loop
-(harness/system/ring_c.py) at h = T / 160 = 2.5e-5 s with quadratic extrapolation (error 1e-3 of max |q|
-against the monolithic reference). At h = 1e-4 s (linear extrapolation, stable but 25 % off) the
+(harness/system/ring_c.py) at h = T / 160 = 2.5e-5 s with quadratic extrapolation (error 1e-3 of
+max |q| against the monolithic reference). At h = 1e-4 s (linear extrapolation, stable but 25 % off) the
 coupling's energy error makes the friction ring wander by 10-30 % from period to period and never
 settle, tuned or not; at 2.5e-5 s it settles to 1e-4 within 0.1 s. Each record keeps `settle`, the
 largest relative change of a blade amplitude between the last period and the period five periods
@@ -38,7 +39,8 @@ import numpy as np
 from harness.system.ring import Ring, amplitudes
 
 PARAMETERS = ("EI", "m0")  # the blade parameters a pattern scatters
-VARIANTS = {"friction": {}, "frictionless": {"mu": 0.0}, "open": {"d": 1.0}}  # contact parameters on top of the ring's
+# contact parameters on top of the ring's
+VARIANTS = {"friction": {}, "frictionless": {"mu": 0.0}, "open": {"d": 1.0}}
 CACHE_VERSION = 2  # bump when the meaning of a cached record changes
 
 
