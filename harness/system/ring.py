@@ -28,7 +28,7 @@ import argparse
 import math
 from dataclasses import dataclass, field
 from math import factorial
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
 import numpy as np
 
@@ -105,13 +105,18 @@ class _History:
         return out
 
 
-def run(ring: Ring, record_inputs: bool = False) -> dict[str, np.ndarray]:
+def run(ring: Ring, record_inputs: bool = False, correction: Callable[..., float] | None = None
+        ) -> dict[str, np.ndarray]:
     """Runs the ring from rest; returns time [s] and, per blade (columns), q, v, dissipatedEnergy,
     contactWork, contactForce (the input set at t_k), the contacts' forceA, forceB, dissipatedEnergy,
     contactState, all at the communication points t_0..t_K (inputs and forces: those set/read at t_k,
     the last row repeats the last set; coupling "libcosim": the forces read after the step to t_k).
     With record_inputs: the aeroLoad value and derivatives each
-    blade got (for a replay into ShroudedBlade)."""
+    blade got (for a replay into ShroudedBlade). `correction(k, q, v, dv, fB, res)` (feedthrough
+    only; harness/system/ring_conserving.py) returns lambda_k: the blades then get contactForce +
+    lambda_k v with derivatives df + lambda_k dv, and res["contactForce"] records that."""
+    if correction is not None and ring.coupling != "feedthrough":
+        raise ValueError(f"a coupling correction needs the feedthrough coupling, got {ring.coupling!r}")
     N, h, K, p = ring.n, ring.step, ring.n_steps, ring.order
     res = {k: np.zeros((K + 1, N)) for k in ("q", "v", "E", "W", "contactForce", "forceA", "forceB", "Ec", "state")}
     if record_inputs:
@@ -149,7 +154,10 @@ def run(ring: Ring, record_inputs: bool = False) -> dict[str, np.ndarray]:
                     res["state"][k, j] = c.s.getInteger([c_state])[0]
             res["forceA"][k], res["forceB"][k] = fA, fB
             force = np.array([fB[(i - 1) % N] + fA[i] for i in range(N)])
-            df = hf.push(force)
+            df = hf.push(force)  # the history holds the contacts' forces, not a correction
+            if correction is not None:
+                lam = correction(k, q, v, dv, fB, res)
+                force, df = force + lam * v, df + lam * dv
             res["contactForce"][k] = force
             if record_inputs:
                 res["aeroLoad"][k, :, 0] = ex[:, 0]

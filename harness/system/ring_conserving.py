@@ -17,7 +17,7 @@ so the added work is -D_k up to the velocity's extrapolation error: the mismatch
 accumulate, D_{k+1} is the new step's error only. |lambda_k| is capped at the blade's viscous
 coefficient C0 (the correction never exceeds the blade's own damping; the cap is counted).
 The corrections are not equal and opposite pairs: the blades' contact forces no longer sum to 0.
-Everything else as ring.run (same communication points, extrapolation, order of calls).
+Everything else is ring.run's loop (it calls `correction` after reading the forces).
 """
 from __future__ import annotations
 
@@ -25,14 +25,12 @@ from math import factorial
 
 import numpy as np
 
-from harness.crosscheck.importers.libcosim import ns_time_grid
-from harness.fmu.build import EXCITATION_FMU, build
-from harness.fmu.slave import Unpacked, build_ring_fmus
 from harness.model.params import validate
 from harness.reference.blade import galerkin
 from harness.reference.contact import contact_consts
 from harness.system.energy import require_jenkins, spring_energy
-from harness.system.ring import Ring, _History, _set_derivatives
+from harness.system.ring import Ring
+from harness.system.ring import run as ring_run
 
 
 def _velocity_square_integral(v: np.ndarray, dv: np.ndarray, h: float) -> float:
@@ -50,72 +48,21 @@ def run(ring: Ring) -> dict[str, np.ndarray]:
     """As harness.system.ring.run (tuned or mistuned ring), with the correction; adds per step
     "lambda" (the correction coefficient [N s/m]) and "mismatch" D_k [J]; "contactForce" is the
     value set (correction included), "capped" the number of steps where the cap acted."""
-    bx_path, sc_path = build_ring_fmus()
-    build(("excitation_fmu",))
-    N, h, K, p = ring.n, ring.step, ring.n_steps, ring.order
-    if N < 2:
-        raise ValueError(f"a ring needs n >= 2 blades, got {N}")
-    if ring.blade_each and len(ring.blade_each) != N:
-        raise ValueError(f"blade_each has {len(ring.blade_each)} entries for {N} blades")
     require_jenkins(ring)
     cc = contact_consts(dict(ring.contact))
-    cap = min(galerkin(validate(ring.blade_params(i))).C0 for i in range(N))
-    res = {k: np.zeros((K + 1, N)) for k in ("q", "v", "E", "W", "contactForce", "forceA", "forceB", "Ec", "state")}
-    res["lambda"], res["mismatch"] = np.zeros(K + 1), np.zeros(K + 1)
-    res["time"] = tk = ns_time_grid(0.0, h, K)
-    capped = 0
-    with Unpacked(bx_path) as BX, Unpacked(sc_path) as SC, Unpacked(EXCITATION_FMU) as EX:
-        blades = [BX.instance(f"blade{i}", ring.blade_params(i)) for i in range(N)]
-        contacts = [SC.instance(f"contact{j}", {**dict(ring.contact), "engineOrder": ring.engine_order})
-                    for j in range(N)]
-        excs = [EX.instance(f"exc{i}", {"Fw0": ring.fw0, "n0": ring.speed, "n1": ring.speed,
-                                        "engineOrder": ring.engine_order, "bladeIndex": i, "bladeCount": N})
-                for i in range(N)]
-        try:
-            bv = [blades[0].vr(n) for n in ("tipDisplacement", "tipVelocity", "dissipatedEnergy", "contactWork")]
-            ev = [excs[0].vr("aeroLoad"), excs[0].vr("rotorSpeed")]
-            c_in = [contacts[0].vr(n) for n in ("displacementA", "velocityA", "displacementB", "velocityB", "rotorSpeed")]
-            c_out = [contacts[0].vr(n) for n in ("forceA", "forceB", "dissipatedEnergy")]
-            c_state = contacts[0].vr("contactState")
-            b_in = [blades[0].vr(n) for n in ("aeroLoad", "rotorSpeed", "contactForce")]
-            hv, hf, ha = _History(p, h, N), _History(p, h, N), _History(p, h, N)
-            for k in range(K + 1):
-                t = float(tk[k])
-                st = np.array([b.s.getReal(bv) for b in blades])  # q, v, E, W
-                q, v = st[:, 0], st[:, 1]
-                ex = np.array([e.s.getReal(ev) for e in excs])
-                dv, da = hv.push(v), ha.push(ex[:, 0])
-                res["q"][k], res["v"][k], res["E"][k], res["W"][k] = st.T
-                fA, fB = np.zeros(N), np.zeros(N)
-                for j, c in enumerate(contacts):
-                    a, b = j, (j + 1) % N
-                    c.s.setReal(c_in, [q[a], v[a], q[b], v[b], ex[a, 1]])
-                    if p > 0:
-                        _set_derivatives(c, [c_in[1]] * p + [c_in[3]] * p, list(range(1, p + 1)) * 2,
-                                         list(dv[:, a]) + list(dv[:, b]))
-                    fA[j], fB[j], res["Ec"][k, j] = c.s.getReal(c_out)
-                    res["state"][k, j] = c.s.getInteger([c_state])[0]
-                res["forceA"][k], res["forceB"][k] = fA, fB
-                force = np.array([fB[(i - 1) % N] + fA[i] for i in range(N)])
-                df = hf.push(force)  # the history holds the contacts' forces, not the corrections
-                D = res["W"][k].sum() + res["Ec"][k].sum() + spring_energy(cc, q[None, :], fB[None, :])[0]
-                den = _velocity_square_integral(v, dv, h)
-                lam = -D / den if den > 0 else 0.0
-                if abs(lam) > cap:
-                    lam, capped = float(np.sign(lam) * cap), capped + 1
-                res["lambda"][k], res["mismatch"][k] = lam, D
-                res["contactForce"][k] = force + lam * v
-                if k == K:
-                    break
-                for i, bl in enumerate(blades):
-                    bl.s.setReal(b_in, [ex[i, 0], ex[i, 1], force[i] + lam * v[i]])
-                    if p > 0:
-                        _set_derivatives(bl, [b_in[0]] * p + [b_in[2]] * p, list(range(1, p + 1)) * 2,
-                                         list(da[:, i]) + list(df[:, i] + lam * dv[:, i]))
-                for fmu in (*blades, *contacts, *excs):
-                    fmu.s.doStep(currentCommunicationPoint=t, communicationStepSize=float(tk[k + 1] - tk[k]))
-        finally:
-            for fmu in (*blades, *contacts, *excs):
-                fmu.free()
-    res["capped"] = np.array(capped)
+    cap = min(galerkin(validate(ring.blade_params(i))).C0 for i in range(ring.n))
+    lam_k, mismatch, capped = np.zeros(ring.n_steps + 1), np.zeros(ring.n_steps + 1), [0]
+
+    def correction(k: int, q: np.ndarray, v: np.ndarray, dv: np.ndarray, fB: np.ndarray, res: dict) -> float:
+        D = res["W"][k].sum() + res["Ec"][k].sum() + spring_energy(cc, q[None, :], fB[None, :])[0]
+        den = _velocity_square_integral(v, dv, ring.step)
+        lam = -D / den if den > 0 else 0.0
+        if abs(lam) > cap:
+            lam = float(np.sign(lam) * cap)
+            capped[0] += 1
+        lam_k[k], mismatch[k] = lam, D
+        return lam
+
+    res = ring_run(ring, correction=correction)
+    res["lambda"], res["mismatch"], res["capped"] = lam_k, mismatch, np.array(capped[0])
     return res
