@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from harness.fmu.build import BUILD_DIR, REPO_ROOT
-from harness.sweep.executor import atomic_write_text
+from harness.analysis.executor import atomic_write_text
 
 BENCH_DIR = REPO_ROOT / "bench"
 
@@ -112,8 +112,8 @@ def _inside(fmu: Any, fn, repeats: int) -> tuple[float, int]:
 def dostep_cost(fmu: Any, params: dict, repeats: int = 5) -> dict[str, Any]:
     """Cost of one doStep of BladeFMU.run at 5000 rpm for four communication steps; the last one
     as the sweeps step (Chebyshev-fitted load, values carried by the FMU, one sample per period)."""
-    from harness.sweep.plateau import PLATEAU_OUTPUTS
-    from harness.sweep.curves import SweepSettings
+    from harness.analysis.plateau import PLATEAU_OUTPUTS
+    from harness.analysis.curves import SweepSettings
 
     out = {}
     T = 60.0 / (5000.0 * params["engineOrder"])
@@ -143,8 +143,8 @@ def dostep_cost(fmu: Any, params: dict, repeats: int = 5) -> dict[str, Any]:
 def sweep_overhead(fmu_path: str, repeats: int = 3) -> dict[str, Any]:
     """One up sweep (base case, 3000..10000 rpm every 500, no refinement, no cache): the wall and
     CPU time of the Python-driven sweep against the time spent inside fmi2DoStep for the same work."""
-    from harness.sweep import curves as sw
-    from harness.paper.studies import base_params
+    from harness.analysis import curves as sw
+    from harness.studies.paper import base_params
 
     out = {}
     for spp in (sw.SweepSettings().steps_per_period, 8):
@@ -235,8 +235,8 @@ def reference_ratio(fmu: Any, params: dict) -> dict[str, Any]:
 
 
 def hb_all() -> dict[str, Any]:
-    from harness.paper.studies import SIZES, STUDIES, base_params
-    from harness.sweep.curves import hb_curve
+    from harness.studies.paper import SIZES, STUDIES, base_params
+    from harness.analysis.curves import hb_curve
 
     base = base_params()
     size = SIZES["default"]
@@ -259,9 +259,9 @@ def branch_jacobians(fmu: Any) -> dict[str, Any]:
     """Branches of JACOBIAN_CURVES over 3000..12000 rpm (seeds every 1000 rpm, as `make run`),
     one process, with DP from the FMU's sensitivities (4 steps per period) vs by finite
     differences (the former path: Broyden in Newton, central monodromy, 8 steps per period)."""
-    from harness.paper.studies import base_params
-    from harness.sweep.periodic.branches import BranchSettings, trace_branches
-    from harness.sweep.periodic.period_map import ShootingSettings
+    from harness.studies.paper import base_params
+    from harness.analysis.periodic.branches import BranchSettings, trace_branches
+    from harness.analysis.periodic.period_map import ShootingSettings
 
     out = {}
     for label, sh in (("sensitivities", ShootingSettings()),
@@ -283,8 +283,8 @@ def branch_jacobians(fmu: Any) -> dict[str, Any]:
 
 def reproduce_cold(size: str, workers: int | None) -> dict[str, Any]:
     """`reproduce` as `make run` does it: the studies as periodic-orbit branches, plus extras."""
-    from harness.sweep.executor import Runner
-    from harness.paper.studies import reproduce
+    from harness.analysis.executor import Runner
+    from harness.studies.paper import reproduce
 
     with tempfile.TemporaryDirectory() as tmp:
         t = time.perf_counter()
@@ -298,9 +298,9 @@ def reproduce_cold(size: str, workers: int | None) -> dict[str, Any]:
 def transient_studies(size: str, workers: int | None) -> dict[str, Any]:
     """The former path of the same studies from a cold cache: time-domain up/down sweeps, fixed
     points A(B) = B from transients and HB for Figs. 6-9, time-domain + HB Coulomb curves."""
-    from harness.sweep.executor import Runner
-    from harness.paper.studies import SIZES, STUDIES, base_params, study_specs
-    from harness.sweep.curves import SweepSpec, run_sweeps
+    from harness.analysis.executor import Runner
+    from harness.studies.paper import SIZES, STUDIES, base_params, study_specs
+    from harness.analysis.curves import SweepSpec, run_sweeps
 
     sz, base = SIZES[size], base_params()
     specs = [e[2] for e in study_specs(sz, list(STUDIES), base)]
@@ -458,8 +458,8 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from harness.fmu.blade import BladeFMU
-    from harness.paper.studies import base_params
-    from harness.sweep.curves import fmu_identity
+    from harness.studies.paper import base_params
+    from harness.analysis.curves import fmu_identity
 
     path, _ = fmu_identity(None)
     data: dict[str, Any] = {"machine": machine(), "date": time.strftime("%Y-%m-%d %H:%M")}
@@ -477,7 +477,7 @@ def run(args: argparse.Namespace) -> int:
     data["sweep"] = sweep_overhead(path)
     from dataclasses import asdict
 
-    from harness.sweep.curves import SweepSettings
+    from harness.analysis.curves import SweepSettings
 
     data["sweep_settings"] = asdict(SweepSettings())
     print("harmonic balance ...", flush=True)

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 from harness.cli.main import main
-from harness.crosscheck.importers.libcosim import ns_time_grid
+from harness.fmu.libcosim import ns_time_grid
 from harness.fmu.build import EXCITATION_FMU, FMU_PATH, build
 from harness.fmu.slave import Unpacked
 

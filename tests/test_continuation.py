@@ -1,4 +1,4 @@
-"""Branches of periodic orbits by continuation (harness.sweep.periodic.branches / continuation), each
+"""Branches of periodic orbits by continuation (harness.analysis.periodic.branches / continuation), each
 against an independent computation.
 
 - Gating off, the fixed point B = A(B) is exactly the one-harmonic balance (the fixed-B ODE is
@@ -20,9 +20,9 @@ import numpy as np
 import pytest
 
 from harness.model.params import validate
-from harness.sweep.periodic.branches import BranchSettings, trace_branches
-from harness.sweep.periodic.period_map import PeriodMap, omega
-from harness.sweep.periodic.shooting import shoot
+from harness.analysis.periodic.branches import BranchSettings, trace_branches
+from harness.analysis.periodic.period_map import PeriodMap, omega
+from harness.analysis.periodic.shooting import shoot
 from harness.reference.hb import harmonic_balance, linear_orbit, tracked_map_radius
 from test_periodic import _period_end_states
 

@@ -1,4 +1,4 @@
-"""The Fourier content of periodic orbits (harness.sweep.periodic.harmonics) against independent sources.
+"""The Fourier content of periodic orbits (harness.analysis.periodic.harmonics) against independent sources.
 
 - Gating off, the fixed-B ODE is linear: the orbit is one harmonic (higher ones below 1e-8 of the
   amplitude) and its amplitude is the reference's harmonic balance root (1e-8).
@@ -14,9 +14,9 @@ import math
 import numpy as np
 import pytest
 
-from harness.sweep.periodic.branches import orbits_at
-from harness.sweep.periodic.harmonics import SAMPLES, fourier_amplitudes, harmonic_row, hb_parameters
-from harness.sweep.periodic.period_map import PeriodMap, omega
+from harness.analysis.periodic.branches import orbits_at
+from harness.analysis.periodic.harmonics import SAMPLES, fourier_amplitudes, harmonic_row, hb_parameters
+from harness.analysis.periodic.period_map import PeriodMap, omega
 from harness.reference.fixedpoint import PiecewiseStepper
 
 FINE = {"maxStep": 2.5e-6}

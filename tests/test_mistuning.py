@@ -1,4 +1,4 @@
-"""The mistuning study (harness/system/mistuning.py) and `python -m harness mistuning`.
+"""The mistuning study (harness/studies/mistuning.py) and `python -m harness mistuning`.
 
 - zero mistuning: every pattern is the tuned ring, amplification 1 within 1e-6;
 - contacts open, N = 4, sigma up to 10 %: the amplification never exceeds Whitehead's bound
@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 
 from harness.cli.main import main
-from harness.sweep.executor import Runner
-from harness.system import mistuning
-from harness.system.mistuning import Study, run_study, whitehead
+from harness.analysis.executor import Runner
+from harness.studies import mistuning
+from harness.studies.mistuning import Study, run_study, whitehead
 
 SHORT = dict(n=4, stop_time=0.05, patterns=2)
 

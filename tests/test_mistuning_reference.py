@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from harness.reference.ring import MonolithicRing, RingSpec
-from harness.system import mistuning as M
+from harness.studies import mistuning as M
 
 WORST = 55
 

@@ -1,4 +1,4 @@
-"""Periodic orbits by shooting through the FMU (harness.sweep.periodic): each result against an
+"""Periodic orbits by shooting through the FMU (harness.analysis.periodic): each result against an
 independent computation.
 
 - ungated fixed B (a linear ODE): the orbit equals the closed-form harmonic response
@@ -24,9 +24,9 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from harness.sweep.periodic.period_map import PeriodMap, omega
-from harness.sweep.periodic.branches import orbits_at
-from harness.sweep.periodic.shooting import shoot
+from harness.analysis.periodic.period_map import PeriodMap, omega
+from harness.analysis.periodic.branches import orbits_at
+from harness.analysis.periodic.shooting import shoot
 from harness.reference.blade import galerkin
 from harness.reference.contact import contact_consts, describing_function
 from harness.reference.fixedpoint import PiecewiseStepper
@@ -130,7 +130,7 @@ def _reference_roots(params, n, n_grid=160):
         x, m = orbit(B, x0)
         return (m - B if x is not None and m > d else math.nan), x
 
-    from harness.sweep.fixed_point import linear_bound
+    from harness.analysis.fixed_point import linear_bound
     grid = np.geomspace(d * (1 + 1e-6), 1.5 * linear_bound(params, n), n_grid)
     vals, xs, prev = [], [], None
     for B in grid:
@@ -248,9 +248,9 @@ def test_multipliers_from_sensitivities_equal_central_differences(fmu, model, n)
     sensitivities take the mean gradient of equal peaks, the central difference's limit). The
     differences run at 8 steps per period: at 4 the load interpolant leaves the two peaks ~1e-10
     apart, so a difference step of 1e-6 no longer straddles the kink."""
-    from harness.sweep.periodic.period_map import ShootingSettings
-    from harness.sweep.periodic.search import solutions_at
-    from harness.sweep.periodic.shooting import orbit
+    from harness.analysis.periodic.period_map import ShootingSettings
+    from harness.analysis.periodic.search import solutions_at
+    from harness.analysis.periodic.shooting import orbit
     pm_s = PeriodMap(fmu, {}, model)
     pm_f = PeriodMap(fmu, {}, model, ShootingSettings(sensitivities=False, steps_per_period=8))
     sols = solutions_at(pm_f, n)

@@ -34,7 +34,7 @@ def test_open_contacts_bit_for_bit():
 def test_closing_contacts_equal_within_rounding(n, order, step, each):
     ring = Ring(n=n, stop_time=0.02, step=step, order=order, **CLOSING)
     if each:
-        from harness.system.mistuning import blade_value
+        from harness.studies.mistuning import blade_value
         ring = Ring(n=n, stop_time=0.02, step=step, order=order, **CLOSING,
                     blade_each=tuple({"EI": blade_value(ring, "EI") * e["EI"]} for e in each))
     a, b = run(ring), ring_c.run(ring)

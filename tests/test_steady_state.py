@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from harness.sweep import steady_state as ss_mod
-from harness.sweep.steady_state import analyze, decide
+from harness.analysis import steady_state as ss_mod
+from harness.analysis.steady_state import analyze, decide
 
 T = 4e-3  # 250 Hz: the 3 Omega line at 5000 rpm
 W = 2 * math.pi / T

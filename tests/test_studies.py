@@ -10,9 +10,9 @@ import math
 import numpy as np
 import pytest
 
-from harness.paper.claims import build_claims, write_claims
-from harness.sweep.executor import Runner, read_csv
-from harness.paper.studies import reproduce
+from harness.studies.claims import build_claims, write_claims
+from harness.analysis.executor import Runner, read_csv
+from harness.studies.paper import reproduce
 
 
 @pytest.fixture(scope="module")
@@ -104,7 +104,7 @@ def test_campbell_crossing_matches_reference_galerkin(quick):
     # constants (independent code): 3 Omega = sqrt(K0(Omega)/M). The FMU curve is sampled every
     # 10 rpm and interpolated linearly: tolerance 1 rpm.
     from harness.reference import galerkin
-    from harness.paper.studies import base_params
+    from harness.studies.paper import base_params
 
     _, s = quick
     g = galerkin(base_params(), 1)

@@ -9,9 +9,9 @@ import sys
 import numpy as np
 import pytest
 
-from harness.sweep import curves as sw
+from harness.analysis import curves as sw
 from harness.model.excitation import AeroLoad, Stepped
-from harness.sweep.executor import Runner
+from harness.analysis.executor import Runner
 from harness.model.params import ParameterError, validate
 from harness.reference import galerkin, harmonic_balance
 

@@ -14,8 +14,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from harness.sweep import executor as ex
-from harness.sweep import curves as sw
+from harness.analysis import executor as ex
+from harness.analysis import curves as sw
 from harness.model.params import validate
 from test_sweep import assert_same
 

@@ -18,10 +18,10 @@ import math
 import numpy as np
 import pytest
 
-from harness.system import example as se
+from harness.crosscheck import system_example as se
 from harness.crosscheck.common import max_rel_diff
 from harness.crosscheck.importers.fmpy import SlaveLoop
-from harness.crosscheck.importers.libcosim import ns_time_grid
+from harness.fmu.libcosim import ns_time_grid
 from harness.crosscheck.plan import InputPlan
 from harness.model.excitation import AeroLoad, LinearRamp
 from harness.model.params import validate

@@ -2,10 +2,10 @@
 
 `python -m harness continue --speed-range LO HI [--model fixedB|fixedPoint|jenkins|coulomb]
 [--start-values NAME VALUE ...] [--seed-step RPM] [--output-file branches.csv] [--plot branches.png]`
-traces every branch found from the seed speeds (harness.sweep.periodic.branches) through its folds and
+traces every branch found from the seed speeds (harness.analysis.periodic.branches) through its folds and
 writes one CSV row per point (branch, speed, amplitude, B, state, stability, label, multipliers);
 the plot draws stable parts bold and unstable parts faint. The paper's studies as branches are part
-of `python -m harness run` (harness.paper.studies).
+of `python -m harness run` (harness.studies.paper).
 """
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ import math
 from pathlib import Path
 
 from harness.model.params import ParameterError
-from harness.sweep.periodic.period_map import MODELS
+from harness.analysis.periodic.period_map import MODELS
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
@@ -32,8 +32,8 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from harness.fmu.blade import SPEED_RANGE, BladeFMU
-    from harness.sweep.periodic.branches import BranchSettings, trace_branches
-    from harness.sweep.periodic.continuation import write_branches_csv
+    from harness.analysis.periodic.branches import BranchSettings, trace_branches
+    from harness.analysis.periodic.continuation import write_branches_csv
     from harness.cli.simulate import parse_start_values
 
     overrides = parse_start_values(args.start_values)
@@ -44,7 +44,7 @@ def run(args: argparse.Namespace) -> int:
         branches, stats = trace_branches(fmu, overrides, args.model, (lo, hi), BranchSettings(seed_step=args.seed_step))
     write_branches_csv(Path(args.output_file), branches)
     if args.plot:
-        from harness.paper.plots import branches_figure
+        from harness.studies.plots import branches_figure
         branches_figure(Path(args.plot), {args.model: branches}, f"{args.model}, {overrides or 'Table 1'}")
     n = sum(len(b.points) for b in branches)
     print(f"{len(branches)} branch(es), {n} points, {stats.evaluations} periods simulated -> {args.output_file}"

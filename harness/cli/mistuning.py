@@ -3,7 +3,7 @@
 `python -m harness mistuning [--size small|cluster] [--blades N] [--levels 0.005 0.01 0.02 0.05]
 [--patterns K] [--parameter EI|m0] [--seed S] [--stop-time S] [--variants friction open]
 [--workers N | --scheduler ADDRESS] [--cache-dir DIR | --no-cache] [--out DIR] [--json]`. Each
-pattern is one ring run at the tuned ring's resonance (harness/system/mistuning.py), cached in its
+pattern is one ring run at the tuned ring's resonance (harness/studies/mistuning.py), cached in its
 own file, so an interrupted study resumes; the figures (PNG + CSV) go to --out.
 """
 from __future__ import annotations
@@ -15,12 +15,12 @@ from dataclasses import replace
 from pathlib import Path
 
 from harness.model.params import ParameterError
-from harness.sweep.executor import RESULTS_DIR
+from harness.analysis.executor import RESULTS_DIR
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
     from harness.cli.sweep import add_execution_options
-    from harness.system.mistuning import PARAMETERS, SIZES, VARIANTS
+    from harness.studies.mistuning import PARAMETERS, SIZES, VARIANTS
     p.add_argument("--size", choices=SIZES, default="small",
                    help="small: 6 blades, 100 patterns per level (in make run); cluster: 24 blades, also the open ring")
     p.add_argument("--blades", type=int, metavar="N", help="blades in the ring (overrides --size)")
@@ -36,7 +36,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 
 def study_from(args: argparse.Namespace):
-    from harness.system.mistuning import SIZES
+    from harness.studies.mistuning import SIZES
     s = SIZES[args.size]
     given = {"n": args.blades, "levels": tuple(args.levels) if args.levels else None, "patterns": args.patterns,
              "parameter": args.parameter, "seed": args.seed, "stop_time": args.stop_time,
@@ -56,7 +56,7 @@ def study_from(args: argparse.Namespace):
 
 def run(args: argparse.Namespace) -> int:
     from harness.cli.sweep import make_runner
-    from harness.system import mistuning, mistuning_plots
+    from harness.studies import mistuning, mistuning_plots
 
     study = study_from(args)
     with make_runner(args) as runner:

@@ -1,7 +1,7 @@
 """Every periodic solution of the FMU at one rotor speed, by shooting, with its Floquet stability.
 
 `python -m harness periodic --speed RPM [--model fixedB|fixedPoint|jenkins|coulomb]
-[--start-values NAME VALUE ...] [--json]` prints each orbit found (harness.sweep.periodic.search): its
+[--start-values NAME VALUE ...] [--json]` prints each orbit found (harness.analysis.periodic.search): its
 amplitude max |q| [m], the B [m] of the describing function where it applies, the Floquet
 multipliers, stability and label, and the FMU start values that start a run on it. --json prints
 one JSON object on stdout, nothing else.
@@ -13,7 +13,7 @@ import json
 import math
 
 from harness.model.params import ParameterError, input_range
-from harness.sweep.periodic.period_map import MODELS, STATE_STARTS
+from harness.analysis.periodic.period_map import MODELS, STATE_STARTS
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
@@ -30,8 +30,8 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from harness.fmu.blade import SPEED_RANGE, BladeFMU
-    from harness.sweep.periodic.period_map import PeriodMap
-    from harness.sweep.periodic.branches import orbits_at
+    from harness.analysis.periodic.period_map import PeriodMap
+    from harness.analysis.periodic.branches import orbits_at
     from harness.cli.simulate import parse_start_values
 
     overrides = parse_start_values(args.start_values)

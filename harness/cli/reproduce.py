@@ -3,7 +3,7 @@
 `python -m harness reproduce [--size quick|default|full] [--studies gap mass angle kn]
 [--output-dir results] [--workers N | --scheduler ADDRESS]`. Writes one PNG and CSV files per
 figure, summary.json and claims.md (paper claim | ours | settings | verdict); files are replaced
-atomically. The studies are branches of periodic orbits (harness.paper.study_branches).
+atomically. The studies are branches of periodic orbits (harness.studies.study_branches).
 """
 from __future__ import annotations
 
@@ -11,12 +11,12 @@ import argparse
 import time
 from pathlib import Path
 
-from harness.sweep.executor import RESULTS_DIR
+from harness.analysis.executor import RESULTS_DIR
 from harness.cli.sweep import add_execution_options, make_runner
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    from harness.paper.studies import SIZES, STUDIES
+    from harness.studies.paper import SIZES, STUDIES
 
     p.add_argument("--size", default="default", choices=list(SIZES),
                    help="quick (a test run: extremes only, coarse grid), default (make run), full (fine grids)")
@@ -29,8 +29,8 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 
 def reproduce_and_report(args: argparse.Namespace, size: str, studies, extras: bool) -> int:
-    from harness.paper.claims import verdict_counts, write_claims
-    from harness.paper.studies import reproduce, validate_request
+    from harness.studies.claims import verdict_counts, write_claims
+    from harness.studies.paper import reproduce, validate_request
 
     validate_request(size, studies)
     out = Path(args.output_dir)
@@ -39,7 +39,7 @@ def reproduce_and_report(args: argparse.Namespace, size: str, studies, extras: b
         rep = reproduce(out, size, studies, runner=runner, fmu_path=args.fmu, extras=extras)
     wall = time.perf_counter() - t0
     rows = write_claims(out / "claims.md", rep.summary)
-    from harness.paper.studies import STUDIES
+    from harness.studies.paper import STUDIES
 
     for name, st in rep.summary.studies.items():
         print(f"{st.figure} ({name}): largest stable max|q| and its speed per model")

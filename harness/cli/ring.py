@@ -71,7 +71,8 @@ def check(args: argparse.Namespace) -> None:
 
 def make_ring(args: argparse.Namespace):
     from harness.cli.simulate import parse_start_values
-    from harness.system import mistuning, ring_values
+    from harness.studies import mistuning
+    from harness.system import ring_values
     from harness.system.ring import Ring
 
     step = args.step if args.step is not None else 2.5e-5

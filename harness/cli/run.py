@@ -4,19 +4,19 @@
 extras: Fig. 2, 4/5, 6-9 (the studies as branches of periodic orbits with their stability), the
 section-4 Coulomb comparison and a Campbell diagram as PNG + CSV, summary.json and the claims
 table claims.md; then the bladed disk's mistuning study at size small (issue 11,
-harness/system/mistuning.py: results/mistuning/, cached per ring under results/cache/mistuning, so
+harness/studies/mistuning.py: results/mistuning/, cached per ring under results/cache/mistuning, so
 a second run reads it back). About 70 s on 2 cores (12 s with the ring cache warm).
 """
 from __future__ import annotations
 
 import argparse
 
-from harness.sweep.executor import RESULTS_DIR
+from harness.analysis.executor import RESULTS_DIR
 from harness.cli.sweep import add_execution_options
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    from harness.paper.studies import SIZES
+    from harness.studies.paper import SIZES
 
     p.add_argument("--size", default="default", choices=list(SIZES), help="work size (default: default)")
     p.add_argument("--output-dir", default=str(RESULTS_DIR), metavar="DIR", help=f"where to write (default {RESULTS_DIR})")
@@ -29,7 +29,7 @@ def run(args: argparse.Namespace) -> int:
     from harness.cli.mistuning import report
     from harness.cli.reproduce import reproduce_and_report
     from harness.cli.sweep import make_runner
-    from harness.system import mistuning, mistuning_plots
+    from harness.studies import mistuning, mistuning_plots
 
     rc = reproduce_and_report(args, args.size, None, True)
     out = Path(args.output_dir)

@@ -103,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
     from harness.model.excitation import Constant, ExcitationError, LinearRamp
     from harness.fmu.blade import SPEED_RANGE, BladeFMU, fmu_path
     from harness.model.params import validate
-    from harness.sweep.steady_state import analyze
+    from harness.analysis.steady_state import analyze
 
     params = validate(parse_start_values(args.start_values), source="--start-values")
     if args.run_up is not None:

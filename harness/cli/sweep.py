@@ -13,8 +13,8 @@ from __future__ import annotations
 import argparse
 import numpy as np
 
-from harness.sweep.executor import DEFAULT_CACHE_DIR, write_csv
-from harness.sweep.config import SweepSettings
+from harness.analysis.executor import DEFAULT_CACHE_DIR, write_csv
+from harness.analysis.config import SweepSettings
 
 OUT_DTYPE = [("speed", "f8"), ("method", "U9"), ("amplitude", "f8"), ("band_lo", "f8"), ("band_hi", "f8"),
              ("steady", "i4"), ("stable", "i4")]
@@ -36,8 +36,8 @@ def add_execution_options(p: argparse.ArgumentParser, cache: bool = True) -> Non
 
 
 def make_runner(args: argparse.Namespace):
-    from harness.sweep.executor import Runner
-    from harness.sweep.curves import ConfigError
+    from harness.analysis.executor import Runner
+    from harness.analysis.curves import ConfigError
 
     if args.workers is not None and args.workers < 1:
         raise ConfigError(f"--workers {args.workers} must be >= 1")
@@ -83,10 +83,10 @@ def to_table(res) -> np.ndarray:
 
 
 def run(args: argparse.Namespace) -> int:
-    from harness.paper import plots
+    from harness.studies import plots
     from harness.model.params import validate
     from harness.cli.simulate import parse_start_values
-    from harness.sweep.curves import SweepSpec, parse_speed_range, sweep, validate_spec
+    from harness.analysis.curves import SweepSpec, parse_speed_range, sweep, validate_spec
 
     params = validate(parse_start_values(args.start_values), source="--start-values")
     settings = SweepSettings(rtol=args.rtol, max_time=args.max_time, refine_levels=args.refine,

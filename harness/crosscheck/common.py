@@ -32,12 +32,6 @@ def outputs(fmu: Path) -> list[OutputVar]:
     return [OutputVar(v.name, v.valueReference, v.type) for v in md.modelVariables if v.causality == "output"]
 
 
-def variables_by_name(fmu: Path) -> dict[str, tuple[int, str]]:
-    """name -> (value reference, type) for every variable."""
-    md = read_model_description(str(fmu))
-    return {v.name: (v.valueReference, v.type) for v in md.modelVariables}
-
-
 def result_array(time: np.ndarray, columns: dict[str, np.ndarray]) -> np.ndarray:
     """Structured float64 array: `time` first, then `columns` in the given order."""
     dtype = [("time", np.float64)] + [(n, np.float64) for n in columns]

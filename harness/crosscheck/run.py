@@ -167,7 +167,7 @@ def system_section(fmu: Path, stop_time: float | None) -> tuple[str, bool]:
     """The system example (Excitation FMU + two blades) in the fmpy master and in libcosim."""
     import time as _time
 
-    from harness.system import example as se
+    from harness.crosscheck import system_example as se
 
     system = se.System() if stop_time is None else se.System(stop_time=stop_time)
     exc = se.build_excitation_fmu()

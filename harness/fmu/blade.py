@@ -520,7 +520,7 @@ class BladeFMU:
             raise ExcitationError(f"rotorSpeed = {us[0, k]:g} rpm at t = {grid[k]:.9g} s is outside"
                                   f" [{lo:g}, {hi:g}] rpm")
 
-    # ---- raw access for drivers with their own hot loop (harness.sweep.periodic) ----
+    # ---- raw access for drivers with their own hot loop (harness.analysis.periodic) ----
     def raw(self) -> "RawFMI":
         """The raw ctypes FMI functions of this instance (one reset + initialization + steps per
         evaluation, without run()'s per-call setup). The wrapper forgets which state the FMU is in:

@@ -19,6 +19,12 @@ BLADE_EXTERNAL_FMU = BUILD_DIR / "BladeExternalContact.fmu"
 SHROUD_CONTACT_FMU = BUILD_DIR / "ShroudContact.fmu"
 
 
+def variables_by_name(fmu: Path) -> dict[str, tuple[int, str]]:
+    """name -> (value reference, type) for every variable of the FMU's model description."""
+    md = read_model_description(str(fmu))
+    return {v.name: (v.valueReference, v.type) for v in md.modelVariables}
+
+
 def build_ring_fmus() -> tuple[Path, Path]:
     """build/BladeExternalContact.fmu and build/ShroudContact.fmu (CMake targets)."""
     build(("blade_external_fmu", "shroud_contact_fmu"))

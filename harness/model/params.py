@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any, Mapping
 
-from harness.fmu.build import REPO_ROOT
+from harness.paths import REPO_ROOT
 
 MODEL_DESCRIPTION = REPO_ROOT / "modelDescription.xml"
 

@@ -8,7 +8,7 @@ amplitude mode, at constant speeds (3000, 5000 = resonance, 8000 rpm) and a 4000
 run-up. Tolerances (issue 3): tip displacement within 1e-6 of its amplitude over the whole run for
 the describing-function models without switching (no gating, fixed B), 1e-4 with switching
 instants (gating at |q| = d, tracked-B updates at period ends) and for the time-domain element. Harmonic-balance cases: gating off, tracked amplitude: the FMU's
-periodic steady state (harness.sweep.steady_state) against the nearest harmonic-balance solution of the
+periodic steady state (harness.analysis.steady_state) against the nearest harmonic-balance solution of the
 reference that is stable and reachable by the tracked-amplitude update, amplitude and phase to
 1e-4; where the reference says no root is reachable (the tracked-B period map has spectral radius
 > 1) the FMU must not settle. Exit code 1 if any row fails.
@@ -27,7 +27,7 @@ from typing import Any, Callable, Iterable
 import numpy as np
 
 from harness.model.excitation import AeroLoad, Constant, LinearRamp, Modulated, Piecewise, fmu_view
-from harness.sweep.executor import atomic_write_text
+from harness.analysis.executor import atomic_write_text
 
 TOL_DF = 1e-6  # describing-function models, no gating: smooth right-hand side
 TOL_SWITCHING = 1e-4  # gating (K_eq, C_eq switch at |q| = d) and the time-domain element
@@ -172,14 +172,14 @@ def solver_order(fmu, case: Case, step: float = TD_STEP) -> list[Row]:
 
 
 def _steady_fmu(fmu, p: dict[str, Any], rpm: float, start: str, max_periods: int = 4000):
-    """Run the FMU (gating off, tracked B) until harness.sweep.steady_state finds the periodic state.
+    """Run the FMU (gating off, tracked B) until harness.analysis.steady_state finds the periodic state.
 
     The first periods set where the run ends when branches coexist (only the final, nominal load
     matters for the steady state): start="soft" ramps the load amplitude from 0 over SOFT_PERIODS
     periods (the free vibration is hardly excited: follows the branch that grows from zero, e.g.
     an open branch just below the gap); start="kick" drives KICK_PERIODS periods with KICK times
     the load (reaches a contact branch that coexists with the open one)."""
-    from harness.sweep.steady_state import analyze
+    from harness.analysis.steady_state import analyze
     period = 60.0 / (rpm * p["engineOrder"])
     M = int(math.ceil(period / 1e-4))
     step = period / M  # an integer number of samples per period: no resampling in analyze

@@ -33,7 +33,7 @@ from harness.reference.contact import ContactConsts, contact_consts
 from harness.model.params import validate
 from harness.system.ring import Ring, run
 
-# the convergence study's ring (harness/system/convergence.py): tuned, N = 4, EO = 3, 5000 rpm
+# the convergence study's ring (harness/reference/ring_convergence.py): tuned, N = 4, EO = 3, 5000 rpm
 STUDY_RING = Ring(n=4, engine_order=3, fw0=300.0, blade={"c": 298.0})
 
 

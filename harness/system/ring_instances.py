@@ -10,7 +10,7 @@ from typing import Iterator
 
 import numpy as np
 
-from harness.crosscheck.importers.libcosim import ns_time_grid
+from harness.fmu.libcosim import ns_time_grid
 from harness.fmu.build import EXCITATION_FMU, build
 from harness.fmu.slave import Slave, Unpacked, build_ring_fmus
 

@@ -15,8 +15,8 @@ import time
 
 import numpy as np
 
-from harness.crosscheck.common import variables_by_name
-from harness.crosscheck.importers.libcosim import last_error, samples, to_ns
+from harness.fmu.slave import variables_by_name
+from harness.fmu.libcosim import last_error, samples, to_ns
 from harness.fmu.build import EXCITATION_FMU, build
 from harness.fmu.slave import build_ring_fmus
 from harness.optional import require

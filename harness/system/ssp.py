@@ -120,7 +120,7 @@ def run_libcosim(ssp_dir: Path, ring: Ring) -> dict[str, float | Any]:
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
     from libcosimpy.CosimObserver import CosimObserver
 
-    from harness.crosscheck.importers.libcosim import last_error, samples, to_ns
+    from harness.fmu.libcosim import last_error, samples, to_ns
 
     log_output_level(CosimLogLevel.ERROR)
     ex = CosimExecution.from_ssp_file(str(ssp_dir), step_size=to_ns(ring.step))

@@ -13,7 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from harness.crosscheck.common import Run, outputs, result_array, timed, variables_by_name
+from harness.crosscheck.common import Run, outputs, result_array, timed
+from harness.fmu.slave import variables_by_name
 from harness.crosscheck.plan import INPUTS, InputPlan, Scenario
 from harness.optional import require
 

@@ -18,7 +18,8 @@ import numpy as np
 from fmpy import extract, read_model_description, simulate_fmu
 from fmpy.fmi2 import FMU2Slave
 
-from harness.crosscheck.common import Run, as_float_result, outputs, result_array, timed, variables_by_name
+from harness.crosscheck.common import Run, as_float_result, outputs, result_array, timed
+from harness.fmu.slave import variables_by_name
 from harness.crosscheck.plan import INPUTS, InputPlan, Scenario
 
 VERSION = fmpy.__version__

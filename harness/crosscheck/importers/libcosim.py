@@ -14,12 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
-from harness.crosscheck.common import Run, outputs, result_array, timed, variables_by_name
+from harness.crosscheck.common import Run, outputs, result_array, timed
+from harness.fmu.slave import variables_by_name
 from harness.crosscheck.plan import INPUTS, InputPlan, Scenario
+from harness.fmu.libcosim import NS_PER_S, last_error, samples, to_ns
 from harness.optional import require
-
-NS_PER_S = 1_000_000_000
-
 
 class _Version(ctypes.Structure):
     _fields_ = [("major", ctypes.c_int), ("minor", ctypes.c_int), ("patch", ctypes.c_int)]
@@ -36,20 +35,6 @@ def version() -> str:
     fn.restype = _Version
     v = fn()
     return f"{v.major}.{v.minor}.{v.patch} (libcosimpy {__about__.__version__})"
-
-
-def to_ns(seconds: float) -> int:
-    """A step or time in whole nanoseconds; refuses values that are not (libcosim would round them)."""
-    ns = round(seconds * NS_PER_S)
-    if abs(ns / NS_PER_S - seconds) > 1e-15 * max(1.0, abs(seconds)):
-        raise ValueError(f"{seconds} s is not a whole number of nanoseconds")
-    return ns
-
-
-def ns_time_grid(start: float, step: float, n_steps: int) -> np.ndarray:
-    """The communication points libcosim passes to the FMU: double(start_ns + k step_ns) / 1e9."""
-    s0, h = to_ns(start), to_ns(step)
-    return np.array([(s0 + k * h) / NS_PER_S for k in range(n_steps + 1)])
 
 
 def run(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
@@ -115,33 +100,3 @@ def run(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
     return Run("libcosim (libcosimpy)", version(), "held",
                result_array(t, {o.name: rows[:, i] for i, o in enumerate(outs)}), wall,
                note="integer-ns time; inputs held (override manipulator)")
-
-
-def samples(observer, idx: int, vr: int, typ: str, n: int) -> tuple[list[int], list[int], list[float]]:
-    """All n samples of one variable from step 0 (initialization) on: (time [ns], step, value).
-
-    Called through libcosimc directly: libcosimpy's helper drops samples whose step number is 0.
-    """
-    from libcosimpy._internal import libcosimc
-
-    ctype = ctypes.c_double if typ == "Real" else ctypes.c_int
-    fn = getattr(libcosimc(), "cosim_observer_slave_get_real_samples" if typ == "Real"
-                 else "cosim_observer_slave_get_integer_samples")
-    fn.restype = ctypes.c_int64
-    vals = (ctype * n)()
-    steps = (ctypes.c_int64 * n)()
-    times = (ctypes.c_int64 * n)()
-    got = fn(observer.ptr(), ctypes.c_int(idx), ctypes.c_uint32(vr), ctypes.c_int64(0), ctypes.c_size_t(n),
-             vals, steps, times)
-    if got != n:
-        raise RuntimeError(f"libcosim returned {got} samples of vr {vr}, expected {n}: {last_error()}")
-    return list(times), list(steps), [float(v) for v in vals]
-
-
-def last_error() -> str:
-    from libcosimpy._internal import get_last_error_message
-
-    try:
-        return get_last_error_message()
-    except Exception as exc:  # the message itself could not be fetched
-        return f"(no message: {exc})"

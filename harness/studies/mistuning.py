@@ -176,7 +176,7 @@ def simulate(ring: Ring) -> dict:
 
 def _task(job: tuple[Ring, str, str | None]) -> dict:
     """One pattern on a worker: run, store in the cache at once (atomic file), return the record."""
-    from harness.sweep.executor import PointCache
+    from harness.analysis.executor import PointCache
     ring, key, cache_dir = job
     t0 = time.perf_counter()
     rec = {**simulate(ring), "wall_s": time.perf_counter() - t0}
@@ -208,7 +208,7 @@ def _variant(study: Study, recs: list[tuple[int, int, dict]]) -> dict:
 def run_study(study: Study, runner: Any, cache_dir: Path | None) -> dict:
     """Every (variant, level, pattern) ring, cached ones read, the rest on `runner`; returns the
     tuned amplitudes, the amplitudes and amplifications per pattern, and how many were computed."""
-    from harness.sweep.executor import PointCache, point_key
+    from harness.analysis.executor import PointCache, point_key
     cache = PointCache(cache_dir)
     digest = _fmu_digest()
     jobs: list[tuple[str, int, int, Ring]] = []  # (variant, level index or -1 for tuned, pattern, ring)

@@ -4,7 +4,7 @@ Shared by the time-domain sweeps and the fixed-point procedure: one FMU instance
 (`worker_fmu`, reset per run), the FMU file's hash for cache keys (`fmu_identity`), the aero load
 of a plateau continuing the phase of the previous one (`PhasedSine`), where a plateau starts
 (`Start`: at rest or from a saved FMU state), `settle`: chunks of FMU steps until
-`harness.sweep.steady_state.analyze` finds the steady state (chunk lengths from the fitted decay of the
+`harness.analysis.steady_state.analyze` finds the steady state (chunk lengths from the fitted decay of the
 transient), and `period_peak`: the max |q| of one more period, finely sampled.
 """
 from __future__ import annotations
@@ -19,7 +19,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from harness.sweep.config import SweepSettings
+from harness.analysis.config import SweepSettings
 
 _LOCAL = threading.local()
 
@@ -121,7 +121,7 @@ def settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings,
     use `steady_state.decide`; the final record is analysed once by `steady_state.analyze`. Each decision
     analyses only the periods since the previous one plus the fit window: the converged run that
     ends the record started after the previous (negative) decision, so t_steady is exact."""
-    from harness.sweep.steady_state import WINDOW, analyze, decide
+    from harness.analysis.steady_state import WINDOW, analyze, decide
 
     outputs = list(outputs) + [o for o in SETTLE_OUTPUTS if o not in outputs]
     omega = omega_of(params, speed)
@@ -205,7 +205,7 @@ def period_peak(fmu: Any, params: dict, speed: float, t: float, phase: float, s:
     ~ (2 pi f_max / (f steps))^4 / 384 for the fastest local frequency f_max (2.5e-7 at 64 steps for
     a sine at the excitation frequency; measured against 1024 steps: <= 1.5e-6 in the base case's
     impacts). Advances the FMU by one period."""
-    from harness.sweep.steady_state import hermite_peak
+    from harness.analysis.steady_state import hermite_peak
 
     omega = omega_of(params, speed)
     period = 2.0 * math.pi / omega

@@ -2,7 +2,7 @@
 
 Per study value: every branch of the paper's fixed point B = A(B) (the tracked-amplitude FMU's
 periodic solutions, stable or not) and of the time-domain Jenkins element, traced by shooting and
-continuation through the FMU (harness.sweep.periodic), drawn over the reference's harmonic-balance
+continuation through the FMU (harness.analysis.periodic), drawn over the reference's harmonic-balance
 branches (gating off). For the kn and angle studies also the Coulomb describing function's fixed
 point (section 4). Written per study: `<fig>_<key>_branches.csv` (one row per orbit),
 `<fig>_<key>_hb.csv`, `<fig>_<key>_summary.csv` (peaks, jump speeds, DF vs Jenkins) and
@@ -18,11 +18,11 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from harness.paper import plots
-from harness.sweep.executor import write_csv
-from harness.sweep.periodic.branches import BranchSettings
-from harness.sweep.periodic.continuation import write_branches_csv
-from harness.sweep.periodic.studies import Curve, CurveSummary, CurveTask, curve_summary
+from harness.studies import plots
+from harness.analysis.executor import write_csv
+from harness.analysis.periodic.branches import BranchSettings
+from harness.analysis.periodic.continuation import write_branches_csv
+from harness.analysis.periodic.studies import Curve, CurveSummary, CurveTask, curve_summary
 
 MODELS = ("fixedPoint", "jenkins")  # drawn for every study
 COULOMB_STUDIES = ("kn", "angle")  # section 4: + the Coulomb DF's fixed point

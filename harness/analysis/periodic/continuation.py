@@ -27,8 +27,8 @@ import numpy as np
 
 from harness.fmu.blade import SPEED_RANGE, FMUError
 from harness.model.params import ParameterError
-from harness.sweep.periodic.period_map import PeriodMap
-from harness.sweep.periodic.shooting import at_bound, bounded, classify, fd_direction, multipliers
+from harness.analysis.periodic.period_map import PeriodMap
+from harness.analysis.periodic.shooting import at_bound, bounded, classify, fd_direction, multipliers
 
 SPEED_SCALE = 1000.0  # [rpm] per unit of arc
 EASY_CORRECTOR = 6  # ds grows after a step whose corrector took at most this many iterations

@@ -17,8 +17,8 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from harness.sweep.periodic.period_map import PeriodMap, omega
-from harness.sweep.periodic.continuation import Branch
+from harness.analysis.periodic.period_map import PeriodMap, omega
+from harness.analysis.periodic.continuation import Branch
 from harness.reference.hb import harmonic_balance
 
 SAMPLES = 128  # points per period: harmonics up to 63 resolved; the orbits' content above 20 is < 1e-6

@@ -17,7 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from harness.sweep.executor import atomic_write_bytes  # noqa: E402
+from harness.analysis.executor import atomic_write_bytes  # noqa: E402
 
 MM = 1e3  # m -> mm
 
@@ -166,7 +166,7 @@ def hysteresis(path: Path | str, panels: Sequence[dict]) -> Path:
 
 def coulomb(path: Path | str, rows: Mapping[str, Any]) -> Path:
     """Section 4: peak amplitude and resonant speed vs a parameter, macroslip vs Coulomb
-    (`rows`: the CoulombComparison records of harness.paper.study_branches, per study)."""
+    (`rows`: the CoulombComparison records of harness.studies.study_branches, per study)."""
     fig, axes = plt.subplots(2, len(rows), figsize=(6 * len(rows), 7.5), squeeze=False)
     for j, (name, r) in enumerate(rows.items()):
         x = np.asarray(r.x)
@@ -218,7 +218,7 @@ def _stable_runs(stable: np.ndarray) -> list[tuple[int, int, bool]]:
 
 
 def _draw_branches(ax: Any, branches: Sequence[Any], color: Any, label: str, ls: str = "-") -> None:
-    """Branches (harness.sweep.periodic.continuation.Branch) as max |q| [mm] over speed: stable parts
+    """Branches (harness.analysis.periodic.continuation.Branch) as max |q| [mm] over speed: stable parts
     bold, unstable parts faint; the label on the first stable part."""
     for b in branches:
         n, a = b.speeds, b.amplitudes * MM
@@ -231,7 +231,7 @@ def _draw_branches(ax: Any, branches: Sequence[Any], color: Any, label: str, ls:
 
 def branches_figure(path: Path | str, models: dict[str, Sequence[Any]], title: str,
                     hb: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None) -> Path:
-    """Periodic-orbit branches (harness.sweep.periodic.continuation.Branch) per model: max |q| [mm] over
+    """Periodic-orbit branches (harness.analysis.periodic.continuation.Branch) per model: max |q| [mm] over
     speed, stable parts bold, unstable parts faint; optional HB branches (speed, B, stable) dashed."""
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
     for color, (name, branches) in zip(_colors(len(models)), models.items()):

@@ -4,7 +4,7 @@ Three ways to get the response curve of one parameter set (docs/model.md section
 - `time`: the FMU with the tracked amplitude (amplitudeMode 2). An up and a down sweep each carry
   the FMU state from one speed plateau to the next (like a run-up and a run-down test), so both
   branches of the hardening response and the jumps show. On each plateau the FMU runs until
-  `harness.sweep.steady_state.analyze` finds the periodic steady state (capped at `max_time`); the
+  `harness.analysis.steady_state.analyze` finds the periodic steady state (capped at `max_time`); the
   amplitude is the FMU's `amplitude` output (max |q| over the last excitation period). The load
   phase stays continuous across plateaus. The speed grid refines itself: intervals where the
   amplitude changes by more than `refine_tol` of the curve's maximum, and the two intervals around
@@ -18,7 +18,7 @@ Three ways to get the response curve of one parameter set (docs/model.md section
 Every plateau and every A(B) is cached on disk under its key (FMU hash, parameters, speed, start
 state), so an interrupted sweep resumes without recomputing; tasks run on `executor.Runner`. A
 chain returns PlateauPoint records, a fixed-point speed a FixedPointResult
-(harness.sweep.fixed_point); `run_sweeps` collects them into a SweepResult's tables and SweepStats.
+(harness.analysis.fixed_point); `run_sweeps` collects them into a SweepResult's tables and SweepStats.
 """
 from __future__ import annotations
 
@@ -30,9 +30,9 @@ from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
 
-from harness.sweep.executor import PointCache, Runner, decode_bytes, encode_bytes, point_key
-from harness.sweep.plateau import PLATEAU_OUTPUTS, PhasedSine, Start, fmu_identity, omega_of, settle, worker_fmu  # noqa: F401
-from harness.sweep.config import (ALGO_VERSION, DIRECTIONS, MAX_RPM, METHODS, ConfigError,  # noqa: F401
+from harness.analysis.executor import PointCache, Runner, decode_bytes, encode_bytes, point_key
+from harness.analysis.plateau import PLATEAU_OUTPUTS, PhasedSine, Start, fmu_identity, omega_of, settle, worker_fmu  # noqa: F401
+from harness.analysis.config import (ALGO_VERSION, DIRECTIONS, MAX_RPM, METHODS, ConfigError,  # noqa: F401
                                   SweepSettings, SweepSpec, parse_speed_range, validate_settings,
                                   validate_spec)
 
@@ -271,7 +271,7 @@ def _hb_speeds(spec: SweepSpec) -> tuple[float, ...]:
 def run_sweeps(specs: Sequence[SweepSpec], runner: Runner | None = None, *, fmu_path: str | Path | None = None,
                cache_dir: str | Path | None = None, desc: str = "") -> list[SweepResult]:
     """Validate every spec (before any work), then map all their tasks over `runner` at once."""
-    from harness.sweep.fixed_point import FixedPointResult, FixedPointTask, fixed_refinement, run_fixed_point
+    from harness.analysis.fixed_point import FixedPointResult, FixedPointTask, fixed_refinement, run_fixed_point
 
     specs = [validate_spec(sp) for sp in specs]
     runner = runner or Runner(workers=1, progress=False)

@@ -3,7 +3,7 @@
 `reproduce()` runs, for a chosen size ("quick" for tests, "default" for `make run`, "full"): the
 four parameter studies of Fig. 6-9 (gap, shroud mass, contact angle, normal stiffness) as branches
 of periodic orbits of the FMU with their stability (the paper's fixed point B = A(B) and the
-time-domain Jenkins element; harness.paper.study_branches) over the reference's harmonic-balance
+time-domain Jenkins element; harness.studies.study_branches) over the reference's harmonic-balance
 branches; the section-4 comparison with the Coulomb model (branches too); Fig. 4/5 (time response
 and spectrum at 5000 rpm), the hysteresis loop of Fig. 2 (eq. 4 closed form against the FMU's
 time-domain macroslip element and the reference Jenkins element driven harmonically), the paper's
@@ -26,13 +26,13 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 import numpy as np
 
 from harness.model import params as _params
-from harness.paper import plots
-from harness.sweep.executor import RESULTS_DIR, Runner, atomic_write_text, write_csv
-from harness.sweep.curves import ConfigError, SweepSettings, SweepSpec, omega_of
+from harness.studies import plots
+from harness.analysis.executor import RESULTS_DIR, Runner, atomic_write_text, write_csv
+from harness.analysis.curves import ConfigError, SweepSettings, SweepSpec, omega_of
 
 if TYPE_CHECKING:  # imported where they are used: they pull in the FMU binding
-    from harness.paper.study_branches import CoulombComparison, StudySummary
-    from harness.sweep.periodic.harmonics import HarmonicRange
+    from harness.studies.study_branches import CoulombComparison, StudySummary
+    from harness.analysis.periodic.harmonics import HarmonicRange
 
 PI = math.pi
 
@@ -147,7 +147,7 @@ def settling_time(time: np.ndarray, amp: np.ndarray, band: float = 0.02) -> floa
 def _response(fmu: Any, p: Mapping[str, Any], speed: float, t_stop: float) -> dict[str, Any]:
     """Run from rest, per-period max |q|, 2 % settling time, and the Hann spectrum of the last half
     (a whole number of periods, so the EO line falls on a bin)."""
-    from harness.sweep.steady_state import analyze
+    from harness.analysis.steady_state import analyze
 
     om = omega_of(p, speed)
     T = 2 * PI / om
@@ -234,9 +234,9 @@ def fig45(fmu: Any, out: Path, params: Mapping[str, Any], speed: float, t_stop: 
 
 def hb_vs_orbit(fmu: Any, out: Path, params: Mapping[str, Any], curves: Sequence[Any]) -> dict[str, HarmonicRange]:
     """The one-harmonic balance against the exact orbits of the base case's branches (fixed point
-    and Jenkins element): Fourier content of each contact orbit (harness.sweep.periodic.harmonics), to
+    and Jenkins element): Fourier content of each contact orbit (harness.analysis.periodic.harmonics), to
     `hb_vs_orbit.csv`; returns the ranges per model."""
-    from harness.sweep.periodic.harmonics import branch_harmonics, summarize
+    from harness.analysis.periodic.harmonics import branch_harmonics, summarize
 
     rows = []
     for model in ("fixedPoint", "jenkins"):
@@ -260,9 +260,9 @@ def hb_vs_orbit(fmu: Any, out: Path, params: Mapping[str, Any], curves: Sequence
 
 def _root_at(params: Mapping[str, Any], speed: float, fmu: Any) -> float:
     """The largest fixed point B = A(B) at `speed`: the largest B of every periodic orbit of the
-    tracked-amplitude FMU found there (harness.sweep.periodic.search), 2 d if there is none."""
-    from harness.sweep.periodic.period_map import PeriodMap
-    from harness.sweep.periodic.branches import orbits_at
+    tracked-amplitude FMU found there (harness.analysis.periodic.search), 2 d if there is none."""
+    from harness.analysis.periodic.period_map import PeriodMap
+    from harness.analysis.periodic.branches import orbits_at
 
     orbits = orbits_at(PeriodMap(fmu, params, "fixedPoint"), speed)
     return max((o.B for o in orbits), default=2.0 * float(params["d"]))
@@ -468,9 +468,9 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
     `extras`, the Coulomb comparison, Fig. 2, 4/5, Campbell, the paper's iteration). Nothing is
     cached: a curve takes about a second."""
     from harness.fmu.blade import BladeFMU
-    from harness.sweep.periodic.studies import trace_curve
-    from harness.sweep.curves import fmu_identity, hb_curve
-    from harness.paper.study_branches import curve_tasks, write_coulomb, write_study
+    from harness.analysis.periodic.studies import trace_curve
+    from harness.analysis.curves import fmu_identity, hb_curve
+    from harness.studies.study_branches import curve_tasks, write_coulomb, write_study
 
     size, names = validate_request(size, studies)
     out = Path(out)
@@ -487,7 +487,7 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
     summary = Summary(size.name, base_p)
     rep = Reproduction(summary)
     try:
-        runner.warm_up("harness.sweep.periodic.studies")  # the workers start while HB runs here
+        runner.warm_up("harness.analysis.periodic.studies")  # the workers start while HB runs here
         t0 = _time.perf_counter()
         hb = {n: {v: hb_curve(dict(base_p, **{STUDIES[n].param: v}), size.hb_speeds) for v in values[n]}
               for n in names}

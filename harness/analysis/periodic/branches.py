@@ -1,6 +1,6 @@
 """All branches of periodic orbits of one model over a speed range, and every orbit at one speed.
 
-Every orbit found at the seed speeds (harness.sweep.periodic.search.solutions_at: the lowest speed of the
+Every orbit found at the seed speeds (harness.analysis.periodic.search.solutions_at: the lowest speed of the
 range, then every `seed_step` rpm) that does not lie on a branch traced so far starts a new
 continuation (both directions, through folds), so the main branch is traced from below to above
 resonance and isolated branches are picked up wherever a seed finds one of their orbits.
@@ -20,10 +20,10 @@ from typing import Any, Mapping
 import numpy as np
 
 from harness.fmu.blade import SPEED_RANGE, BladeFMU
-from harness.sweep.periodic.continuation import Branch, ContinuationSettings, continue_branch
-from harness.sweep.periodic.period_map import PeriodMap, ShootingSettings
-from harness.sweep.periodic.search import SearchSettings, hb_guesses, same_orbit, solutions_at
-from harness.sweep.periodic.shooting import Orbit, newton, orbit
+from harness.analysis.periodic.continuation import Branch, ContinuationSettings, continue_branch
+from harness.analysis.periodic.period_map import PeriodMap, ShootingSettings
+from harness.analysis.periodic.search import SearchSettings, hb_guesses, same_orbit, solutions_at
+from harness.analysis.periodic.shooting import Orbit, newton, orbit
 from harness.model.params import ParameterError
 
 

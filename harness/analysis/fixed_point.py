@@ -21,9 +21,9 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from harness.sweep.executor import PointCache, point_key
-from harness.sweep.plateau import PLATEAU_OUTPUTS, Start, omega_of, period_peak, settle, worker_fmu
-from harness.sweep.config import ALGO_VERSION, SweepSettings, SweepSpec
+from harness.analysis.executor import PointCache, point_key
+from harness.analysis.plateau import PLATEAU_OUTPUTS, Start, omega_of, period_peak, settle, worker_fmu
+from harness.analysis.config import ALGO_VERSION, SweepSettings, SweepSpec
 
 @dataclass(frozen=True)
 class FixedPointTask:

@@ -19,11 +19,11 @@ from pathlib import Path
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
-from harness.sweep.executor import atomic_write_text
+from harness.analysis.executor import atomic_write_text
 
 if TYPE_CHECKING:
-    from harness.paper.studies import Fig45Summary, PaperIteration, Summary
-    from harness.paper.study_branches import CoulombComparison, StudySummary
+    from harness.studies.paper import Fig45Summary, PaperIteration, Summary
+    from harness.studies.study_branches import CoulombComparison, StudySummary
 
 @dataclass(frozen=True)
 class PaperClaim:

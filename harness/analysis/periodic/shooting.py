@@ -1,6 +1,6 @@
 """Newton shooting on the FMU's period map, Floquet multipliers and their labels.
 
-A periodic orbit is a fixed point x = P(x) of the period map (harness.sweep.periodic.period_map). Newton
+A periodic orbit is a fixed point x = P(x) of the period map (harness.analysis.periodic.period_map). Newton
 on R(x) = P(x) - x, damped by halving while the scaled residual grows, with DP from the FMU's
 sensitivities (every period brings its exact DP, docs/model-notes.md s.8), or else a
 forward-difference DP (one period per unknown) updated by Broyden. The monodromy matrix is DP at
@@ -20,7 +20,7 @@ import numpy as np
 
 from harness.fmu.blade import FMUError
 from harness.model.params import ParameterError
-from harness.sweep.periodic.period_map import PeriodMap
+from harness.analysis.periodic.period_map import PeriodMap
 
 MAX_UPHILL = 3  # Newton steps that raise the residual even at the smallest damping, then give up
 UNIT_CIRCLE_TOL = 1e-6  # |mu| within this of 1 counts as on the circle (finite-difference accuracy)

@@ -1,6 +1,6 @@
 """Every periodic orbit of a model that a search at one speed finds (the seeds of the branches).
 
-Seeds, each refined by Newton shooting (harness.sweep.periodic.shooting), duplicates merged:
+Seeds, each refined by Newton shooting (harness.analysis.periodic.shooting), duplicates merged:
 - the contact-free linear orbit and the one-harmonic orbits of the blade linearised at amplitudes
   B on a geometric grid (harness.reference.hb.linear_orbit): one guess per amplitude level;
 - the harmonic-balance solutions (gating off, harness.reference.hb.harmonic_balance), every branch;
@@ -18,9 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from harness.sweep.fixed_point import linear_bound
-from harness.sweep.periodic.period_map import PeriodMap, omega
-from harness.sweep.periodic.shooting import Solution, newton
+from harness.analysis.fixed_point import linear_bound
+from harness.analysis.periodic.period_map import PeriodMap, omega
+from harness.analysis.periodic.shooting import Solution, newton
 from harness.reference.hb import harmonic_balance, linear_orbit, linear_orbits
 
 SCAN_TOL = 1e-7  # Newton tolerance of the fixed-B orbits of the B scan (they only place the roots of

@@ -9,7 +9,7 @@ fixed-step Jacobi scheme (outputs at t_k are the inputs for [t_k, t_{k+1}], inpu
 hand-written fmpy loop over FMU2Slave, and libcosim (libcosimpy) with `connect_real_variables`;
 both pass libcosim's integer-nanosecond communication points. The excitation FMU is built by the
 project's CMake build with the blade (build/Excitation.fmu, `build_excitation_fmu`). `python -m
-harness.system.example` runs both masters and prints the largest relative difference.
+harness.crosscheck.system_example` runs both masters and prints the largest relative difference.
 """
 from __future__ import annotations
 
@@ -23,8 +23,9 @@ import numpy as np
 from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 
-from harness.crosscheck.common import max_rel_diff, outputs, result_array, variables_by_name
-from harness.crosscheck.importers.libcosim import NS_PER_S, ns_time_grid, to_ns
+from harness.crosscheck.common import max_rel_diff, outputs, result_array
+from harness.fmu.slave import variables_by_name
+from harness.fmu.libcosim import NS_PER_S, ns_time_grid, to_ns
 
 from harness.fmu.build import EXCITATION_FMU, build
 from harness.optional import require
@@ -134,7 +135,7 @@ def run_libcosim(blade_fmu: Path, exc_fmu: Path, system: System) -> np.ndarray:
     from libcosimpy.CosimObserver import CosimObserver
     from libcosimpy.CosimSlave import CosimLocalSlave
 
-    from harness.crosscheck.importers.libcosim import last_error, samples
+    from harness.fmu.libcosim import last_error, samples
 
     log_output_level(CosimLogLevel.ERROR)
     cols = _result_names(blade_fmu, system)
@@ -187,7 +188,7 @@ def compare(a: np.ndarray, b: np.ndarray) -> tuple[float, str]:
 def main(argv: list[str] | None = None) -> int:
     from harness.fmu.blade import fmu_path
 
-    ap = argparse.ArgumentParser(prog="python -m harness.system.example", description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(prog="python -m harness.crosscheck.system_example", description=__doc__.split("\n\n")[0])
     ap.add_argument("--stop-time", type=float, default=0.3)
     args = ap.parse_args(argv)
     system = System(stop_time=args.stop_time)

@@ -3,8 +3,8 @@
 A curve is every branch of one model (fixedPoint: the paper's B = A(B), i.e. the tracked-amplitude
 model's periodic solutions with their stability; jenkins: the time-domain Jenkins element; coulomb:
 the Coulomb describing function's fixed point) over the speed range, traced by
-harness.sweep.periodic.branches in one worker with one FMU instance. `trace_curve` is the picklable task
-harness.paper.studies maps over a Runner; `curve_summary` turns a curve into a CurveSummary, the numbers
+harness.analysis.periodic.branches in one worker with one FMU instance. `trace_curve` is the picklable task
+harness.studies.paper maps over a Runner; `curve_summary` turns a curve into a CurveSummary, the numbers
 the study rows (and through them the claims table and the study CSVs) use.
 """
 from __future__ import annotations
@@ -16,8 +16,8 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Mapping
 
-from harness.sweep.periodic.branches import BranchSettings, TraceStats
-from harness.sweep.periodic.continuation import Branch
+from harness.analysis.periodic.branches import BranchSettings, TraceStats
+from harness.analysis.periodic.continuation import Branch
 
 
 @dataclass(frozen=True)
@@ -55,7 +55,7 @@ def _process_fmu(path: Path | str):
 
 
 def trace_curve(task: CurveTask) -> Curve:
-    from harness.sweep.periodic.branches import trace_branches
+    from harness.analysis.periodic.branches import trace_branches
 
     t0 = time.perf_counter()
     fmu = _process_fmu(task.fmu_path)

@@ -1,4 +1,4 @@
-"""Figures of the mistuning study (harness/system/mistuning.py), each a PNG with its CSV:
+"""Figures of the mistuning study (harness/studies/mistuning.py), each a PNG with its CSV:
 amplitude per blade around the disk (the worst pattern of the largest level against the tuned ring),
 amplification vs mistuning level (mean, max, Whitehead's bound), histogram of the amplification at
 the largest level. Rings that did not settle (amplification NaN) are left out of the curves and
@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from harness.sweep.executor import write_csv
+from harness.analysis.executor import write_csv
 
 
 def write(out: dict, directory: Path) -> list[Path]:
