@@ -34,7 +34,8 @@ from harness.reference.blade import galerkin
 from harness.reference.contact import contact_consts
 from harness.reference.ring import MonolithicRing, RingSpec
 from harness.system import ring_conserving
-from harness.system.energy import STUDY_RING, balance, spring_energy
+from harness.system.contact_energy import spring_energy
+from harness.system.energy import STUDY_RING, balance
 from harness.system import ring_c
 from harness.system.ring import run
 

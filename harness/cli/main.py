@@ -17,7 +17,9 @@ import re
 import sys
 from typing import Sequence
 
-# command name -> module (add your command with one line)
+# command name -> module (add your command with one line). Imported by name, only when run: the
+# product never imports the validation packages, and `validate`, `crosscheck`, `bench` are the only
+# commands that reach them (docs/layers.md).
 COMMANDS: dict[str, str] = {
     "simulate": "harness.cli.simulate",
     "validate": "harness.reference.validate",

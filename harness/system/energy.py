@@ -29,8 +29,10 @@ from typing import Mapping
 import numpy as np
 
 from harness.reference.blade import galerkin
-from harness.reference.contact import ContactConsts, contact_consts
+from harness.reference.contact import contact_consts
 from harness.model.params import validate
+from harness.system import ring_conserving
+from harness.system.contact_energy import require_jenkins, spring_energy
 from harness.system.ring import Ring, run
 
 # the convergence study's ring (harness/reference/ring_convergence.py): tuned, N = 4, EO = 3, 5000 rpm
@@ -57,23 +59,6 @@ class PeriodBalance:
     def residual(self) -> float:
         """aero - viscous - friction: the acceptance quantity (0 over an exactly steady period)."""
         return self.aero - self.viscous - self.friction
-
-
-def require_jenkins(ring: Ring) -> None:
-    """The spring energy below is the Jenkins element's (frictionModel 3, the default)."""
-    if int(dict(ring.contact).get("frictionModel", 3)) != 3:
-        raise ValueError("the ring energy books need the time-domain Jenkins contact (frictionModel 3)")
-
-
-def spring_energy(cc: ContactConsts, q: np.ndarray, force_b: np.ndarray) -> np.ndarray:
-    """Contact spring energy per row of q (rows: time, columns: blades), summed over the contacts;
-    cc = contact_consts(ring.contact)."""
-    cg, sg = math.cos(cc.gamma), math.sin(cc.gamma)
-    u = q - np.roll(q, -1, axis=1)  # contact j: u_j = q_j - q_{j+1}
-    pen = np.maximum(np.abs(u) - cc.d, 0.0)
-    fn = cc.kn * cg * np.sign(u) * pen  # eq. 3 (0 when open)
-    ff = (force_b - fn * cg) / sg  # F_c = F_n cos g + F_f sin g (eq. 14), forceB = +F_c
-    return (0.5 * cc.kn * cg * cg * pen ** 2 + ff ** 2 / (2 * cc.kd)).sum(axis=1)
 
 
 def balance(ring: Ring, res: Mapping[str, np.ndarray], periods: int = 1, shift: int = 0,
@@ -108,7 +93,6 @@ def balance(ring: Ring, res: Mapping[str, np.ndarray], periods: int = 1, shift: 
 def measure(ring: Ring, periods: int = 1, conserving: bool = False) -> tuple[PeriodBalance, float]:
     """Runs the ring (plain Jacobi master, or with the energy-conserving correction of
     harness/system/ring_conserving.py); (balance over its last `periods` periods, wall time [s])."""
-    from harness.system import ring_conserving
     t0 = time.perf_counter()
     res = (ring_conserving.run if conserving else run)(ring)
     return balance(ring, res, periods), time.perf_counter() - t0

@@ -28,7 +28,7 @@ import numpy as np
 from harness.model.params import validate
 from harness.reference.blade import galerkin
 from harness.reference.contact import contact_consts
-from harness.system.energy import require_jenkins, spring_energy
+from harness.system.contact_energy import require_jenkins, spring_energy
 from harness.system.ring import Ring
 from harness.system.ring import run as ring_run
 
