@@ -1,15 +1,17 @@
 """Branches of periodic solutions over a speed range by continuation, to a CSV and a plot.
 
 `python -m harness continue --speed-range LO HI [--model fixedB|fixedPoint|jenkins|coulomb]
-[--start-values NAME VALUE ...] [--seed-step RPM] [--output-file branches.csv] [--plot branches.png]`
+[--start-values NAME VALUE ...] [--seed-step RPM] [--output-file branches.csv] [--plot branches.png] [--json]`
 traces every branch found from the seed speeds (harness.analysis.periodic.branches) through its folds and
 writes one CSV row per point (branch, speed, amplitude, B, state, stability, label, multipliers);
-the plot draws stable parts bold and unstable parts faint. The paper's studies as branches are part
+the plot draws stable parts bold and unstable parts faint. Peaks and folds are located by
+refinement (harness.analysis.periodic.extrema), not read off the sampled points. The paper's studies as branches are part
 of `python -m harness run` (harness.studies.paper).
 """
 from __future__ import annotations
 
 import argparse
+import json
 import math
 from pathlib import Path
 
@@ -28,6 +30,8 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                    help="search every orbit at seed speeds this far apart (default 500 rpm)")
     p.add_argument("--output-file", default="branches.csv", metavar="CSV", help="branch CSV (default branches.csv)")
     p.add_argument("--plot", metavar="PNG", help="also plot the branches to this PNG file")
+    p.add_argument("--json", action="store_true",
+                   help="print the branches with their located peaks and folds as JSON on stdout, nothing else")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -46,12 +50,40 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         from harness.studies.plots import branches_figure
         branches_figure(Path(args.plot), {args.model: branches}, f"{args.model}, {overrides or 'Table 1'}")
+    if args.json:
+        print(json.dumps({"model": args.model, "parameters": overrides, "speed_range_rpm": [lo, hi],
+                          "periods_simulated": stats.evaluations, "output_file": args.output_file,
+                          "branches": [branch_dict(b) for b in branches]}, indent=1))
+        return 0
     n = sum(len(b.points) for b in branches)
     print(f"{len(branches)} branch(es), {n} points, {stats.evaluations} periods simulated -> {args.output_file}"
           + (f", {args.plot}" if args.plot else ""))
     for i, b in enumerate(branches):
-        bif = ", ".join(f"{k} at {b.points[j].speed:.0f} rpm" for j, k in b.bifurcations()) or "none"
-        print(f"  branch {i}: {b.speeds.min():.0f}..{b.speeds.max():.0f} rpm, max|q| up to "
-              f"{b.amplitudes.max() * 1e3:.5f} mm; stability changes: {bif}")
+        print(f"  branch {i}: {b.speeds.min():.0f}..{b.speeds.max():.0f} rpm")
+        for e in b.extrema:
+            print(f"    {e.kind} at {e.speed:.2f} rpm, max|q| = {e.amplitude * 1e3:.6f} mm: {e.stability}")
+        for lo_n, hi_n, kind in sampled_changes(b):
+            print(f"    {kind} between {lo_n:.0f} and {hi_n:.0f} rpm (not located)")
     return 0
 
+
+def sampled_changes(b) -> list[tuple[float, float, str]]:
+    """(low, high [rpm], kind) of the stability changes that are not folds (period doubling,
+    Neimark-Sacker): bracketed by the sampled points only."""
+    out = []
+    for j, kind in b.bifurcations():
+        rest = [k for k in kind.split("+") if k != "fold"]
+        if rest:
+            lo_n, hi_n = sorted((b.points[j - 1].speed, b.points[j].speed))
+            out.append((lo_n, hi_n, "+".join(rest)))
+    return out
+
+
+def branch_dict(b) -> dict:
+    """A branch for --json: its points and its located peaks and folds."""
+    return {"points": [{"speed_rpm": p.speed, "amplitude_m": p.amplitude, "stable": p.stable, "label": p.label}
+                       for p in b.points],
+            "peaks": [e.as_dict() for e in b.located("peak")], "folds": [e.as_dict() for e in b.located("fold")],
+            "other_stability_changes": [{"from_rpm": lo_n, "to_rpm": hi_n, "kind": k}
+                                        for lo_n, hi_n, k in sampled_changes(b)],
+            "end_reasons": b.end_reasons}

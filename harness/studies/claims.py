@@ -348,8 +348,10 @@ def write_claims(path: Path | str, summary: Summary) -> list[ClaimRow]:
         "periodic orbit over the branches' speed range (3000..12000 rpm in `make run`): of the fixed point "
         "B = A(B) (the tracked-amplitude FMU's "
         "periodic solutions, by shooting and continuation), of the Jenkins element, or of the stable "
-        "harmonic-balance branches; resonant speed = the speed of that peak; jump = the speed where "
-        "that stable branch ends in a fold. Figures: results/fig6..9_*.png (stable bold, unstable faint).",
+        "harmonic-balance branches; for the FMU's branches it is located along the branch (d max|q| / ds = 0, "
+        "or the fold that bounds a stable part), not read off the sampled points; resonant speed = the speed "
+        "of that peak; jump = the located fold (turning point) where that stable branch ends. "
+        "Figures: results/fig6..9_*.png (stable bold, unstable faint).",
         "",
     ]
     atomic_write_text(path, "\n".join(lines))

@@ -2,7 +2,8 @@
 
 Every orbit found at the seed speeds (harness.analysis.periodic.search.solutions_at: the lowest speed of the
 range, then every `seed_step` rpm) that does not lie on a branch traced so far starts a new
-continuation (both directions, through folds), so the main branch is traced from below to above
+continuation (both directions, through folds; its peaks and folds located by
+harness.analysis.periodic.extrema), so the main branch is traced from below to above
 resonance and isolated branches are picked up wherever a seed finds one of their orbits.
 
 `orbits_at` (one speed) takes the orbits of the search at that speed and, in addition, every
@@ -21,6 +22,7 @@ import numpy as np
 
 from harness.fmu.blade import SPEED_RANGE, BladeFMU
 from harness.analysis.periodic.continuation import Branch, ContinuationSettings, continue_branch
+from harness.analysis.periodic.extrema import locate
 from harness.analysis.periodic.period_map import PeriodMap, ShootingSettings
 from harness.analysis.periodic.search import SearchSettings, hb_guesses, same_orbit, solutions_at
 from harness.analysis.periodic.shooting import Orbit, newton, orbit
@@ -70,7 +72,9 @@ def trace_branches(fmu: BladeFMU, params: Mapping[str, Any] | None, model: str, 
             seeds += 1
             if any(b.contains(n, sol.amplitude) for b in branches):
                 continue
-            branches.append(continue_branch(pm, sol.x, n, (lo, hi), s.continuation))
+            branch = continue_branch(pm, sol.x, n, (lo, hi), s.continuation)
+            branch.extrema = locate(pm, branch, s.continuation)
+            branches.append(branch)
     return branches, TraceStats(pm.evaluations, seeds, pm.simulated, pm.fmi_seconds)
 
 

@@ -67,6 +67,11 @@ class Branch:
     points: list[BranchPoint] = field(default_factory=list)
     end_reasons: list[str] = field(default_factory=list)  # why each end of the branch stopped
     closed: bool = False  # an isola that closed on itself
+    extrema: list = field(default_factory=list)  # located peaks and folds (extrema.Extremum), arc order
+
+    def located(self, kind: str) -> list:
+        """The located extrema of one kind ("peak" or "fold")."""
+        return [e for e in self.extrema if e.kind == kind]
 
     @property
     def speeds(self) -> np.ndarray:
@@ -137,7 +142,7 @@ def write_branches_csv(path: Path, branches: list[Branch], columns: dict[str, li
     tmp.replace(path)
 
 
-class _Problem:
+class BranchProblem:
     """H(z) in scaled coordinates for one branch."""
 
     def __init__(self, pm: PeriodMap, sc: np.ndarray):
@@ -226,7 +231,7 @@ def continue_branch(pm: PeriodMap, x: np.ndarray, speed: float, speed_range: tup
     map) in both speed directions (or those in `directions`: -1 down, +1 up at the start) until it
     leaves speed_range; returns the points ordered along the arc."""
     lo, hi = speed_range
-    prob = _Problem(pm, pm.scales(x, speed))
+    prob = BranchProblem(pm, pm.scales(x, speed))
     z0 = prob.to_z(x, speed)
     H0, P0, A0 = prob.H(z0)
     Jz0, DP0 = prob.jac(z0, H0, P0)
@@ -250,7 +255,7 @@ def continue_branch(pm: PeriodMap, x: np.ndarray, speed: float, speed_range: tup
     return Branch(pm.model, down + [first] + up, reasons, closed)
 
 
-def _march(prob: _Problem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, rng: tuple[float, float],
+def _march(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, rng: tuple[float, float],
            s: ContinuationSettings, z_first: np.ndarray) -> tuple[list[BranchPoint], str, bool]:
     pts: list[BranchPoint] = []
     ds = s.ds
@@ -275,7 +280,7 @@ def _march(prob: _Problem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, rng: tu
     return pts, f"{s.max_points} points", False
 
 
-def _step(prob: _Problem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, ds: float, s: ContinuationSettings
+def _step(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, ds: float, s: ContinuationSettings
           ) -> tuple[bool, np.ndarray, np.ndarray, np.ndarray, BranchPoint | None]:
     """One predictor-corrector step from the branch point z (tangent t, dH/dz Jz there). The
     corrector is first quasi-Newton: Jz updated by Broyden after every iteration (one period per
@@ -286,7 +291,7 @@ def _step(prob: _Problem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, ds: floa
     zp = z + ds * t
     for quasi in (True, False):
         try:
-            done = _correct(prob, zp, t, Jz, s, quasi)
+            done = correct(prob, zp, t, Jz, s, quasi)
         except (FMUError, ParameterError):  # the FMU refused the start, or the speed left its range
             done = None
         # a corrector that jumped to another branch or fell back onto the last point: the new
@@ -304,7 +309,7 @@ def _step(prob: _Problem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, ds: floa
     return True, zk, _tangent(Jz_new, t), Jz_new, BranchPoint(n, x, A, multipliers(DP), it)
 
 
-def _correct(prob: _Problem, zp: np.ndarray, t: np.ndarray, Jz: np.ndarray, s: ContinuationSettings, quasi: bool
+def correct(prob: BranchProblem, zp: np.ndarray, t: np.ndarray, Jz: np.ndarray, s: ContinuationSettings, quasi: bool
              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, int] | None:
     """Newton on (H(z) = 0, t . (z - zp) = 0) from the predictor zp: (z, H, P, amplitude,
     iterations) or None. quasi: Jz, Broyden-updated; else a fresh Jacobian every iteration."""

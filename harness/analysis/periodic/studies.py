@@ -65,32 +65,46 @@ def trace_curve(task: CurveTask) -> Curve:
 
 def peak(branches: list[Branch], stable_only: bool = True,
          speed_range: tuple[float, float] = (0.0, math.inf)) -> tuple[float, float]:
-    """(largest max |q| [m], its speed [rpm]) over the (stable) points inside speed_range (a
-    branch's last point may lie just outside); nan if there is none."""
+    """(largest max |q| [m], its speed [rpm]) over the (stable) orbits inside speed_range: the
+    located peaks and folds (a fold that bounds a stable part is the limit of its stable orbits)
+    and the sampled points (the largest may sit at a branch end); nan if there is none."""
     lo, hi = speed_range
     best = (math.nan, math.nan)
     for b in branches:
-        for p in b.points:
+        for p in [*b.points, *b.extrema]:
             if (p.stable or not stable_only) and lo <= p.speed <= hi and not p.amplitude <= best[0]:
                 best = (p.amplitude, p.speed)
     return best
 
 
-def jump_speed(branches: list[Branch], a_pk: float) -> float:
-    """Speed [rpm] where the stable part holding the peak orbit (max |q| = a_pk, from `peak`) ends at
-    a fold: where a slow run-up on it jumps down (nan if that stable part does not end in a fold)."""
+def jump_speed(branches: list[Branch], a_pk: float, n_pk: float) -> float:
+    """Speed [rpm] where the stable part holding the peak orbit (max |q| = a_pk at n_pk, from
+    `peak`) ends at a located fold: where a slow sweep on it jumps (nan if it does not end in one)."""
     for b in branches:
         pts = b.points
-        for i, p in enumerate(pts):
-            if not (p.stable and p.amplitude == a_pk):
-                continue
+        for e in b.extrema:
+            if e.amplitude == a_pk and e.speed == n_pk and e.kind == "fold":
+                return e.speed  # the peak is the fold itself
+        on = [i for i, p in enumerate(pts) if p.stable and abs(p.speed - n_pk) <= _span(pts, i)]
+        for i in on:
             for step in (1, -1):  # walk along the stable part in both directions to its ends
                 j = i
                 while 0 <= j + step < len(pts) and pts[j + step].stable:
                     j += step
-                if 0 <= j + step < len(pts) and "fold" in pts[j + step].label:
-                    return 0.5 * (pts[j].speed + pts[j + step].speed)
+                k = j + step
+                if not 0 <= k < len(pts):
+                    continue
+                lo, hi = sorted((pts[j].speed, pts[k].speed))
+                folds = [e.speed for e in b.located("fold") if lo - _span(pts, j) <= e.speed <= hi + _span(pts, k)]
+                if folds:
+                    return min(folds, key=lambda n: abs(n - 0.5 * (lo + hi)))
     return math.nan
+
+
+def _span(pts: list, i: int) -> float:
+    """Half the speed distance from point i to its farther neighbour [rpm]."""
+    d = [abs(pts[i].speed - pts[j].speed) for j in (i - 1, i + 1) if 0 <= j < len(pts)]
+    return max(d, default=0.0)
 
 
 def unstable_ranges(branches: list[Branch], d: float) -> list[tuple[float, float, str]]:
@@ -113,11 +127,11 @@ def unstable_ranges(branches: list[Branch], d: float) -> list[tuple[float, float
 class CurveSummary:
     """The numbers of one curve (one model at one study value) inside its speed range."""
 
-    peak: float  # [m] largest max|q| of a stable orbit (nan: none)
+    peak: float  # [m] largest max|q| of a stable orbit, located (nan: none)
     speed: float  # [rpm] its speed
     peak_any: float  # [m] largest max|q| of any orbit, stable or not
     speed_any: float  # [rpm] its speed
-    jump: float  # [rpm] where the stable part holding the peak ends in a fold (nan: it does not)
+    jump: float  # [rpm] the located fold where the stable part holding the peak ends (nan: it does not)
     branches: int  # branches traced
     points: int  # orbits on them
     unstable_contact: list[tuple[float, float, str]]  # (low [rpm], high [rpm], kind) of unstable contact stretches
@@ -128,5 +142,5 @@ def curve_summary(curve: Curve) -> CurveSummary:
     d, rng = float(curve.task.params["d"]), curve.task.speed_range
     a, n = peak(curve.branches, speed_range=rng)
     a_any, n_any = peak(curve.branches, stable_only=False, speed_range=rng)
-    return CurveSummary(a, n, a_any, n_any, jump_speed(curve.branches, a), len(curve.branches),
+    return CurveSummary(a, n, a_any, n_any, jump_speed(curve.branches, a, n), len(curve.branches),
                         sum(len(b.points) for b in curve.branches), unstable_ranges(curve.branches, d), curve.stats)
