@@ -289,7 +289,7 @@ def reproduce_cold(size: str, workers: int | None) -> dict[str, Any]:
     with tempfile.TemporaryDirectory() as tmp:
         t = time.perf_counter()
         with Runner(workers=workers, progress=False) as runner:
-            rep = reproduce(Path(tmp) / "results", size, runner=runner)
+            rep = reproduce(Path(tmp) / "results", size, runner=runner, hysteresis=hysteresis)
         wall = time.perf_counter() - t
     tim = rep.summary.as_dict()["timing"]
     return {"size": size, "wall": wall, "workers": workers or os.cpu_count(), **tim}

@@ -2,8 +2,8 @@
 against an independent computation.
 
 - Gating off, the fixed point B = A(B) is exactly the one-harmonic balance (the fixed-B ODE is
-  linear, its orbit has no higher harmonic): every traced point equals an HB root of the reference
-  (harness.reference.hb, Illinois on the closed-form residual) at its speed, 1e-7 of B (the FMU's
+  linear, its orbit has no higher harmonic): every traced point equals an HB root
+  (harness.analysis.harmonic_balance, Illinois on the closed-form residual: a second method) at its speed, 1e-7 of B (the FMU's
   RK4 at maxStep 2.5e-6 s is ~1e-10); every HB root on a speed grid lies on a traced branch
   (nothing missed, the folds of the multi-solution region passed); the stability of each point
   equals the reference's tracked-amplitude map radius (< 1 or > 1, away from |mu| = 1).
@@ -23,7 +23,8 @@ from harness.model.params import validate
 from harness.analysis.periodic.branches import BranchSettings, trace_branches
 from harness.analysis.periodic.period_map import PeriodMap, omega
 from harness.analysis.periodic.shooting import shoot
-from harness.reference.hb import harmonic_balance, linear_orbit, tracked_map_radius
+from harness.analysis.harmonic_balance import harmonic_balance, linear_orbit
+from harness.reference.tracked import tracked_map_radius
 from test_periodic import _period_end_states
 
 FINE = {"maxStep": 2.5e-6}
@@ -37,9 +38,9 @@ def ungated(fmu):
 
 
 def test_every_ungated_branch_point_is_a_harmonic_balance_root_with_its_stability(ungated):
-    """The HB root condition at the point's B: the blade linearised at amplitude B (reference
-    describing function, closed-form harmonic response) answers with amplitude B; the stability is
-    the reference's closed-form tracked map's (points resolve folds more finely than HB's scan)."""
+    """The HB root condition at the point's B: the blade linearised at amplitude B (closed-form
+    describing function and harmonic response) answers with amplitude B; the stability is
+    the reference's tracked map's (points resolve folds more finely than HB's scan)."""
     p, branches = ungated
     pts = [q for b in branches for q in b.points if 6000.0 <= q.speed <= 9000.0]
     assert len(pts) > 20

@@ -2,7 +2,7 @@
 independent computation.
 
 - ungated fixed B (a linear ODE): the orbit equals the closed-form harmonic response
-  (harness.reference.hb.linear_orbit, complex arithmetic) and the multipliers equal
+  (harness.analysis.harmonic_balance.linear_orbit, complex arithmetic) and the multipliers equal
   exp(lambda T), lambda the eigenvalues of M s^2 + (C0 + C_eq) s + K0 + K_eq (reference Galerkin
   constants and describing function): 1e-8 at maxStep 2.5e-6 s (RK4 error ~1e-10);
 - orbits equal long transient runs of the FMU that settle onto them (1e-8 of the amplitude, same
@@ -25,12 +25,13 @@ import pytest
 from scipy.optimize import brentq
 
 from harness.analysis.periodic.period_map import PeriodMap, omega
+from harness.analysis.harmonic_balance import harmonic_balance, linear_orbit
 from harness.analysis.periodic.branches import orbits_at
 from harness.analysis.periodic.shooting import shoot
 from harness.reference.blade import galerkin
 from harness.reference.contact import contact_consts, describing_function
 from harness.reference.fixedpoint import PiecewiseStepper
-from harness.reference.hb import harmonic_balance, linear_orbit
+from harness.reference.tracked import tracked_radii
 
 FINE = {"maxStep": 2.5e-6}
 
@@ -195,16 +196,16 @@ def test_fmu_started_on_a_stable_orbit_stays_on_it(fmu, model, n):
 @pytest.mark.parametrize("n", [6000.0, 8000.0])
 def test_ungated_fixed_point_equals_harmonic_balance_with_tracked_stability(fmu, n):
     """Gating off and B fixed, the ODE is linear: the orbit has no higher harmonic, so its roots of
-    A(B) = B are exactly the HB roots (reference, Illinois to 1e-14), all of them; and the tracked
-    model's spectral radius at each equals the reference's closed-form period map
-    (reference_hb.tracked_map_radius, exact linear solution + brentq extrema, central differences)."""
+    A(B) = B are exactly the HB roots (harness.analysis.harmonic_balance, Illinois to 1e-14), all of
+    them; and the tracked model's spectral radius at each equals the reference's period map
+    (harness.reference.tracked, exact linear solution + brentq extrema, central differences)."""
     pm = PeriodMap(fmu, dict(FINE, gating=False), "fixedPoint")
     orbs = orbits_at(pm, n)
-    hb = harmonic_balance(dict(gating=False), n, tracked=True)
+    hb = harmonic_balance(dict(gating=False), n)
     assert len(orbs) == len(hb) >= 2
-    for o, h in zip(orbs, hb):
+    for o, h, radius in zip(orbs, hb, tracked_radii(dict(gating=False), hb)):
         assert abs(o.B - h.B) <= 1e-8 * h.B
-        assert abs(np.max(np.abs(o.multipliers)) - h.tracked_radius) <= 1e-5
+        assert abs(np.max(np.abs(o.multipliers)) - radius) <= 1e-5
 
 
 # ---- the multipliers of the tracked map are its growth rate in the FMU ----

@@ -1,4 +1,5 @@
-"""Reference contact model (harness.reference.contact): closed forms against quadrature and geometry.
+"""The contact's closed-form describing functions (harness.model.contact) against the reference's
+quadrature of the loop (harness.reference.contact), and the loop's geometry.
 
 Tolerances: the closed forms (eq. 7, 8 fixed, 10 rewritten with half-angle identities so that
 nothing cancels as B -> d+) and the Gauss-Legendre quadrature of the piecewise loop (eq. 3/4,
@@ -22,8 +23,8 @@ import warnings
 import numpy as np
 import pytest
 
-from harness.reference.contact import (contact_consts, describing_function, loop_angles, loop_friction, loop_state,
-                                       normal_force, regime)
+from harness.model.contact import contact_consts, describing_function, loop_angles, regime
+from harness.reference import contact as reference
 
 KD = [0.608695652173913, 0.8235294117647058]
 GAMMAS = [math.pi / k for k in (3, 4, 5, 6, 7)]
@@ -43,8 +44,8 @@ def test_closed_form_matches_quadrature(kdr: float, gamma: float, kn: float, mod
     d = cc.d
     for r in RATIOS:
         B = r * d
-        a = describing_function(p, B, OMEGA, model, 1, "closed")
-        b = describing_function(p, B, OMEGA, model, 1, "quadrature")
+        a = describing_function(p, B, OMEGA, model, 1)
+        b = reference.describing_function(p, B, OMEGA, model, 1)
         force_scale = max(cc.b, cc.a) * (B - d) / B  # max|F_f| / B: N* (slip) or k_d sin g (B - d) (full stick)
         for f in ("fk", "fcOmega", "pk"):
             x, y = getattr(a, f), getattr(b, f)
@@ -107,9 +108,9 @@ def _loop_area(p: dict, B: float, model: int) -> float:
     for k, th in enumerate(brk):
         v = B * math.cos(th)
         if k > 0:
-            verts.append((v, float(loop_friction(cc, B, th - eps * (th - brk[k - 1]), model))))
+            verts.append((v, float(reference.loop_friction(cc, B, th - eps * (th - brk[k - 1]), model))))
         if k < len(brk) - 1:
-            verts.append((v, float(loop_friction(cc, B, th + eps * (brk[k + 1] - th), model))))
+            verts.append((v, float(reference.loop_friction(cc, B, th + eps * (brk[k + 1] - th), model))))
     # within each interval F_f is affine in v, so the trapezoid rule on its end values is exact;
     # the eps-shifted evaluation points cost O(eps) relative error
     area = 0.0
@@ -231,7 +232,7 @@ def test_normal_force_eq3() -> None:
     v = np.array([-1e-4, -3e-5, 0.0, 2e-5, 3e-5, 1e-4])
     cg = math.cos(math.pi / 3)
     expect = np.array([1e7 * (-1e-4 + 3e-5) * cg, 0, 0, 0, 0, 1e7 * (1e-4 - 3e-5) * cg])
-    assert np.allclose(normal_force(p, v), expect, rtol=1e-15, atol=0)
+    assert np.allclose(reference.normal_force(p, v), expect, rtol=1e-15, atol=0)
 
 
 @pytest.mark.parametrize("model", [1, 2])
@@ -247,12 +248,12 @@ def test_loop_closes_and_is_continuous_except_separation(model: int) -> None:
     if model == 2:  # Coulomb: contact starts sliding at full N* (no stick arc after impact)
         jumps.update({pi - t2: (0.0, -Ns), 2 * pi - t2: (0.0, Ns), pi: (-Ns, Ns)})
     for th in sorted({t1, pi - t2, t3, pi, pi + t1, 2 * pi - t2, pi + t3} - {0.0} - set(jumps)):
-        lo, hi = loop_friction(cc, B, th - 1e-12, model), loop_friction(cc, B, th + 1e-12, model)
+        lo, hi = reference.loop_friction(cc, B, th - 1e-12, model), reference.loop_friction(cc, B, th + 1e-12, model)
         assert abs(lo - hi) <= 1e-6 * Ns, th
     for th, (before, after) in jumps.items():
-        assert abs(loop_friction(cc, B, th - 1e-12, model) - before) <= 1e-6 * Ns
-        assert abs(loop_friction(cc, B, th + 1e-12, model) - after) <= 1e-6 * Ns
-    closing = (float(loop_friction(cc, B, 2 * pi - 1e-13, model)), float(loop_friction(cc, B, 0.0, model)))
+        assert abs(reference.loop_friction(cc, B, th - 1e-12, model) - before) <= 1e-6 * Ns
+        assert abs(reference.loop_friction(cc, B, th + 1e-12, model) - after) <= 1e-6 * Ns
+    closing = (float(reference.loop_friction(cc, B, 2 * pi - 1e-13, model)), float(reference.loop_friction(cc, B, 0.0, model)))
     assert closing[0] == pytest.approx(Ns, rel=1e-9)  # sliding up at full N* before the reversal
     assert closing[1] == pytest.approx(Ns if model == 1 else -Ns, rel=1e-9)  # Coulomb reverses at once
 
@@ -265,7 +266,19 @@ def test_loop_state_intervals() -> None:
     pi = math.pi
     mids = [0.5 * (a + b) for a, b in zip([0, t1, t2, pi - t2, t3, pi, pi + t1, pi + t2, 2 * pi - t2, pi + t3],
                                           [t1, t2, pi - t2, t3, pi, pi + t1, pi + t2, 2 * pi - t2, pi + t3, 2 * pi])]
-    assert list(loop_state(cc, B, np.array(mids))) == [1, 2, 0, 1, 2, 1, 2, 0, 1, 2]
-    assert list(loop_state(cc, B, np.array(mids), 2)) == [2, 2, 0, 2, 2, 2, 2, 0, 2, 2]  # Coulomb: no stick
-    assert loop_state(_params(KD[0], math.pi / 7, 1e7), B, 1.0) == 1  # full stick
-    assert loop_state(cc, 2e-5, 1.0) == 0
+    assert list(reference.loop_state(cc, B, np.array(mids))) == [1, 2, 0, 1, 2, 1, 2, 0, 1, 2]
+    assert list(reference.loop_state(cc, B, np.array(mids), 2)) == [2, 2, 0, 2, 2, 2, 2, 0, 2, 2]  # Coulomb: no stick
+    assert reference.loop_state(_params(KD[0], math.pi / 7, 1e7), B, 1.0) == 1  # full stick
+    assert reference.loop_state(cc, 2e-5, 1.0) == 0
+
+
+@pytest.mark.parametrize("model", [1, 2])
+def test_loop_angles_by_root_finding_equal_the_half_angle_forms(model: int) -> None:
+    """The reference finds the eq.-5 angles by brentq on the loop's switching conditions; the product
+    writes them in closed (half-angle) form. Both to roundoff: 1e-12 relative (the angles are
+    ~1e-3 rad at B/d = 1 + 1e-6, where brentq's rtol 4 eps leaves ~1e-15 of them)."""
+    for kdr, gamma, kn in itertools.product(KD, GAMMAS, KNS):
+        cc = contact_consts(_params(kdr, gamma, kn))
+        B = cc.d * np.array(RATIOS)
+        for x, y in zip(loop_angles(cc, B, model), reference.loop_angles(cc, B, model)):
+            np.testing.assert_allclose(y, x, rtol=1e-12, atol=0)

@@ -1,10 +1,12 @@
-"""Reference harmonic balance and fixed point (harness.reference.hb, harness.reference.fixedpoint).
+"""The harmonic balance (harness.analysis.harmonic_balance) against the reference, and the reference
+fixed point (harness.reference.fixedpoint).
 
-HB roots are checked against the HB equation evaluated with the describing function by quadrature
-(not the closed forms the solver uses), relative residual <= 1e-9. Completeness is checked against
+HB roots are checked against the HB equation evaluated with the reference's Galerkin constants and
+describing function by quadrature (not the closed forms the solver uses), relative residual <= 1e-9. Completeness is checked against
 an independent dense linear scan. The slow-flow stability flag is checked against the eigenvalues of
 a finite-difference Jacobian of the averaged equation 2 i w M A' = F_c - D(|A|) A, and the
-tracked-amplitude stability against simulations started on the periodic solution. The fixed point
+tracked-amplitude stability (harness.reference.tracked) against simulations started on the periodic
+solution. The fixed point
 A(B) = B is checked against the linear closed form (no contact) and, for a contact case, against
 the DOP853 simulation (slow).
 """
@@ -15,11 +17,13 @@ import math
 import numpy as np
 import pytest
 
+from harness.analysis.harmonic_balance import harmonic_balance
+from harness.model import contact as closed_form
 from harness.reference.blade import galerkin
 from harness.reference.contact import describing_function
 from harness.reference.dynamics import simulate
 from harness.reference.fixedpoint import fixed_point, naive_iteration, steady_amplitude
-from harness.reference.hb import harmonic_balance
+from harness.reference.tracked import tracked_radii
 
 SPEEDS = np.linspace(3000, 10000, 36)
 CASES = [{}, {"frictionModel": 2}, {"projection": 2}, {"gamma": math.pi / 7}, {"kn": 1e6}, {"formulation": 2}]
@@ -41,7 +45,7 @@ def test_roots_solve_hb_with_quadrature_df(params: dict) -> None:
         D0, F, w = _lin(params, n)
         assert len(sols) % 2 == 1  # R(0) = -F < 0 and R -> +inf: an odd number of simple roots
         for s in sols:
-            df = describing_function(params, s.B, w, model, proj, method="quadrature")
+            df = describing_function(params, s.B, w, model, proj)
             D = D0 + df.Keq + 1j * w * df.Ceq
             assert abs(s.B * abs(D) - F) <= 1e-9 * F
             assert s.phase == pytest.approx(-np.angle(D), abs=1e-9)
@@ -52,12 +56,14 @@ def test_roots_solve_hb_with_quadrature_df(params: dict) -> None:
 
 @pytest.mark.parametrize("params", CASES[:3])
 def test_all_roots_found(params: dict) -> None:
-    """Independent dense linear scan of R(B) over (d, 10 d] (+ the open branch) counts the same roots."""
+    """Independent dense linear scan of R(B) over (d, 10 d] (+ the open branch) counts the same roots
+    (the closed-form describing function: 20001 amplitudes are too many for the quadrature)."""
     d = 3e-5
     for n in (5000.0, 6000.0, 7000.0, 8000.0, 9000.0):
         D0, F, w = _lin(params, n)
         Bs = np.linspace(d * (1 + 1e-7), 10 * d, 20001)
-        df = describing_function(params, Bs, w, int(params.get("frictionModel", 1)), int(params.get("projection", 1)))
+        df = closed_form.describing_function(params, Bs, w, int(params.get("frictionModel", 1)),
+                                             int(params.get("projection", 1)))
         R = Bs * np.abs(D0 + df.Keq + 1j * df.CeqOmega) - F
         count = int(np.count_nonzero(np.sign(R[1:]) != np.sign(R[:-1]))) + int(F / abs(D0) <= d)
         sols = [s for s in harmonic_balance(params, n) if s.open or s.B <= 10 * d]
@@ -87,7 +93,7 @@ def _slow_flow_eigs(p: dict, n: float, B: float, phase: float) -> np.ndarray:
 
     def rhs(x: np.ndarray) -> np.ndarray:
         A = complex(x[0], x[1])
-        df = describing_function(p, abs(A), w, model, proj, method="quadrature")
+        df = describing_function(p, abs(A), w, model, proj)
         dA = (-1j * F - (D0 + df.Keq + 1j * w * df.Ceq) * A) / (2j * w * g.M)
         return np.array([dA.real, dA.imag])
 
@@ -131,9 +137,10 @@ def test_tracked_amplitude_stability_7000rpm() -> None:
     tracked-amplitude run returns to the upper root (period-map radius ~0.85) and leaves the middle
     one (radius ~1.9) for the upper root. The slow-flow flag agrees with both here."""
     p = {"gating": False, "amplitudeMode": 2}
-    low, mid, up = harmonic_balance(p, 7000.0, tracked=True)
+    low, mid, up = harmonic_balance(p, 7000.0)
     assert low.open and not mid.stable and up.stable
-    assert up.tracked_stable and not mid.tracked_stable and low.tracked_stable
+    r_low, r_mid, r_up = tracked_radii(p, (low, mid, up))
+    assert r_up < 1 and not r_mid < 1 and r_low < 1
     dev = _run_from_periodic_state(p, 7000.0, up, 1e-3, 0.5)
     assert abs(dev[-1]) < 1e-8
     dev = _run_from_periodic_state(p, 7000.0, mid, 1e-3, 0.5)
@@ -144,8 +151,8 @@ def test_tracked_amplitude_can_be_unstable_where_slow_flow_is_stable() -> None:
     """5000 rpm, k_n = 1e7, gating off: the unique root is slow-flow stable, but K_eq(B) is so steep
     that the period-by-period update overshoots (radius ~1.5): the tracked run leaves it."""
     p = {"gating": False, "amplitudeMode": 2}
-    (s,) = harmonic_balance(p, 5000.0, tracked=True)
-    assert s.stable and not s.tracked_stable
+    (s,) = harmonic_balance(p, 5000.0)
+    assert s.stable and not tracked_radii(p, [s])[0] < 1
     dev = _run_from_periodic_state(p, 5000.0, s, 1e-6, 0.1)
     assert np.max(np.abs(dev)) > 1e-4  # a 1e-6 perturbation grew > 100x in 25 periods
 

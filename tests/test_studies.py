@@ -12,6 +12,7 @@ import pytest
 
 from harness.studies.claims import build_claims, write_claims
 from harness.analysis.executor import Runner, read_csv
+from harness.reference.hysteresis import hysteresis
 from harness.studies.paper import reproduce
 
 
@@ -19,7 +20,7 @@ from harness.studies.paper import reproduce
 def quick(fmu_path, tmp_path_factory):
     out = tmp_path_factory.mktemp("results")
     with Runner(workers=2, progress=False) as r:
-        rep = reproduce(out, "quick", runner=r, fmu_path=fmu_path)
+        rep = reproduce(out, "quick", runner=r, fmu_path=fmu_path, hysteresis=hysteresis)
     return out, rep.summary
 
 

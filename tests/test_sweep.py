@@ -13,7 +13,8 @@ from harness.analysis import curves as sw
 from harness.model.excitation import AeroLoad, Stepped
 from harness.analysis.executor import Runner
 from harness.model.params import ParameterError, validate
-from harness.reference import galerkin, harmonic_balance
+from harness.analysis.harmonic_balance import harmonic_balance
+from harness.reference import galerkin
 
 # The contact-free blade is lightly damped (tau = 2M/C0 ~ 0.2 s): plateaus need a few seconds to be
 # declared steady at rtol 1e-3 (cheap: ~0.1 s of wall time per simulated second).
@@ -113,7 +114,7 @@ def test_contact_free_plateaus_match_closed_form(fmu_path, tmp_path):
 def test_ungated_sweeps_follow_stable_hb_branches_and_fixed_points_find_every_hb_root(fmu_path, tmp_path):
     # gating off: with B given, the describing-function model is linear, so (docs/model.md s.3) the
     # tracked steady state is a one-harmonic solution and A(B) = B holds exactly at the harmonic-
-    # balance amplitudes. The reference's harmonic balance (independent code) gives every root.
+    # balance amplitudes. The harmonic balance (frequency domain, another method) gives every root.
     p = validate({"gating": False, "kn": 1e6})
     speeds = tuple(np.arange(5200.0, 6601.0, 200.0))
     hb_all = harmonic_balance(p, np.array(speeds))

@@ -13,7 +13,7 @@ Three ways to get the response curve of one parameter set (docs/model.md section
 - `fixed`: the paper's procedure done properly: at each speed the FMU runs with a fixed B
   (amplitudeMode 1) to its steady state, A(B) = max |q|, and every root of A(B) = B is bracketed
   on a scan of B over (d, B_max] and refined by brentq (plus the open root B = A <= d).
-- `hb`: harmonic balance from the independent reference (`harness.reference.harmonic_balance`):
+- `hb`: harmonic balance (`harness.analysis.harmonic_balance`):
   every branch, with stability.
 Every plateau and every A(B) is cached on disk under its key (FMU hash, parameters, speed, start
 state), so an interrupted sweep resumes without recomputing; tasks run on `executor.Runner`. A
@@ -200,11 +200,11 @@ def run_chain(task: ChainTask) -> list[PlateauPoint]:
 
 
 # ---------------------------------------------------------------------------------------------
-# Harmonic balance (reference)
+# Harmonic balance
 # ---------------------------------------------------------------------------------------------
 def hb_curve(params: Mapping[str, Any], speeds: Iterable[float]) -> np.ndarray:
     """Every harmonic-balance solution at each speed: rows (speed, B, stable, phase)."""
-    from harness.reference import harmonic_balance
+    from harness.analysis.harmonic_balance import harmonic_balance
 
     sp = np.asarray(list(speeds), dtype=float)
     rows = []

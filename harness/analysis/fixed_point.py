@@ -92,8 +92,8 @@ _GALERKIN: dict[str, Any] = {}
 
 def linear_bound(params: Mapping[str, Any], speed: float) -> float:
     """G Fw0 / (C0 omega) [m]: the contact-free resonant amplitude bound at this speed (the
-    reference's Galerkin constants, computed once per parameter set and process)."""
-    from harness.reference import galerkin
+    Galerkin constants of harness.model.galerkin, computed once per parameter set and process)."""
+    from harness.model.galerkin import galerkin
 
     key = repr(sorted(params.items()))
     if key not in _GALERKIN:

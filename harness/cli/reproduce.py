@@ -4,6 +4,8 @@
 [--output-dir results] [--workers N | --scheduler ADDRESS]`. Writes one PNG and CSV files per
 figure, summary.json and claims.md (paper claim | ours | settings | verdict); files are replaced
 atomically. The studies are branches of periodic orbits (harness.studies.study_branches).
+Fig. 2 is a validation study (the FMU's loop against the reference's): this command, and `run`
+through it, are the product commands that import the validation package (docs/layers.md).
 """
 from __future__ import annotations
 
@@ -13,11 +15,12 @@ from pathlib import Path
 
 from harness.analysis.executor import RESULTS_DIR
 from harness.cli.sweep import add_execution_options, make_runner
+from harness.reference.hysteresis import hysteresis
+from harness.studies.claims import verdict_counts, write_claims
+from harness.studies.paper import SIZES, STUDIES, reproduce, validate_request
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    from harness.studies.paper import SIZES, STUDIES
-
     p.add_argument("--size", default="default", choices=list(SIZES),
                    help="quick (a test run: extremes only, coarse grid), default (make run), full (fine grids)")
     p.add_argument("--studies", nargs="+", choices=list(STUDIES), metavar="STUDY",
@@ -29,18 +32,13 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 
 def reproduce_and_report(args: argparse.Namespace, size: str, studies, extras: bool) -> int:
-    from harness.studies.claims import verdict_counts, write_claims
-    from harness.studies.paper import reproduce, validate_request
-
     validate_request(size, studies)
     out = Path(args.output_dir)
     t0 = time.perf_counter()
     with make_runner(args) as runner:
-        rep = reproduce(out, size, studies, runner=runner, fmu_path=args.fmu, extras=extras)
+        rep = reproduce(out, size, studies, runner=runner, fmu_path=args.fmu, extras=extras, hysteresis=hysteresis)
     wall = time.perf_counter() - t0
     rows = write_claims(out / "claims.md", rep.summary)
-    from harness.studies.paper import STUDIES
-
     for name, st in rep.summary.studies.items():
         print(f"{st.figure} ({name}): largest stable max|q| and its speed per model")
         for r in st.rows:

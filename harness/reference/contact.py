@@ -1,81 +1,28 @@
 """Independent Python reference, part 2: the shroud contact (paper eq. 1-13, docs/model.md s.3).
 
-Normal force (eq. 3), the macroslip friction loop (eq. 4) with its angles (eq. 5) and the Coulomb
-limit of the loop (docs/model-notes.md s.5), and their describing functions f_k, f_c, p_k, K_eq,
-C_eq computed two ways: the closed forms (eq. 7, eq. 8 with the docs/model.md fix, eq. 10; full stick;
-Coulomb) vectorised over the amplitude B, and a numerical (Gauss-Legendre) quadrature of the
-piecewise loop split at its breakpoints. Both stay accurate as B -> d+: the closed forms are the
-printed ones rewritten with half-angle identities (1 - cos theta2 = (B - d)/B, ...) and the bracket
-differences expanded analytically, and the loop is evaluated with v - d = (B - d) - 2 B sin^2(theta/2).
+Normal force (eq. 3), the macroslip friction loop (eq. 4) and its Coulomb limit (docs/model-notes.md
+s.5), and their describing functions f_k, f_c, p_k, K_eq, C_eq by a numerical (Gauss-Legendre)
+quadrature of the piecewise loop split at its breakpoints. The breakpoints (the angles of eq. 5)
+are found here by root finding on the loop's own switching conditions (brentq), not from the
+closed forms: the product's closed-form describing functions (harness/model/contact.py) are what
+this checks. The loop is evaluated with v - d = (B - d) - 2 B sin^2(theta/2), accurate as B -> d+.
 All per unit v (the contact coordinate), f_c carries 1/omega.
 Also: the loop state at a phase (model-notes s.4) and the closed-form cycle dissipation of the
 time-domain Jenkins element driven by a prescribed harmonic motion (model-notes s.2), which is not
-the paper's loop: see `jenkins_cycle_dissipation`.
+the paper's loop: see `jenkins_cycle_dissipation`. The contact constants (`ContactConsts`: the
+parameters k_n, k_d, mu, gamma, d and their combinations a, b) are the model's definitions.
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any, Mapping
 
 import numpy as np
+from scipy.optimize import brentq
 
-from harness.model.params import validate
-
-OPEN, STICK_SLIP, FULL_STICK = 0, 1, 2  # regime (docs/model.md s.3)
-STATE_OPEN, STATE_STICK, STATE_SLIP = 0, 1, 2  # contactState (model-notes s.4)
-MACROSLIP_DF, COULOMB_DF, MACROSLIP_TD = 1, 2, 3  # frictionModel
-
-
-@dataclass(frozen=True)
-class ContactConsts:
-    """Contact constants: k_n [N/m], k_d [N/m], mu [-], gamma [rad], d [m]."""
-
-    kn: float
-    kd: float
-    mu: float
-    gamma: float
-    d: float
-
-    @property
-    def a(self) -> float:
-        """k_d sin(gamma): tangential spring force per unit v [N/m]."""
-        return self.kd * math.sin(self.gamma)
-
-    @property
-    def b(self) -> float:
-        """mu k_n cos(gamma): friction limit per unit of |v| - d [N/m]."""
-        return self.mu * self.kn * math.cos(self.gamma)
-
-    @property
-    def full_stick(self) -> bool:
-        """k_d tan(gamma) < mu k_n (docs/model.md s.3): the loop never slips."""
-        return self.kd * math.tan(self.gamma) < self.mu * self.kn
-
-
-def contact_consts(params: Mapping[str, Any]) -> ContactConsts:
-    p = validate(params)
-    kn = float(p["kn"])
-    return ContactConsts(kn=kn, kd=float(p["kdRatio"]) * kn, mu=float(p["mu"]), gamma=float(p["gamma"]),
-                         d=float(p["d"]))
-
-
-@dataclass
-class DF:
-    """Describing function at amplitude(s) B. Arrays broadcast like B (scalars for scalar B)."""
-
-    fk: Any  # friction stiffness per unit v [N/m] (eq. 7)
-    fc: Any  # friction damping per unit v [N s/m] (eq. 8 fixed), = fcOmega / omega
-    pk: Any  # normal stiffness per unit v [N/m] (eq. 10)
-    Keq: Any  # equivalent stiffness [N/m] (eq. 12, projection applied)
-    Ceq: Any  # equivalent damping [N s/m] (eq. 13, projection applied)
-    regime: Any  # 0 open, 1 stick-slip, 2 full stick
-    theta1: Any  # loop angles eq. 5 [rad] (0 where not defined)
-    theta2: Any
-    theta3: Any
-    fcOmega: Any  # f_c * omega [N/m]
-    CeqOmega: Any  # C_eq * omega [N/m]
-
+from harness.model.contact import (COULOMB_DF, DF, FULL_STICK, MACROSLIP_DF, MACROSLIP_TD, OPEN, STATE_OPEN,
+                                   STATE_SLIP, STATE_STICK, STICK_SLIP, ContactConsts, contact_consts)
 
 def normal_force(params: Mapping[str, Any] | ContactConsts, v: Any) -> Any:
     """F_n(v) [N], eq. 3 (vectorised)."""
@@ -86,81 +33,49 @@ def normal_force(params: Mapping[str, Any] | ContactConsts, v: Any) -> Any:
     return out[()] if out.ndim == 0 else out
 
 
-def _x_minus_sin(x: Any) -> np.ndarray:
-    """x - sin(x) without cancellation: its Taylor series for |x| < 1 (terms to x^23/23!, below
-    1e-22 there), the direct difference otherwise (loses at most a factor 6 of roundoff)."""
-    x = np.asarray(x, dtype=float)
-    x2 = x * x
-    series = np.zeros_like(x)
-    for k in range(11, 0, -1):  # sum_{k>=1} (-1)^(k+1) x^(2k+1) / (2k+1)!, Horner in x^2
-        series = 1.0 / math.factorial(2 * k + 1) * (-1.0) ** (k + 1) + x2 * series
-    series = series * x2 * x
-    return np.where(np.abs(x) < 1.0, series, x - np.sin(x))
+def _switch_angle(g, lo: float, hi: float) -> float:
+    """The phase in [lo, hi] where the loop condition g changes sign (g(lo) > 0 > g(hi)), to roundoff."""
+    return float(brentq(g, lo, hi, xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=400))
 
 
-def _angle(ver: Any) -> np.ndarray:
-    """The angle t in [0, pi] with 1 - cos(t) = ver (half-angle form: t = 2 asin(sqrt(ver / 2)),
-    accurate to relative roundoff for small t). ver is clipped to [0, 2] (eq.-5 arguments that leave
-    [-1, 1] in full stick)."""
-    return 2.0 * np.arcsin(np.sqrt(np.clip(ver, 0.0, 2.0) / 2.0))
-
-
-@dataclass(frozen=True)
-class _Angles:
-    """The eq.-5 angles written near the gap without cancellation. With e = B - d,
-    a = k_d sin g, b = mu k_n cos g (so k_d tan g / (mu k_n) = a / b):
-        1 - cos(theta2) = e / B                  (cos theta2 = d / B)
-        1 - cos(theta1) = 2 b e / ((a + b) B)     (eq. 5: cos theta1 = (kdt B + 2 mkn d - mkn B) / ((kdt + mkn) B))
-        1 - cos(phi3)   = (a - b) e / (a B),  phi3 = pi - theta3  (cos theta3 = -(d kdt + mkn e) / (B kdt))
-    and the exact differences cos(theta1) - cos(theta2) = (a - b) e / ((a + b) B),
-    cos(phi3) - cos(theta2) = b e / (a B). Coulomb: theta1 = 0, phi3 = theta2."""
-
-    t1: np.ndarray
-    t2: np.ndarray
-    phi3: np.ndarray
-    ver1: np.ndarray  # 1 - cos(theta1)
-    ver2: np.ndarray  # 1 - cos(theta2)
-    ver3: np.ndarray  # 1 - cos(phi3)
-    d21: np.ndarray  # cos(theta1) - cos(theta2)
-    d23: np.ndarray  # cos(phi3) - cos(theta2)
-
-
-def _angles(cc: ContactConsts, B: np.ndarray, model: int) -> _Angles:
-    """Half-angle forms of eq. 5 for amplitudes B > d (vectorised; callers mask B <= d)."""
+@lru_cache(maxsize=4096)  # the quadrature and the loop ask for the same amplitude's angles many times
+def _angles_at(cc: ContactConsts, B: float, model: int) -> tuple[float, float, float]:
+    """theta1, theta2, theta3 of the down stroke v = B cos(theta), theta in [0, pi], B > d, from the
+    loop's conditions (sin^2 forms of v: v - B = -2 B s, v - d = e - 2 B s, s = sin^2(theta/2)):
+    theta2: the gap opens, v = d; theta1: the stick force a (v - B) + N* reaches -N*, N* = b (B - d);
+    theta3 = pi - phi3: on the far side the stick force a (v + d) reaches -N*, v = -B cos(phi3)."""
     a, b, d = cc.a, cc.b, cc.d
     e = B - d
-    ver2 = e / B
-    if model == COULOMB_DF:
-        ver1, ver3 = np.zeros_like(B), ver2
-        d21, d23 = ver2, np.zeros_like(B)
-    else:
-        ver1 = 2.0 * b * e / ((a + b) * B)
-        ver3 = np.maximum((a - b) * e / (a * B), 0.0)
-        d21, d23 = (a - b) * e / ((a + b) * B), b * e / (a * B)
-    return _Angles(_angle(ver1), _angle(ver2), _angle(ver3), ver1, ver2, ver3, d21, d23)
+    sin2 = lambda t: math.sin(0.5 * t) ** 2  # noqa: E731
+    t2 = _switch_angle(lambda t: e - 2.0 * B * sin2(t), 0.0, math.pi)
+    if model == COULOMB_DF:  # slips at once: theta1 = 0, theta3 = pi - theta2
+        return 0.0, t2, math.pi - t2
+    t1 = _switch_angle(lambda t: 2.0 * b * e - 2.0 * (a + b) * B * sin2(t), 0.0, math.pi)
+    # far side: a (v + d) + N* = a (2 B sin^2(phi/2) - e) + b e, negative at phi = 0 unless a <= b
+    g3 = lambda ph: -(a * (2.0 * B * sin2(ph) - e) + b * e)  # noqa: E731
+    phi3 = _switch_angle(g3, 0.0, t2) if a > b else 0.0
+    return t1, t2, math.pi - phi3
 
 
 def loop_angles(params: Mapping[str, Any] | ContactConsts, B: Any, model: int = MACROSLIP_DF) -> tuple[Any, Any, Any]:
     """theta1, theta2, theta3 of eq. 5 for amplitude B > d (Coulomb: theta1 = 0, theta3 = pi - theta2),
-    from the half-angle forms of `_Angles` (accurate as B -> d+). In full stick the eq.-5 arguments
-    leave [-1, 1]; the clipped values are returned (theta1 = theta2, theta3 = pi in the limit
-    k_d tan g = mu k_n). Where B <= d all three are 0."""
+    by root finding (`_angles_at`). In full stick (a <= b) theta3 = pi. Where B <= d all three are 0."""
     cc = params if isinstance(params, ContactConsts) else contact_consts(params)
     Bv = np.asarray(B, dtype=float)
-    on = Bv > cc.d
-    ang = _angles(cc, np.where(on, Bv, 2.0 * cc.d + 1.0), model)
-    th1, th2, th3 = (np.where(on, t, 0.0) for t in (ang.t1, ang.t2, math.pi - ang.phi3))
+    out = np.zeros((3,) + Bv.shape)
+    for idx in np.ndindex(Bv.shape):
+        if Bv[idx] > cc.d:
+            out[(slice(None),) + idx] = _angles_at(cc, float(Bv[idx]), model)
     if Bv.ndim == 0:
-        return float(th1), float(th2), float(th3)
-    return th1, th2, th3
+        return float(out[0]), float(out[1]), float(out[2])
+    return out[0], out[1], out[2]
 
 
 def regime(params: Mapping[str, Any] | ContactConsts, B: Any, model: int = MACROSLIP_DF) -> Any:
-    """0 open (B <= d), 1 stick-slip, 2 full stick (macroslip with k_d tan g < mu k_n)."""
+    """0 open (B <= d), 1 stick-slip, 2 full stick (macroslip that never slips: a <= b)."""
     cc = params if isinstance(params, ContactConsts) else contact_consts(params)
     Bv = np.asarray(B, dtype=float)
-    fs = FULL_STICK if (model != COULOMB_DF and cc.full_stick) else STICK_SLIP
-    out = np.where(Bv > cc.d, fs, OPEN)
+    out = np.where(Bv > cc.d, FULL_STICK if (model != COULOMB_DF and cc.a < cc.b) else STICK_SLIP, OPEN)
     return int(out) if out.ndim == 0 else out
 
 
@@ -234,63 +149,6 @@ def _loop_gaps(cc: ContactConsts, B: float, th: np.ndarray) -> tuple[np.ndarray,
     return e - 2.0 * B * np.sin(0.5 * th) ** 2, 2.0 * B * np.cos(0.5 * th) ** 2 - e
 
 
-def _cos_moment(tb: np.ndarray, D: np.ndarray) -> np.ndarray:
-    """int_{tb-D}^{tb} (cos x - cos tb) cos x dx for 0 <= D <= tb <= pi/2. With x = tb - y:
-    cos x - cos tb = sin(tb) sin(y) - cos(tb) (1 - cos y), cos x = cos(tb) cos(y) + sin(tb) sin(y), so
-        = sin tb cos tb cos D (1 - cos D) + sin^2 tb (2D - sin 2D)/4 - cos^2 tb J(D),
-        J(D) = int_0^D (1 - cos y) cos y dy = (sin D (1 - cos D) - (D - sin D)) / 2.
-    The two positive terms outweigh the negative one at least 2:1 (D <= tb): nothing cancels."""
-    st, ct = np.sin(tb), np.cos(tb)
-    verD = 2.0 * np.sin(0.5 * D) ** 2
-    J = 0.5 * (np.sin(D) * verD - _x_minus_sin(D))
-    return st * ct * np.cos(D) * verD + st * st * _x_minus_sin(2.0 * D) / 4.0 - ct * ct * J
-
-
-def _df_closed(cc: ContactConsts, B: np.ndarray, model: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple]:
-    """(f_k, f_c * omega, p_k) in closed form, vectorised over B (zero where B <= d).
-
-    Eq. 7, 8 (docs/model.md fix) and 10 rewritten so that nothing cancels as B -> d+ (where the printed
-    brackets subtract terms ~ k_n B to leave ~ k_n (B - d)^{3/2} / B^{1/2} or less). With
-    e = B - d, a = k_d sin g, b = mu k_n cos g, N* = b e and the half-angle forms of `_Angles`:
-    - p_k (eq. 10) with d = B cos theta2: p_k = k_n cos g (2 theta2 - sin 2 theta2) / pi.
-    - f_c omega (eq. 8 fixed) = -(1/(pi B)) closed int F_f sin = (2/(pi B^2)) int F_f dv over the down
-      stroke (v from B to -B), F_f affine in v on each interval: interval 1 (F_f from +N* to -N*
-      along v in [v1, B], B - v1 = 2 b e / (a + b)) gives 0, interval 2: -N* (e - (B - v1)),
-      interval 4 (F_f = a (v + d) from 0 to -N*): -N*^2 / (2 a), interval 5: -N* (a - b) e / a:
-          f_c omega = (2 b e^2 / (pi B^2)) [ (a - b)/(a + b) + (2 a - b)/(2 a) ]
-      (a -> infinity: 4 N* (B - d) / (pi B^2), the Coulomb value).
-    - f_k (eq. 7) = (2/(pi B)) int_0^pi F_f cos, interval by interval:
-      1: (a + b) B (theta1 - sin theta1) / 2; 2: -N* (sin theta2 - sin theta1) with
-      sin theta2 - sin theta1 = (cos theta1 - cos theta2) cot((theta1 + theta2)/2);
-      4: a B int_{phi3}^{theta2} (cos phi - cos theta2) cos phi dphi (`_cos_moment`); 5: N* sin phi3.
-    The test suite checks these against the printed eq. 7/8 away from the gap and against the
-    quadrature of eq. 3/4 everywhere."""
-    cg = math.cos(cc.gamma)
-    a, b, kn, d = cc.a, cc.b, cc.kn, cc.d
-    on = B > d
-    Bs = np.where(on, B, 2.0 * d + 1.0)  # dummy amplitude where open (results masked below)
-    ang = _angles(cc, Bs, model)
-    pk = kn * cg * _x_minus_sin(2.0 * ang.t2) / math.pi  # eq. 10
-    if model == COULOMB_DF:  # model-notes s.5: 4 N* (1 - d/B) / (pi B)
-        fk = np.zeros_like(Bs)
-        fcw = 4.0 * b * ang.ver2 ** 2 / math.pi
-    elif cc.full_stick:  # docs/model.md s.3: elastic, no dissipation
-        fk = cc.kd * math.tan(cc.gamma) / kn * pk
-        fcw = np.zeros_like(Bs)
-    else:
-        Ns_B = b * ang.ver2  # N* / B [N/m]
-        D = 2.0 * np.arcsin(np.minimum(ang.d23 / (2.0 * np.sin(0.5 * (ang.t2 + ang.phi3))), 1.0))  # theta2 - phi3
-        fk = 2.0 / math.pi * (  # eq. 7
-            0.5 * (a + b) * _x_minus_sin(ang.t1)
-            - Ns_B * ang.d21 / np.tan(0.5 * (ang.t1 + ang.t2))
-            + a * _cos_moment(ang.t2, D)
-            + Ns_B * np.sin(ang.phi3))
-        fcw = 2.0 * b * ang.ver2 ** 2 / math.pi * ((a - b) / (a + b) + (2.0 * a - b) / (2.0 * a))  # eq. 8 fixed
-    fk, fcw, pk = (np.where(on, x, 0.0) for x in (fk, fcw, pk))
-    angles = tuple(np.where(on, t, 0.0) for t in (ang.t1, ang.t2, math.pi - ang.phi3))
-    return fk, fcw, pk, angles
-
-
 _GL = {n: np.polynomial.legendre.leggauss(n) for n in (32, 64)}
 
 
@@ -306,31 +164,28 @@ def _df_quadrature(cc: ContactConsts, B: float, model: int) -> tuple[float, floa
     pi = math.pi
     kcg = cc.kn * math.cos(cc.gamma)
     pts = sorted({0.0, t1, t2, pi - t2, t3, pi, pi + t1, pi + t2, 2 * pi - t2, pi + t3, 2 * pi})
+    lo, hi = np.array(pts[:-1]), np.array(pts[1:])
+    lo, hi = lo[hi > lo], hi[hi > lo]
     res, mag = {}, {}
-    for n, (x, wts) in _GL.items():
-        tot, size = np.zeros(3), np.zeros(3)
-        for lo, hi in zip(pts[:-1], pts[1:]):
-            if hi > lo:
-                th = 0.5 * (hi - lo) * x + 0.5 * (hi + lo)  # strictly inside the piece
-                ff = np.asarray(loop_friction(cc, B, th, model))
-                vmd, vpd = _loop_gaps(cc, B, th)
-                fn = np.where(vmd > 0.0, kcg * vmd, np.where(vpd < 0.0, kcg * vpd, 0.0))  # eq. 3
-                terms = np.array([ff * np.cos(th), -ff * np.sin(th), fn * np.cos(th)])
-                w = 0.5 * (hi - lo) * wts
-                tot += terms @ w
-                size += np.abs(terms) @ w
-        res[n], mag[n] = tot / (pi * B), size / (pi * B)
+    for n, (x, wts) in _GL.items():  # all pieces at once: nodes (piece, node), strictly inside
+        th = (0.5 * (hi - lo)[:, None] * x + 0.5 * (hi + lo)[:, None]).ravel()
+        w = (0.5 * (hi - lo)[:, None] * wts).ravel()
+        ff = np.asarray(loop_friction(cc, B, th, model))
+        vmd, vpd = _loop_gaps(cc, B, th)
+        fn = np.where(vmd > 0.0, kcg * vmd, np.where(vpd < 0.0, kcg * vpd, 0.0))  # eq. 3
+        terms = np.array([ff * np.cos(th), -ff * np.sin(th), fn * np.cos(th)])
+        res[n], mag[n] = terms @ w / (pi * B), np.abs(terms) @ w / (pi * B)
     if np.any(np.abs(res[64] - res[32]) > 1e-12 * mag[64]):
         raise ArithmeticError(f"loop quadrature did not converge at B = {B:g}")
     return float(res[64][0]), float(res[64][1]), float(res[64][2])
 
 
 def describing_function(params: Mapping[str, Any] | ContactConsts, B: Any, omega: float, model: int = MACROSLIP_DF,
-                        projection: int = 1, method: str = "closed") -> DF:
+                        projection: int = 1) -> DF:
     """Describing function of the macroslip (model 1) or Coulomb (model 2) loop at amplitude B [m]
     (scalar or array) and excitation frequency omega [rad/s] (> 0 needed for f_c, C_eq; with
     omega = 0 they are inf where the loop dissipates). model 3 (time-domain element) reports the
-    macroslip DF. method "closed" (vectorised) or "quadrature" (scalar loop)."""
+    macroslip DF. By quadrature of the loop (`_df_quadrature`), one amplitude at a time."""
     cc = params if isinstance(params, ContactConsts) else contact_consts(params)
     if model == MACROSLIP_TD:
         model = MACROSLIP_DF
@@ -340,14 +195,9 @@ def describing_function(params: Mapping[str, Any] | ContactConsts, B: Any, omega
         raise ValueError(f"projection must be 1 or 2, got {projection!r}")
     Bv = np.asarray(B, dtype=float)
     B1 = np.atleast_1d(Bv)
-    if method == "closed":
-        fk, fcw, pk, (t1, t2, t3) = _df_closed(cc, B1, model)
-    elif method == "quadrature":
-        res = np.array([_df_quadrature(cc, float(b), model) for b in B1]).reshape(-1, 3)
-        fk, fcw, pk = res[:, 0], res[:, 1], res[:, 2]
-        t1, t2, t3 = (np.atleast_1d(t) for t in loop_angles(cc, B1, model))
-    else:
-        raise ValueError("method must be 'closed' or 'quadrature'")
+    res = np.array([_df_quadrature(cc, float(b), model) for b in B1]).reshape(-1, 3)
+    fk, fcw, pk = res[:, 0], res[:, 1], res[:, 2]
+    t1, t2, t3 = (np.atleast_1d(t) for t in loop_angles(cc, B1, model))
     sg, cg = math.sin(cc.gamma), math.cos(cc.gamma)
     Keq = (fk + pk) * sg if projection == 1 else fk * sg + pk * cg  # eq. 12 / consistent
     Cw = fcw * sg  # eq. 13, p_c = 0 (eq. 11)

@@ -21,7 +21,8 @@ import numpy as np
 from harness.reference.hybrid import run_segment
 
 from harness.model.params import ParameterError, start_values, validate
-from harness.reference.blade import Galerkin, galerkin
+from harness.model.galerkin import Galerkin
+from harness.reference.blade import galerkin
 from harness.reference.contact import (COULOMB_DF, MACROSLIP_DF, MACROSLIP_TD, ContactConsts, contact_consts,
                                        describing_function, loop_state)
 

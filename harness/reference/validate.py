@@ -8,8 +8,9 @@ amplitude mode, at constant speeds (3000, 5000 = resonance, 8000 rpm) and a 4000
 run-up. Tolerances (issue 3): tip displacement within 1e-6 of its amplitude over the whole run for
 the describing-function models without switching (no gating, fixed B), 1e-4 with switching
 instants (gating at |q| = d, tracked-B updates at period ends) and for the time-domain element. Harmonic-balance cases: gating off, tracked amplitude: the FMU's
-periodic steady state (harness.analysis.steady_state) against the nearest harmonic-balance solution of the
-reference that is stable and reachable by the tracked-amplitude update, amplitude and phase to
+periodic steady state (harness.analysis.steady_state) against the nearest harmonic-balance solution
+(harness.analysis.harmonic_balance) that is stable and reachable by the tracked-amplitude update (the
+reference's tracked map, harness.reference.tracked), amplitude and phase to
 1e-4; where the reference says no root is reachable (the tracked-B period map has spectral radius
 > 1) the FMU must not settle. Exit code 1 if any row fails.
 """
@@ -26,8 +27,14 @@ from typing import Any, Callable, Iterable
 
 import numpy as np
 
-from harness.model.excitation import AeroLoad, Constant, LinearRamp, Modulated, Piecewise, fmu_view
 from harness.analysis.executor import atomic_write_text
+from harness.analysis.harmonic_balance import harmonic_balance
+from harness.analysis.steady_state import analyze
+from harness.fmu.blade import BladeFMU, FMUError
+from harness.model.excitation import AeroLoad, Constant, LinearRamp, Modulated, Piecewise, fmu_view
+from harness.model.params import validate
+from harness.reference.dynamics import simulate
+from harness.reference.tracked import tracked_radii
 
 TOL_DF = 1e-6  # describing-function models, no gating: smooth right-hand side
 TOL_SWITCHING = 1e-4  # gating (K_eq, C_eq switch at |q| = d) and the time-domain element
@@ -126,14 +133,12 @@ def _rel(a: np.ndarray, b: np.ndarray, mask: np.ndarray | None = None) -> float:
 
 
 def _fmu_and_reference(fmu, case: Case, step: float, max_step: float):
-    from harness import reference
-    from harness.model.params import validate
     p = validate(dict(case.options, maxStep=max_step))
     res = fmu.run(p, case.stop_time, step, speed=case.speed, derivative_order=8)
     grid = res["time"]
     aero = AeroLoad(p["Fw0"], p["engineOrder"], case.speed)
     aero_v, speed_v = fmu_view(aero, grid, 8), fmu_view(case.speed, grid, 8)
-    ref = reference.simulate(p, case.stop_time, aero_v, speed_v, t_eval=grid, breakpoints=grid)
+    ref = simulate(p, case.stop_time, aero_v, speed_v, t_eval=grid, breakpoints=grid)
     return p, res, ref, speed_v
 
 
@@ -179,7 +184,6 @@ def _steady_fmu(fmu, p: dict[str, Any], rpm: float, start: str, max_periods: int
     periods (the free vibration is hardly excited: follows the branch that grows from zero, e.g.
     an open branch just below the gap); start="kick" drives KICK_PERIODS periods with KICK times
     the load (reaches a contact branch that coexists with the open one)."""
-    from harness.analysis.steady_state import analyze
     period = 60.0 / (rpm * p["engineOrder"])
     M = int(math.ceil(period / 1e-4))
     step = period / M  # an integer number of samples per period: no resampling in analyze
@@ -205,22 +209,22 @@ def _steady_fmu(fmu, p: dict[str, Any], rpm: float, start: str, max_periods: int
 
 
 def compare_hb(fmu, case: Case) -> list[Row]:
-    """The FMU's periodic steady state vs the reference's harmonic balance (gating off, tracked B).
+    """The FMU's periodic steady state vs the harmonic balance (gating off, tracked B): two methods of
+    the product, time integration and the frequency domain (harness.analysis.harmonic_balance).
 
-    The reference also gives the spectral radius of the tracked-amplitude period map at each HB
-    root: a root is reachable by the FMU if it is stable and that radius is < 1. Two starts (soft,
-    kick); each one that settles is compared with the nearest reachable root. Where no root is
-    reachable the FMU must not settle (the B update overshoots: the period-to-period oscillation
+    The reference gives the spectral radius of the tracked-amplitude period map at each HB root
+    (harness.reference.tracked): a root is reachable by the FMU if it is stable and that radius is < 1.
+    Two starts (soft, kick); each one that settles is compared with the nearest reachable root.
+    Where no root is reachable the FMU must not settle (the B update overshoots: the period-to-period oscillation
     of docs/model.md s.4). A reachable root that no start settles on fails."""
-    from harness import reference
-    from harness.model.params import validate
     p = validate(case.options)
-    sols = reference.harmonic_balance(p, case.rpm, tracked=True)
-    reachable = [s for s in sols if s.stable and s.tracked_stable]
+    sols = harmonic_balance(p, case.rpm)
+    radius = dict(zip((s.B for s in sols), tracked_radii(p, sols)))
+    reachable = [s for s in sols if s.stable and radius[s.B] < 1.0]
     runs = {start: _steady_fmu(fmu, p, case.rpm, start) for start in ("soft", "kick")}
     settled = {k: v for k, v in runs.items() if v[0].reached}
     if not reachable:
-        radii = ", ".join(f"{s.tracked_radius:.3g}" for s in sols if s.stable)
+        radii = ", ".join(f"{radius[s.B]:.3g}" for s in sols if s.stable)
         note = (f"reference: tracked-B map unstable at every stable HB root (radius {radii}); FMU "
                 + (f"settled ({', '.join(settled)} start)" if settled else
                    f"did not settle in {max(t for _, t in runs.values()):.3g} s"))
@@ -236,7 +240,7 @@ def compare_hb(fmu, case: Case) -> list[Row]:
         dph = abs((ss.phase - best.phase + math.pi) % (2 * math.pi) - math.pi)
         branch = "open branch" if best.open else "contact branch"
         note = (f"{start} start: B_fmu {ss.harmonic_amplitude * 1e3:.6g} mm, B_hb {best.B * 1e3:.6g} mm"
-                f" ({branch}, tracked radius {best.tracked_radius:.3g}, {len(sols)} HB root(s))")
+                f" ({branch}, tracked radius {radius[best.B]:.3g}, {len(sols)} HB root(s))")
         rows += [Row(case.name, f"steady amplitude vs HB ({start})", err_b, TOL_HB, note),
                  Row(case.name, f"steady phase vs HB ({start}) [rad]", dph, TOL_HB)]
     return rows
@@ -244,7 +248,6 @@ def compare_hb(fmu, case: Case) -> list[Row]:
 
 def run_validation(case_list: Iterable[Case], fmu_path=None, on_row: Callable[[Row], None] | None = None,
                    max_step: float = MAX_STEP) -> list[Row]:
-    from harness.fmu.blade import BladeFMU, FMUError
     rows: list[Row] = []
     with BladeFMU(fmu_path) as fmu:
         for case in case_list:

@@ -7,7 +7,7 @@ killed study resumes where it stopped.
 Amplification of a pattern = largest blade amplitude (max |q| over the last excitation period) /
 the tuned ring's blade amplitude at the same speed, the speed being the tuned ring's resonance with
 the contacts open (EO n / 60 = contact-free first bending frequency, Campbell crossing, from the
-Galerkin reduction of the Python reference). Compared with Whitehead's bound (1 + sqrt(N)) / 2, a
+Galerkin reduction, harness.model.galerkin). Compared with Whitehead's bound (1 + sqrt(N)) / 2, a
 theorem for linear rings with light damping. Variants: `friction` (the contacts as given),
 `frictionless` (mu = 0: the shrouds impact, no friction) and `open` (d = 1 m: the contacts never
 close, the blades are uncoupled). A ring that does not settle has no amplification (NaN), and a
@@ -86,8 +86,8 @@ def factors(n: int, sigma: float, seed: int, index: int) -> np.ndarray:
 
 def resonance_speed(blade: dict, engine_order: int) -> float:
     """Speed [rpm] where engine_order n / 60 equals the contact-free first bending frequency:
-    Omega^2 (EO^2 M - K0omega2) = K0static (Galerkin reduction, harness/reference/blade.py)."""
-    from harness.reference.blade import galerkin
+    Omega^2 (EO^2 M - K0omega2) = K0static (Galerkin reduction, harness/model/galerkin.py)."""
+    from harness.model.galerkin import galerkin
     g = galerkin({k: v for k, v in blade.items() if k in ("EI", "rho", "A", "l", "c", "m0", "formulation")})
     return math.sqrt(g.K0static / (engine_order ** 2 * g.M - g.K0omega2)) * 60 / (2 * math.pi)
 

@@ -3,7 +3,7 @@
 `reproduce()` runs, for a chosen size ("quick" for tests, "default" for `make run`, "full"): the
 four parameter studies of Fig. 6-9 (gap, shroud mass, contact angle, normal stiffness) as branches
 of periodic orbits of the FMU with their stability (the paper's fixed point B = A(B) and the
-time-domain Jenkins element; harness.studies.study_branches) over the reference's harmonic-balance
+time-domain Jenkins element; harness.studies.study_branches) over the harmonic-balance
 branches; the section-4 comparison with the Coulomb model (branches too); Fig. 4/5 (time response
 and spectrum at 5000 rpm), the hysteresis loop of Fig. 2 (eq. 4 closed form against the FMU's
 time-domain macroslip element and the reference Jenkins element driven harmonically), the paper's
@@ -21,7 +21,7 @@ import math
 import time as _time
 from dataclasses import dataclass, field, fields, is_dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence
 
 import numpy as np
 
@@ -283,12 +283,6 @@ def paper_iteration(fmu: Any, params: Mapping[str, Any], speed: float, B0: float
     return seq
 
 
-def _loop_area(x: np.ndarray, F: np.ndarray) -> float:
-    """|closed integral F dx| (trapezoid) of a sampled loop, closed from the last to the first point."""
-    xc, Fc = np.append(x, x[0]), np.append(F, F[0])
-    return float(abs(np.sum(0.5 * (Fc[1:] + Fc[:-1]) * np.diff(xc))))
-
-
 @dataclass(frozen=True)
 class HysteresisLoop:
     """Fig. 2 at one normal stiffness: the energy dissipated per cycle by the friction loop."""
@@ -302,50 +296,8 @@ class HysteresisLoop:
     E_jenkins_prescribed: float  # [J] reference Jenkins element driven by v = B cos(theta)
 
 
-def hysteresis(fmu: Any, out: Path, base: Mapping[str, Any]) -> dict[str, HysteresisLoop]:
-    """Fig. 2: the loop of eq. 4 at amplitude B against (a) the reference Jenkins element driven by
-    v = B cos(theta) and (b) the FMU's time-domain element (frictionModel 3) in a steady run."""
-    from harness import reference as ref
-
-    panels, rows = [], []
-    info: dict[str, HysteresisLoop] = {}
-    theta = np.linspace(0, 2 * PI, 721)
-    for label, kn, speed in (("kn = 1e7 N/m (paper)", 1e7, 5000.0), ("kn = 1e5 N/m (soft)", 1e5, 4950.0)):
-        p = _params.validate(dict(base, kn=kn, frictionModel=3))
-        om = omega_of(p, speed)
-        T = 2 * PI / om
-        r = fmu.run(p, T * math.ceil(0.6 / T), T / 256, speed=speed,
-                    outputs=["tipDisplacement", "frictionForce", "normalForce", "dissipatedEnergy", "tipVelocity"])
-        last = r[r["time"] >= r["time"][-1] - T * (1 + 1e-9)]
-        B = float(np.max(np.abs(last["tipDisplacement"])))
-        sg = math.sin(p["gamma"])
-        Ff_eq4 = np.array([ref.loop_friction(p, B, th, 1) for th in theta[:-1]] + [math.nan])
-        du_eq4 = B * sg * np.cos(theta)
-        du_fmu = last["tipDisplacement"] * sg
-        E_fmu = _loop_area(du_fmu, last["frictionForce"])
-        E_eq4 = _loop_area(du_eq4[:-1], Ff_eq4[:-1])
-        df = ref.describing_function(p, B, om, model=1)
-        E_df = float(PI * om * B * B * float(df.fc))
-        jp = ref.jenkins_prescribed(p, B, om, n_cycles=2, samples_per_cycle=720)
-        du_j = B * sg * np.cos(jp["theta"])
-        panels.append({"title": f"{label}, {speed:g} rpm, B = {B * 1e3:.4f} mm (FMU steady amplitude)",
-                       "eq4": (du_eq4, Ff_eq4), "fmu": (du_fmu, last["frictionForce"])})
-        order = np.argsort(jp["theta"])
-        panels[-1]["jenkins"] = (du_j[order], jp["Ff"][order])
-        panels[-1]["energy"] = {"eq4": E_eq4, "jenkins": float(jp["cycle_work"][-1]), "fmu": E_fmu}
-        info[label] = HysteresisLoop(kn, speed, B, E_fmu, E_eq4, E_df, float(jp["cycle_work"][-1]))
-        for th, du, F in zip(theta[:-1], du_eq4[:-1], Ff_eq4[:-1]):
-            rows.append((kn, 0, th, du, F))
-        for du, F in zip(du_fmu, last["frictionForce"]):
-            rows.append((kn, 1, math.nan, du, F))
-        for th, du, F in zip(jp["theta"], du_j, jp["Ff"]):
-            rows.append((kn, 2, th, du, F))
-    tab = np.array(rows, dtype=[("kn", "f8"), ("source", "i4"), ("theta", "f8"), ("du", "f8"), ("Ff", "f8")])
-    write_csv(out / "fig2_hysteresis.csv", tab,
-              "Fig. 2: friction loop; source 0 = eq. 4 closed form, 1 = FMU frictionModel 3 (last period of a "
-              "steady run), 2 = reference Jenkins element driven by v = B cos(theta); du [m], Ff [N]")
-    plots.hysteresis(out / "fig2_hysteresis.png", panels)
-    return info
+# Fig. 2's study: (FMU, results directory, base parameters) -> loops by panel label
+Hysteresis = Callable[[Any, Path, Mapping[str, Any]], "dict[str, HysteresisLoop]"]
 
 
 @dataclass(frozen=True)
@@ -463,10 +415,13 @@ def validate_request(size: str | Size, studies: Sequence[str] | None) -> tuple[S
 
 
 def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studies: Sequence[str] | None = None,
-              runner: Runner | None = None, fmu_path: Path | str | None = None, extras: bool = True, base: Mapping[str, Any] | None = None) -> Reproduction:
+              runner: Runner | None = None, fmu_path: Path | str | None = None, extras: bool = True, base: Mapping[str, Any] | None = None,
+              hysteresis: Hysteresis | None = None) -> Reproduction:
     """Run the studies as branches of periodic orbits over the harmonic-balance branches (and, with
     `extras`, the Coulomb comparison, Fig. 2, 4/5, Campbell, the paper's iteration). Nothing is
-    cached: a curve takes about a second."""
+    cached: a curve takes about a second. Fig. 2 compares the FMU's friction loop with the
+    reference's, so its study comes from the validation side (harness.reference.hysteresis, passed
+    in by the `reproduce` and `run` commands); without it Fig. 2 is left out."""
     from harness.fmu.blade import BladeFMU
     from harness.analysis.periodic.studies import trace_curve
     from harness.analysis.curves import fmu_identity, hb_curve
@@ -507,7 +462,8 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
             t0 = _time.perf_counter()
             with BladeFMU(path) as fmu:
                 summary.fig45 = fig45(fmu, out, base_p, 5000.0, size.fig45_time, _root_at(base_p, 5000.0, fmu))
-                summary.hysteresis = hysteresis(fmu, out, base_p)
+                if hysteresis is not None:
+                    summary.hysteresis = hysteresis(fmu, out, base_p)
                 summary.hb_vs_orbit = hb_vs_orbit(fmu, out, base_p, done)
                 peaks = []
                 if "kn" in summary.studies:

@@ -2,7 +2,7 @@
 
 Per study value: every branch of the paper's fixed point B = A(B) (the tracked-amplitude FMU's
 periodic solutions, stable or not) and of the time-domain Jenkins element, traced by shooting and
-continuation through the FMU (harness.analysis.periodic), drawn over the reference's harmonic-balance
+continuation through the FMU (harness.analysis.periodic), drawn over the harmonic-balance
 branches (gating off). For the kn and angle studies also the Coulomb describing function's fixed
 point (section 4). Written per study: `<fig>_<key>_branches.csv` (one row per orbit),
 `<fig>_<key>_hb.csv`, `<fig>_<key>_summary.csv` (peaks, jump speeds, DF vs Jenkins) and

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from harness.reference.contact import ContactConsts
+from harness.model.contact import ContactConsts
 from harness.system.ring import Ring
 
 

@@ -28,8 +28,8 @@ from typing import Mapping
 
 import numpy as np
 
-from harness.reference.blade import galerkin
-from harness.reference.contact import contact_consts
+from harness.model.galerkin import galerkin
+from harness.model.contact import contact_consts
 from harness.model.params import validate
 from harness.system import ring_conserving
 from harness.system.contact_energy import require_jenkins, spring_energy

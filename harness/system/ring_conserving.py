@@ -26,8 +26,8 @@ from math import factorial
 import numpy as np
 
 from harness.model.params import validate
-from harness.reference.blade import galerkin
-from harness.reference.contact import contact_consts
+from harness.model.galerkin import galerkin
+from harness.model.contact import contact_consts
 from harness.system.contact_energy import require_jenkins, spring_energy
 from harness.system.ring import Ring
 from harness.system.ring import run as ring_run

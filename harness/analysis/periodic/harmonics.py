@@ -4,7 +4,7 @@ An orbit (a root of the period map) is sampled by the FMU at N equidistant point
 started on it (its start values; inside one period the tracked-amplitude model is the fixed-B
 model, so the samples are the orbit). Its discrete Fourier series q(t) = sum_k a_k sin(k w t +
 phi_k) gives the first-harmonic amplitude a1 and the higher harmonics' amplitude
-h = sqrt(sum_{k>=2} a_k^2) (sqrt 2 times their RMS). The harmonic balance (harness.reference.hb:
+h = sqrt(sum_{k>=2} a_k^2) (sqrt 2 times their RMS). The harmonic balance (harness.analysis.harmonic_balance:
 one harmonic, gating off) is compared with a1 and with max |q|: ungated, the fixed-B ODE is linear,
 h = 0 and HB equals the orbit (tests/test_periodic.py); gated, and for the Jenkins element, h
 measures what one harmonic cannot hold.
@@ -19,7 +19,7 @@ import numpy as np
 
 from harness.analysis.periodic.period_map import PeriodMap, omega
 from harness.analysis.periodic.continuation import Branch
-from harness.reference.hb import harmonic_balance
+from harness.analysis.harmonic_balance import harmonic_balance
 
 SAMPLES = 128  # points per period: harmonics up to 63 resolved; the orbits' content above 20 is < 1e-6
 
@@ -80,7 +80,7 @@ def harmonic_row(pm: PeriodMap, x: np.ndarray, speed: float, amplitude: float, s
 
 
 def hb_parameters(pm: PeriodMap) -> dict[str, Any]:
-    """The HB the orbits of pm are compared with: the reference's, gating off (the paper's), with
+    """The HB the orbits of pm are compared with: the harmonic balance's, gating off (the paper's), with
     the macroslip describing function for the Jenkins element."""
     return dict(pm.p, frictionModel=1 if pm.model == "jenkins" else pm.p["frictionModel"])
 

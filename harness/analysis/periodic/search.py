@@ -2,8 +2,8 @@
 
 Seeds, each refined by Newton shooting (harness.analysis.periodic.shooting), duplicates merged:
 - the contact-free linear orbit and the one-harmonic orbits of the blade linearised at amplitudes
-  B on a geometric grid (harness.reference.hb.linear_orbit): one guess per amplitude level;
-- the harmonic-balance solutions (gating off, harness.reference.hb.harmonic_balance), every branch;
+  B on a geometric grid (harness.analysis.harmonic_balance.linear_orbit): one guess per amplitude level;
+- the harmonic-balance solutions (gating off, harness.analysis.harmonic_balance), every branch;
 - for the fixed point B = A(B) (fixedPoint, coulomb): the fixed-B orbit followed along a geometric
   scan of B over (d, B_max] (each Newton warm-started from the previous B), g(B) = A(B) - B on it;
   every sign change of g, and every interior local minimum of |g| (where two roots can hide in
@@ -21,7 +21,7 @@ import numpy as np
 from harness.analysis.fixed_point import linear_bound
 from harness.analysis.periodic.period_map import PeriodMap, omega
 from harness.analysis.periodic.shooting import Solution, newton
-from harness.reference.hb import harmonic_balance, linear_orbit, linear_orbits
+from harness.analysis.harmonic_balance import harmonic_balance, linear_orbit, linear_orbits
 
 SCAN_TOL = 1e-7  # Newton tolerance of the fixed-B orbits of the B scan (they only place the roots of
 #                  g(B), which Newton on the augmented problem then refines to the shooting tolerance)

@@ -1,4 +1,5 @@
-"""Independent Python reference, part 4: one-harmonic balance (docs/model.md s.5), gating off.
+"""One-harmonic balance of the blade (docs/model.md s.5), gating off: the amplitude-speed curves'
+`hb` method and the seeds of the periodic-orbit search.
 
 B = F / |K0(Omega) + K_eq(B) - M w^2 + i (w C0 + w C_eq(B))| with F = Fw0 * loadGain and
 w = engineOrder * Omega. Note w C_eq(B) = sin(g) f_c(B) w does not depend on w, so the describing
@@ -7,20 +8,22 @@ the open branch (B <= d, linear response) and every sign change of the residual
 R(B) = B |D(B)| - F on a dense log grid of B - d, refined by a vectorised Illinois regula falsi
 (bracketing, superlinear) to ~1e-14 relative. Stability is the slow-flow (first-order averaging)
 criterion of an oscillator with amplitude-dependent stiffness and damping, see `stability`.
+Built on the product's Galerkin reduction and closed-form describing functions (harness/model);
+the reference checks it through the FMU (shooting orbits against HB roots) and its own
+tracked-amplitude map (harness/reference/tracked.py).
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any, Mapping, Sequence
 
 import numpy as np
-from scipy.optimize import brentq
 
+from harness.model.contact import COULOMB_DF, MACROSLIP_DF, contact_consts, describing_function
+from harness.model.galerkin import galerkin
 from harness.model.params import validate
-from harness.reference.blade import galerkin
-from harness.reference.contact import COULOMB_DF, MACROSLIP_DF, contact_consts, describing_function
 
 
 @dataclass(frozen=True)
@@ -32,13 +35,6 @@ class HBSolution:
     stable: bool  # slow-flow stability (see `stability`)
     open: bool  # True on the contact-free branch B <= d
     speed: float  # rotor speed [rpm]
-    tracked_radius: float | None = None  # spectral radius of the tracked-amplitude period map (if asked)
-
-    @property
-    def tracked_stable(self) -> bool | None:
-        """True if the FMU's tracked-amplitude dynamics (gating off) return to this solution after a
-        small perturbation (None if not computed)."""
-        return None if self.tracked_radius is None else self.tracked_radius < 1.0
 
 
 class _HBModel:
@@ -132,14 +128,12 @@ def stability(hb: _HBModel, B: np.ndarray, rpm: np.ndarray) -> np.ndarray:
 
 
 def harmonic_balance(params: Mapping[str, Any] | None, speed_rpm: float | Sequence[float] | np.ndarray,
-                     B_max: float | None = None, n_scan: int = 800, tracked: bool = False
-                     ) -> list[HBSolution] | list[list[HBSolution]]:
+                     B_max: float | None = None, n_scan: int = 800) -> list[HBSolution] | list[list[HBSolution]]:
     """All one-harmonic solutions (gating off) at `speed_rpm` (scalar -> list[HBSolution] sorted by B;
     array -> one such list per speed). B_max defaults to F/(w C0), an upper bound of every root
     since w C_eq >= 0. Roots closer together than the scan resolution (n_scan log points of B - d
     from 1e-9 d to B_max) can be missed, i.e. only right at a fold. `stable` is the slow-flow
-    criterion (see `stability`); with tracked=True each solution also gets `tracked_radius`
-    (see `tracked_map_radius`; ~1 ms per solution, so off by default)."""
+    criterion (see `stability`)."""
     hb = _HBModel(params or {})
     scalar = np.ndim(speed_rpm) == 0
     rpm = np.atleast_1d(np.asarray(speed_rpm, dtype=float))
@@ -176,53 +170,7 @@ def harmonic_balance(params: Mapping[str, Any] | None, speed_rpm: float | Sequen
         lst.sort(key=lambda s: s.B)
         # a residual exactly 0 on a grid point brackets the same root twice: keep one
         result[i] = [s for j, s in enumerate(lst) if j == 0 or s.B - lst[j - 1].B > 1e-12 * s.B]
-        if tracked:
-            result[i] = [replace(s, tracked_radius=tracked_map_radius(params, s.speed, s.B)) for s in result[i]]
     return result[0] if scalar else result
-
-
-def tracked_map_radius(params: Mapping[str, Any] | None, speed_rpm: float, B: float, rel_step: float = 1e-6) -> float:
-    """Spectral radius of the tracked-amplitude period map at the HB root B (gating off): the state
-    at a period start (q, q'/w, B) is mapped exactly (constant coefficients inside a period: linear
-    ODE with K0 + K_eq(B), C0 + C_eq(B), solved in closed form) to (q, q'/w, max |q| over the
-    period) one period later. The HB root is a fixed point of this map; radius < 1 means the
-    FMU's tracked-amplitude dynamics (model-notes s.3) converge to it after a small perturbation."""
-    from harness.reference.fixedpoint import _Mode, _Piece  # exact piecewise solution
-
-    hb = _HBModel(params or {})
-    Om = 2 * math.pi * speed_rpm / 60.0
-    w = hb.EO * Om
-    T = 2 * math.pi / w
-    K0 = hb.gal.K0static + hb.gal.K0omega2 * Om * Om
-    M, C0, F = hb.gal.M, hb.gal.C0, hb.F
-
-    def pmap(x: np.ndarray) -> np.ndarray:
-        q0, u0, b = x
-        K, Cw = hb.dfKC(np.array([b]))
-        mode = _Mode(M, C0 + Cw[0] / w, K0 + K[0], F, w)
-        pc = _Piece(mode, 0.0, q0, u0 * w)
-        n = int(math.ceil(48.0 * mode.fast * T / (2 * math.pi))) + 2
-        ts = np.linspace(0.0, T, n)
-        q, v = pc.qv(ts)
-        qmax = float(np.max(np.abs(q)))
-        for i in np.nonzero(v[1:] * v[:-1] < 0)[0]:
-            te = brentq(lambda t: float(pc.qv(t)[1]), ts[i], ts[i + 1], xtol=1e-18, rtol=4 * np.finfo(float).eps)
-            qmax = max(qmax, abs(float(pc.qv(te)[0])))
-        return np.array([float(q[-1]), float(v[-1]) / w, qmax])
-
-    K, Cw = hb.dfKC(np.array([B]))
-    Z = F / complex(K0 + K[0] - M * w * w, Cw[0] + w * C0)  # q = Im(Z e^{i w t})
-    x0 = np.array([Z.imag, (1j * w * Z).imag / w, B])
-    base = pmap(x0)
-    J = np.empty((3, 3))
-    for j in range(3):
-        h = rel_step * B
-        xp, xm = x0.copy(), x0.copy()
-        xp[j] += h
-        xm[j] -= h
-        J[:, j] = (pmap(xp) - pmap(xm)) / (2 * h)
-    del base
-    return float(np.max(np.abs(np.linalg.eigvals(J))))
 
 
 @lru_cache(maxsize=32)
