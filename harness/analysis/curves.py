@@ -29,9 +29,11 @@ from pathlib import Path
 from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
+from scipy.optimize import minimize_scalar
 
 from harness.analysis.executor import PointCache, Runner, decode_bytes, encode_bytes, point_key
 from harness.analysis.plateau import PLATEAU_OUTPUTS, PhasedSine, Start, fmu_identity, omega_of, settle, worker_fmu  # noqa: F401
+from harness.analysis.harmonic_balance import harmonic_balance
 from harness.analysis.config import (ALGO_VERSION, DIRECTIONS, MAX_RPM, METHODS, ConfigError,  # noqa: F401
                                   SweepSettings, SweepSpec, parse_speed_range, validate_settings,
                                   validate_spec)
@@ -214,6 +216,27 @@ def hb_curve(params: Mapping[str, Any], speeds: Iterable[float]) -> np.ndarray:
     return np.array(rows, dtype=[("speed", "f8"), ("B", "f8"), ("stable", "?"), ("phase", "f8")])
 
 
+def hb_stable_peak(params: Mapping[str, Any], curve: np.ndarray) -> tuple[float, float]:
+    """(B [m], speed [rpm]) of the largest stable harmonic-balance solution, located: the largest
+    stable B as a function of speed, maximised by Brent's bounded search between the sampled
+    neighbours of the largest stable sample of `curve` (hb_curve's rows); nan if none is stable.
+    Where the stable part ends in a fold, the maximum is that fold's edge."""
+    st = curve[curve["stable"]] if len(curve) else curve
+    if not len(st):
+        return math.nan, math.nan
+    k = int(np.argmax(st["B"]))
+    speeds = np.unique(curve["speed"])
+    i = int(np.searchsorted(speeds, st["speed"][k]))
+    lo, hi = speeds[max(i - 1, 0)], speeds[min(i + 1, len(speeds) - 1)]
+
+    def neg_stable_B(n: float) -> float:
+        return -max((s.B for s in harmonic_balance(params, n) if s.stable), default=0.0)
+
+    r = minimize_scalar(neg_stable_B, bounds=(lo, hi), method="bounded", options={"xatol": 1e-4})
+    B, n = -float(r.fun), float(r.x)
+    return (B, n) if B >= st["B"][k] else (float(st["B"][k]), float(st["speed"][k]))
+
+
 # ---------------------------------------------------------------------------------------------
 # Whole sweeps
 # ---------------------------------------------------------------------------------------------
@@ -338,4 +361,4 @@ def sweep(spec: SweepSpec, runner: Runner | None = None, **kw: Any) -> SweepResu
 
 
 __all__ = ["ConfigError", "SweepSettings", "SweepSpec", "SweepResult", "SweepStats", "PlateauPoint", "validate_spec",
-           "sweep", "run_sweeps", "run_chain", "hb_curve", "parse_speed_range", "PhasedSine"]
+           "sweep", "run_sweeps", "run_chain", "hb_curve", "hb_stable_peak", "parse_speed_range", "PhasedSine"]

@@ -424,7 +424,7 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
     in by the `reproduce` and `run` commands); without it Fig. 2 is left out."""
     from harness.fmu.blade import BladeFMU
     from harness.analysis.periodic.studies import trace_curve
-    from harness.analysis.curves import fmu_identity, hb_curve
+    from harness.analysis.curves import fmu_identity, hb_curve, hb_stable_peak
     from harness.studies.study_branches import curve_tasks, write_coulomb, write_study
 
     size, names = validate_request(size, studies)
@@ -444,8 +444,9 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
     try:
         runner.warm_up("harness.analysis.periodic.studies")  # the workers start while HB runs here
         t0 = _time.perf_counter()
-        hb = {n: {v: hb_curve(dict(base_p, **{STUDIES[n].param: v}), size.hb_speeds) for v in values[n]}
-              for n in names}
+        hb_params = {n: {v: dict(base_p, **{STUDIES[n].param: v}) for v in values[n]} for n in names}
+        hb = {n: {v: hb_curve(p, size.hb_speeds) for v, p in hb_params[n].items()} for n in names}
+        hb_peaks = {n: {v: hb_stable_peak(hb_params[n][v], hb[n][v]) for v in values[n]} for n in names}
         hb_wall = _time.perf_counter() - t0
         t0 = _time.perf_counter()
         done = runner.map(trace_curve, tasks, desc="periodic-orbit branches", unit="curve")
@@ -454,7 +455,7 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
         for c in done:
             curves.setdefault(c.task.key, {}).setdefault(c.task.value, {})[c.task.model] = c
         for name in names:
-            summary.studies[name] = write_study(out, STUDIES[name], curves[name], hb[name])
+            summary.studies[name] = write_study(out, STUDIES[name], curves[name], hb[name], hb_peaks[name])
         if extras and size.coulomb:
             summary.coulomb = write_coulomb(out, STUDIES, summary.studies)
         extras_wall = None

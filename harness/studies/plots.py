@@ -219,7 +219,8 @@ def _stable_runs(stable: np.ndarray) -> list[tuple[int, int, bool]]:
 
 def _draw_branches(ax: Any, branches: Sequence[Any], color: Any, label: str, ls: str = "-") -> None:
     """Branches (harness.analysis.periodic.continuation.Branch) as max |q| [mm] over speed: stable parts
-    bold, unstable parts faint; the label on the first stable part."""
+    bold, unstable parts faint; the label on the first stable part; located peaks as triangles,
+    folds as crosses."""
     for b in branches:
         n, a = b.speeds, b.amplitudes * MM
         for i0, i1, s in _stable_runs(b.stable):
@@ -227,6 +228,8 @@ def _draw_branches(ax: Any, branches: Sequence[Any], color: Any, label: str, ls:
                     label=label if s else None)
             if s:
                 label = None
+        for e in b.extrema:
+            ax.plot(e.speed, e.amplitude * MM, marker="^" if e.kind == "peak" else "x", color=color, ms=5, ls="none")
 
 
 def branches_figure(path: Path | str, models: dict[str, Sequence[Any]], title: str,

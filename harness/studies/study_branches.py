@@ -42,15 +42,6 @@ def curve_tasks(studies: Mapping[str, Any], values: Mapping[str, Sequence[float]
     return out
 
 
-def hb_peak(hb: np.ndarray) -> tuple[float, float]:
-    """(largest B on a stable harmonic-balance solution [m], its speed [rpm])."""
-    st = hb[hb["stable"]] if len(hb) else hb
-    if not len(st):
-        return math.nan, math.nan
-    i = int(np.argmax(st["B"]))
-    return float(st["B"][i]), float(st["speed"][i])
-
-
 def _stack(rows: list[tuple[float, np.ndarray]]) -> np.ndarray:
     if not rows:
         return np.zeros(0)
@@ -92,7 +83,7 @@ class StudyRow:
     jenkins_unstable: str
     jenkins_branches: int
     jenkins_evaluations: int
-    hb_peak: float  # [m] largest B on a stable harmonic-balance solution
+    hb_peak: float  # [m] largest B on a stable harmonic-balance solution, located
     hb_speed: float  # [rpm] its speed
     df_vs_jenkins_peak: float  # (fp_peak - jenkins_peak) / jenkins_peak (nan if jenkins_peak <= 0)
     df_vs_jenkins_speed: float  # [rpm] fp_speed - jenkins_speed
@@ -111,13 +102,13 @@ def _model_numbers(s: CurveSummary) -> tuple[float, float, float, float, str, in
     return s.peak, s.speed, s.jump, s.peak_any, _ranges(s.unstable_contact), s.branches, s.stats.evaluations
 
 
-def study_row(value: float, curves: Mapping[str, Curve], hb: np.ndarray) -> StudyRow:
+def study_row(value: float, curves: Mapping[str, Curve], hb_peak: tuple[float, float]) -> StudyRow:
     """The numbers of one study value: per model peak (largest stable max |q|) and its speed, the
-    jump speed, the unstable contact ranges; HB peak; DF (fixed point) vs Jenkins differences.
+    jump speed, the unstable contact ranges; the located HB peak (B, speed); DF (fixed point) vs Jenkins differences.
     `curves` holds the fixed point and the Jenkins element, and the Coulomb DF if it was traced."""
     fp, jk = curve_summary(curves["fixedPoint"]), curve_summary(curves["jenkins"])
     co = _model_numbers(curve_summary(curves["coulomb"])) if "coulomb" in curves else ()
-    return StudyRow(value, *_model_numbers(fp), *_model_numbers(jk), *hb_peak(hb),
+    return StudyRow(value, *_model_numbers(fp), *_model_numbers(jk), *hb_peak,
                     (fp.peak - jk.peak) / jk.peak if jk.peak > 0 else math.nan, fp.speed - jk.speed, *co)
 
 
@@ -155,15 +146,16 @@ SUMMARY_KEYS = ("value", "fp_peak", "fp_speed", "fp_jump", "fp_peak_any", "jenki
 
 
 def write_study(out: Any, st: Any, curves: Mapping[float, Mapping[str, Curve]],
-                hb: Mapping[float, np.ndarray]) -> StudySummary:
-    """CSV + PNG of one study; returns its summary (rows per value)."""
+                hb: Mapping[float, np.ndarray], hb_peaks: Mapping[float, tuple[float, float]]) -> StudySummary:
+    """CSV + PNG of one study; returns its summary (rows per value). hb_peaks: the located stable
+    HB peak (B [m], speed [rpm]) per value (harness.analysis.curves.hb_stable_peak)."""
     stem = f"{st.figure}_{st.key}"
     values = sorted(curves)
     flat = [(v, m, b) for v in values for m in MODELS for b in curves[v][m].branches]
     write_branches_csv(out / f"{stem}_branches.csv", [b for _, _, b in flat], {"value": [v for v, _, _ in flat]})
     write_csv(out / f"{stem}_hb.csv", _stack([(v, hb[v]) for v in values]),
               f"{st.figure}: harmonic balance (reference, gating off), every branch; value = {st.param}; B [m]")
-    rows = [study_row(v, curves[v], hb[v]) for v in values]
+    rows = [study_row(v, curves[v], hb_peaks[v]) for v in values]
     tab = np.array([tuple(getattr(r, k) for k in SUMMARY_KEYS) for r in rows],
                    dtype=[(k, "f8") for k in SUMMARY_KEYS])
     write_csv(out / f"{stem}_summary.csv", tab,

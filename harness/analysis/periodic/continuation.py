@@ -121,24 +121,27 @@ class Branch:
 
 
 def write_branches_csv(path: Path, branches: list[Branch], columns: dict[str, list] | None = None) -> None:
-    """One row per point: [extra columns,] branch, model, speed [rpm], amplitude [m], B [m] (or
-    empty), q0 [m], q0' [m/s], stable, label, |mu|max and the multipliers. `columns` maps a leading
-    column's name to one value per branch (e.g. the study value)."""
+    """One row per point: [extra columns,] branch, kind ("point": a continuation point; "peak",
+    "fold": a located extremum, after the branch's points), model, speed [rpm], amplitude [m], B [m]
+    (or empty), q0 [m], q0' [m/s], stable, label, |mu|max and the multipliers. `columns` maps a
+    leading column's name to one value per branch (e.g. the study value). A fold's `stable` is 1 if
+    it bounds a stable part of the branch."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(path.suffix + ".tmp")
     columns = columns or {}
     with open(tmp, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(list(columns) + ["branch", "model", "speed_rpm", "amplitude_m", "B_m", "q0_m", "v0_m_s",
+        w.writerow(list(columns) + ["branch", "kind", "model", "speed_rpm", "amplitude_m", "B_m", "q0_m", "v0_m_s",
                                     "stable", "label", "mu_abs_max", "multipliers"])
         for i, br in enumerate(branches):
             lead = [f"{columns[c][i]:.9g}" if isinstance(columns[c][i], float) else columns[c][i] for c in columns]
-            for p in br.points:
+            rows = [("point", p, p.label) for p in br.points] + [(e.kind, e, e.stability) for e in br.extrema]
+            for kind, p, label in rows:
                 B = "" if br.model in ("fixedB", "jenkins") else f"{p.x[2]:.12g}"
                 mus = " ".join(f"{m.real:.9g}{m.imag:+.9g}j" for m in p.multipliers)
-                w.writerow(lead + [i, br.model, f"{p.speed:.9g}", f"{p.amplitude:.12g}", B, f"{p.x[0]:.12g}",
-                            f"{p.x[1]:.12g}", int(p.stable), p.label, f"{np.max(np.abs(p.multipliers)):.9g}", mus])
+                w.writerow(lead + [i, kind, br.model, f"{p.speed:.9g}", f"{p.amplitude:.12g}", B, f"{p.x[0]:.12g}",
+                            f"{p.x[1]:.12g}", int(p.stable), label, f"{np.max(np.abs(p.multipliers)):.9g}", mus])
     tmp.replace(path)
 
 
