@@ -102,3 +102,15 @@ def test_candidates_bracket_peaks_and_turning_points() -> None:
     # up to a peak at 2, a fold at 3 (the speed turns back), then down
     b = Branch("jenkins", [pt(1, 1.0), pt(2, 3.0), pt(3, 2.0), pt(2.5, 1.5), pt(2.0, 1.2)])
     assert candidates(b) == [(1, "peak"), (2, "fold")]
+
+
+@pytest.mark.parametrize("mu, said", [
+    ([0.5, 0.3j], "stable"),
+    ([2.26, 0.2], "unstable: fold (a real multiplier 2.26 > 1)"),
+    ([-1.5, 0.1], "unstable: period doubling (a real multiplier -1.5 < -1)"),
+    ([0.6 + 0.9j, 0.6 - 0.9j], "unstable: Neimark-Sacker (a complex pair of modulus 1.082 > 1)"),
+    ([1.5, -1.2], "unstable: fold (a real multiplier 1.5 > 1); period doubling (a real multiplier -1.2 < -1)"),
+])
+def test_stability_is_said_with_its_reason(mu: list, said: str) -> None:
+    from harness.analysis.periodic.shooting import describe
+    assert describe(np.array(mu, dtype=complex)) == said

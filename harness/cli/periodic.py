@@ -14,6 +14,7 @@ import math
 
 from harness.model.params import ParameterError, input_range
 from harness.analysis.periodic.period_map import MODELS, STATE_STARTS
+from harness.analysis.periodic.shooting import describe
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
@@ -55,5 +56,5 @@ def run(args: argparse.Namespace) -> int:
     for o in orbits:
         B = "" if math.isnan(o.B) else f", B = {o.B * 1e3:.6f} mm"
         mus = ", ".join(f"{abs(m):.4f}" for m in o.multipliers)
-        print(f"  max|q| = {o.amplitude * 1e3:.6f} mm{B}: {o.label}  (|mu| = {mus})")
+        print(f"  max|q| = {o.amplitude * 1e3:.6f} mm{B}: {describe(o.multipliers)}  (|mu| = {mus})")
     return 0

@@ -51,6 +51,7 @@ class Orbit:
     def as_dict(self) -> dict:
         return {"model": self.model, "speed_rpm": self.speed, "amplitude_m": self.amplitude,
                 "B_m": None if math.isnan(self.B) else self.B, "stable": self.stable, "label": self.label,
+                "stability": describe(self.multipliers),
                 "multipliers": [{"re": float(m.real), "im": float(m.imag), "abs": float(abs(m))}
                                 for m in self.multipliers],
                 "start_values": self.start_values, "residual": self.residual, "iterations": self.iterations}
@@ -70,6 +71,29 @@ def classify(mu: np.ndarray) -> str:
         if kind not in out:
             out.append(kind)
     return "+".join(out) if out else ("stable" if np.max(np.abs(mu)) < 1.0 - UNIT_CIRCLE_TOL else "marginal")
+
+
+def describe(mu: np.ndarray) -> str:
+    """What the multipliers say, in words: 'stable', 'marginal (...)' or 'unstable: <kind> (<which
+    multiplier>)' for every kind of classify (fold: a real multiplier > 1; period doubling: a real
+    one < -1; Neimark-Sacker: a complex pair outside the unit circle)."""
+    label = classify(mu)
+    if label == "stable":
+        return label
+    if label == "marginal":
+        return f"marginal (largest |mu| = {np.max(np.abs(mu)):.6f}, on the unit circle)"
+    why = []
+    for kind in label.split("+"):
+        if kind == "fold":
+            m = max(float(m.real) for m in mu if abs(m.imag) <= UNIT_CIRCLE_TOL * abs(m) and m.real > 0)
+            why.append(f"fold (a real multiplier {m:.4g} > 1)")
+        elif kind == "period-doubling":
+            m = min(float(m.real) for m in mu if abs(m.imag) <= UNIT_CIRCLE_TOL * abs(m) and m.real < 0)
+            why.append(f"period doubling (a real multiplier {m:.4g} < -1)")
+        else:
+            m = max(abs(m) for m in mu if abs(m.imag) > UNIT_CIRCLE_TOL * abs(m))
+            why.append(f"Neimark-Sacker (a complex pair of modulus {m:.4g} > 1)")
+    return "unstable: " + "; ".join(why)
 
 
 def bounded(pm: PeriodMap, x: np.ndarray) -> np.ndarray:
