@@ -20,13 +20,26 @@ import re
 import subprocess
 import tempfile
 import time
+from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
+import fmpy
 import numpy as np
 
-from harness.fmu.build import BUILD_DIR, REPO_ROOT
-from harness.analysis.executor import atomic_write_text
+from harness import reference as ref
+from harness.analysis import curves as sw
+from harness.analysis.curves import SweepSettings, SweepSpec, fmu_identity, hb_curve, run_sweeps
+from harness.analysis.executor import Runner, atomic_write_text
+from harness.analysis.periodic.branches import BranchSettings, trace_branches
+from harness.analysis.periodic.period_map import ShootingSettings
+from harness.analysis.plateau import PLATEAU_OUTPUTS
+from harness.fmu.blade import BladeFMU
+from harness.fmu.build import BUILD_DIR, REPO_ROOT, build
+from harness.model.excitation import AeroLoad, Stepped, fmu_view
+from harness.studies.paper import SIZES, STUDIES, base_params, reproduce, study_specs
+from harness.system import ring_c, ring_libcosim
+from harness.system.ring import Ring, run as ring_run
 
 BENCH_DIR = REPO_ROOT / "bench"
 
@@ -41,7 +54,6 @@ def machine() -> dict[str, Any]:
                     break
     except OSError:
         pass
-    import fmpy
 
     return {"nproc": os.cpu_count(), "cpu": cpu, "python": platform.python_version(), "fmpy": fmpy.__version__,
             "system": f"{platform.system()} {platform.release()}"}
@@ -52,8 +64,6 @@ def c_step_cost() -> dict[str, Any]:
     exe = BUILD_DIR / "bench_step"
     if not exe.is_file():
         try:
-            from harness.fmu.build import build
-
             build(("bench_step",))
         except Exception:
             pass
@@ -112,9 +122,6 @@ def _inside(fmu: Any, fn, repeats: int) -> tuple[float, int]:
 def dostep_cost(fmu: Any, params: dict, repeats: int = 5) -> dict[str, Any]:
     """Cost of one doStep of BladeFMU.run at 5000 rpm for four communication steps; the last one
     as the sweeps step (Chebyshev-fitted load, values carried by the FMU, one sample per period)."""
-    from harness.analysis.plateau import PLATEAU_OUTPUTS
-    from harness.analysis.curves import SweepSettings
-
     out = {}
     T = 60.0 / (5000.0 * params["engineOrder"])
     spp = SweepSettings().steps_per_period
@@ -143,9 +150,6 @@ def dostep_cost(fmu: Any, params: dict, repeats: int = 5) -> dict[str, Any]:
 def sweep_overhead(fmu_path: str, repeats: int = 3) -> dict[str, Any]:
     """One up sweep (base case, 3000..10000 rpm every 500, no refinement, no cache): the wall and
     CPU time of the Python-driven sweep against the time spent inside fmi2DoStep for the same work."""
-    from harness.analysis import curves as sw
-    from harness.studies.paper import base_params
-
     out = {}
     for spp in (sw.SweepSettings().steps_per_period, 8):
         s = sw.SweepSettings(refine_levels=0, steps_per_period=spp)
@@ -185,9 +189,6 @@ def ring_cost() -> dict[str, Any]:
     of all 72, measured in C around each call (harness/system/ring_c.py, time_dosteps) for each
     data flow. libcosim's trajectory is checked to equal the C loop's in its data flow bit for bit,
     so that run's inside time is libcosim's compute."""
-    from harness.system import ring_c, ring_libcosim
-    from harness.system.ring import Ring, run
-
     ft, lc_flow = Ring(**RING_BENCH, order=1), Ring(**RING_BENCH, order=0, coupling="libcosim")
     ring_c.run(Ring(**{**RING_BENCH, "stop_time": 10 * RING_BENCH["step"]}))  # build, extract, load once
     n = 3 * ft.n * ft.n_steps
@@ -196,10 +197,10 @@ def ring_cost() -> dict[str, Any]:
     c_ft, wall, cpu = _timed(ring_c.run, ft)
     out["C loop"] = _row(wall, cpu, inside["ft"], n, c_ft["q"])
     c_lc = ring_c.run(lc_flow)
-    r, wall, cpu = _timed(run, ft)
+    r, wall, cpu = _timed(ring_run, ft)
     out["fmpy feedthrough"] = _row(wall, cpu, inside["ft"], n, r["q"])
     out["C loop"]["deviation_from_fmpy"] = float(np.abs(c_ft["q"] - r["q"]).max() / np.abs(r["q"]).max())
-    r, wall, cpu = _timed(run, lc_flow)
+    r, wall, cpu = _timed(ring_run, lc_flow)
     out["fmpy libcosim data flow"] = _row(wall, cpu, inside["lc"], n, r["q"])
     lc, wall, cpu = _timed(ring_libcosim.run, Ring(**RING_BENCH, order=0))
     out["libcosim"] = {**_row(wall, cpu, inside["lc"], n, lc["q"]), "step_wall": float(lc["step_wall"]),
@@ -212,9 +213,6 @@ def reference_ratio(fmu: Any, params: dict) -> dict[str, Any]:
     """The same stepped-speed run (3 plateaus x 0.1 s, 4500/5000/5500 rpm, kn = 1e6, B fixed at 2 d)
     through the FMU and through the Python reference (DOP853 with located events), fed
     the same piecewise Taylor input."""
-    from harness import reference as ref
-    from harness.model.excitation import AeroLoad, Stepped, fmu_view
-
     # kn = 1e6 and B fixed at 2 d (paper's formulation): a regular response, so the two codes can
     # agree point by point; at kn = 1e7 the contact response is sensitive (nearby trajectories
     # separate exponentially), which says nothing about either code
@@ -235,9 +233,6 @@ def reference_ratio(fmu: Any, params: dict) -> dict[str, Any]:
 
 
 def hb_all() -> dict[str, Any]:
-    from harness.studies.paper import SIZES, STUDIES, base_params
-    from harness.analysis.curves import hb_curve
-
     base = base_params()
     size = SIZES["default"]
     hb_curve(base, size.hb_speeds[:5])  # warm-up
@@ -259,10 +254,6 @@ def branch_jacobians(fmu: Any) -> dict[str, Any]:
     """Branches of JACOBIAN_CURVES over 3000..12000 rpm (seeds every 1000 rpm, as `make run`),
     one process, with DP from the FMU's sensitivities (4 steps per period) vs by finite
     differences (the former path: Broyden in Newton, central monodromy, 8 steps per period)."""
-    from harness.studies.paper import base_params
-    from harness.analysis.periodic.branches import BranchSettings, trace_branches
-    from harness.analysis.periodic.period_map import ShootingSettings
-
     out = {}
     for label, sh in (("sensitivities", ShootingSettings()),
                       ("finite differences", ShootingSettings(sensitivities=False, steps_per_period=8))):
@@ -283,9 +274,6 @@ def branch_jacobians(fmu: Any) -> dict[str, Any]:
 
 def reproduce_cold(size: str, workers: int | None) -> dict[str, Any]:
     """`reproduce` as `make run` does it: the studies as periodic-orbit branches, plus extras."""
-    from harness.analysis.executor import Runner
-    from harness.studies.paper import reproduce
-
     with tempfile.TemporaryDirectory() as tmp:
         t = time.perf_counter()
         with Runner(workers=workers, progress=False) as runner:
@@ -298,10 +286,6 @@ def reproduce_cold(size: str, workers: int | None) -> dict[str, Any]:
 def transient_studies(size: str, workers: int | None) -> dict[str, Any]:
     """The former path of the same studies from a cold cache: time-domain up/down sweeps, fixed
     points A(B) = B from transients and HB for Figs. 6-9, time-domain + HB Coulomb curves."""
-    from harness.analysis.executor import Runner
-    from harness.studies.paper import SIZES, STUDIES, base_params, study_specs
-    from harness.analysis.curves import SweepSpec, run_sweeps
-
     sz, base = SIZES[size], base_params()
     specs = [e[2] for e in study_specs(sz, list(STUDIES), base)]
     for name in ("kn", "angle"):
@@ -457,10 +441,6 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from harness.fmu.blade import BladeFMU
-    from harness.studies.paper import base_params
-    from harness.analysis.curves import fmu_identity
-
     path, _ = fmu_identity(None)
     data: dict[str, Any] = {"machine": machine(), "date": time.strftime("%Y-%m-%d %H:%M")}
     print("C step benchmark ...", flush=True)
@@ -475,9 +455,6 @@ def run(args: argparse.Namespace) -> int:
         data["jacobians"] = branch_jacobians(fmu)
     print("sweep overhead ...", flush=True)
     data["sweep"] = sweep_overhead(path)
-    from dataclasses import asdict
-
-    from harness.analysis.curves import SweepSettings
 
     data["sweep_settings"] = asdict(SweepSettings())
     print("harmonic balance ...", flush=True)

@@ -35,8 +35,10 @@ from harness.analysis.executor import PointCache, Runner, decode_bytes, encode_b
 from harness.analysis.plateau import PLATEAU_OUTPUTS, PhasedSine, Start, fmu_identity, omega_of, settle, worker_fmu  # noqa: F401
 from harness.analysis.harmonic_balance import harmonic_balance
 from harness.analysis.config import (ALGO_VERSION, DIRECTIONS, MAX_RPM, METHODS, ConfigError,  # noqa: F401
-                                  SweepSettings, SweepSpec, parse_speed_range, validate_settings,
-                                  validate_spec)
+                                     SweepSettings, SweepSpec, parse_speed_range, validate_settings,
+                                     validate_spec)
+from harness.analysis.harmonic_balance import harmonic_balance
+from harness.analysis.fixed_point import FixedPointResult, FixedPointTask, fixed_refinement, run_fixed_point
 
 
 @dataclass(frozen=True)
@@ -206,8 +208,6 @@ def run_chain(task: ChainTask) -> list[PlateauPoint]:
 # ---------------------------------------------------------------------------------------------
 def hb_curve(params: Mapping[str, Any], speeds: Iterable[float]) -> np.ndarray:
     """Every harmonic-balance solution at each speed: rows (speed, B, stable, phase)."""
-    from harness.analysis.harmonic_balance import harmonic_balance
-
     sp = np.asarray(list(speeds), dtype=float)
     rows = []
     for s, sols in zip(sp, harmonic_balance(params, sp) if len(sp) else []):
@@ -294,8 +294,6 @@ def _hb_speeds(spec: SweepSpec) -> tuple[float, ...]:
 def run_sweeps(specs: Sequence[SweepSpec], runner: Runner | None = None, *, fmu_path: str | Path | None = None,
                cache_dir: str | Path | None = None, desc: str = "") -> list[SweepResult]:
     """Validate every spec (before any work), then map all their tasks over `runner` at once."""
-    from harness.analysis.fixed_point import FixedPointResult, FixedPointTask, fixed_refinement, run_fixed_point
-
     specs = [validate_spec(sp) for sp in specs]
     runner = runner or Runner(workers=1, progress=False)
     need_fmu = any(m in sp.methods for sp in specs for m in ("time", "fixed"))

@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import base64
 import hashlib
+import importlib
 import json
+import multiprocessing as mp
 import os
 import sys
 import tempfile
@@ -25,6 +27,7 @@ from pathlib import Path
 from typing import Any, Callable, Sequence
 
 import numpy as np
+from tqdm.auto import tqdm
 
 from harness.fmu.build import REPO_ROOT
 from harness.optional import require
@@ -181,8 +184,6 @@ class PointCache:
 # Parallel map
 # ---------------------------------------------------------------------------------------------
 def _import_modules(modules: Sequence[str]) -> None:
-    import importlib
-
     for name in modules:
         importlib.import_module(name)
 
@@ -221,6 +222,7 @@ class Runner:
     def _dask_client(self) -> Any:
         if self._client is None:
             require("distributed")
+            # optional dependency (extra `cluster`): imported only when this runs
             from distributed import Client
 
             if isinstance(self.scheduler, Client):
@@ -232,8 +234,6 @@ class Runner:
 
     def _local_pool(self) -> ProcessPoolExecutor:
         if self._pool is None:
-            import multiprocessing as mp
-
             self._pool = ProcessPoolExecutor(max_workers=self.n_workers, mp_context=mp.get_context("spawn"))
         return self._pool
 
@@ -263,8 +263,6 @@ class Runner:
     def map(self, func: Callable[[Any], Any], tasks: Sequence[Any], desc: str = "",
             unit: str = "task") -> list[Any]:
         """`[func(t) for t in tasks]`, in parallel, with a progress bar; order preserved."""
-        from tqdm.auto import tqdm
-
         tasks = list(tasks)
         t0 = time.perf_counter()
         bar = tqdm(total=len(tasks), desc=desc, unit=unit, disable=not self.progress or not tasks,
@@ -315,6 +313,7 @@ class Runner:
 
     def _map_dask(self, func: Callable[[Any], Any], tasks: list[Any], bar: Any) -> list[Any]:
         require("distributed")
+        # optional dependency (extra `cluster`): imported only when this runs
         from distributed import as_completed
 
         client = self._dask_client()

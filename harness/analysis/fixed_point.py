@@ -20,10 +20,12 @@ from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 import numpy as np
+from scipy.optimize import brentq
 
+from harness.analysis.config import ALGO_VERSION, SweepSettings, SweepSpec
 from harness.analysis.executor import PointCache, point_key
 from harness.analysis.plateau import PLATEAU_OUTPUTS, Start, omega_of, period_peak, settle, worker_fmu
-from harness.analysis.config import ALGO_VERSION, SweepSettings, SweepSpec
+from harness.model.galerkin import galerkin
 
 @dataclass(frozen=True)
 class FixedPointTask:
@@ -93,8 +95,6 @@ _GALERKIN: dict[str, Any] = {}
 def linear_bound(params: Mapping[str, Any], speed: float) -> float:
     """G Fw0 / (C0 omega) [m]: the contact-free resonant amplitude bound at this speed (the
     Galerkin constants of harness.model.galerkin, computed once per parameter set and process)."""
-    from harness.model.galerkin import galerkin
-
     key = repr(sorted(params.items()))
     if key not in _GALERKIN:
         _GALERKIN[key] = galerkin(params, params["formulation"])
@@ -105,8 +105,6 @@ def linear_bound(params: Mapping[str, Any], speed: float) -> float:
 def run_fixed_point(task: FixedPointTask) -> FixedPointResult:
     """All roots of A(B) = B at one speed: the open root (B <= d) and every sign change of A(B) - B
     on a geometric scan of (d, B_max], refined by brentq. Non-converged evaluations are reported."""
-    from scipy.optimize import brentq
-
     fmu = worker_fmu(task.fmu_path)
     cache = PointCache(None if task.cache_dir is None else Path(task.cache_dir))
     s, p, sp = task.settings, task.params, task.speed

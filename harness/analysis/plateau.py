@@ -20,6 +20,8 @@ from typing import Any, Mapping
 import numpy as np
 
 from harness.analysis.config import SweepSettings
+from harness.analysis.steady_state import WINDOW, analyze, decide, hermite_peak
+from harness.fmu.blade import BladeFMU, FMUState, fmu_path
 
 _LOCAL = threading.local()
 
@@ -30,8 +32,6 @@ def worker_fmu(path: str) -> Any:
     if fmus is None:
         fmus = _LOCAL.fmus = {}
     if path not in fmus:
-        from harness.fmu.blade import BladeFMU
-
         fmu = BladeFMU(path)
         fmu.__enter__()
         atexit.register(fmu.__exit__, None, None, None)
@@ -45,8 +45,6 @@ _HASHES: dict[str, str] = {}
 def fmu_identity(path: str | Path | None = None) -> tuple[str, str]:
     """(path, sha256 of the FMU file): the hash enters every cache key (a rebuilt FMU is new)."""
     if path is None:
-        from harness.fmu.blade import fmu_path
-
         path = fmu_path(build=True)
     path = str(Path(path).resolve())
     st = Path(path).stat()
@@ -121,8 +119,6 @@ def settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings,
     use `steady_state.decide`; the final record is analysed once by `steady_state.analyze`. Each decision
     analyses only the periods since the previous one plus the fit window: the converged run that
     ends the record started after the previous (negative) decision, so t_steady is exact."""
-    from harness.analysis.steady_state import WINDOW, analyze, decide
-
     outputs = list(outputs) + [o for o in SETTLE_OUTPUTS if o not in outputs]
     omega = omega_of(params, speed)
     period = 2.0 * math.pi / omega
@@ -130,7 +126,6 @@ def settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings,
     h = period / spp
     aero = PhasedSine(params["Fw0"], omega, start.phase, start.time)
     if start.state is not None and not fmu.holds(start.state):  # (a chain's next plateau: held)
-        from harness.fmu.blade import FMUState
 
         st = FMUState(start.state)
         st.time, st.params = start.time, dict(params)
@@ -205,8 +200,6 @@ def period_peak(fmu: Any, params: dict, speed: float, t: float, phase: float, s:
     ~ (2 pi f_max / (f steps))^4 / 384 for the fastest local frequency f_max (2.5e-7 at 64 steps for
     a sine at the excitation frequency; measured against 1024 steps: <= 1.5e-6 in the base case's
     impacts). Advances the FMU by one period."""
-    from harness.analysis.steady_state import hermite_peak
-
     omega = omega_of(params, speed)
     period = 2.0 * math.pi / omega
     aero = PhasedSine(params["Fw0"], omega, phase, t)

@@ -15,8 +15,13 @@ import json
 import math
 from pathlib import Path
 
-from harness.model.params import ParameterError
+from harness.analysis.periodic.branches import BranchSettings, trace_branches
+from harness.analysis.periodic.continuation import write_branches_csv
 from harness.analysis.periodic.period_map import MODELS
+from harness.cli.simulate import parse_start_values
+from harness.fmu.blade import SPEED_RANGE, BladeFMU
+from harness.model.params import ParameterError
+from harness.studies.plots import branches_figure
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
@@ -35,11 +40,6 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from harness.fmu.blade import SPEED_RANGE, BladeFMU
-    from harness.analysis.periodic.branches import BranchSettings, trace_branches
-    from harness.analysis.periodic.continuation import write_branches_csv
-    from harness.cli.simulate import parse_start_values
-
     overrides = parse_start_values(args.start_values)
     lo, hi = args.speed_range
     if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi <= SPEED_RANGE[1]):
@@ -48,7 +48,6 @@ def run(args: argparse.Namespace) -> int:
         branches, stats = trace_branches(fmu, overrides, args.model, (lo, hi), BranchSettings(seed_step=args.seed_step))
     write_branches_csv(Path(args.output_file), branches)
     if args.plot:
-        from harness.studies.plots import branches_figure
         branches_figure(Path(args.plot), {args.model: branches}, f"{args.model}, {overrides or 'Table 1'}")
     if args.json:
         print(json.dumps({"model": args.model, "parameters": overrides, "speed_range_rpm": [lo, hi],

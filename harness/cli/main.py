@@ -17,6 +17,11 @@ import re
 import sys
 from typing import Sequence
 
+from harness.fmu.blade import FMUError, FMUNotFoundError
+from harness.fmu.build import BuildError
+from harness.model.excitation import ExcitationError
+from harness.model.params import ParameterError
+
 # command name -> module (add your command with one line). Imported by name, only when run: the
 # product never imports the validation packages, and `validate`, `crosscheck`, `bench` are the only
 # commands that reach them (docs/layers.md).
@@ -66,10 +71,6 @@ def _summary(module: str) -> str:
 
 
 def _known_errors() -> tuple[type[BaseException], ...]:
-    from harness.fmu.build import BuildError
-    from harness.model.excitation import ExcitationError
-    from harness.fmu.blade import FMUError, FMUNotFoundError
-    from harness.model.params import ParameterError
     return (ParameterError, ExcitationError, FMUNotFoundError, FMUError, BuildError)
 
 

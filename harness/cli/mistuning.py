@@ -14,13 +14,16 @@ import math
 from dataclasses import replace
 from pathlib import Path
 
-from harness.model.params import ParameterError
+import numpy as np
+
 from harness.analysis.executor import RESULTS_DIR
+from harness.cli.sweep import add_execution_options, make_runner
+from harness.model.params import ParameterError
+from harness.studies import mistuning, mistuning_plots
+from harness.studies.mistuning import PARAMETERS, SIZES, VARIANTS
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    from harness.cli.sweep import add_execution_options
-    from harness.studies.mistuning import PARAMETERS, SIZES, VARIANTS
     p.add_argument("--size", choices=SIZES, default="small",
                    help="small: 6 blades, 100 patterns per level (in make run); cluster: 24 blades, also the open ring")
     p.add_argument("--blades", type=int, metavar="N", help="blades in the ring (overrides --size)")
@@ -36,7 +39,6 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 
 def study_from(args: argparse.Namespace):
-    from harness.studies.mistuning import SIZES
     s = SIZES[args.size]
     given = {"n": args.blades, "levels": tuple(args.levels) if args.levels else None, "patterns": args.patterns,
              "parameter": args.parameter, "seed": args.seed, "stop_time": args.stop_time,
@@ -55,9 +57,6 @@ def study_from(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace) -> int:
-    from harness.cli.sweep import make_runner
-    from harness.studies import mistuning, mistuning_plots
-
     study = study_from(args)
     with make_runner(args) as runner:
         out = mistuning.run_study(study, runner, None if args.no_cache else Path(args.cache_dir))
@@ -74,7 +73,6 @@ def report(out: dict) -> None:
     """The study's summary on stdout (also used by `make run`)."""
     print(f"mistuning: N = {out['n']}, {out['speed_rpm']:.1f} rpm (tuned resonance), {out['patterns']} patterns per level, "
           f"{out['computed']} rings computed, {out['cached']} from the cache; Whitehead {out['whitehead']:.4f}")
-    import numpy as np
     for v, r in out["variants"].items():
         if not r["tuned_settled"]:
             print(f"  {v:12s} the tuned ring does not settle (amplitudes still move by {r['settle_max']:.1e}, "

@@ -12,8 +12,11 @@ import argparse
 import json
 import math
 
+from harness.analysis.periodic.branches import orbits_at
+from harness.analysis.periodic.period_map import MODELS, PeriodMap, STATE_STARTS
+from harness.cli.simulate import parse_start_values
+from harness.fmu.blade import SPEED_RANGE, BladeFMU
 from harness.model.params import ParameterError, input_range
-from harness.analysis.periodic.period_map import MODELS, STATE_STARTS
 from harness.analysis.periodic.shooting import describe
 
 
@@ -30,11 +33,6 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from harness.fmu.blade import SPEED_RANGE, BladeFMU
-    from harness.analysis.periodic.period_map import PeriodMap
-    from harness.analysis.periodic.branches import orbits_at
-    from harness.cli.simulate import parse_start_values
-
     overrides = parse_start_values(args.start_values)
     bad = [k for k in overrides if k in STATE_STARTS]
     if bad:

@@ -17,7 +17,16 @@ import tempfile
 import time
 from pathlib import Path
 
+from fmpy import read_model_description
+import numpy as np
+
+from harness.cli.simulate import parse_start_values
+from harness.fmu.slave import build_ring_fmus
 from harness.model.params import ParameterError
+from harness.studies import mistuning
+from harness.system import ring_c, ring_libcosim, ring_values, ssp
+from harness.system.ring import Ring, amplitudes, harmonic, run as ring_run
+from harness.system.ring_values import max_blades
 
 MASTERS = ("fmpy", "c", "libcosim", "ecos")
 EXTRAPOLATING = ("fmpy", "c")  # the masters that set input derivatives (ours)
@@ -47,13 +56,10 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 def check(args: argparse.Namespace) -> None:
     """Every argument against its range, before any work; ParameterError names value and range."""
-    from harness.system.ring_values import max_blades
     nmax = max_blades()
     if not 2 <= args.blades <= nmax:
         raise ParameterError(f"--blades {args.blades} outside [2, {nmax}] (a ring; the Excitation FMU's bladeCount)")
-    from fmpy import read_model_description
 
-    from harness.fmu.slave import build_ring_fmus
     rs = next(v for v in read_model_description(str(build_ring_fmus()[0])).modelVariables if v.name == "rotorSpeed")
     lo, hi = float(rs.min), float(rs.max)
     if not (math.isfinite(args.speed) and lo < args.speed <= hi):
@@ -70,11 +76,6 @@ def check(args: argparse.Namespace) -> None:
 
 
 def make_ring(args: argparse.Namespace):
-    from harness.cli.simulate import parse_start_values
-    from harness.studies import mistuning
-    from harness.system import ring_values
-    from harness.system.ring import Ring
-
     step = args.step if args.step is not None else 2.5e-5
     order = (2 if args.order is None else args.order) if args.master in EXTRAPOLATING else 0
     ring = Ring(n=args.blades, speed=args.speed, stop_time=args.stop_time, step=step, order=order)
@@ -91,28 +92,19 @@ def make_ring(args: argparse.Namespace):
 
 def simulate(ring, master: str) -> dict:
     if master == "fmpy":
-        from harness.system.ring import run
-        return run(ring)
+        return ring_run(ring)
     if master == "c":
-        from harness.system import ring_c
         return ring_c.run(ring)
     if master == "libcosim":
-        from harness.system import ring_libcosim
         return ring_libcosim.run(ring)
-    from harness.system import ssp
     with tempfile.TemporaryDirectory() as d:
         return ssp.run_ecos(ssp.write(ring, Path(d) / "ring"), ring)
 
 
 def run(args: argparse.Namespace) -> int:
-    import numpy as np
-
-    from harness.system.ring import amplitudes, harmonic
-
     check(args)
     ring = make_ring(args)
     if args.write_ssp:
-        from harness.system import ssp
         out = ssp.write(ring, Path(args.write_ssp))
         print(json.dumps({"ssp": str(out), "archive": str(out.with_suffix(".ssp"))}) if args.json else out)
         return 0

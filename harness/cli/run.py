@@ -10,27 +10,23 @@ a second run reads it back). About 70 s on 2 cores (12 s with the ring cache war
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from harness.analysis.executor import RESULTS_DIR
-from harness.cli.sweep import add_execution_options
+from harness.cli.mistuning import report
+from harness.cli.reproduce import reproduce_and_report
+from harness.cli.sweep import add_execution_options, make_runner
+from harness.studies import mistuning, mistuning_plots
+from harness.studies.paper import SIZES
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    from harness.studies.paper import SIZES
-
     p.add_argument("--size", default="default", choices=list(SIZES), help="work size (default: default)")
     p.add_argument("--output-dir", default=str(RESULTS_DIR), metavar="DIR", help=f"where to write (default {RESULTS_DIR})")
     add_execution_options(p, cache=False)
 
 
 def run(args: argparse.Namespace) -> int:
-    from pathlib import Path
-
-    from harness.cli.mistuning import report
-    from harness.cli.reproduce import reproduce_and_report
-    from harness.cli.sweep import make_runner
-    from harness.studies import mistuning, mistuning_plots
-
     rc = reproduce_and_report(args, args.size, None, True)
     out = Path(args.output_dir)
     with make_runner(args) as runner:

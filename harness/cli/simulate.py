@@ -15,9 +15,17 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
+from fmpy.util import write_csv
+import matplotlib
+import matplotlib.pyplot as plt
 import numpy as np
 
-from harness.model.params import ParameterError
+from harness.analysis.steady_state import analyze
+from harness.fmu.blade import SPEED_RANGE, BladeFMU, fmu_path
+from harness.model.excitation import Constant, ExcitationError, LinearRamp
+from harness.model.params import ParameterError, validate
+
+matplotlib.use("Agg")  # figures go straight to PNG files: no display
 
 DEFAULT_OUTPUT = "ShroudedBlade_out.csv"
 
@@ -63,7 +71,6 @@ def _atomic_path(target: Path, suffix: str) -> Path:
 
 
 def write_csv_atomic(path: str | Path, result: np.ndarray) -> None:
-    from fmpy.util import write_csv
     target = Path(path)
     tmp = _atomic_path(target, ".csv")
     try:
@@ -74,9 +81,6 @@ def write_csv_atomic(path: str | Path, result: np.ndarray) -> None:
 
 
 def plot_atomic(path: str | Path, result: np.ndarray, title: str) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     names = [n for n in ("tipDisplacement", "amplitude") if n in result.dtype.names]
     if not names:
         names = [n for n in result.dtype.names if n != "time"][:1]
@@ -100,11 +104,6 @@ def plot_atomic(path: str | Path, result: np.ndarray, title: str) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from harness.model.excitation import Constant, ExcitationError, LinearRamp
-    from harness.fmu.blade import SPEED_RANGE, BladeFMU, fmu_path
-    from harness.model.params import validate
-    from harness.analysis.steady_state import analyze
-
     params = validate(parse_start_values(args.start_values), source="--start-values")
     if args.run_up is not None:
         n0, n1, t0, t1 = args.run_up

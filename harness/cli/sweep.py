@@ -11,10 +11,15 @@ same command is run again. The configuration is checked completely before any wo
 from __future__ import annotations
 
 import argparse
+
 import numpy as np
 
-from harness.analysis.executor import DEFAULT_CACHE_DIR, write_csv
 from harness.analysis.config import SweepSettings
+from harness.analysis.curves import ConfigError, SweepSpec, parse_speed_range, sweep, validate_spec
+from harness.analysis.executor import DEFAULT_CACHE_DIR, Runner, write_csv
+from harness.cli.simulate import parse_start_values
+from harness.model.params import validate
+from harness.studies import plots
 
 OUT_DTYPE = [("speed", "f8"), ("method", "U9"), ("amplitude", "f8"), ("band_lo", "f8"), ("band_hi", "f8"),
              ("steady", "i4"), ("stable", "i4")]
@@ -36,9 +41,6 @@ def add_execution_options(p: argparse.ArgumentParser, cache: bool = True) -> Non
 
 
 def make_runner(args: argparse.Namespace):
-    from harness.analysis.executor import Runner
-    from harness.analysis.curves import ConfigError
-
     if args.workers is not None and args.workers < 1:
         raise ConfigError(f"--workers {args.workers} must be >= 1")
     return Runner(workers=args.workers, scheduler=args.scheduler, progress=not args.quiet)
@@ -83,11 +85,6 @@ def to_table(res) -> np.ndarray:
 
 
 def run(args: argparse.Namespace) -> int:
-    from harness.studies import plots
-    from harness.model.params import validate
-    from harness.cli.simulate import parse_start_values
-    from harness.analysis.curves import SweepSpec, parse_speed_range, sweep, validate_spec
-
     params = validate(parse_start_values(args.start_values), source="--start-values")
     settings = SweepSettings(rtol=args.rtol, max_time=args.max_time, refine_levels=args.refine,
                              steps_per_period=args.steps_per_period)

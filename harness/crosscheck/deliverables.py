@@ -26,18 +26,23 @@ from __future__ import annotations
 import shutil
 import subprocess
 import sys
+import tempfile
 import xml.etree.ElementTree as ET
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
+import fmpy
 from fmpy import simulate_fmu
 from fmpy.util import read_csv, read_ref_opt_file, validate_result, write_csv
+import numpy as np
 
+from harness.crosscheck.common import MODEL_NAME, as_float_result, max_rel_diff
+from harness.crosscheck.importers import ecos as xe, fmi4j as xj, libcosim as xl
+from harness.crosscheck.importers.fmpy import run_simulate_fmu, run_slave_loop
+from harness.crosscheck.plan import Scenario, make_plan
+from harness.crosscheck.static import rebuild_from_sources
 from harness.fmu.build import REPO_ROOT
-from harness.crosscheck.common import MODEL_NAME, as_float_result
-from harness.crosscheck.plan import Scenario
 
 DEFAULT_ROOT = REPO_ROOT / "crosscheck"
 TOOL = MODEL_NAME  # the exporting "tool" is this project's own build
@@ -94,8 +99,6 @@ def generate(fmu: Path, scenario: Scenario, root: Path = DEFAULT_ROOT, fmi: str 
              kind: str = "cs") -> Deliverables:
     """Write the deliverables of `scenario` for `fmu` (an FMI `fmi` FMU, used as `kind`) under
     `root`; returns the paths."""
-    from harness.crosscheck.plan import make_plan
-
     if scenario.fmu_overrides():
         raise ValueError("the cross-check FMU runs with its default parameters: pick a scenario without overrides")
     if (fmi, kind) not in FLAVOURS:
@@ -265,10 +268,6 @@ ME_STOP_TIME = 0.1
 
 def _flavour_run(tool: str, dl: Deliverables, scenario: Scenario) -> tuple[str, str, str, np.ndarray]:
     """(importer, version, how, result with the reference's variables) of one importer on one flavour."""
-    import fmpy
-
-    from harness.crosscheck.plan import make_plan
-
     table = read_csv(dl.in_csv)
     if tool == "fmpy" and dl.kind == "me":
         res = me_reference(dl.fmu, scenario, table, ME_CHECK_REL_TOL, REF_VARIABLES)
@@ -280,10 +279,8 @@ def _flavour_run(tool: str, dl: Deliverables, scenario: Scenario) -> tuple[str, 
         return "FMPy", fmpy.__version__, "fmpy.simulate_fmu (FMI 3.0 co-simulation, inputs held over each step)", res
     plan = make_plan(scenario, 0)
     if tool == "fmi4j":
-        from harness.crosscheck.importers import fmi4j as xj
         r = xj.run(dl.fmu, scenario, plan, model_exchange=True)
         return "FMI4j", r.version, f"crosscheck/java Fmi4jMeDriver: {r.note}", r.result
-    from harness.crosscheck.importers import ecos as xe
     r = xe.run(dl.fmu, scenario, plan)
     return "Ecos", r.version, "ecospy (fmi4c): fixed-step simulation, inputs set before every step (held)", r.result
 
@@ -314,9 +311,6 @@ def make_all(fmu: Path, scenario: Scenario, tools: tuple[str, ...], root: Path =
              rebuild: bool = True, fmu3: Path | None = None) -> tuple[str, bool]:
     """Regenerate the deliverables, file every importer's result, rebuild from sources, validate the
     tree; returns a Markdown section and whether everything passed."""
-    from harness.crosscheck.common import max_rel_diff
-    from harness.crosscheck.plan import make_plan
-
     shutil.rmtree(Path(root) / "fmus", ignore_errors=True)
     shutil.rmtree(Path(root) / "results", ignore_errors=True)
     dl = generate(fmu, scenario, root)
@@ -332,14 +326,7 @@ def make_all(fmu: Path, scenario: Scenario, tools: tuple[str, ...], root: Path =
     for tool in tools:
         name, how = IMPORTER_IDS[tool]
         try:
-            if tool == "fmpy":
-                from harness.crosscheck.importers.fmpy import run_simulate_fmu as fn
-            elif tool == "libcosim":
-                from harness.crosscheck.importers.libcosim import run as fn
-            elif tool == "ecos":
-                from harness.crosscheck.importers.ecos import run as fn
-            else:
-                from harness.crosscheck.importers.fmi4j import run as fn
+            fn = {"fmpy": run_simulate_fmu, "libcosim": xl.run, "ecos": xe.run}.get(tool, xj.run)
             r = fn(dl.fmu, scenario, plan)
         except Exception as exc:  # report, do not stop the others
             lines.append(f"| {name} | - | FAILED: {type(exc).__name__}: {exc} | - | - |")
@@ -363,10 +350,6 @@ def make_all(fmu: Path, scenario: Scenario, tools: tuple[str, ...], root: Path =
     size = dl.ref_csv.stat().st_size
     lines.append(f"`{dl.ref_csv.name}`: {size / 1e6:.2f} MB, {len(read_csv(dl.ref_csv).dtype.names) - 1} variables.")
     if rebuild:
-        import tempfile
-
-        from harness.crosscheck.importers.fmpy import run_slave_loop
-        from harness.crosscheck.static import rebuild_from_sources
         with tempfile.TemporaryDirectory(prefix="sb-rebuilt-") as tmp:
             rebuilt = rebuild_from_sources(dl.fmu, Path(tmp) / f"{MODEL_NAME}.fmu")
             p8 = make_plan(scenario, 8)

@@ -43,11 +43,11 @@ def me_only_copy(fmu: Path, dest: Path) -> Path:
 
 
 def _libcosim(fmu: str) -> float:
+    # optional dependency (extra `crosscheck`): imported only when this runs
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
-    from libcosimpy.CosimSlave import CosimLocalSlave
-
     from libcosimpy.CosimObserver import CosimObserver
+    from libcosimpy.CosimSlave import CosimLocalSlave
 
     log_output_level(CosimLogLevel.ERROR)
     ex = CosimExecution.from_step_size(step_size=round(STEP * 1e9))
@@ -62,6 +62,7 @@ def _libcosim(fmu: str) -> float:
 
 
 def _ecos(fmu: str) -> float:
+    # optional dependency (extra `crosscheck`): imported only when this runs
     from ecospy import EcosSimulation, EcosSimulationStructure
 
     st = EcosSimulationStructure()

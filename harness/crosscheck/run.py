@@ -14,17 +14,26 @@ very (t_k, h_k) sequence, which isolates the FMU from the tool. The static check
 from __future__ import annotations
 
 import argparse
+import fcntl
 import math
+import shutil
 import sys
+import tempfile
+import time as _time
 import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
-from harness.crosscheck.importers import fmpy as xfmpy
-from harness.fmu.build import REPO_ROOT
+from harness.crosscheck import system_example as se
 from harness.crosscheck.common import Run, max_rel_diff, rel_diffs
+from harness.crosscheck.deliverables import make_all
+from harness.crosscheck.importers import ecos as xe, fmi4j as xj, fmpy as xfmpy, libcosim as xl
 from harness.crosscheck.plan import SCENARIOS, InputPlan, Scenario, make_plan
+from harness.crosscheck.static import fmpy_validate, fmutool_check
+from harness.fmu import build as _build
+from harness.fmu.blade import fmu_path
+from harness.fmu.build import REPO_ROOT
 
 AGREEMENT_FILE = REPO_ROOT / "crosscheck" / "agreement.md"
 TOOLS = ("fmpy", "libcosim", "ecos", "fmi4j")
@@ -102,17 +111,14 @@ def run_scenario(fmu: Path, scenario: Scenario, tools: tuple[str, ...] = TOOLS,
         report.rows.append(row)
         report.rows.append(Row(taylor_ref, 0.0, "", None, "(reference, order 8)"))
     if "libcosim" in tools:
-        from harness.crosscheck.importers import libcosim as xl
         run = _attempt("libcosim (libcosimpy)", "held", lambda: xl.run(fmu, scenario, held))
         grid = xl.ns_time_grid(scenario.start_time, scenario.step, held.n_steps)
         add(run, ref, "fmpy simulate_fmu, held", held.with_time(grid))
     if "ecos" in tools:
-        from harness.crosscheck.importers import ecos as xe
         run = _attempt("Ecos (ecospy)", "held", lambda: xe.run(fmu, scenario, held))
         grid = xe.accumulated_time_grid(scenario.start_time, scenario.step, held.n_steps)
         add(run, ref, "fmpy simulate_fmu, held", held.with_time(grid, scenario.step))
     if "fmi4j" in tools:
-        from harness.crosscheck.importers import fmi4j as xj
         run = _attempt("FMI4j (Java driver)", "held", lambda: xj.run(fmu, scenario, held))
         add(run, ref, "fmpy simulate_fmu, held")
         run = _attempt("FMI4j (Java driver)", f"taylor{order}", lambda: xj.run(fmu, scenario, plan, build_first=False))
@@ -153,8 +159,6 @@ def table(report: ScenarioReport) -> str:
 
 
 def static_table(fmu: Path) -> tuple[str, bool]:
-    from harness.crosscheck.static import fmpy_validate, fmutool_check
-
     rows = [fmutool_check(fmu), fmpy_validate(fmu)]
     lines = ["| checker | version | result | wall time [s] | messages |", "|---|---|---|---|---|"]
     for r in rows:
@@ -165,10 +169,6 @@ def static_table(fmu: Path) -> tuple[str, bool]:
 
 def system_section(fmu: Path, stop_time: float | None) -> tuple[str, bool]:
     """The system example (Excitation FMU + two blades) in the fmpy master and in libcosim."""
-    import time as _time
-
-    from harness.crosscheck import system_example as se
-
     system = se.System() if stop_time is None else se.System(stop_time=stop_time)
     exc = se.build_excitation_fmu()
     t0 = _time.perf_counter()
@@ -200,11 +200,6 @@ def configure_parser(parser: argparse.ArgumentParser) -> None:
 def snapshot(fmu: Path, directory: Path) -> Path:
     """Copy the FMU to `directory` (under the build lock when it is build/ShroudedBlade.fmu): other
     processes may rebuild build/ while the cross-check runs, and CMake rewrites the archive in place."""
-    import fcntl
-    import shutil
-
-    from harness.fmu import build as _build
-
     out = Path(directory) / fmu.name
     lock_file = _build.BUILD_DIR / ".build.lock"
     if Path(fmu).resolve() == _build.FMU_PATH.resolve() and lock_file.parent.is_dir():
@@ -217,10 +212,6 @@ def snapshot(fmu: Path, directory: Path) -> Path:
 
 
 def run(args: argparse.Namespace) -> int:
-    import tempfile
-
-    from harness.fmu.blade import fmu_path
-
     with tempfile.TemporaryDirectory(prefix="sb-crosscheck-") as tmp:
         fmu = snapshot(Path(args.fmu) if args.fmu else fmu_path(build=True), Path(tmp))
         return _run(args, fmu)
@@ -255,8 +246,6 @@ def _run(args: argparse.Namespace, fmu: Path) -> int:
     parts += ["### Static checks", "", st, ""]
     ok &= st_ok
     if args.deliverables:
-        from harness.crosscheck.deliverables import make_all
-        from harness.fmu import build as _build
         _build.build(("fmu3",))  # the FMI 3.0 FMU of the same sources (fmus/3.0/cs)
         text, d_ok = make_all(fmu, SCENARIOS["steady"], tools, fmu3=_build.FMU3_PATH)
         print(text + "\n")

@@ -11,7 +11,9 @@ from __future__ import annotations
 import shutil
 import subprocess
 import sys
+import tempfile
 import time as _time
+import zipfile
 from dataclasses import dataclass, field
 from importlib.metadata import version as dist_version
 from pathlib import Path
@@ -70,9 +72,6 @@ def rebuild_from_sources(fmu: Path, out_fmu: Path, build_dir: Path | None = None
     in <SourceFiles> with only sources/ and the FMI headers on the include path (linked with libm:
     harness.fmu.build.REBUILD_CMAKE_OPTIONS), and the result is zipped to `out_fmu`.
     """
-    import tempfile
-    import zipfile
-
     with tempfile.TemporaryDirectory(prefix="sb-rebuild-") as tmp:
         unzipdir = Path(tmp) / "fmu"
         with zipfile.ZipFile(fmu) as z:

@@ -19,15 +19,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
-import numpy as np
 from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
+import numpy as np
 
 from harness.crosscheck.common import max_rel_diff, outputs, result_array
-from harness.fmu.slave import variables_by_name
-from harness.fmu.libcosim import NS_PER_S, ns_time_grid, to_ns
-
+from harness.fmu.blade import fmu_path
 from harness.fmu.build import EXCITATION_FMU, build
+from harness.fmu.libcosim import NS_PER_S, last_error, ns_time_grid, samples, to_ns
+from harness.fmu.slave import variables_by_name
 from harness.optional import require
 EXC = "excitation"
 
@@ -129,13 +129,12 @@ def run_fmpy(blade_fmu: Path, exc_fmu: Path, system: System) -> np.ndarray:
 def run_libcosim(blade_fmu: Path, exc_fmu: Path, system: System) -> np.ndarray:
     """The same system in libcosim: three local slaves, four real connections, fixed step."""
     require("libcosimpy")
+    # optional dependency (extra `crosscheck`): imported only when this runs
     from libcosimpy.CosimEnums import CosimVariableType
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
     from libcosimpy.CosimObserver import CosimObserver
     from libcosimpy.CosimSlave import CosimLocalSlave
-
-    from harness.fmu.libcosim import last_error, samples
 
     log_output_level(CosimLogLevel.ERROR)
     cols = _result_names(blade_fmu, system)
@@ -186,8 +185,6 @@ def compare(a: np.ndarray, b: np.ndarray) -> tuple[float, str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from harness.fmu.blade import fmu_path
-
     ap = argparse.ArgumentParser(prog="python -m harness.crosscheck.system_example", description=__doc__.split("\n\n")[0])
     ap.add_argument("--stop-time", type=float, default=0.3)
     args = ap.parse_args(argv)

@@ -21,11 +21,11 @@ import sys
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
-import numpy as np
-from fmpy import extract, read_model_description
+from fmpy import calloc, extract, free, read_model_description
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
                        fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+import numpy as np
 
 from harness.fmu import build as _build
 from harness.fmu.fmi2_api import bind
@@ -228,7 +228,6 @@ class BladeFMU:
                                 fmiCallLogger=(lambda m: print(m, file=sys.stderr)) if self.fmi_logging else None)
         cb = fmi2CallbackFunctions()
         cb.logger = fmi2CallbackLoggerTYPE(self._on_log)
-        from fmpy import calloc, free
         cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
         cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
         # No fmpy logger proxy: it keeps ONE process-global Python logger, so a second instance

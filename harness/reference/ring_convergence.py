@@ -15,10 +15,15 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+import matplotlib
+import matplotlib.pyplot as plt
 import numpy as np
 
 from harness.reference.ring import MonolithicRing, RingSpec
+from harness.system import ring_libcosim
 from harness.system.ring import Ring, run
+
+matplotlib.use("Agg")  # figures go straight to PNG files: no display
 
 GRID = 1e-4  # reference output spacing [s]; every h divides it
 
@@ -53,7 +58,6 @@ def errors(study: Study, libcosim: bool = False) -> list[tuple[int | str, float,
             k = round(GRID / h)
             try:
                 if p == "libcosim":
-                    from harness.system import ring_libcosim
                     c = ring_libcosim.run(study.ring(h, 0))["q"][::k]
                 else:
                     c = run(study.ring(h, int(p)))["q"][::k]
@@ -77,9 +81,6 @@ def write(rows: list[tuple[int | str, float, float]], out: Path) -> None:
         w = csv.writer(f)
         w.writerow(["order", "h", "relative_error"])
         w.writerows(rows)
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=(5, 4))
     for p in dict.fromkeys(r[0] for r in rows):
         pts = [(h, e) for q, h, e in rows if q == p and math.isfinite(e)]

@@ -34,9 +34,18 @@ from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any, Sequence
 
+from fmpy import read_model_description
 import numpy as np
 
+from harness.analysis.executor import PointCache, point_key
+from harness.fmu.blade import BladeFMU
+from harness.fmu.build import EXCITATION_FMU
+from harness.fmu.slave import build_ring_fmus
+from harness.model.excitation import AeroLoad
+from harness.model.galerkin import galerkin
 from harness.system.ring import Ring, amplitudes
+from harness.system import ring_c
+from harness.system.ring_values import settable
 
 PARAMETERS = ("EI", "m0")  # the blade parameters a pattern scatters
 # contact parameters on top of the ring's
@@ -87,7 +96,6 @@ def factors(n: int, sigma: float, seed: int, index: int) -> np.ndarray:
 def resonance_speed(blade: dict, engine_order: int) -> float:
     """Speed [rpm] where engine_order n / 60 equals the contact-free first bending frequency:
     Omega^2 (EO^2 M - K0omega2) = K0static (Galerkin reduction, harness/model/galerkin.py)."""
-    from harness.model.galerkin import galerkin
     g = galerkin({k: v for k, v in blade.items() if k in ("EI", "rho", "A", "l", "c", "m0", "formulation")})
     return math.sqrt(g.K0static / (engine_order ** 2 * g.M - g.K0omega2)) * 60 / (2 * math.pi)
 
@@ -95,9 +103,6 @@ def resonance_speed(blade: dict, engine_order: int) -> float:
 @functools.lru_cache(maxsize=None)
 def _start_value(name: str) -> float:
     """The blade FMU's start value of `name` (read once per process: the build check costs 0.3 s)."""
-    from fmpy import read_model_description
-    from harness.fmu.slave import build_ring_fmus
-    from harness.system.ring_values import settable
     assert name in settable()["blade"]
     md = read_model_description(str(build_ring_fmus()[0]))
     return float(next(v.start for v in md.modelVariables if v.name == name))
@@ -130,8 +135,6 @@ def tuned_ring(study: Study, variant: str) -> Ring:
 def single_blade_amplitude(study: Study, stop_time: float = 0.3) -> float:
     """ShroudedBlade alone (its built-in Jenkins contact: a rigid neighbour behind the gap d) at the
     study's speed, load and damping, run from rest: max |q| over the last period [m]."""
-    from harness.fmu.blade import BladeFMU
-    from harness.model.excitation import AeroLoad
     speed = study.speed or resonance_speed(study.blade, study.engine_order)
     T = 60 / (study.engine_order * speed)
     p = {**study.blade, "Fw0": study.fw0, "engineOrder": study.engine_order, "frictionModel": 3}
@@ -144,8 +147,6 @@ def single_blade_amplitude(study: Study, stop_time: float = 0.3) -> float:
 
 def _fmu_digest() -> str:
     """The ring FMUs' bytes: a rebuilt FMU invalidates the cache."""
-    from harness.fmu.build import EXCITATION_FMU
-    from harness.fmu.slave import build_ring_fmus
     h = hashlib.sha256()
     for p in (*build_ring_fmus(), EXCITATION_FMU):
         h.update(Path(p).read_bytes())
@@ -161,9 +162,8 @@ def simulate(ring: Ring) -> dict:
     """One ring run (C loop): the steady amplitude of every blade [m], `settle`, the largest
     relative change of a blade amplitude over the last SETTLE_PERIODS periods, and the simulated
     time it took (doubled from ring.stop_time while settle > SETTLE_TOL)."""
-    from harness.system.ring_c import run
     for _ in range(SETTLE_DOUBLINGS + 1):
-        res = run(ring)
+        res = ring_c.run(ring)
         t, q = res["time"], res["q"]
         a = amplitudes(t, q, ring.omega)
         back = t <= t[-1] - SETTLE_PERIODS * 2 * math.pi / ring.omega + 1e-12
@@ -176,7 +176,6 @@ def simulate(ring: Ring) -> dict:
 
 def _task(job: tuple[Ring, str, str | None]) -> dict:
     """One pattern on a worker: run, store in the cache at once (atomic file), return the record."""
-    from harness.analysis.executor import PointCache
     ring, key, cache_dir = job
     t0 = time.perf_counter()
     rec = {**simulate(ring), "wall_s": time.perf_counter() - t0}
@@ -208,7 +207,6 @@ def _variant(study: Study, recs: list[tuple[int, int, dict]]) -> dict:
 def run_study(study: Study, runner: Any, cache_dir: Path | None) -> dict:
     """Every (variant, level, pattern) ring, cached ones read, the rest on `runner`; returns the
     tuned amplitudes, the amplitudes and amplifications per pattern, and how many were computed."""
-    from harness.analysis.executor import PointCache, point_key
     cache = PointCache(cache_dir)
     digest = _fmu_digest()
     jobs: list[tuple[str, int, int, Ring]] = []  # (variant, level index or -1 for tuned, pattern, ring)

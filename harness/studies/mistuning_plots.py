@@ -7,16 +7,16 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import matplotlib
+import matplotlib.pyplot as plt
 import numpy as np
 
 from harness.analysis.executor import write_csv
 
+matplotlib.use("Agg")  # figures go straight to PNG files: no display
+
 
 def write(out: dict, directory: Path) -> list[Path]:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     d = Path(directory)
     d.mkdir(parents=True, exist_ok=True)
     n, levels, V = out["n"], out["levels"], out["variants"]
@@ -72,7 +72,6 @@ def write(out: dict, directory: Path) -> list[Path]:
 
 
 def _save(fig, stem: Path, rows: list, dtype: list) -> list[Path]:
-    import matplotlib.pyplot as plt
     fig.tight_layout()
     fig.savefig(stem.with_suffix(".png"), dpi=120)
     plt.close(fig)

@@ -25,10 +25,19 @@ from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence
 
 import numpy as np
 
-from harness.model import params as _params
-from harness.studies import plots
+from harness.analysis.curves import (ConfigError, SweepSettings, SweepSpec, fmu_identity, hb_curve, hb_stable_peak,
+                                     omega_of)
 from harness.analysis.executor import RESULTS_DIR, Runner, atomic_write_text, write_csv
-from harness.analysis.curves import ConfigError, SweepSettings, SweepSpec, omega_of
+from harness.analysis.periodic.branches import orbits_at
+from harness.analysis.periodic.harmonics import branch_harmonics, summarize
+from harness.analysis.periodic.period_map import PeriodMap
+from harness.analysis.periodic.studies import trace_curve
+from harness.analysis.steady_state import analyze
+from harness.fmu.blade import BladeFMU
+from harness.model import params as _params
+from harness.model.excitation import LinearRamp
+from harness.studies import plots
+from harness.studies.study_branches import curve_tasks, write_coulomb, write_study
 
 if TYPE_CHECKING:  # imported where they are used: they pull in the FMU binding
     from harness.studies.study_branches import CoulombComparison, StudySummary
@@ -147,8 +156,6 @@ def settling_time(time: np.ndarray, amp: np.ndarray, band: float = 0.02) -> floa
 def _response(fmu: Any, p: Mapping[str, Any], speed: float, t_stop: float) -> dict[str, Any]:
     """Run from rest, per-period max |q|, 2 % settling time, and the Hann spectrum of the last half
     (a whole number of periods, so the EO line falls on a bin)."""
-    from harness.analysis.steady_state import analyze
-
     om = omega_of(p, speed)
     T = 2 * PI / om
     n_per = 64
@@ -236,8 +243,6 @@ def hb_vs_orbit(fmu: Any, out: Path, params: Mapping[str, Any], curves: Sequence
     """The one-harmonic balance against the exact orbits of the base case's branches (fixed point
     and Jenkins element): Fourier content of each contact orbit (harness.analysis.periodic.harmonics), to
     `hb_vs_orbit.csv`; returns the ranges per model."""
-    from harness.analysis.periodic.harmonics import branch_harmonics, summarize
-
     rows = []
     for model in ("fixedPoint", "jenkins"):
         base = [c for c in curves if c.task.model == model and dict(c.task.params) == dict(params)]
@@ -261,9 +266,6 @@ def hb_vs_orbit(fmu: Any, out: Path, params: Mapping[str, Any], curves: Sequence
 def _root_at(params: Mapping[str, Any], speed: float, fmu: Any) -> float:
     """The largest fixed point B = A(B) at `speed`: the largest B of every periodic orbit of the
     tracked-amplitude FMU found there (harness.analysis.periodic.search), 2 d if there is none."""
-    from harness.analysis.periodic.period_map import PeriodMap
-    from harness.analysis.periodic.branches import orbits_at
-
     orbits = orbits_at(PeriodMap(fmu, params, "fixedPoint"), speed)
     return max((o.B for o in orbits), default=2.0 * float(params["d"]))
 
@@ -312,8 +314,6 @@ class CampbellSummary:
 def campbell(fmu: Any, out: Path, params: Mapping[str, Any],
              peaks: Sequence[tuple[float, float, str]] = ()) -> CampbellSummary:
     """naturalFrequency of the FMU along a 0..10000 rpm run-up (no load) with the EO lines."""
-    from harness.model.excitation import LinearRamp
-
     r = fmu.run(dict(params), 1.0, 1e-3, speed=LinearRamp(0.0, 10000.0, 0.0, 1.0),
                 aero=LinearRamp(0.0, 0.0, 0.0, 1.0), outputs=["naturalFrequency"])
     n = 10000.0 * r["time"]
@@ -422,11 +422,6 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
     cached: a curve takes about a second. Fig. 2 compares the FMU's friction loop with the
     reference's, so its study comes from the validation side (harness.reference.hysteresis, passed
     in by the `reproduce` and `run` commands); without it Fig. 2 is left out."""
-    from harness.fmu.blade import BladeFMU
-    from harness.analysis.periodic.studies import trace_curve
-    from harness.analysis.curves import fmu_identity, hb_curve, hb_stable_peak
-    from harness.studies.study_branches import curve_tasks, write_coulomb, write_study
-
     size, names = validate_request(size, studies)
     out = Path(out)
     base_p = _params.validate(base or {}, source="reproduce base parameters")

@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 from math import factorial
 from typing import Any, Callable, Mapping
 
+from fmpy.fmi2 import fmi2Integer, fmi2Real, fmi2ValueReference
 import numpy as np
 
 from harness.system.ring_instances import open_ring
@@ -175,7 +176,6 @@ def run(ring: Ring, record_inputs: bool = False, correction: Callable[..., float
 
 
 def _set_derivatives(slave, vrs: list[int], orders: list[int], values: list[float]) -> None:
-    from fmpy.fmi2 import fmi2Integer, fmi2Real, fmi2ValueReference
     m = len(vrs)
     slave.s.fmi2SetRealInputDerivatives(slave.s.component, (fmi2ValueReference * m)(*vrs), m,
                                        (fmi2Integer * m)(*orders), (fmi2Real * m)(*[float(x) for x in values]))

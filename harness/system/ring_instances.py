@@ -10,9 +10,9 @@ from typing import Iterator
 
 import numpy as np
 
-from harness.fmu.libcosim import ns_time_grid
 from harness.fmu.build import EXCITATION_FMU, build
-from harness.fmu.slave import Slave, Unpacked, build_ring_fmus
+from harness.fmu.libcosim import ns_time_grid
+from harness.fmu.slave import BLADE_EXTERNAL_FMU, SHROUD_CONTACT_FMU, Slave, Unpacked, build_ring_fmus
 
 
 def check(ring) -> None:
@@ -31,7 +31,6 @@ def _build_once() -> tuple:
         build_ring_fmus()
         build(("excitation_fmu",))
         _built.add("ring")
-    from harness.fmu.slave import BLADE_EXTERNAL_FMU, SHROUD_CONTACT_FMU
     return BLADE_EXTERNAL_FMU, SHROUD_CONTACT_FMU
 
 

@@ -15,9 +15,9 @@ import time
 
 import numpy as np
 
-from harness.fmu.slave import variables_by_name
-from harness.fmu.libcosim import last_error, samples, to_ns
 from harness.fmu.build import EXCITATION_FMU, build
+from harness.fmu.libcosim import last_error, samples, to_ns
+from harness.fmu.slave import variables_by_name
 from harness.fmu.slave import build_ring_fmus
 from harness.optional import require
 from harness.system.ring import Ring
@@ -27,6 +27,7 @@ def run(ring: Ring) -> dict[str, np.ndarray]:
     """time [s] and per blade q, v; per contact forceA, forceB, at libcosim's communication points;
     step_wall: the wall time [s] of libcosim's stepping (loading and initialization left out)."""
     require("libcosimpy")
+    # optional dependency (extra `crosscheck`): imported only when this runs
     from libcosimpy.CosimEnums import CosimVariableType
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level

@@ -10,6 +10,10 @@ from dataclasses import replace
 from functools import lru_cache
 from typing import Any, Mapping
 
+from fmpy import read_model_description
+
+from harness.fmu.build import EXCITATION_FMU, build
+from harness.fmu.slave import build_ring_fmus
 from harness.model.params import ParameterError
 from harness.system.ring import Ring
 
@@ -22,11 +26,6 @@ RING_OWNED = {"n0": "--speed", "n1": "--speed", "t0": "--speed (constant)", "t1"
 def settable() -> dict[str, dict[str, tuple[str, float, float]]]:
     """{"blade"|"contact"|"excitation": {name: (type, min, max)}}: parameters and settable start
     values (initial="exact" outputs) of each ring FMU, inputs left out (the master sets them)."""
-    from fmpy import read_model_description
-
-    from harness.fmu.build import EXCITATION_FMU, build
-    from harness.fmu.slave import build_ring_fmus
-
     bx, sc = build_ring_fmus()
     build(("excitation_fmu",))
     out: dict[str, dict[str, tuple[str, float, float]]] = {}

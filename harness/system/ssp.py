@@ -16,8 +16,12 @@ from pathlib import Path
 from typing import Any, Mapping
 from xml.sax.saxutils import quoteattr
 
+import numpy as np
+
 from harness.fmu.build import EXCITATION_FMU, build
+from harness.fmu.libcosim import last_error, samples, to_ns
 from harness.fmu.slave import build_ring_fmus
+from harness.optional import require
 from harness.system.ring import Ring
 
 SSD = "http://ssp-standard.org/SSP1/SystemStructureDescription"
@@ -112,15 +116,12 @@ def write(ring: Ring, out: Path) -> Path:
 
 def run_libcosim(ssp_dir: Path, ring: Ring) -> dict[str, float | Any]:
     """The SSP in libcosim (fixed step ring.step): time and every blade's tipDisplacement."""
-    from harness.optional import require
     require("libcosimpy")
-    import numpy as np
+    # optional dependency (extra `crosscheck`): imported only when this runs
     from libcosimpy.CosimEnums import CosimVariableType
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
     from libcosimpy.CosimObserver import CosimObserver
-
-    from harness.fmu.libcosim import last_error, samples, to_ns
 
     log_output_level(CosimLogLevel.ERROR)
     ex = CosimExecution.from_ssp_file(str(ssp_dir), step_size=to_ns(ring.step))
@@ -140,9 +141,8 @@ def run_libcosim(ssp_dir: Path, ring: Ring) -> dict[str, float | Any]:
 
 def run_ecos(ssp_dir: Path, ring: Ring) -> dict[str, Any]:
     """The SSP in Ecos (fixed step, parameter set "initial" applied at init): time and q."""
-    from harness.optional import require
     require("ecospy")
-    import numpy as np
+    # optional dependency (extra `crosscheck`): imported only when this runs
     from ecospy import EcosSimulation
 
     sim = EcosSimulation(step_size=ring.step, ssp_path=str(ssp_dir))

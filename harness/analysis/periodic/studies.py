@@ -16,8 +16,9 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Mapping
 
-from harness.analysis.periodic.branches import BranchSettings, TraceStats
+from harness.analysis.periodic.branches import BranchSettings, TraceStats, trace_branches
 from harness.analysis.periodic.continuation import Branch
+from harness.fmu.blade import BladeFMU
 
 
 @dataclass(frozen=True)
@@ -45,8 +46,6 @@ def _process_fmu(path: Path | str):
     """The process's BladeFMU for `path`, opened on first use (~11 ms: extract, load,
     instantiate) and closed at exit; every period-map evaluation resets it and sets every
     parameter, so curves cannot see each other."""
-    from harness.fmu.blade import BladeFMU
-
     key = str(path)
     if key not in _FMUS:
         _FMUS[key] = BladeFMU(path)
@@ -55,8 +54,6 @@ def _process_fmu(path: Path | str):
 
 
 def trace_curve(task: CurveTask) -> Curve:
-    from harness.analysis.periodic.branches import trace_branches
-
     t0 = time.perf_counter()
     fmu = _process_fmu(task.fmu_path)
     branches, stats = trace_branches(fmu, dict(task.params), task.model, task.speed_range, task.settings)

@@ -9,22 +9,22 @@ initialization mode; outputs are read after every step with `get_real`/`get_inte
 """
 from __future__ import annotations
 
+from importlib.metadata import version as dist_version
 from pathlib import Path
 
 import numpy as np
 
 from harness.crosscheck.common import Run, outputs, result_array, timed
-from harness.fmu.slave import variables_by_name
 from harness.crosscheck.plan import INPUTS, InputPlan, Scenario
+from harness.fmu.slave import variables_by_name
 from harness.optional import require
 
 INSTANCE = "blade"
 
 
 def version() -> str:
-    from importlib.metadata import version as dist_version
-
     require("ecospy")
+    # optional dependency (extra `crosscheck`): imported only when this runs
     from ecospy import EcosLib
 
     return f"{EcosLib.version()!r}".lstrip("v") + f" (ecospy {dist_version('ecospy')})"
@@ -43,6 +43,7 @@ def accumulated_time_grid(start: float, step: float, n_steps: int) -> np.ndarray
 def run(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
     """One Ecos simulation of `plan` with held inputs."""
     require("ecospy")
+    # optional dependency (extra `crosscheck`): imported only when this runs
     from ecospy import EcosSimulation, EcosSimulationStructure
 
     vars_ = variables_by_name(fmu)

@@ -15,9 +15,9 @@ from pathlib import Path
 import numpy as np
 
 from harness.crosscheck.common import Run, outputs, result_array, timed
-from harness.fmu.slave import variables_by_name
 from harness.crosscheck.plan import INPUTS, InputPlan, Scenario
 from harness.fmu.libcosim import NS_PER_S, last_error, samples, to_ns
+from harness.fmu.slave import variables_by_name
 from harness.optional import require
 
 class _Version(ctypes.Structure):
@@ -27,6 +27,7 @@ class _Version(ctypes.Structure):
 def version() -> str:
     """libcosim (C++) version as reported by libcosimc, plus the libcosimpy wrapper version."""
     require("libcosimpy")
+    # optional dependency (extra `crosscheck`): imported only when this runs
     from libcosimpy import __about__
     from libcosimpy._internal import libcosimc
 
@@ -40,6 +41,7 @@ def version() -> str:
 def run(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
     """One libcosim execution of `plan` (held inputs: plan.order is ignored beyond the values)."""
     require("libcosimpy")
+    # optional dependency (extra `crosscheck`): imported only when this runs
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
     from libcosimpy.CosimManipulator import CosimManipulator
