@@ -18,6 +18,7 @@ needs when called.
 """
 from __future__ import annotations
 
+from functools import lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Sequence
 
@@ -37,6 +38,7 @@ __all__ = ["__version__", "fmu_path", "simulate", "periodic_orbits", "branch", "
 RING_MASTERS = ("fmpy", "c")  # the ring's loop in Python (the readable reference) or in C
 
 
+@lru_cache(maxsize=1)
 def _version() -> str:
     """The installed distribution's version; in a bare checkout (not installed) pyproject.toml's,
     the one source of both."""

@@ -107,3 +107,15 @@ def test_periodic_json_matches_the_checkout(installed):
             assert math.isclose(gm["abs"], abs(wm), rel_tol=RTOL, abs_tol=1e-12)
     # nothing written into the installed package (results and caches go under the working directory)
     assert _files(installed["package"]) == before
+
+
+def test_checkout_only_commands_refuse(installed):
+    """bench and crosscheck write into the checkout's bench/ and crosscheck/: an installed harness
+    says so instead of writing next to the package."""
+    site = installed["package"].parent
+    before = set(site.iterdir())
+    for command in ("bench", "crosscheck"):
+        proc = subprocess.run([str(installed["venv"] / "bin" / "harness"), command], cwd=installed["work"],
+                              capture_output=True, text=True, timeout=120)
+        assert proc.returncode == 2 and "runs in a checkout" in proc.stderr, proc.stderr
+    assert set(site.iterdir()) == before

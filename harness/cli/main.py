@@ -34,6 +34,9 @@ COMMANDS: dict[str, str] = {
 }
 
 EXIT_USAGE = 2
+# validation commands that read and write the checkout's own files (bench/, crosscheck/): not for
+# an installed package, whose directory must stay as installed
+CHECKOUT_ONLY = ("bench", "crosscheck")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -117,6 +120,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return EXIT_USAGE
+    if args.command in CHECKOUT_ONLY:
+        from harness.fmu.build import IN_CHECKOUT
+        if not IN_CHECKOUT:
+            print(f"error: `{args.command}` runs in a checkout of the sources (it writes to its {args.command}/"
+                  " directory), not in an installed harness", file=sys.stderr)
+            return EXIT_USAGE
     module = importlib.import_module(COMMANDS[args.command])
     try:
         return int(module.run(args) or 0)
