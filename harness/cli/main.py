@@ -121,7 +121,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help()
         return EXIT_USAGE
     if args.command in CHECKOUT_ONLY:
-        from harness.fmu.build import IN_CHECKOUT
+        from harness.paths import IN_CHECKOUT
         if not IN_CHECKOUT:
             print(f"error: `{args.command}` runs in a checkout of the sources (it writes to its {args.command}/"
                   " directory), not in an installed harness", file=sys.stderr)

@@ -1,11 +1,8 @@
-"""Where the FMUs are, and building them with CMake into build/, once, under a file lock.
+"""Build the FMUs (and the physics test library) with CMake into build/, once, under a file lock.
 
-In a checkout (harness/ beside CMakeLists.txt and fmu_src/, also an editable install) the FMUs are
-built into build/ on first use; `harness.fmu.blade` (build-if-needed) and the test session fixture
-call `build`, CMake decides what is out of date, the lock keeps concurrent processes (pytest
-workers, sweeps) from building at once. An installed package (`pip install .`, a wheel) carries the
-FMUs CMake built at install time in harness/fmus/, laid out as build/ (CMakeLists.txt install
-rules); there `build` only checks that the files are there.
+Used by `harness.fmu.blade` (build-if-needed) and the test session fixture. CMake decides what is out
+of date; the lock keeps concurrent processes (pytest workers, sweeps) from building at once. An
+installed package has its FMUs already (harness/paths.py): there `build` only checks that they are.
 """
 from __future__ import annotations
 
@@ -14,11 +11,8 @@ import subprocess
 import sys
 from pathlib import Path
 
-PACKAGE_DIR = Path(__file__).resolve().parents[1]
-REPO_ROOT = PACKAGE_DIR.parent  # the checkout's root (when IN_CHECKOUT)
-IN_CHECKOUT = (REPO_ROOT / "CMakeLists.txt").is_file() and (REPO_ROOT / "fmu_src").is_dir()
-INSTALLED_DIR = PACKAGE_DIR / "fmus"
-BUILD_DIR = REPO_ROOT / "build" if IN_CHECKOUT else INSTALLED_DIR
+from harness.paths import BUILD_DIR, IN_CHECKOUT, INSTALLED_DIR, REPO_ROOT
+
 FMU_PATH = BUILD_DIR / "ShroudedBlade.fmu"
 FMU3_PATH = BUILD_DIR / "fmi3" / "ShroudedBlade.fmu"  # FMI 3.0 co-simulation, CMake target fmu3
 EXCITATION_FMU = BUILD_DIR / "Excitation.fmu"

@@ -22,9 +22,9 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any, Mapping
 
-from harness.fmu.build import FMU_PATH, IN_CHECKOUT, REPO_ROOT
+from harness.paths import BUILD_DIR, IN_CHECKOUT, REPO_ROOT
 
-MODEL_DESCRIPTION = REPO_ROOT / "modelDescription.xml"  # in a checkout; installed: inside FMU_PATH
+MODEL_DESCRIPTION = REPO_ROOT / "modelDescription.xml"  # in a checkout; installed: inside the FMU
 
 
 class ParameterError(ValueError):
@@ -72,7 +72,7 @@ def _model_description() -> ET.Element:
     """The checkout's modelDescription.xml, or an installed package's: the one inside its FMU."""
     if IN_CHECKOUT:
         return ET.parse(MODEL_DESCRIPTION).getroot()
-    with zipfile.ZipFile(FMU_PATH) as z:
+    with zipfile.ZipFile(BUILD_DIR / "ShroudedBlade.fmu") as z:
         return ET.fromstring(z.read("modelDescription.xml"))
 
 
