@@ -18,10 +18,12 @@ import re
 import sys
 from typing import Sequence
 
+from harness.api import version
 from harness.fmu.blade import FMUError, FMUNotFoundError
 from harness.fmu.build import BuildError
 from harness.model.excitation import ExcitationError
 from harness.model.params import ParameterError
+from harness.paths import IN_CHECKOUT
 
 # command name -> module (add your command with one line). Imported by name, only when run: the
 # product never imports the validation packages, and `validate`, `crosscheck`, `bench` are the only
@@ -84,8 +86,6 @@ def _prog() -> str:
 
 
 def build_parser(command: str | None) -> argparse.ArgumentParser:
-    from harness import __version__
-
     prog = _prog()
     parser = _Parser(
         prog=prog,
@@ -102,7 +102,7 @@ def build_parser(command: str | None) -> argparse.ArgumentParser:
                "build/ on first use (cmake + gcc). Results go where --out/--output-file say (default: under\n"
                "the current directory). Parameter names and defaults are those of modelDescription.xml\n"
                "(paper Table 1) plus Fw0 [N/m].")
-    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {version()}")
     sub = parser.add_subparsers(dest="command", metavar="<command>", parser_class=_Parser)
     for name, module in COMMANDS.items():
         p = sub.add_parser(name, help=_summary(module), description=_summary(module) + ".")
@@ -124,7 +124,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help()
         return EXIT_USAGE
     if args.command in CHECKOUT_ONLY:
-        from harness.paths import IN_CHECKOUT
         if not IN_CHECKOUT:
             print(f"error: `{args.command}` runs in a checkout of the sources (it writes to its {args.command}/"
                   " directory), not in an installed harness", file=sys.stderr)
