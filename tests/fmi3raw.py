@@ -20,7 +20,7 @@ import numpy as np
 import fmi2raw as F
 
 FMU3_FILE = F.REPO_ROOT / "build" / "fmi3" / "ShroudedBlade.fmu"
-MODEL_DESCRIPTION3 = F.REPO_ROOT / "modelDescription3.xml"
+MODEL_DESCRIPTION3 = F.REPO_ROOT / "fmu_src" / "models" / "ShroudedBlade" / "modelDescription3.xml"
 TOKEN = ET.parse(MODEL_DESCRIPTION3).getroot().get("instantiationToken")
 VR3 = {v.get("name"): int(v.get("valueReference")) for v in ET.parse(MODEL_DESCRIPTION3).getroot()
        .find("ModelVariables")}

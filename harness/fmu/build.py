@@ -11,6 +11,9 @@ import sys
 from pathlib import Path
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
+MODELS_DIR = REPO_ROOT / "fmu_src" / "models"  # one folder per FMU: C files, config.h, model description(s)
+MODEL_DESCRIPTION = MODELS_DIR / "ShroudedBlade" / "modelDescription.xml"  # FMI 2.0
+MODEL_DESCRIPTION3 = MODELS_DIR / "ShroudedBlade" / "modelDescription3.xml"  # FMI 3.0
 BUILD_DIR = REPO_ROOT / "build"
 FMU_PATH = BUILD_DIR / "ShroudedBlade.fmu"
 FMU3_PATH = BUILD_DIR / "fmi3" / "ShroudedBlade.fmu"  # FMI 3.0 co-simulation, CMake target fmu3
@@ -41,7 +44,7 @@ def build(targets: tuple[str, ...] = ("fmu", "excitation_fmu", "sbphysics"), bui
 
 # fmpy's CMake project (fmpy/c-code/CMakeLists.txt) links no library, and <SourceFiles> in FMI 2.0
 # has no place to name one: without this the binary leaves sin/cos/acos undefined and loads only
-# into processes that already hold libm (Python), not into a C master (issue 13). STANDARD_LIBRARIES
+# into processes that already hold libm (Python), not into a C master. STANDARD_LIBRARIES
 # goes at the end of the link line, so it also holds with --as-needed.
 REBUILD_CMAKE_OPTIONS = {"CMAKE_C_STANDARD_LIBRARIES:STRING": "-lm"}
 

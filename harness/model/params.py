@@ -21,9 +21,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any, Mapping
 
-from harness.fmu.build import REPO_ROOT
-
-MODEL_DESCRIPTION = REPO_ROOT / "modelDescription.xml"
+from harness.fmu.build import MODEL_DESCRIPTION
 
 
 class ParameterError(ValueError):
