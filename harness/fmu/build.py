@@ -11,9 +11,6 @@ import sys
 from pathlib import Path
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
-MODELS_DIR = REPO_ROOT / "fmu_src" / "models"  # one folder per FMU: C files, config.h, model description(s)
-MODEL_DESCRIPTION = MODELS_DIR / "ShroudedBlade" / "modelDescription.xml"  # FMI 2.0
-MODEL_DESCRIPTION3 = MODELS_DIR / "ShroudedBlade" / "modelDescription3.xml"  # FMI 3.0
 BUILD_DIR = REPO_ROOT / "build"
 FMU_PATH = BUILD_DIR / "ShroudedBlade.fmu"
 FMU3_PATH = BUILD_DIR / "fmi3" / "ShroudedBlade.fmu"  # FMI 3.0 co-simulation, CMake target fmu3

@@ -21,7 +21,10 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any, Mapping
 
-from harness.fmu.build import MODEL_DESCRIPTION
+from harness.fmu.build import REPO_ROOT
+
+# the FMU's FMI 2.0 model description, in its model folder (fmu_src/models/<Name>/)
+MODEL_DESCRIPTION = REPO_ROOT / "fmu_src" / "models" / "ShroudedBlade" / "modelDescription.xml"
 
 
 class ParameterError(ValueError):
