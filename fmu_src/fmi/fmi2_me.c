@@ -1,8 +1,9 @@
 /* The FMI 2.0 model-exchange face: the fmi2* functions of section 3.2 over the model's
  * FmiModelExchange (inst->me: the same right-hand side, switching functions and event updates
- * the co-simulation integrator uses). Linked only into a binary whose model has one. Call sequence from the model-exchange state table (s.3.2.3):
- * initialization ends in event mode (fmi2ExitInitializationMode, fmi2_cs.c); event mode and
- * continuous-time mode alternate. A co-simulation instance refuses every function here. */
+ * the co-simulation integrator uses); linked only into a binary whose model has one. Call
+ * sequence from the model-exchange state table (s.3.2.3): initialization ends in event mode
+ * (fmi2ExitInitializationMode, fmi2_cs.c); event mode and continuous-time mode alternate. A
+ * co-simulation instance refuses every function here. */
 #include <math.h>
 
 #include "fmi2Functions.h"
