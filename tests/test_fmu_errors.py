@@ -1027,7 +1027,7 @@ def test_instance_name_and_strings_are_copied(lib: Fmi2Library) -> None:
         assert c.ok
         ctypes.memset(name, ord("Z"), 12)
         ctypes.memset(guid, ord("Z"), 10)
-        c._name_buf = None
+        c.f._name_buf = None  # the binding's copy of the name goes: the FMU must hold its own
         assert c.get_real([999])[0] in REFUSED
         assert c.log and all(r.instance == "originalName" for r in c.log), c.log_text()
     finally:
