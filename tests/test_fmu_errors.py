@@ -967,7 +967,7 @@ def test_invalid_input(lib: Fmi2Library, case: Case) -> None:
         assert out.status in (OK, F.WARNING), where
     elif case.expect == "refuse":
         assert out.refused, where
-        # an Error always says why (all categories are enabled in these instances); so does a
+        # an Error always says why (even with logging off: tests/test_fmu_reasons_fmpy.py); so does a
         # refused parameter, input or step (a Discard from a status query needs no message)
         if (out.status == ERROR and not case.kind.endswith("NULL component")) or case.kind in (
                 "parameter", "start value", "input", "input derivative", "step", "huge step"):
@@ -993,30 +993,38 @@ def test_invalid_input(lib: Fmi2Library, case: Case) -> None:
         assert r.message, where
 
 
-def test_errors_are_logged_only_in_enabled_categories(lib: Fmi2Library) -> None:
-    # loggingOn = fmi2False at instantiation: the FMU stays silent, even about errors
+def test_errors_always_reach_the_logger_debug_categories_only_when_enabled(lib: Fmi2Library) -> None:
+    # loggingOn = fmi2False at instantiation: no call trace, no events, but every refusal explained
     with Instance(lib, logging_on=False) as c:
+        assert c.set_real(["d"], [-1e-5]) == ERROR
+        assert [r.category for r in c.log] == ["logStatusError"], c.log_text()
+        assert message_names_value_and_range(c.log[0].message, "d", -1e-5, 0.0, None) == [], c.log_text()
+        del c.log[:]
         assert c.initialize() == OK
+        assert _steps(c, 0.0, 50) == OK
+        assert c.log == [], c.log_text()  # contact events happen, but logEvents is off
         assert c.get_real([999])[0] in REFUSED
         assert c.do_step(1.0, 1e-4) in REFUSED
-        assert c.log == []
-    # only logStatusWarning enabled: an error is not reported in logStatusError
+        assert [r.category for r in c.log] == ["logStatusError"] * 2, c.log_text()
+    # a wrong GUID with logging off: fmi2Instantiate says why it returns NULL
+    c = Instance(lib, logging_on=False, guid="{not-the-guid}")
+    try:
+        assert not c.ok and any("GUID" in (r.message or "") for r in c.log), c.log_text()
+    finally:
+        c.free()
+    # only logEvents enabled: events and errors, no call trace
     with Instance(lib) as c:
-        assert c.set_debug_logging(True, ["logStatusWarning"]) == OK
-        assert c.initialize() == OK
+        assert c.set_debug_logging(True, ["logEvents"]) == OK
+        assert c.set_real(["aeroLoad"], [300.0]) == OK and c.initialize() == OK
+        assert _steps(c, 0.0, 300) == OK
         assert c.get_real([999])[0] in REFUSED
-        assert all(r.category == "logStatusWarning" for r in c.log), c.log_text()
-    # logStatusError enabled: it is
-    with Instance(lib) as c:
-        assert c.set_debug_logging(True, ["logStatusError"]) == OK
-        assert c.initialize() == OK
-        assert c.get_real([999])[0] in REFUSED
-        assert c.log and all(r.category == "logStatusError" for r in c.log), c.log_text()
-    # switched off again
+        cats = {r.category for r in c.log}
+        assert cats == {"logEvents", "logStatusError"}, c.log_text()
+    # switched off again: the call trace stops, the errors do not
     with Instance(lib) as c:
         assert c.set_debug_logging(False) == OK
         assert c.get_real([999])[0] in REFUSED
-        assert c.log == []
+        assert [r.category for r in c.log] == ["logStatusError"], c.log_text()
 
 
 def test_instance_name_and_strings_are_copied(lib: Fmi2Library) -> None:

@@ -12,9 +12,11 @@ the enabled log categories, and checks after every call:
 - fmi2DoStep is refused outside "step complete" (after an fmi2Error or fmi2Discard of a step, an
   fmi2Error of fmi2ExitInitializationMode, before initialization, after fmi2Terminate), and for a
   wrong communication point, h <= 0 or t + h == t; a valid step with valid inputs is never an fmi2Error;
-- the logger is called only for enabled categories (fmi2SetDebugLogging(fmi2True, subset): only
-  those, per FMI 2.0 section 2.1.5; fmi2SetDebugLogging(fmi2False, 0 categories) or loggingOn =
-  fmi2False at instantiation: none), always with our instance name and a known category;
+- every non-OK status that is an fmi2Warning or worse is explained in the log whatever the debug
+  settings; the debug categories (logEvents, logCalls) reach the logger only when enabled
+  (fmi2SetDebugLogging(fmi2True, subset): only those, per FMI 2.0 section 2.1.5;
+  fmi2SetDebugLogging(fmi2False, 0 categories) or loggingOn = fmi2False at instantiation: none),
+  always with our instance name and a known category;
 - valid parameters, inputs and derivatives are accepted; a changed state blob is refused unless
   its checksum was recomputed (then its content is validated or it is safe to use).
 The same file runs the machines of the FMI 2.0 model-exchange interface (tests/fuzz_me.py) and of
@@ -39,6 +41,9 @@ from hypothesis.stateful import Bundle, RuleBasedStateMachine, consumes, initial
 
 import fmi2raw as F
 from fmi2raw import DISCARD, ERROR, OK, VALID_STATUSES, WARNING, Fmi2Library, Instance
+
+# the categories of the status messages, which are not filtered by the debug settings
+STATUS_CATEGORIES = ("logStatusWarning", "logStatusDiscard", "logStatusError", "logStatusFatal")
 from fuzz_fmi3 import Fmi3Machine
 from fuzz_me import MeMachine
 
@@ -115,11 +120,15 @@ class FmuMachine(RuleBasedStateMachine):
             assert self.category_enabled(r.category), (
                 f"{fn.__name__}: logged in disabled category {r.category} "
                 f"(enabled: {self.enabled}): {r.message}")
+        if status in (WARNING, ERROR) and self.c.c:  # a refusal or warning is always explained
+            assert any(r.status == status for r in new), f"{fn.__name__} -> {status} with no message"
         self.last_log = [str(r) for r in new if r.category != "logCalls"][-10:]
         del self.c.log[:]  # keep memory flat in long sequences
         return res
 
     def category_enabled(self, cat: str) -> bool:
+        if cat in STATUS_CATEGORIES:  # warnings and errors always reach the importer
+            return True
         if self.enabled == "all":
             return True
         return cat in self.enabled or "logAll" in self.enabled

@@ -165,17 +165,17 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     if (functions == NULL || functions->logger == NULL) return NULL; /* no way to report anything */
     log = functions->logger;
     if (instanceName == NULL || instanceName[0] == '\0') {
-        if (loggingOn) log(functions->componentEnvironment, name, fmi2Error, "logStatusError",
+        log(functions->componentEnvironment, name, fmi2Error, "logStatusError",
                            "fmi2Instantiate: instanceName must be a non-empty string");
         return NULL;
     }
     if (fmuType != fmi2CoSimulation && !(fmuType == fmi2ModelExchange && fmiModel.me != NULL)) {
         if (fmiModel.me != NULL) {
-            if (loggingOn) log(functions->componentEnvironment, name, fmi2Error, "logStatusError",
+            log(functions->componentEnvironment, name, fmi2Error, "logStatusError",
                                "fmi2Instantiate: fmuType = %d is not supported: %s is instantiated for "
                                "fmi2ModelExchange = %d or fmi2CoSimulation = %d", (int)fmuType, fmiModel.name,
                                (int)fmi2ModelExchange, (int)fmi2CoSimulation);
-        } else if (loggingOn) {
+        } else {
             log(functions->componentEnvironment, name, fmi2Error, "logStatusError",
                 "fmi2Instantiate: fmuType = %d is not supported: %s is a co-simulation "
                 "FMU (fmi2CoSimulation = %d)", (int)fmuType, fmiModel.name, (int)fmi2CoSimulation);
@@ -183,7 +183,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
         return NULL;
     }
     if (fmuGUID == NULL || strcmp(fmuGUID, fmiModel.guid) != 0) {
-        if (loggingOn) log(functions->componentEnvironment, name, fmi2Error, "logStatusError",
+        log(functions->componentEnvironment, name, fmi2Error, "logStatusError",
                            "fmi2Instantiate: GUID %s does not match the GUID %s of this FMU binary",
                            fmuGUID ? fmuGUID : "(NULL)", fmiModel.guid);
         return NULL;
@@ -195,7 +195,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     }
     inst = sink ? fmiNew(&fmiModel, &FMI2_FACE, instanceName, fmuResourceLocation, fmi2Sink, sink, loggingOn) : NULL;
     if (inst == NULL) {
-        if (loggingOn) log(functions->componentEnvironment, name, fmi2Fatal, "logStatusFatal",
+        log(functions->componentEnvironment, name, fmi2Fatal, "logStatusFatal",
                            "fmi2Instantiate: out of memory");
         return NULL;
     }

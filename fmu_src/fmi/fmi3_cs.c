@@ -226,11 +226,12 @@ fmi3Status fmi3SetDebugLogging(fmi3Instance instance, fmi3Boolean loggingOn, siz
     return fmi3OK;
 }
 
-/* Logs a refused instantiation when the importer asked for logging and gave a callback. */
-static void instantiateFailed(fmi3LogMessageCallback logMessage, fmi3InstanceEnvironment env, fmi3Boolean loggingOn,
+/* Logs a refused instantiation to the importer's callback, if it gave one (errors are reported
+ * whatever loggingOn says). */
+static void instantiateFailed(fmi3LogMessageCallback logMessage, fmi3InstanceEnvironment env,
                               fmi3Status status, const char *message)
 {
-    if (logMessage != NULL && loggingOn)
+    if (logMessage != NULL)
         logMessage(env, status, status == fmi3Fatal ? "logStatusFatal" : "logStatusError", message);
 }
 
@@ -250,30 +251,30 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3String ins
      * never called (providesIntermediateUpdate = false) */
     (void)visible; (void)earlyReturnAllowed; (void)requiredIntermediateVariables; (void)intermediateUpdate;
     if (instanceName == NULL || instanceName[0] == '\0') {
-        instantiateFailed(logMessage, instanceEnvironment, loggingOn, fmi3Error,
+        instantiateFailed(logMessage, instanceEnvironment, fmi3Error,
                           "fmi3InstantiateCoSimulation: instanceName must be a non-empty string");
         return NULL;
     }
     if (instantiationToken == NULL || strcmp(instantiationToken, fmiModel.guid) != 0) {
         snprintf(text, sizeof text, "fmi3InstantiateCoSimulation: instantiationToken %s does not match the token "
                  "%s of this FMU binary", instantiationToken ? instantiationToken : "(NULL)", fmiModel.guid);
-        instantiateFailed(logMessage, instanceEnvironment, loggingOn, fmi3Error, text);
+        instantiateFailed(logMessage, instanceEnvironment, fmi3Error, text);
         return NULL;
     }
     if (fmiFindVar(&fmiModel, TIME_VR) != NULL) { /* a build defect, not the importer's */
-        instantiateFailed(logMessage, instanceEnvironment, loggingOn, fmi3Fatal,
+        instantiateFailed(logMessage, instanceEnvironment, fmi3Fatal,
                           "fmi3InstantiateCoSimulation: the model uses value reference 0, which the FMI 3.0 face "
                           "reserves for the independent variable time");
         return NULL;
     }
     if (eventModeUsed) {
-        instantiateFailed(logMessage, instanceEnvironment, loggingOn, fmi3Error,
+        instantiateFailed(logMessage, instanceEnvironment, fmi3Error,
                           "fmi3InstantiateCoSimulation: eventModeUsed = true is not supported: this FMU has "
                           "hasEventMode = false (no events to handle)");
         return NULL;
     }
     if (nRequiredIntermediateVariables > 0) {
-        instantiateFailed(logMessage, instanceEnvironment, loggingOn, fmi3Error,
+        instantiateFailed(logMessage, instanceEnvironment, fmi3Error,
                           "fmi3InstantiateCoSimulation: requiredIntermediateVariables given, but this FMU has "
                           "providesIntermediateUpdate = false");
         return NULL;
@@ -281,7 +282,7 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3String ins
     if (logMessage != NULL) {
         sink = (Fmi3Sink *)calloc(1, sizeof *sink);
         if (sink == NULL) {
-            instantiateFailed(logMessage, instanceEnvironment, loggingOn, fmi3Fatal,
+            instantiateFailed(logMessage, instanceEnvironment, fmi3Fatal,
                               "fmi3InstantiateCoSimulation: out of memory");
             return NULL;
         }
@@ -291,7 +292,7 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3String ins
     /* resourcePath (a native path in FMI 3.0, may be NULL) is kept; this FMU has no resources */
     inst = fmiNew(&fmiModel, &FMI3_FACE, instanceName, resourcePath, sink ? fmi3Sink : NULL, sink, loggingOn);
     if (inst == NULL) {
-        instantiateFailed(logMessage, instanceEnvironment, loggingOn, fmi3Fatal,
+        instantiateFailed(logMessage, instanceEnvironment, fmi3Fatal,
                           "fmi3InstantiateCoSimulation: out of memory");
         return NULL;
     }
@@ -303,8 +304,8 @@ fmi3Instance fmi3InstantiateModelExchange(fmi3String instanceName, fmi3String in
                                           fmi3InstanceEnvironment instanceEnvironment,
                                           fmi3LogMessageCallback logMessage)
 {
-    (void)instanceName; (void)instantiationToken; (void)resourcePath; (void)visible;
-    instantiateFailed(logMessage, instanceEnvironment, loggingOn, fmi3Error,
+    (void)instanceName; (void)instantiationToken; (void)resourcePath; (void)visible; (void)loggingOn;
+    instantiateFailed(logMessage, instanceEnvironment, fmi3Error,
                       "fmi3InstantiateModelExchange: not supported: " NO_MODEL_EXCHANGE);
     return NULL;
 }
@@ -316,9 +317,9 @@ fmi3Instance fmi3InstantiateScheduledExecution(fmi3String instanceName, fmi3Stri
                                                fmi3LockPreemptionCallback lockPreemption,
                                                fmi3UnlockPreemptionCallback unlockPreemption)
 {
-    (void)instanceName; (void)instantiationToken; (void)resourcePath; (void)visible;
+    (void)instanceName; (void)instantiationToken; (void)resourcePath; (void)visible; (void)loggingOn;
     (void)clockUpdate; (void)lockPreemption; (void)unlockPreemption;
-    instantiateFailed(logMessage, instanceEnvironment, loggingOn, fmi3Error,
+    instantiateFailed(logMessage, instanceEnvironment, fmi3Error,
                       "fmi3InstantiateScheduledExecution: not supported: this FMU is a co-simulation FMU "
                       "(no <ScheduledExecution>)");
     return NULL;

@@ -25,6 +25,7 @@ int fmiLogEnabled(const FmiInstance *inst, int category)
 {
     if (inst == NULL || inst->sink == NULL) return 0;
     if (category < 0 || category >= LOG_NUM_CATEGORIES) return 0;
+    if (category >= LogStatusWarning && category <= LogStatusFatal) return 1; /* always reported */
     return inst->logOn[category] || inst->logOn[LogAll];
 }
 

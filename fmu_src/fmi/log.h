@@ -1,4 +1,7 @@
-/* Logging through the face's sink: only enabled categories reach it (logAll enables all). */
+/* Logging through the face's sink. Warnings, discards, errors and fatal errors always reach the
+ * importer's logger, whatever loggingOn says (the convention of the FMI SDKs: a refusal must be
+ * explained); the debug categories (logEvents, logCalls) reach it only when enabled by loggingOn or
+ * SetDebugLogging (logAll enables all). */
 #ifndef FMI_LOG_H
 #define FMI_LOG_H
 
@@ -8,6 +11,7 @@ const char *logCategoryName(int category);
 /* Category index of a name, or -1. */
 int logCategoryIndex(const char *name);
 
+/* 1 if a message of this category reaches the logger now. */
 int fmiLogEnabled(const FmiInstance *inst, int category);
 
 /* The categories switched by a face's SetDebugLogging (FMI 2.0 s.2.1.5, FMI 3.0 s.2.3.1): with
