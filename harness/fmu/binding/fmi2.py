@@ -25,8 +25,9 @@ import numpy as np
 from harness.fmu.binding.fmi2_signatures import CO_SIMULATION as _CS
 from harness.fmu.binding.fmi2_signatures import COMMON as _COMMON
 from harness.fmu.binding.fmi2_signatures import SIGNATURES
+from harness.fmu.binding.instance import Instance
 from harness.fmu.binding.library import Library
-from harness.fmu.binding.log import LogHook, LogRecord, decode, new_log
+from harness.fmu.binding.log import LogHook, LogRecord, decode
 from harness.fmu.binding.status import ERROR, FmiError, failed
 
 MODEL_EXCHANGE, CO_SIMULATION = 0, 1  # fmi2Type
@@ -83,21 +84,18 @@ def _enc(s: str | bytes | None) -> bytes | None:
     return s.encode() if isinstance(s, str) else s
 
 
-class Fmi2Instance:
-    """An fmi2Component. `log` holds the LogRecords of this instance (all of them, or the last
-    `log_limit`; or the sequence passed as `log`, which a caller's own logger fills); `on_log` sees each record as it comes; `on_call(function, status)` sees each
-    call made through the methods (not the raw functions)."""
+class Fmi2Instance(Instance):
+    """An fmi2Component (see Instance for the log, status and the two modes)."""
+
+    FREE = "fmi2FreeInstance"
 
     def __init__(self, lib: Library, name: str | bytes | None, guid: str | bytes | None,
                  resource_uri: str | bytes | None, kind: int = CO_SIMULATION, *, visible: bool = False,
                  logging_on: bool = False, raw: bool = False, callbacks: Any = DEFAULT,
-                 log: MutableSequence[LogRecord] | None = None, log_limit: int | None = None, on_log: LogHook | None = None,
-                 on_call: Callable[[str, int], None] | None = None):
-        self.lib, self.raw, self.name = lib, raw, name if not isinstance(name, bytes) else decode(name)
-        self.log = new_log(log_limit) if log is None else log
-        self.on_log, self.on_call = on_log, on_call
-        self.status = 0
-        self.c: int | None = None
+                 log: MutableSequence[LogRecord] | None = None, log_limit: int | None = None,
+                 on_log: LogHook | None = None, on_call: Callable[[str, int], None] | None = None):
+        super().__init__(lib, raw, log, log_limit, on_log, on_call)
+        self.name = decode(name) if isinstance(name, bytes) else name
         if callbacks is DEFAULT:
             self._logger = Logger(self._record)
             callbacks = CallbackFunctions(ctypes.cast(self._logger, c_void_p).value, CALLOC, FREE, None, None)
@@ -112,49 +110,10 @@ class Fmi2Instance:
     def _record(self, env: Any, instance: bytes | None, status: int, category: bytes | None,
                 message: bytes | None) -> None:
         text = decode(message)
-        rec = LogRecord(decode(instance), int(status), decode(category), None if text is None else text.replace("%%", "%"))
-        self.log.append(rec)
-        if self.on_log is not None:
-            self.on_log(rec)
-
-    def last_message(self) -> str | None:
-        return self.log[-1].message if self.log else None
-
-    def check(self, function: str, status: int) -> int:
-        """Record `status` of `function`; raise FmiError for a failure unless in raw mode."""
-        self.status = status
-        if self.on_call is not None:
-            self.on_call(function, status)
-        if (status < 0 or status > 1) and not self.raw:  # failed(status), inlined: every call passes here
-            raise FmiError(function, status, self.last_message())
-        return status
+        self._append(LogRecord(decode(instance), int(status), decode(category),
+                               None if text is None else text.replace("%%", "%")))
 
     # --- lifecycle
-    @property
-    def ok(self) -> bool:
-        return bool(self.c)
-
-    def free_instance(self) -> None:
-        if self.c:
-            self.lib.fmi2FreeInstance(self.c)
-            self.c = None
-
-    def __enter__(self) -> "Fmi2Instance":
-        return self
-
-    def __exit__(self, *exc: Any) -> None:
-        self.free_instance()
-
-    def __del__(self) -> None:
-        try:
-            self.free_instance()
-        except Exception:
-            pass
-
-    def abandon(self) -> None:
-        """Forget the instance without freeing it (after Fatal no call is allowed, FMI s.2.1.3)."""
-        self.c = None
-
     def set_debug_logging(self, on: bool, categories: Sequence[str | None] | None = (), n: int | None = None) -> int:
         """categories None: a NULL array (with n, default 0, as its length)."""
         if categories is None:

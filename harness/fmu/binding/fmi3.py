@@ -13,8 +13,9 @@ import numpy as np
 
 from harness.fmu.binding.fmi3_signatures import CO_SIMULATION as _CS
 from harness.fmu.binding.fmi3_signatures import SIGNATURES
+from harness.fmu.binding.instance import Instance
 from harness.fmu.binding.library import Library
-from harness.fmu.binding.log import LogHook, LogRecord, decode, new_log
+from harness.fmu.binding.log import LogHook, LogRecord, decode
 from harness.fmu.binding.status import ERROR, FmiError, failed
 
 LogMessage = CFUNCTYPE(None, c_void_p, c_int, c_char_p, c_char_p)
@@ -48,20 +49,19 @@ _DTYPES = {"Float64": np.float64, "Float32": np.float32, "Int32": np.int32, "Int
            "Boolean": np.bool_}
 
 
-class Fmi3Instance:
+class Fmi3Instance(Instance):
     """An fmi3Instance created with fmi3InstantiateCoSimulation. logger: DEFAULT (record in `log`),
     None (a NULL callback) or the address of a C callback."""
+
+    FREE = "fmi3FreeInstance"
 
     def __init__(self, lib: Library, name: str | None, token: str | None, resource_path: str | None = None, *,
                  visible: bool = False, logging_on: bool = False, event_mode_used: bool = False,
                  early_return_allowed: bool = False, required: Sequence[int] = (), raw: bool = False,
                  logger: Any = DEFAULT, log_limit: int | None = None, on_log: LogHook | None = None,
                  on_call: Callable[[str, int], None] | None = None):
-        self.lib, self.raw, self.name = lib, raw, name
-        self.log = new_log(log_limit)
-        self.on_log, self.on_call = on_log, on_call
-        self.status = 0
-        self.c: int | None = None
+        super().__init__(lib, raw, None, log_limit, on_log, on_call)
+        self.name = name
         if logger is DEFAULT:
             self._logger = LogMessage(self._record)
             logger = ctypes.cast(self._logger, c_void_p).value
@@ -74,46 +74,7 @@ class Fmi3Instance:
             raise FmiError("fmi3InstantiateCoSimulation", ERROR, self.last_message())
 
     def _record(self, env: Any, status: int, category: bytes | None, message: bytes | None) -> None:
-        rec = LogRecord(self.name or "", int(status), decode(category), decode(message))
-        self.log.append(rec)
-        if self.on_log is not None:
-            self.on_log(rec)
-
-    def last_message(self) -> str | None:
-        return self.log[-1].message if self.log else None
-
-    def check(self, function: str, status: int) -> int:
-        self.status = status
-        if self.on_call is not None:
-            self.on_call(function, status)
-        if not self.raw and failed(status):
-            raise FmiError(function, status, self.last_message())
-        return status
-
-    @property
-    def ok(self) -> bool:
-        return bool(self.c)
-
-    def free_instance(self) -> None:
-        if self.c:
-            self.lib.fmi3FreeInstance(self.c)
-            self.c = None
-
-    def __enter__(self) -> "Fmi3Instance":
-        return self
-
-    def __exit__(self, *exc: Any) -> None:
-        self.free_instance()
-
-    def __del__(self) -> None:
-        try:
-            self.free_instance()
-        except Exception:
-            pass
-
-    def abandon(self) -> None:
-        """Forget the instance without freeing it (after Fatal no call is allowed, FMI s.2.1.3)."""
-        self.c = None
+        self._append(LogRecord(self.name or "", int(status), decode(category), decode(message)))
 
     # --- lifecycle
     def set_debug_logging(self, on: bool, categories: Sequence[str | None] = ()) -> int:
