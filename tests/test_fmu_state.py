@@ -263,7 +263,7 @@ def test_every_single_byte_corruption_gives_error(lib: Fmi2Library, blob: bytes)
 
 
 def test_wrong_version_gives_error_naming_the_version(lib: Fmi2Library, blob: bytes) -> None:
-    for version in (0, 1, 2, 3, 5, -1, 2**31 - 1):  # 1: before the start values of issue 9, 2: with the state machine, 3: before the sensitivities
+    for version in (0, 1, 2, 3, 5, -1, 2**31 - 1):  # 1: before the start values of the state, 2: with the state machine, 3: before the sensitivities
         bad = reseal(blob[:8] + struct.pack("<i", version) + blob[12:])
         st, c = deserialize(lib, bad)
         assert st == ERROR

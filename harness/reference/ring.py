@@ -1,4 +1,4 @@
-"""Monolithic reference of the bladed-disk ring (issue 11, docs/model.md s.8): N blades and N
+"""Monolithic reference of the bladed-disk ring (docs/model.md s.8): N blades and N
 Jenkins contacts as ONE ODE, integrated by scipy (DOP853) with its own event location
 (solve_ivp terminal events, restarted after each discrete update).
 
