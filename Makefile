@@ -26,7 +26,7 @@ fmu: $(STAMP)
 	cmake --build build -j $(JOBS)
 
 run: fmu
-	$(PY) -m harness run
+	$(PY) -m harness run --out results
 
 test: fmu sysdeps
 	$(PY) -m pytest

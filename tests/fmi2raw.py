@@ -42,7 +42,7 @@ from harness.fmu.binding.status import (DISCARD, ERROR, FATAL, OK, PENDING, STAT
                                         VALID_STATUSES, WARNING)
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
-MODEL_DESCRIPTION = REPO_ROOT / "modelDescription.xml"
+MODEL_DESCRIPTION = REPO_ROOT / "fmu_src" / "models" / "ShroudedBlade" / "modelDescription.xml"
 FMU_FILE = REPO_ROOT / "build" / "ShroudedBlade.fmu"
 PROXY_SOURCE = REPO_ROOT / "tests" / "c" / "sb_logproxy.c"
 TEST_BUILD_DIR = REPO_ROOT / "build-sbtests"

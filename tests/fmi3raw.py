@@ -21,7 +21,7 @@ from harness.fmu.binding.fmi3_signatures import SIGNATURES
 from harness.fmu.binding.library import Library
 
 FMU3_FILE = F.REPO_ROOT / "build" / "fmi3" / "ShroudedBlade.fmu"
-MODEL_DESCRIPTION3 = F.REPO_ROOT / "modelDescription3.xml"
+MODEL_DESCRIPTION3 = F.REPO_ROOT / "fmu_src" / "models" / "ShroudedBlade" / "modelDescription3.xml"
 TOKEN = ET.parse(MODEL_DESCRIPTION3).getroot().get("instantiationToken")
 VR3 = {v.get("name"): int(v.get("valueReference")) for v in ET.parse(MODEL_DESCRIPTION3).getroot()
        .find("ModelVariables")}

@@ -5,7 +5,7 @@
 [--plot sweep.png]`. `time` = FMU up/down sweeps carrying the state from speed to speed (tracked
 amplitude, grid refined near peaks and jumps), `fixed` = the paper's fixed point A(B) = B per speed
 (every root), `hb` = harmonic balance of the reference (every branch, stability). Every point is
-cached (results/cache by default), so an interrupted sweep continues where it stopped when the
+cached (./shroudedblade-results/cache by default), so an interrupted sweep continues where it stopped when the
 same command is run again. The configuration is checked completely before any work starts.
 """
 from __future__ import annotations

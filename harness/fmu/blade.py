@@ -58,8 +58,9 @@ class FMUState(bytes):
 
 
 def fmu_path(build: bool = True) -> Path:
-    """build/ShroudedBlade.fmu, built (if out of date) when `build` and the C sources are present."""
-    sources = list((_build.REPO_ROOT / "fmu_src").rglob("*.c"))
+    """build/ShroudedBlade.fmu, built (if out of date) when `build` and the C sources are present;
+    installed: the package's own (harness/fmus/ShroudedBlade.fmu)."""
+    sources = list((_build.REPO_ROOT / "fmu_src").rglob("*.c")) if _build.IN_CHECKOUT else []
     if build and sources and shutil.which("cmake"):
         try:
             return _build.build(("fmu",))
@@ -68,7 +69,8 @@ def fmu_path(build: bool = True) -> Path:
             raise FMUNotFoundError(f"building {_build.FMU_PATH} failed ({first}): run `make fmu` to see the"
                                    " compiler output") from exc
     if not _build.FMU_PATH.is_file():
-        raise FMUNotFoundError(f"{_build.FMU_PATH} not found: build it with `make fmu`"
+        how = "build it with `make fmu`" if _build.IN_CHECKOUT else "reinstall the harness with `pip install`"
+        raise FMUNotFoundError(f"{_build.FMU_PATH} not found: {how}"
                                " (needs cmake and a C compiler) or pass the path of an FMU")
     return _build.FMU_PATH
 

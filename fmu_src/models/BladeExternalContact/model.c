@@ -2,26 +2,24 @@
  * reduction, docs/model.md s.2) without a built-in contact; the contact force at the contact
  * coordinate is an input (docs/model.md s.8):
  *   M q'' + C0 q' + K0(Omega) q = G f_w(t) + F(t),   E' = C0 q'^2,   W' = F q'.
- * F (contactForce) is the force ON the blade, positive along q. The physics and the integrator are
- * ShroudedBlade's (physics/dynamics with FrictionNone, solver/rk4_events), so with F = 0 the
+ * F (contactForce) is the force ON the blade, positive along q. The physics, the integrator and the
+ * step are ShroudedBlade's (physics/dynamics with FrictionNone, solver/rk4_events, solver/blade_step),
+ * so with F = 0 the
  * trajectory is bit-identical to ShroudedBlade with the contact open and no amplitude events
  * (amplitudeMode 1, d > max |q|), given the same communication points and inputs. */
 #include <math.h>
 #include <stddef.h>
-#include <stdio.h>
-#include <string.h>
 
 #include "fmi/log.h"
 #include "fmi/model.h"
+#include "models/BladeExternalContact/config.h"
 #include "physics/dynamics_step.h"
-#include "solver/rk4_events.h"
+#include "solver/blade_step.h"
 
-/* Must equal the guid attribute of descriptions/BladeExternalContact.xml (checked by CMake). */
-#define BLADE_EXTERNAL_GUID "{3f6b2a14-8c0e-4d57-b1a9-7e20c5d4f861}"
-#define ROTOR_SPEED_MAX 30000.0 /* [rpm], as ShroudedBlade (model-notes s.1) */
-#define MAX_INTERNAL_STEPS 1e7
-#define NUM_INPUTS 4 /* aeroLoad, rotorSpeed, contactForce (= SOLVER_INPUT_AERO, _SPEED, _FORCE), contactForce2 */
-#define INPUT_FORCE2 3
+#define NUM_FORCES 2 /* contactForce, contactForce2: summed (a master that cannot add signals
+                        connects one contact to each) */
+#define NUM_INPUTS (SOLVER_INPUT_FORCE + NUM_FORCES) /* aeroLoad, rotorSpeed, the forces */
+#define INPUT_FORCE2 (SOLVER_INPUT_FORCE + 1)
 
 typedef enum {
     ParEI = 0, ParRho, ParA, ParL, ParC, ParM0, ParMaxStep,
@@ -127,62 +125,21 @@ static double output(const FmiInstance *inst, int id)
     }
 }
 
-/* As ShroudedBlade's step (model-notes s.1, s.6): equal internal steps of at most maxStep, the
- * rotor speed in range at both ends, the state restored on trouble, the inputs carried on. */
+/* The blades' step (model-notes s.1, s.6, s.7) with F = contactForce + contactForce2. */
 static FmiStatus doStep(FmiInstance *inst, const char *fn, double tc, double h)
 {
     BxData *d = DATA(inst);
-    const double ratio = h / d->par[ParMaxStep];
-    SolverInputs in;
-    DynState backup;
-    DynStatus st;
-    double n0, n1, tFail = 0.0;
-    long nSteps;
-    if (!(ratio - 1e-9 <= MAX_INTERNAL_STEPS)) {
-        fmiLogStatus(inst, FmiError, "%s: communicationStepSize = %g s needs more than %.0f internal steps of "
-                     "at most maxStep = %g s: use a shorter communication step or a larger maxStep", fn, h,
-                     MAX_INTERNAL_STEPS, d->par[ParMaxStep]);
-        return FmiError;
-    }
-    nSteps = (long)ceil(ratio - 1e-9);
-    if (nSteps < 1) nSteps = 1;
-    solverSetInputs(&in, (const double(*)[SOLVER_MAX_ORDER + 1])d->in);
-    {   /* F = contactForce + contactForce2 (a master that cannot add signals connects one contact to
-         * each); a derivative of contactForce2 that is 0 leaves contactForce's bits as they are */
-        double F[SOLVER_MAX_ORDER + 1];
-        for (int j = 0; j <= SOLVER_MAX_ORDER; ++j)
-            F[j] = d->in[INPUT_FORCE2][j] != 0.0 ? d->in[SOLVER_INPUT_FORCE][j] + d->in[INPUT_FORCE2][j]
-                                                  : d->in[SOLVER_INPUT_FORCE][j];
-        solverSetForce(&in, F);
-    }
-    n0 = solverInputAt(&in, SOLVER_INPUT_SPEED, 0.0);
-    n1 = solverInputAt(&in, SOLVER_INPUT_SPEED, h);
-    if (!(n0 >= 0.0 && n0 <= ROTOR_SPEED_MAX && n1 >= 0.0 && n1 <= ROTOR_SPEED_MAX)) {
-        fmiLogStatus(inst, FmiDiscard, "%s: rotorSpeed = %g rpm at t = %.17g s and %g rpm at the step end "
-                     "t = %.17g s: it must stay in [0, %g] rpm; the step is refused, the state is unchanged",
-                     fn, n0, tc, n1, tc + h, ROTOR_SPEED_MAX);
-        return FmiDiscard;
-    }
-    backup = d->state;
-    st = solverAdvance(&d->model, &d->state, &in, tc, h, nSteps, NULL, NULL,
-                       &((BxMemory *)inst->memory)->counters, &tFail, NULL);
-    if (st != DynOk) {
-        d->state = backup;
-        fmiLogStatus(inst, FmiDiscard, "%s: the state became non-finite near t = %.17g s (numerical "
-                     "instability: try a smaller maxStep = %g s or a smaller contactForce); the step from "
-                     "t = %.17g s is discarded and the state restored", fn, tc + tFail, d->par[ParMaxStep], tc);
-        return FmiDiscard;
-    }
-    /* the inputs carried to the next point (model-notes s.7); each force on its own polynomial */
-    solverShiftInput(&in, SOLVER_INPUT_AERO, h, d->in[SOLVER_INPUT_AERO]);
-    solverShiftInput(&in, SOLVER_INPUT_SPEED, h, d->in[SOLVER_INPUT_SPEED]);
-    for (int f = SOLVER_INPUT_FORCE; f <= INPUT_FORCE2; ++f) {
-        SolverInputs one;
-        memset(&one, 0, sizeof one);
-        solverSetForce(&one, d->in[f]);
-        solverShiftInput(&one, SOLVER_INPUT_FORCE, h, d->in[f]);
-    }
-    return FmiOK;
+    BladeStep b;
+    b.model = &d->model;
+    b.state = &d->state;
+    b.sens = NULL;
+    b.in = d->in;
+    b.nForces = NUM_FORCES;
+    b.maxStep = d->par[ParMaxStep];
+    b.speedMax = ROTOR_SPEED_MAX;
+    b.instabilityHint = " or a smaller contactForce";
+    b.counters = &((BxMemory *)inst->memory)->counters;
+    return bladeStep(inst, fn, &b, tc, h);
 }
 
 static int validData(FmiInstance *inst, const char *fn, const void *data, int initialized)
@@ -197,7 +154,10 @@ static int validData(FmiInstance *inst, const char *fn, const void *data, int in
 }
 
 const FmiModel fmiModel = {
-    "BladeExternalContact", BLADE_EXTERNAL_GUID, VARS, (int)(sizeof VARS / sizeof VARS[0]), SOLVER_MAX_ORDER,
+    MODEL_NAME, MODEL_GUID, VARS, (int)(sizeof VARS / sizeof VARS[0]), SOLVER_MAX_ORDER,
     sizeof(BxData), sizeof(BxMemory), 1, STATE_VERSION, FIELDS, (int)(sizeof FIELDS / sizeof FIELDS[0]),
-    NULL, build, NULL, outputs, output, NULL, doStep, validData, NULL,
+    NULL, build, NULL, outputs, output, NULL, doStep, validData,
 };
+
+/* co-simulation only */
+const FmiModelExchange *const fmiModelExchange = NULL;
