@@ -1,7 +1,9 @@
 /* The BladeExternalContact model for the generic FMI layer: the blade of ShroudedBlade (Galerkin
  * reduction, docs/model.md s.2) without a built-in contact; the contact force at the contact
  * coordinate is an input (docs/model.md s.8):
- *   M q'' + C0 q' + K0(Omega) q = G f_w(t) + F(t),   E' = C0 q'^2,   W' = F q'.
+ *   M q'' + C0 q' + K0(Omega) q = G f_w(t) + F(t),   E' = C0 q'^2,   W' = F q',
+ * f_w = aeroLoad + Fw0 sin(psi + 2 pi engineOrder bladeIndex / bladeCount) (the built-in load, psi
+ * the integrated excitation phase, as ShroudedBlade).
  * F (contactForce) is the force ON the blade, positive along q. The physics, the integrator and the
  * step are ShroudedBlade's (physics/dynamics with FrictionNone, solver/rk4_events, solver/blade_step),
  * so with F = 0 the
@@ -24,12 +26,14 @@
 typedef enum {
     ParEI = 0, ParRho, ParA, ParL, ParC, ParM0, ParMaxStep,
     ParQ0, ParV0, ParE0, ParW0, /* start values of q [m], q' [m/s], E [J], W [J] */
+    ParFw0,                     /* amplitude of the built-in aerodynamic load [N/m] */
     PAR_NUM
 } RealParam;
 
 typedef struct {
     double par[PAR_NUM];                                  /* [units of the XML] */
     int32_t formulation;                                  /* 1 printed, 2 consistent */
+    int32_t engineOrder, bladeIndex, bladeCount;          /* the built-in load's travelling wave */
     double in[NUM_INPUTS][SOLVER_MAX_ORDER + 1];          /* input values and derivatives [unit/s^j] */
     DynState state;                                       /* q, q', E, W (psi, w unused) */
     /* derived (rebuilt, not serialized) */
@@ -60,7 +64,11 @@ static const VarInfo VARS[] = {
     {5, "c", VarReal, CausParameter, "N.s/m2", 29.8, 0.0, INF, 0, 0, PAR(ParC), -1},
     {6, "m0", VarReal, CausParameter, "kg", 0.025, 0.0, INF, 0, 0, PAR(ParM0), -1},
     {13, "maxStep", VarReal, CausParameter, "s", 1e-5, 1e-8, 1e-3, 0, 0, PAR(ParMaxStep), -1},
+    {14, "Fw0", VarReal, CausParameter, "N/m", 0.0, 0.0, INF, 0, 0, PAR(ParFw0), -1},
     {21, "formulation", VarInteger, CausParameter, "", 1, 1, 2, 0, 0, AT(formulation), -1},
+    {24, "engineOrder", VarInteger, CausParameter, "", 3, 1, 100, 0, 0, AT(engineOrder), -1},
+    {25, "bladeIndex", VarInteger, CausParameter, "", 0, 0, 9999, 0, 0, AT(bladeIndex), -1},
+    {26, "bladeCount", VarInteger, CausParameter, "", 1, 1, 10000, 0, 0, AT(bladeCount), -1},
     {40, "aeroLoad", VarReal, CausInput, "N/m", 0.0, -INF, INF, 0, 0, INPUT(SOLVER_INPUT_AERO), -1},
     {41, "rotorSpeed", VarReal, CausInput, "rpm", 5000.0, 0.0, ROTOR_SPEED_MAX, 0, 0, INPUT(SOLVER_INPUT_SPEED), -1},
     {42, "contactForce", VarReal, CausInput, "N", 0.0, -INF, INF, 0, 0, INPUT(SOLVER_INPUT_FORCE), -1},
@@ -79,9 +87,10 @@ static const StateField FIELDS[] = {
     {AT(par), FieldF64, COUNT(par)},
     {AT(in), FieldF64, COUNT(in) * COUNT(in[0])},
     F64(state.q), F64(state.v), F64(state.psi), F64(state.E), F64(state.W),
-    {AT(formulation), FieldI32, 1},
+    {AT(formulation), FieldI32, 1}, {AT(engineOrder), FieldI32, 1}, {AT(bladeIndex), FieldI32, 1},
+    {AT(bladeCount), FieldI32, 1},
 };
-#define STATE_VERSION 1
+#define STATE_VERSION 2 /* 2: the built-in load's parameters joined */
 
 /* Reduction, dynamics constants (FrictionNone: no contact), and at the end of initialization the
  * start state. */
@@ -92,7 +101,7 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
     BladeParams bp;
     bp = bladeParamsOf(&p[ParEI]); /* ParEI..ParM0 in that order */
     if (bladeReduce(&bp, (Formulation)d->formulation, &d->blade) != 0 || !(d->blade.K0static > 0.0) ||
-        dynBuildModel(&d->model, &d->blade, NULL, FrictionNone, ProjectionPaper, 0, 0, 1) != 0) {
+        dynBuildModel(&d->model, &d->blade, NULL, FrictionNone, ProjectionPaper, 0, 0, d->engineOrder) != 0) {
         fmiLogStatus(inst, FmiError,
                      "%s: the Galerkin reduction (eq. 19-26) failed for EI = %g N.m2, rho = %g kg/m3, "
                      "A = %g m2, l = %g m, c = %g N.s/m2, m0 = %g kg, formulation = %d: the blade "
@@ -100,6 +109,12 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
                      (int)d->formulation);
         return FmiError;
     }
+    if (d->bladeIndex >= d->bladeCount) {
+        fmiLogStatus(inst, FmiError, "%s: bladeIndex = %d must be in [0, bladeCount - 1] = [0, %d]", fn,
+                     (int)d->bladeIndex, (int)d->bladeCount - 1);
+        return FmiError;
+    }
+    dynSetLoad(&d->model, p[ParFw0], d->engineOrder, d->bladeIndex, d->bladeCount);
     if (initState) {
         (void)dynInitState(&d->model, &d->state, p[ParQ0], p[ParV0], p[ParE0], 0.0, 0.0, 0.0);
         d->state.W = p[ParW0];

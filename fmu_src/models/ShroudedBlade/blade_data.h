@@ -15,12 +15,13 @@ typedef enum {
     ParQ0, ParV0, ParE0, /* start values of the initial="exact" outputs q [m], q' [m/s], E [J] */
     ParF0,               /* start value of jenkinsForce: Jenkins spring force k_d (Delta_u - w) [N] */
     ParWindowMax0,       /* start value of runningMaximum: max |q| over the running period [m] */
+    ParFw0,              /* amplitude of the built-in aerodynamic load [N/m] */
     PAR_NUM
 } RealParam;
 
 typedef enum {
     IparFrictionModel = 0, IparFormulation, IparProjection, IparAmplitudeMode, IparEngineOrder,
-    IparGating, IparSensitivities, IPAR_NUM
+    IparGating, IparSensitivities, IparBladeIndex, IparBladeCount, IPAR_NUM
 } IntParam;
 
 /* Everything of the model an FMU state captures. Plain data (no pointers). The last block is

@@ -49,11 +49,14 @@ static const VarInfo VARS[] = {
     {vr_d, "d", VarReal, CausParameter, "m", 3e-5, 0.0, INF, 0, 0, PAR(ParD), -1},
     {vr_B, "B", VarReal, CausParameter, "m", 6e-5, 0.0, INF, 1, 0, PAR(ParB), -1},
     {vr_maxStep, "maxStep", VarReal, CausParameter, "s", 1e-5, 1e-8, 1e-3, 0, 0, PAR(ParMaxStep), -1},
+    {vr_Fw0, "Fw0", VarReal, CausParameter, "N/m", 0.0, 0.0, INF, 0, 0, PAR(ParFw0), -1},
     {vr_frictionModel, "frictionModel", VarInteger, CausParameter, "", 1, 1, 3, 0, 0, IPAR(IparFrictionModel), -1},
     {vr_formulation, "formulation", VarInteger, CausParameter, "", 1, 1, 2, 0, 0, IPAR(IparFormulation), -1},
     {vr_projection, "projection", VarInteger, CausParameter, "", 1, 1, 2, 0, 0, IPAR(IparProjection), -1},
     {vr_amplitudeMode, "amplitudeMode", VarInteger, CausParameter, "", 2, 1, 2, 0, 0, IPAR(IparAmplitudeMode), -1},
     {vr_engineOrder, "engineOrder", VarInteger, CausParameter, "", 3, 1, 100, 0, 0, IPAR(IparEngineOrder), -1},
+    {vr_bladeIndex, "bladeIndex", VarInteger, CausParameter, "", 0, 0, 9999, 0, 0, IPAR(IparBladeIndex), -1},
+    {vr_bladeCount, "bladeCount", VarInteger, CausParameter, "", 1, 1, 10000, 0, 0, IPAR(IparBladeCount), -1},
     {vr_gating, "gating", VarBoolean, CausParameter, "", 1, 0, 1, 0, 0, IPAR(IparGating), -1},
     {vr_sensitivities, "sensitivities", VarBoolean, CausParameter, "", 0, 0, 1, 0, 0, IPAR(IparSensitivities), -1},
     {vr_aeroLoad, "aeroLoad", VarReal, CausInput, "N/m", 0.0, -INF, INF, 0, 0, INPUT(SOLVER_INPUT_AERO), -1},
@@ -130,9 +133,10 @@ static const StateField FIELDS[] = {
     F64(sens.dKeq), F64(sens.dCeqOmega), I32(sens.grazing),
 };
 
-/* 4: the sensitivities joined (3: the state-machine value left the blob and the layer's run fields moved ahead (2: the start
- * values of jenkinsForce and runningMaximum joined the parameters). Older versions are refused. */
-#define STATE_VERSION 4
+/* Versions: 5 the built-in load's parameters joined; 4 the sensitivities; 3 the state-machine
+ * value left the blob and the layer's run fields moved ahead; 2 the start values of jenkinsForce
+ * and runningMaximum joined the parameters. Older versions are refused. */
+#define STATE_VERSION 5
 
 /* ------------------------------------------------------------------------------------------- */
 /* Start values, build                                                                          */
@@ -239,6 +243,12 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
                      "d = %g m are not usable together", fn, cp.kn, cp.kdRatio, cp.mu, cp.gamma, cp.d);
         return FmiError;
     }
+    if (d->ipar[IparBladeIndex] >= d->ipar[IparBladeCount]) {
+        fmiLogStatus(inst, FmiError, "%s: bladeIndex = %d must be in [0, bladeCount - 1] = [0, %d]", fn,
+                     (int)d->ipar[IparBladeIndex], (int)d->ipar[IparBladeCount] - 1);
+        return FmiError;
+    }
+    dynSetLoad(&d->model, p[ParFw0], d->ipar[IparEngineOrder], d->ipar[IparBladeIndex], d->ipar[IparBladeCount]);
     if (initState) {
         if (checkStartForce(inst, fn) != FmiOK) return FmiError;
         st = dynInitState(&d->model, &d->state, p[ParQ0], p[ParV0], p[ParE0], p[ParF0], p[ParB],
