@@ -14,7 +14,7 @@ import pytest
 from fmpy import extract, read_model_description, simulate_fmu
 from fmpy.fmi2 import FMU2Slave
 
-from harness.sweep.plateau import PhasedSine
+from harness.analysis.plateau import PhasedSine
 from harness.fmu import build as _build
 from harness.fmu.blade import BladeFMU
 from harness.model.excitation import AeroLoad, LinearRamp
