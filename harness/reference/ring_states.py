@@ -1,0 +1,205 @@
+"""Which steady state a tuned ring settles on: the co-simulation (C loop, harness/system/ring_c.py)
+against the monolithic reference (harness/reference/ring.py), and the travelling wave's stability
+(docs/findings/ring-steady-states.md).
+
+The travelling wave (TW) of a tuned ring under f_i = F sin(omega t + 2 pi EO i / N) is the periodic
+solution with q_{i+1}(t) = q_i(t + tau), tau = EO T / N (blade i+1's load leads blade i's by tau). Its deviation per excitation period k is
+measured on samples whose spacing divides tau:
+    wave defect D_k = max over period k and blades of |q_i(t) - q_{i+1}(t - tau)| / max |q|.
+Where 2 EO = N (lead pi per blade) the equations keep q_i = -q_{i-1} at every instant (the system
+is odd), from rest too; the mirror defect max |q_i + q_{i-1}| / max |q| per period then measures
+the symmetry breaking itself, without the transient. The growth of a defect per period in its
+exponential phase estimates the largest transverse Floquet multiplier |mu| of the TW.
+
+`python -m harness.reference.ring_states CASE` prints the numbers of one case of the findings page.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import time
+from dataclasses import replace
+
+import numpy as np
+
+from harness.reference.ring import MonolithicRing, RingSpec, RingState
+from harness.system.ring import Ring
+from harness.system.ring_c import run
+
+SETTINGS = {  # the mistuning study's (c = 298 N s/m2) and the default damping's ring
+    "a6400": dict(n=6, speed=6400.0, c=298.0),
+    "a7000": dict(n=6, speed=7000.0, c=298.0),
+    "b": dict(n=8, speed=5000.0, c=29.8),
+}
+
+
+def period(speed: float, eo: int = 3) -> float:
+    return 60 / (eo * speed)
+
+
+def cosim_ring(n: int, speed: float, c: float, stop_time: float, steps_per_period: int = 160,
+               order: int = 2, fw0: float = 300.0, eo: int = 3) -> Ring:
+    """The ring as the mistuning study runs it: h = T / steps_per_period in whole nanoseconds."""
+    step = round(period(speed, eo) / steps_per_period * 1e9) * 1e-9
+    return Ring(n=n, engine_order=eo, speed=speed, fw0=fw0, blade={"c": c}, step=step, stop_time=stop_time,
+                order=order)
+
+
+def spec_of(ring: Ring) -> RingSpec:
+    return RingSpec(n=ring.n, engine_order=ring.engine_order, speed=ring.speed, fw0=ring.fw0, blade=ring.blade,
+                    contact=ring.contact, blade_each=ring.blade_each)
+
+
+def cosim(ring: Ring) -> tuple[np.ndarray, np.ndarray]:
+    """Time and q per blade at the communication points."""
+    res = run(ring)
+    return res["time"], res["q"]
+
+
+def reference(spec: RingSpec, t_end: float, samples_per_period: int, rtol: float = 1e-9,
+              start: RingState | None = None) -> tuple[np.ndarray, np.ndarray, RingState]:
+    """Time and q per blade on a grid of T / samples_per_period from start (or rest), and the end state."""
+    T = period(spec.speed, spec.engine_order)
+    t0 = start.t if start is not None else 0.0
+    t = t0 + np.arange(round((t_end - t0) / T * samples_per_period) + 1) * (T / samples_per_period)
+    r = MonolithicRing(spec, rtol=rtol).solve(t, start)
+    return t, r["q"], r["end"]
+
+
+def _periods(t: np.ndarray, T: float) -> list[np.ndarray]:
+    """Sample indices of each whole excitation period [t0 + k T, t0 + (k + 1) T]."""
+    k = np.floor((t - t[0]) / T * (1 + 1e-12)).astype(int)
+    return [np.nonzero((k == j) | ((k == j + 1) & np.isclose(t, t[0] + (j + 1) * T, rtol=0, atol=1e-12)))[0]
+            for j in range(int(k[-1]))]
+
+
+def period_amplitudes(t: np.ndarray, q: np.ndarray, T: float) -> np.ndarray:
+    """max |q| per period (rows) and blade (columns)."""
+    return np.array([np.abs(q[i]).max(axis=0) for i in _periods(t, T)])
+
+
+def wave_defect(t: np.ndarray, q: np.ndarray, T: float, eo: int) -> np.ndarray:
+    """D_k per period k (from the second period on: the first has no sample tau earlier)."""
+    N = q.shape[1]
+    dt = t[1] - t[0]
+    s = (eo * T / N) / dt
+    shift = round(s)
+    if abs(s - shift) > 1e-3:
+        raise ValueError(f"tau = {s:g} samples: the sample spacing must divide tau")
+    e = np.zeros(len(t))
+    e[shift:] = np.abs(q[shift:] - np.roll(q, -1, axis=1)[:-shift]).max(axis=1)
+    scale = np.abs(q).max()
+    return np.array([e[i].max() / scale for i in _periods(t, T)])[1:]
+
+
+def mirror_defect(t: np.ndarray, q: np.ndarray, T: float) -> np.ndarray:
+    """max |q_i + q_{i-1}| / max |q| per period (rings with lead pi per blade, 2 EO = N)."""
+    e = np.abs(q + np.roll(q, 1, axis=1)).max(axis=1)
+    scale = np.abs(q).max()
+    return np.array([e[i].max() / scale for i in _periods(t, T)])
+
+
+def growth_per_period(d: np.ndarray, lo: float = 1e-11, hi: float = 1e-4) -> tuple[float, int, int]:
+    """|mu| from a least-squares line through log D_k over the first unbroken run of periods with
+    lo < D_k < hi after D first exceeds lo (the exponential phase); returns (mu, first, last)."""
+    above = np.nonzero(d > lo)[0]
+    if not len(above):
+        raise ValueError("the defect never exceeds lo: no growth")
+    k0 = int(above[0])
+    k1 = k0
+    while k1 + 1 < len(d) and lo < d[k1 + 1] < hi:
+        k1 += 1
+    if k1 - k0 < 3:
+        raise ValueError(f"only {k1 - k0 + 1} periods in ({lo:g}, {hi:g})")
+    k = np.arange(k0, k1 + 1)
+    return float(math.exp(np.polyfit(k, np.log(d[k]), 1)[0])), k0, k1
+
+
+def mirrored(state: RingState) -> RingState:
+    """`state` made exactly symmetric from blade 0 and contact 0 (rings with 2 EO = N): q_i, v_i =
+    (-1)^i (q_0, v_0); contact j (u_j = (-1)^j u_0) has contact 0's mode and its side, slip sign,
+    stick anchor force and displacement times (-1)^j (the Jenkins element is odd)."""
+    s = state.copy()
+    N = len(s.contacts)
+    sign = (-1.0) ** np.arange(N)
+    s.y[:N], s.y[N:2 * N] = sign * s.y[0], sign * s.y[N]
+    c0 = s.contacts[0]
+    s.contacts = [replace(c0, side=int(g) * c0.side, s=int(g) * c0.s, F0=g * c0.F0, u0=g * c0.u0) for g in sign]
+    return s
+
+
+def on_wave(spec: RingSpec, periods: int, rtol: float = 1e-9) -> tuple[RingState, np.ndarray]:
+    """The symmetric computation (2 EO = N): from rest, one excitation period at a time, the state
+    made exactly symmetric (`mirrored`) after each; returns the state after `periods` periods and
+    blade 0's max |q| per period (its convergence shows the TW is a periodic solution)."""
+    T = period(spec.speed, spec.engine_order)
+    state, amp = RingState.rest(spec.n), []
+    for _ in range(periods):
+        t, q, end = reference(spec, state.t + T, 160, rtol, start=state)
+        amp.append(np.abs(q[:, 0]).max())
+        state = mirrored(end)
+    return state, np.array(amp)
+
+
+def kicked(state: RingState, blade: int = 0, dq: float = 1e-9) -> RingState:
+    """`state` with blade `blade` displaced by dq [m]."""
+    s = state.copy()
+    s.y[blade] += dq
+    return s
+
+
+def _show(name: str, t: np.ndarray, q: np.ndarray, T: float, eo: int, every: int) -> np.ndarray:
+    a = period_amplitudes(t, q, T)
+    for k in range(0, len(a), every):
+        print(f"  {name} period {k:4d} (t = {t[0] + (k + 1) * T:.4f} s): " + " ".join(f"{x:.4e}" for x in a[k]))
+    print(f"  {name} last period: " + " ".join(f"{x:.5e}" for x in a[-1]))
+    return a
+
+
+def case_a(key: str, t_end: float = 0.3, kick_at: float = 0.1, kick_periods: int = 15) -> None:
+    """Co-sim and reference from rest, their mirror defects; the symmetric computation to kick_at,
+    then blade 0 kicked and run for kick_periods periods."""
+    st = SETTINGS[key]
+    T = period(st["speed"])
+    ring = cosim_ring(st["n"], st["speed"], st["c"], t_end)
+    t0 = time.perf_counter()
+    tc, qc = cosim(ring)
+    print(f"{key}: h = {ring.step:.9g} s, co-sim {time.perf_counter() - t0:.1f} s")
+    ac = _show("co-sim", tc, qc, T, 3, 10)
+    t0 = time.perf_counter()
+    tr, qr, _ = reference(spec_of(ring), t_end, 160)
+    print(f"  reference (rtol 1e-9) {time.perf_counter() - t0:.1f} s")
+    ar = _show("reference", tr, qr, T, 3, 10)
+    print(f"  last period |co-sim - reference| / max = {np.abs(ac[-1] - ar[-1]).max() / ar[-1].max():.2e}")
+    for name, (tt, qq) in (("co-sim", (tc, qc)), ("reference", (tr, qr))):
+        d = mirror_defect(tt, qq, T)
+        print(f"  {name} mirror defect per 5 periods: " + " ".join(f"{x:.1e}" for x in d[::5]))
+        try:
+            mu, k0, k1 = growth_per_period(d)
+            print(f"  {name}: |mu| = {mu:.4f} per period (periods {k0}-{k1})")
+        except ValueError as e:
+            print(f"  {name}: {e}")
+    # the symmetric computation: on the TW, then blade 0 kicked by 1e-9 m (and not kicked)
+    state, amp = on_wave(spec_of(ring), round(kick_at / T))
+    print(f"  on the wave at t = {state.t:.4f} s: blade max |q| {amp[-1]:.5e}, change over the last period "
+          f"{abs(amp[-1] - amp[-2]) / amp[-1]:.1e}")
+    for name, s in (("kicked", kicked(state)), ("not kicked", state)):
+        tk, qk, _ = reference(spec_of(ring), state.t + kick_periods * T, 160, start=s)
+        d = mirror_defect(tk, qk, T)
+        print(f"  {name}: mirror defect per period " + " ".join(f"{x:.1e}" for x in d))
+        if name == "kicked":
+            mu, k0, k1 = growth_per_period(d, lo=1e-5, hi=1e-2)
+            print(f"  kicked: |mu| = {mu:.4f} per period (periods {k0}-{k1} after the kick)")
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("case", choices=[*SETTINGS])
+    ap.add_argument("--stop", type=float, default=None, help="horizon [s]")
+    a = ap.parse_args(argv)
+    if a.case.startswith("a"):
+        case_a(a.case, a.stop or 0.3)
+
+
+if __name__ == "__main__":
+    main()
