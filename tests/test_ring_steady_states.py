@@ -28,7 +28,8 @@ T = R.period(CASE["speed"])
 def runs():
     ring = R.cosim_ring(CASE["n"], CASE["speed"], CASE["c"], 0.3)
     tc, qc = R.cosim(ring)
-    tr, qr, _ = R.reference(R.spec_of(ring), 0.3, 160)
+    r = R.reference(R.spec_of(ring), 0.3, 160)
+    tr, qr = r["time"], r["q"]
     return (tc, qc), (tr, qr)
 
 

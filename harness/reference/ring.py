@@ -185,13 +185,15 @@ class MonolithicRing:
     def solve(self, t_eval: np.ndarray, start: RingState | None = None) -> dict[str, np.ndarray]:
         """q, v, friction energy per contact, viscous dissipation and aero work per blade at t_eval
         (from rest at t = 0 with the contacts open, or from `start`, which is not changed; t_eval
-        within [start.t, ...]), the number of events, and "end": the RingState at t_eval[-1]."""
+        within [start.t, ...]), the number of events, "end": the RingState at t_eval[-1], and "switches":
+        (time, contact states) at the start and after every event."""
         N = self.N
         start = (start or RingState.rest(N)).copy()
         cs, y = start.contacts, start.y
         t0, t_end = start.t, float(t_eval[-1])
         out = np.zeros((len(t_eval), 5 * N))
         done, n_events = 0, 0
+        switches = [(t0, [replace(c) for c in cs])]  # the contacts' discrete states from each event on
         while t0 < t_end:
             evs = self._events(cs)
             sol = solve_ivp(self.rhs, (t0, t_end), y, method="DOP853", rtol=self.rtol, atol=1e-15,
@@ -214,6 +216,7 @@ class MonolithicRing:
                 self._apply(cs[j], kind, u[j], du[j])
                 n_events += 1
                 n_events += self._simultaneous(cs, t1, y, {j})
+                switches.append((t1, [replace(c) for c in cs]))
             else:
                 y = sol.y[:, -1]
             t0 = t1
@@ -222,4 +225,5 @@ class MonolithicRing:
         res["time"] = np.asarray(t_eval)
         res["events"] = np.array(n_events)
         res["end"] = RingState(t0, np.array(y, dtype=float), cs)
+        res["switches"] = switches
         return res

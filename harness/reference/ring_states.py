@@ -57,13 +57,12 @@ def cosim(ring: Ring) -> tuple[np.ndarray, np.ndarray]:
 
 
 def reference(spec: RingSpec, t_end: float, samples_per_period: int, rtol: float = 1e-9,
-              start: RingState | None = None) -> tuple[np.ndarray, np.ndarray, RingState]:
-    """Time and q per blade on a grid of T / samples_per_period from start (or rest), and the end state."""
+              start: RingState | None = None) -> dict:
+    """MonolithicRing.solve on a grid of T / samples_per_period from start (or rest) to t_end."""
     T = period(spec.speed, spec.engine_order)
     t0 = start.t if start is not None else 0.0
     t = t0 + np.arange(round((t_end - t0) / T * samples_per_period) + 1) * (T / samples_per_period)
-    r = MonolithicRing(spec, rtol=rtol).solve(t, start)
-    return t, r["q"], r["end"]
+    return MonolithicRing(spec, rtol=rtol).solve(t, start)
 
 
 def _periods(t: np.ndarray, T: float) -> list[np.ndarray]:
@@ -79,17 +78,18 @@ def period_amplitudes(t: np.ndarray, q: np.ndarray, T: float) -> np.ndarray:
 
 
 def wave_defect(t: np.ndarray, q: np.ndarray, T: float, eo: int) -> np.ndarray:
-    """D_k per period k (from the second period on: the first has no sample tau earlier)."""
+    """D_k per period k: max_i |c_(i+1) - c_i exp(2 pi i EO / N)| / max_i |c_i|, c_i blade i's
+    first harmonic over the period (trapezoidal rule)."""
     N = q.shape[1]
-    dt = t[1] - t[0]
-    s = (eo * T / N) / dt
-    shift = round(s)
-    if abs(s - shift) > 1e-3:
-        raise ValueError(f"tau = {s:g} samples: the sample spacing must divide tau")
-    e = np.zeros(len(t))
-    e[shift:] = np.abs(q[shift:] - np.roll(q, -1, axis=1)[:-shift]).max(axis=1)
-    scale = np.abs(q).max()
-    return np.array([e[i].max() / scale for i in _periods(t, T)])[1:]
+    lag = np.exp(2j * math.pi * eo / N)
+    out = []
+    for idx in _periods(t, T):
+        ts = t[idx]
+        w = np.gradient(ts) if len(ts) > 2 else np.full(len(ts), ts[-1] - ts[0])
+        w[0], w[-1] = 0.5 * (ts[1] - ts[0]), 0.5 * (ts[-1] - ts[-2])
+        c = (w * np.exp(-2j * math.pi * ts / T)) @ q[idx]
+        out.append(np.abs(np.roll(c, -1) - c * lag).max() / np.abs(c).max())
+    return np.array(out)
 
 
 def mirror_defect(t: np.ndarray, q: np.ndarray, T: float) -> np.ndarray:
@@ -128,16 +128,37 @@ def mirrored(state: RingState) -> RingState:
     return s
 
 
-def on_wave(spec: RingSpec, periods: int, rtol: float = 1e-9) -> tuple[RingState, np.ndarray]:
-    """The symmetric computation (2 EO = N): from rest, one excitation period at a time, the state
-    made exactly symmetric (`mirrored`) after each; returns the state after `periods` periods and
-    blade 0's max |q| per period (its convergence shows the TW is a periodic solution)."""
+def wave_copy(res: dict, samples_per_period: int, eo: int) -> RingState:
+    """The state at the end of a one-period result `res` made an exact travelling wave from blade 0
+    and contact 0 over that period (q_i(t) = q_0(t + i tau), u_j(t) = u_0(t + j tau), taken modulo
+    T from the period just run; at the TW's periodic orbit this changes nothing)."""
+    s = res["end"].copy()
+    N = len(s.contacts)
+    spp = samples_per_period
+    if spp % N:
+        raise ValueError(f"{spp} samples per period: must be a multiple of N = {N}")
+    times, switches = res["time"], res["switches"]
+    for i in range(1, N):
+        k = len(times) - 1 - spp + (eo * i % N) * spp // N  # sample at t_end - T + (EO i mod N) T / N
+        s.y[i], s.y[N + i] = res["q"][k, 0], res["v"][k, 0]
+        c0 = next(cs for ts, cs in reversed(switches) if ts <= times[k])[0]
+        s.contacts[i] = replace(c0)
+    return s
+
+
+def on_wave(spec: RingSpec, periods: int, rtol: float = 1e-9, samples_per_period: int = 160
+            ) -> tuple[RingState, np.ndarray]:
+    """The symmetric computation: from rest, one excitation period at a time, the state made an
+    exact TW after each (`mirrored` where 2 EO = N, else `wave_copy`); returns the state after
+    `periods` periods and blade 0's max |q| per period (its convergence shows the TW is a periodic
+    solution)."""
     T = period(spec.speed, spec.engine_order)
     state, amp = RingState.rest(spec.n), []
     for _ in range(periods):
-        t, q, end = reference(spec, state.t + T, 160, rtol, start=state)
-        amp.append(np.abs(q[:, 0]).max())
-        state = mirrored(end)
+        r = reference(spec, state.t + T, samples_per_period, rtol, start=state)
+        amp.append(np.abs(r["q"][:, 0]).max())
+        state = mirrored(r["end"]) if 2 * spec.engine_order == spec.n else wave_copy(r, samples_per_period,
+                                                                                      spec.engine_order)
     return state, np.array(amp)
 
 
@@ -167,7 +188,8 @@ def case_a(key: str, t_end: float = 0.3, kick_at: float = 0.1, kick_periods: int
     print(f"{key}: h = {ring.step:.9g} s, co-sim {time.perf_counter() - t0:.1f} s")
     ac = _show("co-sim", tc, qc, T, 3, 10)
     t0 = time.perf_counter()
-    tr, qr, _ = reference(spec_of(ring), t_end, 160)
+    r = reference(spec_of(ring), t_end, 160)
+    tr, qr = r["time"], r["q"]
     print(f"  reference (rtol 1e-9) {time.perf_counter() - t0:.1f} s")
     ar = _show("reference", tr, qr, T, 3, 10)
     print(f"  last period |co-sim - reference| / max = {np.abs(ac[-1] - ar[-1]).max() / ar[-1].max():.2e}")
@@ -184,7 +206,8 @@ def case_a(key: str, t_end: float = 0.3, kick_at: float = 0.1, kick_periods: int
     print(f"  on the wave at t = {state.t:.4f} s: blade max |q| {amp[-1]:.5e}, change over the last period "
           f"{abs(amp[-1] - amp[-2]) / amp[-1]:.1e}")
     for name, s in (("kicked", kicked(state)), ("not kicked", state)):
-        tk, qk, _ = reference(spec_of(ring), state.t + kick_periods * T, 160, start=s)
+        r = reference(spec_of(ring), state.t + kick_periods * T, 160, start=s)
+        tk, qk = r["time"], r["q"]
         d = mirror_defect(tk, qk, T)
         print(f"  {name}: mirror defect per period " + " ".join(f"{x:.1e}" for x in d))
         if name == "kicked":
@@ -192,13 +215,69 @@ def case_a(key: str, t_end: float = 0.3, kick_at: float = 0.1, kick_periods: int
             print(f"  kicked: |mu| = {mu:.4f} per period (periods {k0}-{k1} after the kick)")
 
 
+def spectrum_lines(a: np.ndarray, lines: int = 3) -> tuple[list[float], float]:
+    """The strongest `lines` frequencies [cycles per excitation period] of a per-period amplitude
+    sequence (mean removed, Hann window), and the share of its power within +-1 bin of them (near 1:
+    discrete lines, quasi-periodic; spread: broadband)."""
+    x = (a - a.mean()) * np.hanning(len(a))
+    p = np.abs(np.fft.rfft(x)) ** 2
+    f = np.fft.rfftfreq(len(a))
+    top: list[int] = []
+    for k in np.argsort(p)[::-1]:
+        if all(abs(k - j) > 2 for j in top):
+            top.append(int(k))
+        if len(top) == lines:
+            break
+    near = np.zeros(len(p), dtype=bool)
+    for k in top:
+        near[max(k - 1, 0):k + 2] = True
+    return [float(f[k]) for k in top], float(p[near].sum() / p.sum())
+
+
+def case_b(t_end: float = 2.0, rtols: tuple[float, ...] = (1e-9,)) -> None:
+    """The 8-blade ring at the default damping: co-sim at h = T/160, T/320, T/640 and the reference
+    at each rtol, from rest to t_end; amplitudes, wave defect, spectra, and how far runs drift apart."""
+    st = SETTINGS["b"]
+    T = period(st["speed"])
+    runs: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    for spp in (160, 320, 640):
+        ring = cosim_ring(st["n"], st["speed"], st["c"], t_end, steps_per_period=spp)
+        runs[f"co-sim T/{spp}"] = cosim(ring)
+    for rtol in rtols:
+        t0 = time.perf_counter()
+        r = reference(spec_of(ring), t_end, 160, rtol=rtol)
+        t, q = r["time"], r["q"]
+        print(f"reference rtol {rtol:g}: {time.perf_counter() - t0:.0f} s")
+        runs[f"reference rtol {rtol:g}"] = (t, q)
+    amps = {}
+    half = round(t_end / T / 2)
+    for name, (t, q) in runs.items():
+        a = amps[name] = period_amplitudes(t, q, T)
+        d = wave_defect(t, q, T, 3)
+        late = a[-half:]
+        lines, share = spectrum_lines(late[:, 0])
+        print(f"{name}: last period " + " ".join(f"{x:.3e}" for x in a[-1]))
+        print(f"  last {half} periods: blade max |q| from {late.min():.3e} to {late.max():.3e}; "
+              f"wave defect from {d[-half:].min():.2f} to {d[-half:].max():.2f}; "
+              f"|q_(i+4) + q_i| / max |q| = {np.abs(q + np.roll(q, 4, axis=1)).max() / np.abs(q).max():.1e}")
+        print(f"  blade 0 amplitude spectrum: lines at " + ", ".join(f"{x:.4f}" for x in lines)
+              + f" per period, {share:.2f} of the power within +-1 bin")
+    names = list(amps)
+    for x, y in ((names[1], names[2]), (names[0], names[2]), (names[-1], names[2]), *((names[3], names[4]),) * (len(names) > 4)):
+        diff = np.abs(amps[x] - amps[y]).max(axis=1) / amps[y].max()
+        print(f"{x} vs {y}: per-period max |diff| / max every 25 periods " + " ".join(f"{v:.0e}" for v in diff[::25]))
+
+
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("case", choices=[*SETTINGS])
     ap.add_argument("--stop", type=float, default=None, help="horizon [s]")
+    ap.add_argument("--rtol", type=float, nargs="+", default=[1e-9], help="reference tolerances (case b)")
     a = ap.parse_args(argv)
     if a.case.startswith("a"):
         case_a(a.case, a.stop or 0.3)
+    else:
+        case_b(a.stop or 2.0, tuple(a.rtol))
 
 
 if __name__ == "__main__":
