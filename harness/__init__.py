@@ -74,7 +74,7 @@ def fmu_path(name: str = "ShroudedBlade") -> Path:
     """Path of the FMU `name`: "ShroudedBlade" (FMI 2.0 co-simulation and model exchange),
     "fmi3/ShroudedBlade" (FMI 3.0 co-simulation), "Excitation", "BladeExternalContact" or
     "ShroudContact". Installed: the FMU that came with the package (harness/fmus/); in a checkout:
-    build/<name>.fmu, built with CMake if out of date. Raises KeyError for an unknown name."""
+    `build/<name>.fmu`, built with CMake if out of date. Raises KeyError for an unknown name."""
     from harness.fmu.build import fmu_file
     return fmu_file(name)
 

@@ -12,8 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
-DESCRIPTION_GLOBS = ("modelDescription*.xml", "descriptions/*.xml", "fmu_src/**/*.xml",
-                     "crosscheck/excitation/*.xml")
+DESCRIPTION_GLOBS = ("fmu_src/models/*/modelDescription*.xml",)  # one folder per FMU
 # FMI 3.0 variable elements (FMI 2.0 has ScalarVariable with one type child instead)
 FMI3_TYPES = {"Float64", "Float32", "Int64", "Int32", "Int16", "Int8", "UInt64", "UInt32", "UInt16",
               "UInt8", "Boolean", "String", "Binary", "Enumeration", "Clock"}

@@ -1,6 +1,7 @@
 """The examples of README.md and the user guide run and do what they say: the fmpy example feeds
 the load (the FMU's aeroLoad starts at 0) and gives the response of the harness's own held-input
-run; the Python example prints what its result holds. README.md holds both files verbatim."""
+run; the Python examples print what their results hold. README.md holds its two files verbatim.
+(docs/examples/quickstart.py has its own test, tests/test_quickstart.py.)"""
 from __future__ import annotations
 
 import re
@@ -52,6 +53,20 @@ def test_python_example_prints_its_result(fmu_path, monkeypatch, capsys):
     amplitude = np.abs(result["tipDisplacement"][result["time"] > 0.25]).max()
     assert _printed(out, "amplitude over the last 50 ms:") == pytest.approx(amplitude, rel=1e-4)
     assert amplitude > 4e-5  # the example's gap: the shrouds are in contact
+
+
+def test_blade_fmu_example(fmu_path, monkeypatch, capsys):
+    names, out = _run("blade_fmu.py", monkeypatch, capsys)
+    held, runup = names["held"], names["runup"]
+    assert _printed(out, "held inputs: max |q| =") == pytest.approx(np.abs(held["tipDisplacement"]).max(), rel=1e-4)
+    assert _printed(out, "run-up: max |q| =") == pytest.approx(np.abs(runup["tipDisplacement"]).max(), rel=1e-4)
+    # the run-up did reach the FMU: the contact-free natural frequency follows the speed up
+    f = runup["naturalFrequency"]
+    assert f[-1] > f[0] and np.all(np.diff(f) >= -1e-9 * f[0])
+    # the held-input run is the run the fmpy example makes (same load, same steps; see above)
+    names_fmpy, _ = _run("fmpy_simulate.py", monkeypatch, capsys)
+    q = names_fmpy["res"]["tipDisplacement"]
+    assert np.abs(q - held["tipDisplacement"]).max() <= 1e-6 * np.abs(q).max()
 
 
 @pytest.mark.parametrize("name", ["fmpy_simulate.py", "python_api.py"])

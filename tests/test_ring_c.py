@@ -1,4 +1,4 @@
-"""The ring's C communication loop (harness/system/ring_c.py, fmu_src/master/ring_master.c) against
+"""The ring's C communication loop (harness/system/ring_c.py, harness/native/ring_master.c) against
 the fmpy master (harness/system/ring.py), which does the same calls from Python:
 
 - contacts open, held inputs: bit for bit (no extrapolation arithmetic);

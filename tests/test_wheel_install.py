@@ -82,7 +82,8 @@ def test_fmu_path_is_the_installed_fmu(installed):
     assert path == installed["package"] / "fmus" / "ShroudedBlade.fmu" and path.is_file()
     # the model description inside is the checkout's, byte for byte
     with zipfile.ZipFile(path) as z:
-        assert z.read("modelDescription.xml") == (REPO / "modelDescription.xml").read_bytes()
+        assert z.read("modelDescription.xml") == (REPO / "fmu_src" / "models" / "ShroudedBlade" /
+                                                  "modelDescription.xml").read_bytes()
 
 
 def test_periodic_json_matches_the_checkout(installed):

@@ -71,7 +71,7 @@ def _installed(targets: tuple[str, ...]) -> Path:
 
 # fmpy's CMake project (fmpy/c-code/CMakeLists.txt) links no library, and <SourceFiles> in FMI 2.0
 # has no place to name one: without this the binary leaves sin/cos/acos undefined and loads only
-# into processes that already hold libm (Python), not into a C master (issue 13). STANDARD_LIBRARIES
+# into processes that already hold libm (Python), not into a C master. STANDARD_LIBRARIES
 # goes at the end of the link line, so it also holds with --as-needed.
 REBUILD_CMAKE_OPTIONS = {"CMAKE_C_STANDARD_LIBRARIES:STRING": "-lm"}
 

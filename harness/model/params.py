@@ -24,7 +24,8 @@ from typing import Any, Mapping
 
 from harness.paths import BUILD_DIR, IN_CHECKOUT, REPO_ROOT
 
-MODEL_DESCRIPTION = REPO_ROOT / "modelDescription.xml"  # in a checkout; installed: inside the FMU
+# in a checkout, in the model's folder (fmu_src/models/<Name>/); installed: inside the FMU
+MODEL_DESCRIPTION = REPO_ROOT / "fmu_src" / "models" / "ShroudedBlade" / "modelDescription.xml"
 
 
 class ParameterError(ValueError):

@@ -1,6 +1,6 @@
 """System-level example: an excitation FMU driving two blade FMU instances, in fmpy and in libcosim.
 
-The project's small `Excitation` FMU (crosscheck/excitation: rotor speed n(t), constant or a
+The project's small `Excitation` FMU (fmu_src/models/Excitation: rotor speed n(t), constant or a
 linear run-up, and the phase-continuous load f_w = Fw0 sin(3 * int 2 pi n/60)) is connected to two
 instances of ShroudedBlade with different parameters: `tuned` (paper Table 1) and `mistuned` (a
 heavier shroud, m0 = 0.03 kg, and a wider gap, d = 4e-5 m). Connections: excitation.aeroLoad ->
@@ -48,7 +48,7 @@ class System:
 
 def build_excitation_fmu(out: Path = EXCITATION_FMU) -> Path:
     """build/Excitation.fmu, built by CMake with the blade FMU (target excitation_fmu, linked with
-    libm), from fmu_src/fmi + fmu_src/models/excitation.c; CMake rebuilds it when a source changed."""
+    libm), from fmu_src/fmi + fmu_src/models/Excitation; CMake rebuilds it when a source changed."""
     build(("excitation_fmu",))
     return out
 

@@ -1,4 +1,4 @@
-"""The ring of harness/system/ring.py with its communication loop in C (fmu_src/master/ring_master.c):
+"""The ring of harness/system/ring.py with its communication loop in C (harness/native/ring_master.c):
 the same instances (made, parameterised and initialised through fmpy), the same data flow (both
 couplings, "feedthrough" and "libcosim") and extrapolation weights, but no Python between the FMI
 calls. Returns what `ring.run` returns (the

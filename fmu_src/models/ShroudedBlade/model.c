@@ -1,15 +1,17 @@
 /* The ShroudedBlade model for the generic FMI layer: the variable table (modelDescription.xml),
  * the serialized field list, start values, the build step (Galerkin reduction, contact and
- * dynamics constants, initial state) and the outputs. The step is in shrouded_blade_step.c. */
+ * dynamics constants, initial state), the outputs and the communication step (the blades' step
+ * driver, solver/blade_step.c). Co-simulation only: model exchange is model_me.c. */
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "fmi/log.h"
-#include "models/shrouded_blade.h"
-#include "models/shrouded_blade_config.h"
+#include "models/ShroudedBlade/blade_data.h"
+#include "models/ShroudedBlade/config.h"
 #include "physics/dynamics_step.h"
+#include "solver/blade_step.h"
 
 /* ------------------------------------------------------------------------------------------- */
 /* Variable table (bounds as harness/params.py: open where the quantity must be strictly
@@ -22,7 +24,7 @@ typedef enum {
     OutSens0 = OutDer0 + DYN_NX /* OutSens0 + SENS_NP row + col: the sensitivities (vr_sens0) */
 } OutputId;
 
-/* The rows of the sensitivity outputs (shrouded_blade_config.h) */
+/* The rows of the sensitivity outputs (config.h) */
 enum { SensRowQ = 0, SensRowV, SensRowJenkinsForce, SensRowRunningMaximum, SensRowAmplitude, SENS_ROWS };
 
 #define INF HUGE_VAL
@@ -47,11 +49,14 @@ static const VarInfo VARS[] = {
     {vr_d, "d", VarReal, CausParameter, "m", 3e-5, 0.0, INF, 0, 0, PAR(ParD), -1},
     {vr_B, "B", VarReal, CausParameter, "m", 6e-5, 0.0, INF, 1, 0, PAR(ParB), -1},
     {vr_maxStep, "maxStep", VarReal, CausParameter, "s", 1e-5, 1e-8, 1e-3, 0, 0, PAR(ParMaxStep), -1},
+    {vr_Fw0, "Fw0", VarReal, CausParameter, "N/m", 0.0, 0.0, INF, 0, 0, PAR(ParFw0), -1},
     {vr_frictionModel, "frictionModel", VarInteger, CausParameter, "", 1, 1, 3, 0, 0, IPAR(IparFrictionModel), -1},
     {vr_formulation, "formulation", VarInteger, CausParameter, "", 1, 1, 2, 0, 0, IPAR(IparFormulation), -1},
     {vr_projection, "projection", VarInteger, CausParameter, "", 1, 1, 2, 0, 0, IPAR(IparProjection), -1},
     {vr_amplitudeMode, "amplitudeMode", VarInteger, CausParameter, "", 2, 1, 2, 0, 0, IPAR(IparAmplitudeMode), -1},
     {vr_engineOrder, "engineOrder", VarInteger, CausParameter, "", 3, 1, 100, 0, 0, IPAR(IparEngineOrder), -1},
+    {vr_bladeIndex, "bladeIndex", VarInteger, CausParameter, "", 0, 0, 9999, 0, 0, IPAR(IparBladeIndex), -1},
+    {vr_bladeCount, "bladeCount", VarInteger, CausParameter, "", 1, 1, 10000, 0, 0, IPAR(IparBladeCount), -1},
     {vr_gating, "gating", VarBoolean, CausParameter, "", 1, 0, 1, 0, 0, IPAR(IparGating), -1},
     {vr_sensitivities, "sensitivities", VarBoolean, CausParameter, "", 0, 0, 1, 0, 0, IPAR(IparSensitivities), -1},
     {vr_aeroLoad, "aeroLoad", VarReal, CausInput, "N/m", 0.0, -INF, INF, 0, 0, INPUT(SOLVER_INPUT_AERO), -1},
@@ -128,9 +133,10 @@ static const StateField FIELDS[] = {
     F64(sens.dKeq), F64(sens.dCeqOmega), I32(sens.grazing),
 };
 
-/* 4: the sensitivities joined (3: the state-machine value left the blob and the layer's run fields moved ahead (2: the start
- * values of jenkinsForce and runningMaximum joined the parameters). Older versions are refused. */
-#define STATE_VERSION 4
+/* Versions: 5 the built-in load's parameters joined; 4 the sensitivities; 3 the state-machine
+ * value left the blob and the layer's run fields moved ahead; 2 the start values of jenkinsForce
+ * and runningMaximum joined the parameters. Older versions are refused. */
+#define STATE_VERSION 5
 
 /* ------------------------------------------------------------------------------------------- */
 /* Start values, build                                                                          */
@@ -237,14 +243,14 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
                      "d = %g m are not usable together", fn, cp.kn, cp.kdRatio, cp.mu, cp.gamma, cp.d);
         return FmiError;
     }
-    d->meContactState = -1;
+    if (d->ipar[IparBladeIndex] >= d->ipar[IparBladeCount]) {
+        fmiLogStatus(inst, FmiError, "%s: bladeIndex = %d must be in [0, bladeCount - 1] = [0, %d]", fn,
+                     (int)d->ipar[IparBladeIndex], (int)d->ipar[IparBladeCount] - 1);
+        return FmiError;
+    }
+    dynSetLoad(&d->model, p[ParFw0], d->ipar[IparEngineOrder], d->ipar[IparBladeIndex], d->ipar[IparBladeCount]);
     if (initState) {
         if (checkStartForce(inst, fn) != FmiOK) return FmiError;
-        if (d->ipar[IparSensitivities] && inst->modelExchange) {
-            fmiLogStatus(inst, FmiError, "%s: sensitivities = true is for co-simulation only (a model-exchange "
-                         "master integrates the states itself): accepted value false", fn);
-            return FmiError;
-        }
         st = dynInitState(&d->model, &d->state, p[ParQ0], p[ParV0], p[ParE0], p[ParF0], p[ParB],
                           p[ParWindowMax0]);
         memset(&d->sens, 0, sizeof d->sens);
@@ -265,17 +271,11 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
 /* ------------------------------------------------------------------------------------------- */
 /* Outputs                                                                                      */
 
-/* In model exchange contactState is discrete: after initialization it is the value taken at the
- * last event (fmi2NewDiscreteStates; event indicators at the loop phases, shrouded_blade_me.c),
- * held in between, also where the phase has moved past a crossing whose event is not yet handled. */
+/* (model exchange holds contactState between events: model_me.c) */
 static void outputs(FmiInstance *inst)
 {
     BladeData *d = BLADE_DATA(inst);
-    DynOutputs *o = &BLADE_MEMORY(inst)->out;
-    dynOutputs(&d->model, &d->state, d->in[SOLVER_INPUT_SPEED][0], o);
-    if (!inst->modelExchange || fsmPreInit(inst->fsm)) return;
-    if (d->meContactState < 0) bladeHoldContactState(inst); /* no event since a restore */
-    o->contactState = d->meContactState;
+    dynOutputs(&d->model, &d->state, d->in[SOLVER_INPUT_SPEED][0], &BLADE_MEMORY(inst)->out);
 }
 
 /* dx_i/dt, the der(...) variables, evaluated only when asked for (at omega = 0 with a
@@ -339,6 +339,41 @@ static void nonFiniteHint(const FmiInstance *inst, char *buf, size_t n)
 }
 
 /* ------------------------------------------------------------------------------------------- */
+/* The step                                                                                     */
+
+FmiStatus bladeWarnFullStickOnce(FmiInstance *inst, const char *fn)
+{
+    BladeData *d = BLADE_DATA(inst);
+    if (d->warnedFullStick || d->state.df.regime != RegimeFullStick) return FmiOK;
+    d->warnedFullStick = 1;
+    fmiLogStatus(inst, FmiWarning,
+                 "%s: full-stick regime (docs/model.md s.3): kd tan(gamma) = %g N/m < mu kn = %g N/m, the "
+                 "macroslip loop never slips; f_c = 0 and f_k = (kd tan(gamma)/kn) p_k are used "
+                 "(B = %g m)", fn, d->model.kd * tan(d->par[ParGamma]), d->par[ParMu] * d->par[ParKn],
+                 d->state.B);
+    return FmiWarning;
+}
+
+/* model-notes s.1, s.6: the blades' step, then the full-stick warning */
+static FmiStatus doStep(FmiInstance *inst, const char *fn, double tc, double h)
+{
+    BladeData *d = BLADE_DATA(inst);
+    BladeStep b;
+    FmiStatus status;
+    b.model = &d->model;
+    b.state = &d->state;
+    b.sens = d->ipar[IparSensitivities] ? &d->sens : NULL;
+    b.in = d->in;
+    b.nForces = 0;
+    b.maxStep = d->par[ParMaxStep];
+    b.speedMax = ROTOR_SPEED_MAX;
+    b.instabilityHint = NULL;
+    b.counters = &BLADE_MEMORY(inst)->counters;
+    status = bladeStep(inst, fn, &b, tc, h);
+    return status == FmiOK ? bladeWarnFullStickOnce(inst, fn) : status;
+}
+
+/* ------------------------------------------------------------------------------------------- */
 /* Deserialized data                                                                            */
 
 static int validData(FmiInstance *inst, const char *fn, const void *data, int initialized)
@@ -366,6 +401,5 @@ static int validData(FmiInstance *inst, const char *fn, const void *data, int in
 const FmiModel fmiModel = {
     MODEL_NAME, MODEL_GUID, VARS, (int)(sizeof VARS / sizeof VARS[0]), SOLVER_MAX_ORDER,
     sizeof(BladeData), sizeof(BladeMemory), 1, STATE_VERSION, FIELDS, (int)(sizeof FIELDS / sizeof FIELDS[0]),
-    startValues, build, bladeWarnFullStickOnce, outputs, output, nonFiniteHint, bladeDoStep, validData,
-    &bladeModelExchange,
+    startValues, build, bladeWarnFullStickOnce, outputs, output, nonFiniteHint, doStep, validData,
 };

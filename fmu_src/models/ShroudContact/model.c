@@ -12,12 +12,8 @@
 
 #include "fmi/log.h"
 #include "fmi/model.h"
+#include "models/ShroudContact/config.h"
 #include "physics/contact_element.h"
-
-/* Must equal the guid attribute of descriptions/ShroudContact.xml (checked by CMake). */
-#define SHROUD_CONTACT_GUID "{9d41c7e3-25ab-4f0e-8a63-c1b7e2f50d94}"
-#define MAX_ORDER 8
-#define ROTOR_SPEED_MAX 30000.0
 
 typedef enum { ParKn = 0, ParKdRatio, ParMu, ParGamma, ParD, ParB, ParE0, PAR_NUM } RealParam;
 typedef enum { IparFriction = 0, IparProjection, IparEngineOrder, IparGating, IPAR_NUM } IntParam;
@@ -254,7 +250,10 @@ static int validData(FmiInstance *inst, const char *fn, const void *data, int in
 }
 
 const FmiModel fmiModel = {
-    "ShroudContact", SHROUD_CONTACT_GUID, VARS, (int)(sizeof VARS / sizeof VARS[0]), MAX_ORDER,
+    MODEL_NAME, MODEL_GUID, VARS, (int)(sizeof VARS / sizeof VARS[0]), MAX_ORDER,
     sizeof(ScData), sizeof(ScMemory), 1, STATE_VERSION, FIELDS, (int)(sizeof FIELDS / sizeof FIELDS[0]),
-    NULL, build, NULL, outputs, output, NULL, doStep, validData, NULL,
+    NULL, build, NULL, outputs, output, NULL, doStep, validData,
 };
+
+/* co-simulation only */
+const FmiModelExchange *const fmiModelExchange = NULL;

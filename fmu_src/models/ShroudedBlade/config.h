@@ -21,12 +21,15 @@
 #define vr_d 11
 #define vr_B 12
 #define vr_maxStep 13
+#define vr_Fw0 14
 /* Integer parameters */
 #define vr_frictionModel 20
 #define vr_formulation 21
 #define vr_projection 22
 #define vr_amplitudeMode 23
 #define vr_engineOrder 24
+#define vr_bladeIndex 25
+#define vr_bladeCount 26
 /* Boolean parameters */
 #define vr_gating 30
 #define vr_sensitivities 31

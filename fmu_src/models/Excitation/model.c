@@ -13,9 +13,7 @@
 
 #include "fmi/log.h"
 #include "fmi/model.h"
-
-/* Must equal the guid attribute of crosscheck/excitation/modelDescription.xml. */
-#define EXCITATION_GUID "{6a0c7e52-3f1d-4b8e-9c27-5d4e1f0a9b13}"
+#include "models/Excitation/config.h"
 
 typedef struct {
     double fw0;          /* load amplitude [N/m] */
@@ -122,7 +120,10 @@ static FmiStatus doStep(FmiInstance *inst, const char *fn, double tc, double h)
 }
 
 const FmiModel fmiModel = {
-    "Excitation", EXCITATION_GUID, VARS, (int)(sizeof VARS / sizeof VARS[0]), 0,
+    MODEL_NAME, MODEL_GUID, VARS, (int)(sizeof VARS / sizeof VARS[0]), 0,
     sizeof(ExcitationData), sizeof(ExcitationMemory), 0, 1, NULL, 0,
-    NULL, build, NULL, outputs, output, NULL, doStep, NULL, NULL,
+    NULL, build, NULL, outputs, output, NULL, doStep, NULL,
 };
+
+/* co-simulation only */
+const FmiModelExchange *const fmiModelExchange = NULL;

@@ -1,7 +1,8 @@
 /* The ShroudedBlade model's data (its part of the FMU state) and per-instance memory, shared by
- * shrouded_blade.c (variables, build, outputs) and shrouded_blade_step.c (the step). */
-#ifndef SHROUDED_BLADE_H
-#define SHROUDED_BLADE_H
+ * model.c (variables, build, outputs, the step) and model_me.c (model exchange, which keeps its
+ * own data: the co-simulation structs have no model-exchange field). */
+#ifndef SHROUDED_BLADE_DATA_H
+#define SHROUDED_BLADE_DATA_H
 
 #include "fmi/instance.h"
 #include "physics/dynamics.h"
@@ -14,12 +15,13 @@ typedef enum {
     ParQ0, ParV0, ParE0, /* start values of the initial="exact" outputs q [m], q' [m/s], E [J] */
     ParF0,               /* start value of jenkinsForce: Jenkins spring force k_d (Delta_u - w) [N] */
     ParWindowMax0,       /* start value of runningMaximum: max |q| over the running period [m] */
+    ParFw0,              /* amplitude of the built-in aerodynamic load [N/m] */
     PAR_NUM
 } RealParam;
 
 typedef enum {
     IparFrictionModel = 0, IparFormulation, IparProjection, IparAmplitudeMode, IparEngineOrder,
-    IparGating, IparSensitivities, IPAR_NUM
+    IparGating, IparSensitivities, IparBladeIndex, IparBladeCount, IPAR_NUM
 } IntParam;
 
 /* Everything of the model an FMU state captures. Plain data (no pointers). The last block is
@@ -35,10 +37,6 @@ typedef struct {
     /* derived */
     BladeReduction blade;
     DynModel model;
-    /* model exchange: contactState taken at the last fmi2NewDiscreteStates and held until the next
-     * (a discrete variable, model-notes s.6); -1: none yet (set by build, so also after
-     * deserialization: then taken from the state at the next read) */
-    int32_t meContactState;
 } BladeData;
 
 /* Per-instance memory outside the FMU state. */
@@ -51,22 +49,12 @@ typedef struct {
     BladeParams bladeCacheParams;
     BladeReduction bladeCache;
     DynOutputs out;              /* outputs of the current get call */
-    uint32_t meFresh;            /* model exchange: switching functions not seen > 0 since a switch
-                                    made them active (bits 1 << DynSwitch; shrouded_blade_me.c) */
 } BladeMemory;
 
 #define BLADE_DATA(inst) ((BladeData *)(inst)->data)
 #define BLADE_MEMORY(inst) ((BladeMemory *)(inst)->memory)
 
-/* shrouded_blade_step.c */
-FmiStatus bladeDoStep(FmiInstance *inst, const char *fn, double tc, double h);
-/* The logEvents message of an event (ctx: the FmiInstance). */
-void bladeEventHook(void *ctx, DynEventKind kind, double t, const DynState *s);
-/* shrouded_blade_me.c: model exchange */
-extern const FmiModelExchange bladeModelExchange;
 /* Warns once per run when the describing function is in full stick (docs/model.md s.3). */
 FmiStatus bladeWarnFullStickOnce(FmiInstance *inst, const char *fn);
-/* Model exchange: takes contactState from the current state as the held value (at events). */
-void bladeHoldContactState(FmiInstance *inst);
 
 #endif

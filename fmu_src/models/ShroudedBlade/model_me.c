@@ -3,18 +3,38 @@
  * event indicator per switching function of dynSwitching, and the event iteration with
  * dynApplyEvent: the functions the co-simulation integrator (solver/rk4_events.c) uses. The
  * discrete state (gate or contact mode, side, slip direction, amplitude B, running maximum,
- * period count, direction of q') changes only at events. */
+ * period count, direction of q') changes only at events. Only the FMI 2.0 binary links this file
+ * (through fmiModelExchange): the co-simulation code never calls into it. */
 #include <math.h>
 #include <string.h>
 
 #include "fmi/log.h"
-#include "models/shrouded_blade.h"
+#include "models/ShroudedBlade/blade_data.h"
 #include "physics/dynamics_step.h"
+#include "solver/blade_step.h"
+
+/* The model-exchange part of the FMU state (inst->meData): contactState taken at the last
+ * fmi2NewDiscreteStates and held until the next (a discrete variable, model-notes s.6). Zero
+ * (none held) after every build, so also after deserialization: then taken from the state at the
+ * next read. */
+typedef struct {
+    int32_t held;          /* 1: contactState below is the held value */
+    int32_t contactState;
+} BladeMeData;
+
+/* Per-instance memory of model exchange (inst->meMemory). */
+typedef struct {
+    uint32_t fresh;        /* switching functions not seen > 0 since a switch made them active
+                              (bits 1 << DynSwitch; see eventUpdate) */
+} BladeMeMemory;
+
+#define ME_DATA(inst) ((BladeMeData *)(inst)->meData)
+#define ME_MEMORY(inst) ((BladeMeMemory *)(inst)->meMemory)
 
 /* Event indicator slots: a switching function of dynSwitching goes to a fixed slot; a slot with
  * no active function holds 1 (constant between events). ZLoop..: the phases where the
  * describing-function loop changes contactState (model-notes s.4): contactState is a discrete
- * variable, so its changes must be events too (it is held between them, see bladeHoldContactState). */
+ * variable, so its changes must be events too (it is held between them, see holdContactState). */
 enum { ZGate0 = 0, ZGate1, ZFriction0, ZFriction1, ZPeriod, ZExtremum, ZLoop, NZ = ZLoop + 5 };
 
 static int slotOf(DynSwitch k)
@@ -97,9 +117,9 @@ static int switching(const BladeData *d, DynSwitchValue sv[DYN_MAX_SWITCHING])
 /* Switching functions seen > 0 leave the set of fresh ones (see eventUpdate). */
 static void unfresh(FmiInstance *inst, const DynSwitchValue sv[], int n)
 {
-    BladeMemory *mem = BLADE_MEMORY(inst);
+    BladeMeMemory *mem = ME_MEMORY(inst);
     for (int i = 0; i < n; ++i)
-        if (sv[i].g > 0.0) mem->meFresh &= ~BIT(sv[i].kind);
+        if (sv[i].g > 0.0) mem->fresh &= ~BIT(sv[i].kind);
 }
 
 /* The loop phase theta = atan2(y, x), x = q, y = -q'/omega, of dynOutputs crosses a switching
@@ -123,22 +143,24 @@ static void loopIndicators(const BladeData *d, double z[5])
  * tolerance on either side of a crossing, and the event is the change to the next state. */
 #define LOOP_AHEAD 1e-8
 
-void bladeHoldContactState(FmiInstance *inst)
+static void holdContactState(FmiInstance *inst)
 {
     BladeData *d = BLADE_DATA(inst);
+    BladeMeData *me = ME_DATA(inst);
     const DynModel *m = &d->model;
     const DynState *s = &d->state;
     const double omega = m->omegaPerRpm * d->in[SOLVER_INPUT_SPEED][0];
     DynOutputs o;
     dynOutputs(m, s, d->in[SOLVER_INPUT_SPEED][0], &o);
-    d->meContactState = o.contactState;
+    me->held = 1;
+    me->contactState = o.contactState;
     if (m->friction != FrictionMacroslipTD && omega > 0.0 && dynContactOn(m, s) && s->df.regime == RegimeStickSlip) {
         double x[DYN_NX], f[DYN_NX], theta;
         loadX(s, x);
         (void)dynRhs(m, s, d->in[SOLVER_INPUT_AERO][0], d->in[SOLVER_INPUT_SPEED][0], x, f);
         /* d theta/dt has the sign of v^2 - q a (theta = atan2(-v/omega, q), omega > 0) */
         theta = atan2(-s->v / omega, s->q) + (s->v * s->v - s->q * f[1] >= 0.0 ? LOOP_AHEAD : -LOOP_AHEAD);
-        d->meContactState = (int32_t)contactLoopState(&m->contact, m->friction, s->B, theta);
+        me->contactState = (int32_t)contactLoopState(&m->contact, m->friction, s->B, theta);
     }
 }
 
@@ -170,7 +192,7 @@ static FmiStatus eventIndicators(FmiInstance *inst, const char *fn, double z[])
 static FmiStatus eventUpdate(FmiInstance *inst, const char *fn, int *statesChanged)
 {
     BladeData *d = BLADE_DATA(inst);
-    BladeMemory *mem = BLADE_MEMORY(inst);
+    BladeMeMemory *mem = ME_MEMORY(inst);
     int events = 0;
     *statesChanged = 0;
     for (;;) {
@@ -182,7 +204,7 @@ static FmiStatus eventUpdate(FmiInstance *inst, const char *fn, int *statesChang
         int na;
         unfresh(inst, sv, n);
         for (int i = 0; i < n; ++i) {
-            const int fresh = (mem->meFresh & BIT(sv[i].kind)) != 0;
+            const int fresh = (mem->fresh & BIT(sv[i].kind)) != 0;
             before |= BIT(sv[i].kind);
             if (ev == DynSwitchNone && sv[i].g <= 0.0 && (sv[i].hdg < 0.0 || (sv[i].g < 0.0 && !fresh)))
                 ev = sv[i].kind;
@@ -199,17 +221,42 @@ static FmiStatus eventUpdate(FmiInstance *inst, const char *fn, int *statesChang
             return FmiError;
         }
         *statesChanged = 1;
-        if (fmiLogEnabled(inst, LogEvents)) bladeEventHook(inst, kind, inst->run.time, &d->state);
+        if (fmiLogEnabled(inst, LogEvents)) bladeLogEvent(inst, kind, inst->run.time, &d->state);
         /* fresh: the functions the switch made active, and the switched one (redefined) */
-        mem->meFresh |= BIT(ev);
+        mem->fresh |= BIT(ev);
         na = switching(d, after);
         for (int i = 0; i < na; ++i)
-            if (!(before & BIT(after[i].kind))) mem->meFresh |= BIT(after[i].kind);
+            if (!(before & BIT(after[i].kind))) mem->fresh |= BIT(after[i].kind);
     }
-    bladeHoldContactState(inst); /* the discrete contactState of this event, until the next one */
+    holdContactState(inst); /* the discrete contactState of this event, until the next one */
     return bladeWarnFullStickOnce(inst, fn);
 }
 
-const FmiModelExchange bladeModelExchange = {
-    DYN_NX, NZ, getStates, setStates, nominals, derivatives, eventIndicators, eventUpdate,
+/* After a build: no contactState held yet; sensitivities are refused. */
+static FmiStatus afterBuild(FmiInstance *inst, const char *fn, int initState)
+{
+    ME_DATA(inst)->held = 0;
+    if (initState && BLADE_DATA(inst)->ipar[IparSensitivities]) {
+        fmiLogStatus(inst, FmiError, "%s: sensitivities = true is for co-simulation only (a model-exchange "
+                     "master integrates the states itself): accepted value false", fn);
+        return FmiError;
+    }
+    return FmiOK;
+}
+
+/* contactState is discrete: after initialization it is the value taken at the last event
+ * (fmi2NewDiscreteStates; event indicators at the loop phases), held in between, also where the
+ * phase has moved past a crossing whose event is not yet handled. */
+static void heldOutputs(FmiInstance *inst)
+{
+    if (fsmPreInit(inst->fsm)) return;
+    if (!ME_DATA(inst)->held) holdContactState(inst); /* no event since a build or a restore */
+    BLADE_MEMORY(inst)->out.contactState = ME_DATA(inst)->contactState;
+}
+
+static const FmiModelExchange BLADE_ME = {
+    DYN_NX, NZ, sizeof(BladeMeData), sizeof(BladeMeMemory), getStates, setStates, nominals, derivatives,
+    eventIndicators, eventUpdate, afterBuild, heldOutputs,
 };
+
+const FmiModelExchange *const fmiModelExchange = &BLADE_ME;
