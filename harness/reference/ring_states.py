@@ -3,13 +3,16 @@ against the monolithic reference (harness/reference/ring.py), and the travelling
 (docs/findings/ring-steady-states.md).
 
 The travelling wave (TW) of a tuned ring under f_i = F sin(omega t + 2 pi EO i / N) is the periodic
-solution with q_{i+1}(t) = q_i(t + tau), tau = EO T / N (blade i+1's load leads blade i's by tau). Its deviation per excitation period k is
-measured on samples whose spacing divides tau:
-    wave defect D_k = max over period k and blades of |q_i(t) - q_{i+1}(t - tau)| / max |q|.
-Where 2 EO = N (lead pi per blade) the equations keep q_i = -q_{i-1} at every instant (the system
-is odd), from rest too; the mirror defect max |q_i + q_{i-1}| / max |q| per period then measures
+solution with q_(i+1)(t) = q_i(t + tau), tau = EO T / N (blade i+1's load leads blade i's by tau).
+Its deviation per excitation period k, from the blades' first harmonics c_i over the period (the
+friction contacts keep static offsets, which the first harmonic ignores):
+    wave defect D_k = max_i |c_(i+1) - c_i exp(2 pi i EO / N)| / max_i |c_i|.
+Where 2 EO = N (lead pi per blade) the equations keep q_i = -q_(i-1) at every instant (the ring is
+odd in q), from rest too; the mirror defect max |q_i + q_(i-1)| / max |q| per period then measures
 the symmetry breaking itself, without the transient. The growth of a defect per period in its
-exponential phase estimates the largest transverse Floquet multiplier |mu| of the TW.
+exponential phase estimates the largest transverse Floquet multiplier |mu| of the TW; the TW
+itself comes from the symmetric computation `on_wave` (the full ring, made an exact TW after
+every period).
 
 `python -m harness.reference.ring_states CASE` prints the numbers of one case of the findings page.
 """
@@ -93,7 +96,7 @@ def wave_defect(t: np.ndarray, q: np.ndarray, T: float, eo: int) -> np.ndarray:
 
 
 def mirror_defect(t: np.ndarray, q: np.ndarray, T: float) -> np.ndarray:
-    """max |q_i + q_{i-1}| / max |q| per period (rings with lead pi per blade, 2 EO = N)."""
+    """max |q_i + q_(i-1)| / max |q| per period (rings with lead pi per blade, 2 EO = N)."""
     e = np.abs(q + np.roll(q, 1, axis=1)).max(axis=1)
     scale = np.abs(q).max()
     return np.array([e[i].max() / scale for i in _periods(t, T)])
