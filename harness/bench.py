@@ -70,10 +70,6 @@ class _Timed:
 
     def __init__(self, fn):
         self.fn, self.total, self.calls = fn, 0.0, 0
-        # fmpy's FMU2Slave._call reads these off the ctypes function (status check, call logging)
-        for a in ("restype", "argtypes", "argnames"):
-            if hasattr(fn, a):
-                setattr(self, a, getattr(fn, a))
 
     def __call__(self, *a):
         t = time.perf_counter()

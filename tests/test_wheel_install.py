@@ -3,8 +3,10 @@ compiles the FMUs with CMake), the wheel installs into a fresh venv, and the ins
 works from a directory outside the checkout, with the FMUs that came in the wheel.
 
 Every expected value is computed here, in the test process, from the checkout (its pyproject.toml,
-its build/ FMU, its model description), never typed in. About 60 s on 2 cores with pip's cache warm
-(build ~20 s, venv + install of the wheel and its dependencies ~30 s, the commands ~5 s).
+its build/ FMU, its model description), never typed in. Time: the module's setup (sdist + wheel
+in isolated build environments, a fresh venv with the wheel and its dependencies from pip's cache)
+measured 196 s at load average 7 on the 2 shared cores; with less load, `build --wheel` alone took
+18 s and the venv with the install 31 s; the commands take about 10 s more.
 """
 from __future__ import annotations
 

@@ -23,7 +23,7 @@ OUT_DTYPE = [("speed", "f8"), ("method", "U9"), ("amplitude", "f8"), ("band_lo",
 def add_execution_options(p: argparse.ArgumentParser, cache: bool = True) -> None:
     """Options shared by sweep / reproduce / run: where and how the work runs (with `cache`, the
     per-point result cache of the transient sweeps)."""
-    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: build/ShroudedBlade.fmu, built if needed)")
+    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: the installed package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="local worker processes (default: number of CPUs; 1 = in this process)")
     p.add_argument("--scheduler", metavar="ADDRESS",
