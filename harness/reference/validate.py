@@ -5,7 +5,7 @@ to order 8; the reference (harness.reference.simulate) is fed `fmu_view(...)` of
 inputs the FMU saw, with integration restarts at the communication points, and both are compared
 on the communication grid, for every friction model, formulation, projection, gating setting and
 amplitude mode, at constant speeds (3000, 5000 = resonance, 8000 rpm) and a 4000 -> 6000 rpm
-run-up. Tolerances (issue 3): tip displacement within 1e-6 of its amplitude over the whole run for
+run-up. Tolerances: tip displacement within 1e-6 of its amplitude over the whole run for
 the describing-function models without switching (no gating, fixed B), 1e-4 with switching
 instants (gating at |q| = d, tracked-B updates at period ends) and for the time-domain element. Harmonic-balance cases: gating off, tracked amplitude: the FMU's
 periodic steady state (harness.analysis.steady_state) against the nearest harmonic-balance solution

@@ -1,4 +1,4 @@
-"""A bladed disk as a co-simulation (issue 11): a ring of N BladeExternalContact FMUs coupled by N
+"""A bladed disk as a co-simulation: a ring of N BladeExternalContact FMUs coupled by N
 ShroudContact FMUs, each blade loaded by its own Excitation FMU (travelling wave: blade i's load
 leads blade 0's by 2 pi EO i / N), run by a fixed-step Jacobi master on the project's FMI binding (harness.fmu.slave).
 
