@@ -18,7 +18,7 @@ venv: $(STAMP)
 $(STAMP): pyproject.toml
 	python3 -m venv .venv
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e '.[test,cluster,crosscheck]'
+	$(PY) -m pip install --quiet -e '.[test,cluster,crosscheck,docs]'
 	touch $(STAMP)
 
 fmu: $(STAMP)
@@ -26,7 +26,7 @@ fmu: $(STAMP)
 	cmake --build build -j $(JOBS)
 
 run: fmu
-	$(PY) -m harness run
+	$(PY) -m harness run --out results
 
 test: fmu sysdeps
 	$(PY) -m pytest

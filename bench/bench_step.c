@@ -18,8 +18,8 @@
 
 #include "fmi/instance.h"
 #include "fmi2Functions.h"
-#include "models/shrouded_blade.h"
-#include "models/shrouded_blade_config.h"
+#include "models/ShroudedBlade/blade_data.h"
+#include "models/ShroudedBlade/config.h"
 
 static void quietLogger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status, fmi2String category,
                         fmi2String message, ...)

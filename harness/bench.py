@@ -80,10 +80,6 @@ class _Timed:
 
     def __init__(self, fn):
         self.fn, self.total, self.calls = fn, 0.0, 0
-        # fmpy's FMU2Slave._call reads these off the ctypes function (status check, call logging)
-        for a in ("restype", "argtypes", "argnames"):
-            if hasattr(fn, a):
-                setattr(self, a, getattr(fn, a))
 
     def __call__(self, *a):
         t = time.perf_counter()
@@ -165,7 +161,7 @@ def sweep_overhead(fmu_path: str, repeats: int = 3) -> dict[str, Any]:
     return out
 
 
-# issue 11's bench ring: 24 blades, EO 3, 5000 rpm, c = 298, F_w0 = 300, default contacts, 0.5 s.
+# the bench ring: 24 blades, EO 3, 5000 rpm, c = 298, F_w0 = 300, default contacts, 0.5 s.
 # h = 2.5e-5 s for both masters: libcosim's held inputs need h <= 5e-5 s (docs/model.md s.8), and
 # at 5e-5 s its 24-blade ring stays bounded but loses the travelling wave's symmetry (30 % spread)
 RING_BENCH = dict(n=24, engine_order=3, fw0=300.0, blade={"c": 298.0}, step=2.5e-5, stop_time=0.5)
@@ -402,7 +398,7 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
 def _ring_section(g: dict[str, Any]) -> list[str]:
     st = g["setup"]
     lc, cl = g["libcosim"], g["C loop"]
-    L = [f"## A {st['n']}-blade ring (issue 11): the masters vs the FMUs' own compute (goal <= 2x for libcosim)", "",
+    L = [f"## A {st['n']}-blade ring: the masters vs the FMUs' own compute (goal <= 2x for libcosim)", "",
          f"{st['n']} blades + {st['n']} shroud contacts + {st['n']} excitations ({3 * st['n']} FMUs), EO "
          f"{st['engine_order']}, 5000 rpm, c = {st['blade']['c']:g} N s/m2, F_w0 = {st['fw0']:g} N/m, default "
          f"contacts (k_n = 1e7), {st['stop_time']:g} s at h = {st['step']:g} s in every master. Wall = the whole "

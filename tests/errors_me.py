@@ -62,7 +62,7 @@ def _flags() -> tuple:
 
 def order_cases() -> list[Case]:
     """Each model-exchange function in the states where FMI 2.0 s.3.2.3 forbids it (refuse) and in
-    the ones the fixes of issue 12 opened (accept)."""
+    the ones where the standard allows them and the FMU accepts them (accept)."""
     calls: dict[str, tuple[Callable[[Instance, Me], int], set[str]]] = {
         # name: (the call, states where it is allowed)
         "fmi2SetTime": (lambda c, m: m.set_time(c.c, 0.0), {"eventMode", "continuousTimeMode"}),

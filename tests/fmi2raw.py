@@ -1,14 +1,13 @@
-"""Raw ctypes binding of the FMI 2.0 co-simulation C API, for black-box robustness tests.
-
-fmpy's FMU2Slave raises on every non-OK status and cannot pass NULL pointers, mismatched sizes or
-garbage, so the error, state, fuzz, thread and leak tests drive the FMU binary through this thin
-layer instead: every call returns the raw fmi2Status (an int), pointers may be None (NULL), and
+"""Test helpers over the package's FMI binding (harness.fmu.binding) in raw mode, for the black-box
+robustness tests: every call returns the raw fmi2Status (an int), pointers may be None (NULL), and
 each instance records every logger call (instance name, status, category, formatted message).
 The variadic FMI logger is formatted by a tiny C proxy (tests/c/sb_logproxy.c, compiled on first
-use into build-sbtests/) exactly as a conforming importer would. The FMU binary is the one
-packaged in build/ShroudedBlade.fmu (extracted once per process), unless the environment variable
-SB_FMU_BINARY names another build of it (the AddressSanitizer build, see
-tests/test_fmu_sanitizers.py).
+use into build-sbtests/) exactly as a conforming importer would (vsnprintf), and the memory
+callbacks count their calls; both are handed to the binding as the instance's
+fmi2CallbackFunctions. The FMU binary is the one packaged in build/ShroudedBlade.fmu (extracted
+once per process), unless the environment variable SB_FMU_BINARY names another build of it (the
+AddressSanitizer build, see tests/test_fmu_sanitizers.py). Model-description facts come from
+modelDescription.xml, never from the code under test.
 """
 from __future__ import annotations
 
@@ -25,45 +24,31 @@ import tempfile
 import threading
 import xml.etree.ElementTree as ET
 import zipfile
-from ctypes import (CFUNCTYPE, Structure, c_char_p, c_double, c_int, c_size_t,
-                    c_uint, c_void_p)
+from ctypes import CFUNCTYPE, Structure, c_char_p, c_int, c_uint, c_void_p
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Iterable, Sequence
+from typing import Any, MutableSequence, Sequence
 
 import numpy as np
 
-from harness.fmu.fmi2_api import declare
+from harness.fmu.binding import fmi2
+from harness.fmu.binding.fmi2 import (CO_SIMULATION, DO_STEP_STATUS, LAST_SUCCESSFUL_TIME,  # noqa: F401
+                                      MODEL_EXCHANGE, PENDING_STATUS, TERMINATED)
+from harness.fmu.binding.fmi2_signatures import MODEL_EXCHANGE as _ME_SIGNATURES
+from harness.fmu.binding.library import Library
+from harness.fmu.binding.log import LogRecord
+from harness.fmu.binding.log import decode as _dec
+from harness.fmu.binding.status import (DISCARD, ERROR, FATAL, OK, PENDING, STATUS_NAMES,  # noqa: F401
+                                        VALID_STATUSES, WARNING)
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
-MODEL_DESCRIPTION = REPO_ROOT / "modelDescription.xml"
+MODEL_DESCRIPTION = REPO_ROOT / "fmu_src" / "models" / "ShroudedBlade" / "modelDescription.xml"
 FMU_FILE = REPO_ROOT / "build" / "ShroudedBlade.fmu"
 PROXY_SOURCE = REPO_ROOT / "tests" / "c" / "sb_logproxy.c"
 TEST_BUILD_DIR = REPO_ROOT / "build-sbtests"
 
-OK, WARNING, DISCARD, ERROR, FATAL, PENDING = 0, 1, 2, 3, 4, 5
-STATUS_NAMES = {OK: "OK", WARNING: "Warning", DISCARD: "Discard", ERROR: "Error", FATAL: "Fatal",
-                PENDING: "Pending"}
-VALID_STATUSES = frozenset(STATUS_NAMES)
-MODEL_EXCHANGE, CO_SIMULATION = 0, 1
-DO_STEP_STATUS, PENDING_STATUS, LAST_SUCCESSFUL_TIME, TERMINATED = 0, 1, 2, 3
-
-# The FMI 2.0 functions every FMU exports (common + co-simulation), and the model-exchange ones
-# a co-simulation-only FMU may export (then they must refuse with fmi2Error).
-CS_FUNCTIONS = (
-    "fmi2GetTypesPlatform", "fmi2GetVersion", "fmi2SetDebugLogging", "fmi2Instantiate",
-    "fmi2FreeInstance", "fmi2SetupExperiment", "fmi2EnterInitializationMode",
-    "fmi2ExitInitializationMode", "fmi2Terminate", "fmi2Reset", "fmi2GetReal", "fmi2GetInteger",
-    "fmi2GetBoolean", "fmi2GetString", "fmi2SetReal", "fmi2SetInteger", "fmi2SetBoolean",
-    "fmi2SetString", "fmi2GetFMUstate", "fmi2SetFMUstate", "fmi2FreeFMUstate",
-    "fmi2SerializedFMUstateSize", "fmi2SerializeFMUstate", "fmi2DeSerializeFMUstate",
-    "fmi2GetDirectionalDerivative", "fmi2SetRealInputDerivatives", "fmi2GetRealOutputDerivatives",
-    "fmi2DoStep", "fmi2CancelStep", "fmi2GetStatus", "fmi2GetRealStatus", "fmi2GetIntegerStatus",
-    "fmi2GetBooleanStatus", "fmi2GetStringStatus")
-ME_FUNCTIONS = (
-    "fmi2EnterEventMode", "fmi2NewDiscreteStates", "fmi2EnterContinuousTimeMode",
-    "fmi2CompletedIntegratorStep", "fmi2SetTime", "fmi2SetContinuousStates", "fmi2GetDerivatives",
-    "fmi2GetEventIndicators", "fmi2GetContinuousStates", "fmi2GetNominalsOfContinuousStates")
+CS_FUNCTIONS = fmi2.REQUIRED_CS  # common + co-simulation: every co-simulation FMU exports them
+ME_FUNCTIONS = tuple(_ME_SIGNATURES)  # a co-simulation-only FMU may export them (then they refuse)
 
 PlainLogger = CFUNCTYPE(None, c_void_p, c_char_p, c_int, c_char_p, c_char_p)
 
@@ -73,12 +58,6 @@ class SbLogEnv(Structure):
 
 
 SB_LOG_MAGIC = 0x5B10C0DE
-
-
-class CallbackFunctions(Structure):
-    # fmi2CallbackFunctions with plain pointers, so any member can be NULL.
-    _fields_ = [("logger", c_void_p), ("allocateMemory", c_void_p), ("freeMemory", c_void_p),
-                ("stepFinished", c_void_p), ("componentEnvironment", c_void_p)]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -211,16 +190,13 @@ def resource_uri(binary: Path | None = None, form: str = "file:///") -> str:
 
 
 # ---------------------------------------------------------------------------------------------
-# the library
+# the library: the package binding's FMI 2.0 library plus the test proxy's callbacks
 
 
-_LOG_REGISTRY: dict[int, list["LogRecord"]] = {}
+_LOG_REGISTRY: dict[int, MutableSequence[LogRecord]] = {}
 _LOG_REGISTRY_LOCK = threading.Lock()
 _COOKIES = itertools.count(1)
-
-
-def _dec(b: bytes | None) -> str | None:
-    return None if b is None else b.decode("utf-8", "replace")
+_ORPHANS: list[LogRecord] = []
 
 
 @PlainLogger
@@ -228,31 +204,12 @@ def _plain_logger(cookie, instance_name, status, category, message):  # noqa: AN
     with _LOG_REGISTRY_LOCK:
         target = _LOG_REGISTRY.get(cookie or 0)
     rec = LogRecord(_dec(instance_name), int(status), _dec(category), _dec(message))
-    if target is not None:
-        target.append(rec)
-    else:
-        _ORPHANS.append(rec)
+    (target if target is not None else _ORPHANS).append(rec)
 
 
-_ORPHANS: list["LogRecord"] = []
-
-
-@dataclass(frozen=True)
-class LogRecord:
-    instance: str | None
-    status: int
-    category: str | None
-    message: str | None
-
-    def __str__(self) -> str:
-        return f"[{STATUS_NAMES.get(self.status, self.status)}|{self.category}] {self.message}"
-
-
-_P = c_void_p  # every pointer argument is passed as a plain address (None = NULL)
-
-
-class Fmi2Library:
-    """The FMU binary loaded with ctypes, with prototypes for every FMI 2.0 function it exports."""
+class Fmi2Library(Library):
+    """The FMU binary with the binding's FMI 2.0 prototypes, and the test proxy (formatting logger,
+    counting memory callbacks). One per binary per process (`get`)."""
 
     _cache: dict[str, "Fmi2Library"] = {}
     _cache_lock = threading.Lock()
@@ -269,40 +226,20 @@ class Fmi2Library:
             return cls._cache[key]
 
     def __init__(self, binary: Path) -> None:
-        self.path = binary
-        self.dll = ctypes.CDLL(str(binary), mode=os.RTLD_NOW | os.RTLD_LOCAL)
+        super().__init__(binary, fmi2.SIGNATURES, fmi2.REQUIRED_CS)
         self.proxy = ctypes.CDLL(str(proxy_library()))
         for name in ("sbOrphanLogs", "sbNullEnvLogs", "sbAllocs", "sbFrees"):
             getattr(self.proxy, name).restype = ctypes.c_long
         self.logger_address = ctypes.cast(self.proxy.sbLogProxy, c_void_p).value
         self.calloc_address = ctypes.cast(self.proxy.sbCalloc, c_void_p).value
         self.free_address = ctypes.cast(self.proxy.sbFree, c_void_p).value
-        self.missing = [n for n in CS_FUNCTIONS if not hasattr(self.dll, n)]
-        self.me_exported = [n for n in ME_FUNCTIONS if hasattr(self.dll, n)]
-        declare(self.dll)  # the FMI 2.0 signatures shared with the harness (harness/fmu/fmi2_api.py)
-        for name in self.me_exported:  # only ever called with a component argument
-            f = getattr(self.dll, name)
-            f.restype = c_int
-            f.argtypes = [_P]
-
-    def __getattr__(self, name: str) -> Any:
-        if name.startswith("fmi2"):
-            return getattr(self.dll, name)
-        raise AttributeError(name)
+        self.me_exported = [n for n in ME_FUNCTIONS if self.has(n)]
 
     def orphan_logs(self) -> int:
         return int(self.proxy.sbOrphanLogs())
 
     def memory_callback_calls(self) -> int:
         return int(self.proxy.sbAllocs()) + int(self.proxy.sbFrees())
-
-
-# ---------------------------------------------------------------------------------------------
-# array helpers
-
-
-def _vrs(vrs: Iterable[int] | None) -> np.ndarray | None:
-    return None if vrs is None else np.ascontiguousarray(list(vrs), dtype=np.uint32)
 
 
 def vr_of(names_or_vrs: Sequence[str | int]) -> list[int]:
@@ -314,7 +251,8 @@ def vr_of(names_or_vrs: Sequence[str | int]) -> list[int]:
 
 
 class Instance:
-    """One fmi2Component with a recording logger. Every method returns the raw fmi2Status."""
+    """One fmi2Component of the package binding in raw mode, with the proxy's recording logger
+    (`log`). Every method returns the raw fmi2Status; getters return (status, values)."""
 
     def __init__(self, lib: Fmi2Library | None = None, name: str | bytes | None = "sb",
                  guid: str | bytes | None = GUID, fmu_type: int = CO_SIMULATION,
@@ -324,10 +262,10 @@ class Instance:
         self.lib = lib or Fmi2Library.get()
         self.log: list[LogRecord] = []
         self.cookie = next(_COOKIES)
-        with _LOG_REGISTRY_LOCK:
+        with _LOG_REGISTRY_LOCK:  # the proxy's records of this instance go to self.log
             _LOG_REGISTRY[self.cookie] = self.log
         self.env = SbLogEnv(SB_LOG_MAGIC, _plain_logger, self.cookie)
-        self.callbacks = CallbackFunctions(
+        self.callbacks = fmi2.CallbackFunctions(
             self.lib.logger_address if logger else None,
             self.lib.calloc_address if memory else None,
             self.lib.free_address if memory else None,
@@ -335,22 +273,21 @@ class Instance:
             ctypes.addressof(self.env) if environment else None)
         if resources == "default":
             resources = resource_uri(self.lib.path)
-        enc = lambda s: s.encode() if isinstance(s, str) else s  # noqa: E731
         self.name = name
-        self._name_buf = enc(name)
-        self.c: int | None = self.lib.fmi2Instantiate(
-            self._name_buf, fmu_type, enc(guid), enc(resources),
-            ctypes.addressof(self.callbacks) if callbacks else None, int(visible), int(logging_on))
+        self.f = fmi2.Fmi2Instance(self.lib, name, guid, resources, fmu_type, visible=visible, logging_on=logging_on,
+                                   raw=True, callbacks=self.callbacks if callbacks else None, log=self.log)
 
     # --- lifecycle -----------------------------------------------------------------------------
     @property
+    def c(self) -> int | None:
+        return self.f.c
+
+    @property
     def ok(self) -> bool:
-        return bool(self.c)
+        return self.f.ok
 
     def free(self) -> None:
-        if self.c:
-            self.lib.fmi2FreeInstance(self.c)
-            self.c = None
+        self.f.free_instance()
         with _LOG_REGISTRY_LOCK:
             _LOG_REGISTRY.pop(self.cookie, None)
 
@@ -368,157 +305,101 @@ class Instance:
 
     def set_debug_logging(self, on: bool, categories: Sequence[str | None] | None = None,
                           n: int | None = None) -> int:
-        if categories is None:
-            return self.lib.fmi2SetDebugLogging(self.c, int(on), n or 0, None)
-        bufs = [None if s is None else s.encode() for s in categories]
-        arr = (c_char_p * max(1, len(bufs)))(*bufs)
-        return self.lib.fmi2SetDebugLogging(self.c, int(on), len(bufs) if n is None else n,
-                                            ctypes.addressof(arr))
+        return self.f.set_debug_logging(on, categories, n)
 
-    def setup(self, start: float = 0.0, stop: float | None = None,
-              tolerance: float | None = None) -> int:
-        return self.lib.fmi2SetupExperiment(self.c, int(tolerance is not None), tolerance or 0.0,
-                                            start, int(stop is not None),
-                                            0.0 if stop is None else stop)
+    def setup(self, start: float = 0.0, stop: float | None = None, tolerance: float | None = None) -> int:
+        return self.f.setup_experiment(start, stop, tolerance)
 
     def enter_init(self) -> int:
-        return self.lib.fmi2EnterInitializationMode(self.c)
+        return self.f.enter_initialization_mode()
 
     def exit_init(self) -> int:
-        return self.lib.fmi2ExitInitializationMode(self.c)
+        return self.f.exit_initialization_mode()
 
     def terminate(self) -> int:
-        return self.lib.fmi2Terminate(self.c)
+        return self.f.terminate()
 
     def reset(self) -> int:
-        return self.lib.fmi2Reset(self.c)
+        return self.f.reset()
 
-    # --- get/set -------------------------------------------------------------------------------
+    # --- get/set (names or value references) ---------------------------------------------------
     def set_real(self, vrs: Sequence[str | int], values: Sequence[float]) -> int:
-        v = _vrs(vr_of(vrs))
-        x = np.ascontiguousarray(values, dtype=np.float64)
-        return self.lib.fmi2SetReal(self.c, v.ctypes.data, len(v), x.ctypes.data)
+        return self.f.set_real(vr_of(vrs), values)
 
     def set_integer(self, vrs: Sequence[str | int], values: Sequence[int]) -> int:
-        v = _vrs(vr_of(vrs))
-        x = np.ascontiguousarray(values, dtype=np.int32)
-        return self.lib.fmi2SetInteger(self.c, v.ctypes.data, len(v), x.ctypes.data)
+        return self.f.set_integer(vr_of(vrs), values)
 
     def set_boolean(self, vrs: Sequence[str | int], values: Sequence[int]) -> int:
-        v = _vrs(vr_of(vrs))
-        x = np.ascontiguousarray(values, dtype=np.int32)
-        return self.lib.fmi2SetBoolean(self.c, v.ctypes.data, len(v), x.ctypes.data)
+        return self.f.set_boolean(vr_of(vrs), values)
 
     def set_string(self, vrs: Sequence[str | int], values: Sequence[str | None]) -> int:
-        v = _vrs(vr_of(vrs))
-        arr = (c_char_p * max(1, len(values)))(*[None if s is None else s.encode() for s in values])
-        return self.lib.fmi2SetString(self.c, v.ctypes.data, len(v), ctypes.addressof(arr))
+        return self.f.set_string(vr_of(vrs), values)
+
+    def _got(self, values: Any) -> tuple[int, Any]:
+        return self.f.status, values
 
     def get_real(self, vrs: Sequence[str | int]) -> tuple[int, np.ndarray]:
-        v = _vrs(vr_of(vrs))
-        out = np.full(len(v), np.nan)
-        st = self.lib.fmi2GetReal(self.c, v.ctypes.data, len(v), out.ctypes.data)
-        return st, out
+        return self._got(self.f.get_real(vr_of(vrs)))
 
     def get_integer(self, vrs: Sequence[str | int]) -> tuple[int, np.ndarray]:
-        v = _vrs(vr_of(vrs))
-        out = np.full(len(v), -987654, dtype=np.int32)
-        st = self.lib.fmi2GetInteger(self.c, v.ctypes.data, len(v), out.ctypes.data)
-        return st, out
+        return self._got(self.f.get_integer(vr_of(vrs)))
 
     def get_boolean(self, vrs: Sequence[str | int]) -> tuple[int, np.ndarray]:
-        v = _vrs(vr_of(vrs))
-        out = np.full(len(v), -987654, dtype=np.int32)
-        st = self.lib.fmi2GetBoolean(self.c, v.ctypes.data, len(v), out.ctypes.data)
-        return st, out
+        return self._got(self.f.get_boolean(vr_of(vrs)))
 
     def get_string(self, vrs: Sequence[str | int]) -> tuple[int, list[str | None]]:
-        v = _vrs(vr_of(vrs))
-        arr = (c_char_p * max(1, len(v)))()
-        st = self.lib.fmi2GetString(self.c, v.ctypes.data, len(v), ctypes.addressof(arr))
-        return st, [_dec(arr[i]) for i in range(len(v))]
+        return self._got(self.f.get_string(vr_of(vrs)))
 
     def set_input_derivatives(self, vrs: Sequence[str | int], orders: Sequence[int],
                               values: Sequence[float]) -> int:
-        v = _vrs(vr_of(vrs))
-        o = np.ascontiguousarray(orders, dtype=np.int32)
-        x = np.ascontiguousarray(values, dtype=np.float64)
-        return self.lib.fmi2SetRealInputDerivatives(self.c, v.ctypes.data, len(v), o.ctypes.data,
-                                                    x.ctypes.data)
+        return self.f.set_real_input_derivatives(vr_of(vrs), orders, values)
 
     def get_output_derivatives(self, vrs: Sequence[str | int], orders: Sequence[int]
                                ) -> tuple[int, np.ndarray]:
-        v = _vrs(vr_of(vrs))
-        o = np.ascontiguousarray(orders, dtype=np.int32)
-        out = np.full(len(v), np.nan)
-        st = self.lib.fmi2GetRealOutputDerivatives(self.c, v.ctypes.data, len(v), o.ctypes.data,
-                                                   out.ctypes.data)
-        return st, out
+        return self._got(self.f.get_real_output_derivatives(vr_of(vrs), orders))
 
     # --- stepping ------------------------------------------------------------------------------
     def do_step(self, t: float, h: float, no_prior: bool = True) -> int:
-        return self.lib.fmi2DoStep(self.c, t, h, int(no_prior))
+        return self.f.do_step(t, h, no_prior)
 
     def cancel_step(self) -> int:
-        return self.lib.fmi2CancelStep(self.c)
+        return self.f.cancel_step()
 
     def get_status(self, kind: int) -> tuple[int, int]:
-        x = c_int(-1)
-        return self.lib.fmi2GetStatus(self.c, kind, ctypes.addressof(x)), x.value
+        return self._got(self.f.get_status(kind))
 
     def get_real_status(self, kind: int) -> tuple[int, float]:
-        x = c_double(math.nan)
-        return self.lib.fmi2GetRealStatus(self.c, kind, ctypes.addressof(x)), x.value
+        return self._got(self.f.get_real_status(kind))
 
     def get_integer_status(self, kind: int) -> tuple[int, int]:
-        x = c_int(-1)
-        return self.lib.fmi2GetIntegerStatus(self.c, kind, ctypes.addressof(x)), x.value
+        return self._got(self.f.get_integer_status(kind))
 
     def get_boolean_status(self, kind: int) -> tuple[int, int]:
-        x = c_int(-1)
-        return self.lib.fmi2GetBooleanStatus(self.c, kind, ctypes.addressof(x)), x.value
+        return self._got(self.f.get_boolean_status(kind))
 
     def get_string_status(self, kind: int) -> tuple[int, str | None]:
-        x = c_char_p()
-        return self.lib.fmi2GetStringStatus(self.c, kind, ctypes.addressof(x)), _dec(x.value)
+        return self._got(self.f.get_string_status(kind))
 
     # --- FMU state -----------------------------------------------------------------------------
     def get_state(self, handle: int | None = None) -> tuple[int, int | None]:
         """fmi2GetFMUstate: new handle (handle=None) or update an existing one."""
-        s = c_void_p(handle)
-        st = self.lib.fmi2GetFMUstate(self.c, ctypes.addressof(s))
-        return st, s.value
+        return self._got(self.f.get_fmu_state(handle))
 
     def set_state(self, handle: int | None) -> int:
-        return self.lib.fmi2SetFMUstate(self.c, handle)
+        return self.f.set_fmu_state(handle)
 
     def free_state(self, handle: int | None) -> int:
-        s = c_void_p(handle)
-        return self.lib.fmi2FreeFMUstate(self.c, ctypes.addressof(s))
+        return self.f.free_fmu_state(handle)
 
     def state_size(self, handle: int | None) -> tuple[int, int]:
-        n = c_size_t(0)
-        return self.lib.fmi2SerializedFMUstateSize(self.c, handle, ctypes.addressof(n)), n.value
+        return self._got(self.f.serialized_fmu_state_size(handle))
 
     def serialize(self, handle: int | None) -> tuple[int, bytes]:
-        st, n = self.state_size(handle)
-        if st != OK:
-            return st, b""
-        buf = ctypes.create_string_buffer(n)
-        st = self.lib.fmi2SerializeFMUstate(self.c, handle, ctypes.addressof(buf), n)
-        return st, buf.raw[:n]
+        return self._got(self.f.serialize_fmu_state(handle))
 
     def deserialize(self, blob: bytes | None, size: int | None = None,
                     handle: int | None = None) -> tuple[int, int | None]:
-        s = c_void_p(handle)
-        if blob is None:
-            st = self.lib.fmi2DeSerializeFMUstate(self.c, None, size or 0, ctypes.addressof(s))
-        else:
-            buf = ctypes.create_string_buffer(blob, max(1, len(blob)))
-            st = self.lib.fmi2DeSerializeFMUstate(self.c, ctypes.addressof(buf),
-                                                  len(blob) if size is None else size,
-                                                  ctypes.addressof(s))
-        return st, s.value
+        return self._got(self.f.deserialize_fmu_state(blob, size, handle))
 
     # --- conveniences --------------------------------------------------------------------------
     def messages(self, min_status: int = OK) -> list[LogRecord]:

@@ -1,5 +1,5 @@
 """FMI 2.0 model exchange of build/ShroudedBlade.fmu (fmu_src/fmi/fmi2_me.c over
-fmu_src/models/shrouded_blade_me.c): fmpy validates the FMU, integrates it with its CVode and Euler
+fmu_src/models/ShroudedBlade/model_me.c): fmpy validates the FMU, integrates it with its CVode and Euler
 solvers, and the results equal the co-simulation FMU's; invalid model-exchange calls answer
 fmi2Error (or fmi2Discard) with a message.
 

@@ -102,7 +102,20 @@ def parameter_cases() -> list[Case]:
         cases += [_param_case(name, int(sp.low) - 1), _param_case(name, int(sp.high) + 1)]
     cases += [_param_case("frictionModel", INT_MIN), _param_case("engineOrder", INT_MAX)]
     cases += [_param_case("gating", 2), _param_case("gating", -1)]
+    cases += [_blade_of_disk_case(6, 6), _blade_of_disk_case(3, 2)]
     return cases
+
+
+def _blade_of_disk_case(index: int, count: int) -> Case:
+    """bladeIndex and bladeCount valid one by one, not together: refused at initialization."""
+    def run(lib: Fmi2Library) -> Outcome:
+        with Instance(lib) as c:
+            return _sequence(c, [("fmi2SetupExperiment", lambda: c.setup()),
+                                 ("fmi2SetInteger", lambda: c.set_params({"bladeIndex": index, "bladeCount": count})),
+                                 ("fmi2EnterInitializationMode", c.enter_init),
+                                 ("fmi2ExitInitializationMode", c.exit_init)])
+    return Case("parameter", f"bladeIndex = {index} with bladeCount = {count}", run, "refuse", "bladeIndex",
+                float(index), 0.0, float(count - 1))
 
 
 def _start_value_case(name: str, value: float, expect: str) -> Case:
@@ -462,9 +475,14 @@ def _vr_case(label: str, fn: Callable[[Instance], int], call: str, expect: str =
     return Case("value reference", label, run, expect)
 
 
+def _version(blob: bytes) -> int:
+    """The format version in a state blob's header (after the 8-byte magic)."""
+    return struct.unpack_from("<i", blob, 8)[0]
+
+
 def vr_cases() -> list[Case]:
     cases = []
-    for vr in (0, 14, 25, 32, 42, 49, 63, 999, 2**32 - 1):
+    for vr in (0, 15, 27, 32, 42, 49, 63, 999, 2**32 - 1):
         cases.append(_vr_case(f"fmi2GetReal vr {vr}", lambda c, vr=vr: c.get_real([vr])[0],
                               "fmi2GetReal"))
         cases.append(_vr_case(f"fmi2SetReal vr {vr}", lambda c, vr=vr: c.set_real([vr], [1.0]),
@@ -806,10 +824,10 @@ def blob_cases() -> list[Case]:
         _blob_case("one extra byte", lambda b: b + b"\x00"),
         _blob_case("size argument larger than the blob header says", lambda b: b + b"\x00" * 64),
         _blob_case("first byte (magic) corrupted", flip(0)),
-        _blob_case("old format version 3 (checksum recomputed)",
-                   lambda b: F.reseal(b[:8] + struct.pack("<i", 3) + b[12:])),
-        _blob_case("future format version 5 (checksum recomputed)",
-                   lambda b: F.reseal(b[:8] + struct.pack("<i", 5) + b[12:])),
+        _blob_case("older format version (the current one - 1, checksum recomputed)",
+                   lambda b: F.reseal(b[:8] + struct.pack("<i", _version(b) - 1) + b[12:])),
+        _blob_case("newer format version (the current one + 1, checksum recomputed)",
+                   lambda b: F.reseal(b[:8] + struct.pack("<i", _version(b) + 1) + b[12:])),
         _blob_case("one payload byte flipped (checksum mismatch)", flip(100, 0x01)),
         _blob_case("saved by another FMU (GUID hash differs, checksum recomputed)",
                    lambda b: F.reseal(b[:16] + struct.pack("<Q", F.fnv1a(b"{other}")) + b[24:])),
@@ -1035,7 +1053,7 @@ def test_instance_name_and_strings_are_copied(lib: Fmi2Library) -> None:
         assert c.ok
         ctypes.memset(name, ord("Z"), 12)
         ctypes.memset(guid, ord("Z"), 10)
-        c._name_buf = None
+        c.f._name_buf = None  # the binding's copy of the name goes: the FMU must hold its own
         assert c.get_real([999])[0] in REFUSED
         assert c.log and all(r.instance == "originalName" for r in c.log), c.log_text()
     finally:

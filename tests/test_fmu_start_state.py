@@ -1,4 +1,4 @@
-"""Start values of the state (issue 9, docs/model-notes.md s.7): a run restarted at t1 from the
+"""Start values of the state (docs/model-notes.md s.7): a run restarted at t1 from the
 state an earlier run had at t1 continues that run.
 
 Every continuous state of the FMU has a settable start value (tipDisplacement q, tipVelocity q',
@@ -28,7 +28,7 @@ T = 60.0 / (EO * RPM)  # excitation period 2 pi / omega [s]
 H = 1e-4  # communication step [s]
 OUT = ["tipDisplacement", "tipVelocity", "jenkinsForce", "dissipatedEnergy", "runningMaximum",
        "amplitude", "contactState"]
-REL = 1e-9  # agreement of the restarted run, relative to the amplitude (the brief of issue 9)
+REL = 1e-9  # agreement of the restarted run, relative to the amplitude
 
 # the defaults, for the independent friction limit L = mu kn cos(gamma) (|q| - d) (eq. 3)
 MU, KN, GAMMA, D, KD_RATIO = 0.33, 1e7, math.pi / 3, 3e-5, 0.608695652173913

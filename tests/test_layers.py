@@ -4,6 +4,7 @@ the validation packages reference, crosscheck, bench). The test fails with the t
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -26,14 +27,19 @@ def test_import_contracts_are_kept():
 
 
 def test_a_violating_import_is_reported(tmp_path):
-    """The check can fail: the same contracts on a copy of the package in which the model imports
-    the CLI and the analysis imports the cross-check."""
-    pkg = tmp_path / "harness"
-    shutil.copytree(REPO / "harness", pkg, ignore=shutil.ignore_patterns("__pycache__"))
-    (pkg / "model" / "bad_up.py").write_text("import harness.cli.main\n")
-    (pkg / "analysis" / "bad_validation.py").write_text("from harness.crosscheck import common\n")
-    shutil.copy(REPO / "pyproject.toml", tmp_path / "pyproject.toml")
+    """The check can fail: the same contracts on a copy of the package (renamed `harness_copy`, so
+    that no installed `harness` shadows it) in which the model imports the CLI and the analysis
+    imports the cross-check."""
+    pkg = tmp_path / "harness_copy"
+    shutil.copytree(REPO / "harness", pkg, ignore=shutil.ignore_patterns("__pycache__", "fmus"))
+    for f in pkg.rglob("*.py"):
+        f.write_text(re.sub(r"\bharness\b(?=[. ])", "harness_copy", f.read_text()))
+    (pkg / "model" / "bad_up.py").write_text("import harness_copy.cli.main\n")
+    (pkg / "analysis" / "bad_validation.py").write_text("from harness_copy.crosscheck import common\n")
+    config = (REPO / "pyproject.toml").read_text()
+    config = re.sub(r"\bharness\b(?=[.\"])", "harness_copy", config[config.index("[tool.importlinter]"):])
+    (tmp_path / "pyproject.toml").write_text(config)
     res = lint_imports(tmp_path)
     assert res.returncode != 0, res.stdout
-    assert "harness.model.bad_up -> harness.cli.main" in res.stdout, res.stdout
-    assert "harness.analysis.bad_validation -> harness.crosscheck.common" in res.stdout, res.stdout
+    assert "harness_copy.model.bad_up -> harness_copy.cli.main" in res.stdout, res.stdout
+    assert "harness_copy.analysis.bad_validation -> harness_copy.crosscheck.common" in res.stdout, res.stdout

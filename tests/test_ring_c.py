@@ -1,4 +1,4 @@
-"""The ring's C communication loop (harness/system/ring_c.py, fmu_src/master/ring_master.c) against
+"""The ring's C communication loop (harness/system/ring_c.py, harness/native/ring_master.c) against
 the fmpy master (harness/system/ring.py), which does the same calls from Python:
 
 - contacts open, held inputs: bit for bit (no extrapolation arithmetic);
@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from fmpy.fmi1 import FMICallException
 
+from harness.fmu.binding import FmiError
 from harness.system import ring_c
 from harness.system.ring import Ring, run
 
@@ -46,7 +46,7 @@ def test_closing_contacts_equal_within_rounding(n, order, step, each):
 
 def test_a_diverging_ring_names_the_fmu():
     ring = Ring(n=4, stop_time=0.3, step=1e-3, order=0, **CLOSING)
-    with pytest.raises(FMICallException):
+    with pytest.raises(FmiError):
         run(ring)
     with pytest.raises(RuntimeError, match=r"fmi2DoStep failed for (blade|contact|exc)\d+ at t = .* s"):
         ring_c.run(ring)

@@ -35,7 +35,7 @@ SYSTEM = se.System(stop_time=0.05)
 @pytest.fixture(scope="module")
 def runs(fmu_path):
     exc = se.build_excitation_fmu()
-    return fmu_path, se.run_fmpy(fmu_path, exc, SYSTEM), se.run_libcosim(fmu_path, exc, SYSTEM)
+    return fmu_path, se.run_binding(fmu_path, exc, SYSTEM), se.run_libcosim(fmu_path, exc, SYSTEM)
 
 
 def test_excitation_matches_closed_form(runs):

@@ -3,7 +3,7 @@
  * ones: call-sequence state machine (one allowed-states mask per function, from the state tables
  * of the FMI 2.0 standard, sections 3.2.3 and 4.2.4), pointer and argument checks, type conversion,
  * the logger callback. The model is the one linked in (fmiModel); an instance is for model
- * exchange only if the model has FmiModel.me. */
+ * exchange only if the model has a model-exchange part (fmiModelExchange). */
 #include <stdlib.h>
 #include <string.h>
 
@@ -68,7 +68,7 @@ static FmiInstance *enter(fmi2Component c, const char *fn, int mask) { return fm
 static FmiInstance *enterCS(fmi2Component c, const char *fn, int mask)
 {
     FmiInstance *inst = (FmiInstance *)c;
-    if (inst != NULL && inst->magic == FMI_INSTANCE_MAGIC && inst->modelExchange) {
+    if (inst != NULL && inst->magic == FMI_INSTANCE_MAGIC && inst->me) {
         fmiLog(inst, FmiOK, LogCalls, "%s (state: %s)", fn, fsmStateName(inst->fsm));
         fmiLogStatus(inst, FmiError, "%s: not available: the instance was instantiated for model exchange "
                      "(fmuType = fmi2ModelExchange)", fn);
@@ -92,7 +92,7 @@ static FmiInstance *enterNonNull(fmi2Component c, const char *fn, int mask, int 
 static FmiInstance *enterStatus(fmi2Component c, const char *fn, int ok)
 {
     FmiInstance *inst = (FmiInstance *)c;
-    if (inst != NULL && inst->magic == FMI_INSTANCE_MAGIC && inst->modelExchange)
+    if (inst != NULL && inst->magic == FMI_INSTANCE_MAGIC && inst->me)
         return enterCS(c, fn, 0); /* logs why */
     return enterNonNull(c, fn, MASK_GetStatus, ok, "value");
 }
@@ -169,8 +169,8 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
                            "fmi2Instantiate: instanceName must be a non-empty string");
         return NULL;
     }
-    if (fmuType != fmi2CoSimulation && !(fmuType == fmi2ModelExchange && fmiModel.me != NULL)) {
-        if (fmiModel.me != NULL) {
+    if (fmuType != fmi2CoSimulation && !(fmuType == fmi2ModelExchange && fmiModelExchange != NULL)) {
+        if (fmiModelExchange != NULL) {
             log(functions->componentEnvironment, name, fmi2Error, "logStatusError",
                                "fmi2Instantiate: fmuType = %d is not supported: %s is instantiated for "
                                "fmi2ModelExchange = %d or fmi2CoSimulation = %d", (int)fmuType, fmiModel.name,
@@ -193,13 +193,13 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
         sink->logger = log;
         sink->env = functions->componentEnvironment;
     }
-    inst = sink ? fmiNew(&fmiModel, &FMI2_FACE, instanceName, fmuResourceLocation, fmi2Sink, sink, loggingOn) : NULL;
+    inst = sink ? fmiNew(&fmiModel, fmuType == fmi2ModelExchange ? fmiModelExchange : NULL, &FMI2_FACE, instanceName,
+                         fmuResourceLocation, fmi2Sink, sink, loggingOn) : NULL;
     if (inst == NULL) {
         log(functions->componentEnvironment, name, fmi2Fatal, "logStatusFatal",
                            "fmi2Instantiate: out of memory");
         return NULL;
     }
-    inst->modelExchange = fmuType == fmi2ModelExchange;
     /* resources are not used; file:///, file:/ (and file://host/) URIs and NULL are accepted */
     if (fmuResourceLocation != NULL && strncmp(fmuResourceLocation, "file:", 5) != 0)
         fmiLogStatus(inst, FmiWarning, "%s: fmuResourceLocation is not a file: URI (ignored: this FMU has "
@@ -239,7 +239,7 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c)
     if (inst == NULL) return fmi2Error;
     status = (fmi2Status)fmiExitInitialization(inst, "fmi2ExitInitializationMode");
     /* model exchange (s.3.2.3): the master first completes the event iteration at the start */
-    inst->fsm = status <= fmi2Warning ? (inst->modelExchange ? FsmEventMode : FsmStepComplete) : FsmError;
+    inst->fsm = status <= fmi2Warning ? (inst->me ? FsmEventMode : FsmStepComplete) : FsmError;
     return status;
 }
 
@@ -360,7 +360,7 @@ fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate)
     status = (fmi2Status)fmiStateSet(inst, fn, FMUstate);
     /* a deserialized state of a running instance comes back in stepComplete: for model exchange
      * that is continuous-time mode */
-    if (inst->modelExchange && inst->fsm == FsmStepComplete) inst->fsm = FsmContinuousTimeMode;
+    if (inst->me && inst->fsm == FsmStepComplete) inst->fsm = FsmContinuousTimeMode;
     return status;
 }
 

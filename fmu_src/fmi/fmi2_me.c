@@ -1,8 +1,9 @@
 /* The FMI 2.0 model-exchange face: the fmi2* functions of section 3.2 over the model's
- * FmiModelExchange (the same right-hand side, switching functions and event updates the
- * co-simulation integrator uses). Call sequence from the model-exchange state table (s.3.2.3):
- * initialization ends in event mode (fmi2ExitInitializationMode, fmi2_cs.c); event mode and
- * continuous-time mode alternate. A co-simulation instance refuses every function here. */
+ * FmiModelExchange (inst->me: the same right-hand side, switching functions and event updates
+ * the co-simulation integrator uses); linked only into a binary whose model has one. Call
+ * sequence from the model-exchange state table (s.3.2.3): initialization ends in event mode
+ * (fmi2ExitInitializationMode, fmi2_cs.c); event mode and continuous-time mode alternate. A
+ * co-simulation instance refuses every function here. */
 #include <math.h>
 
 #include "fmi2Functions.h"
@@ -25,7 +26,7 @@
 static FmiInstance *enterME(fmi2Component c, const char *fn, int mask)
 {
     FmiInstance *inst = (FmiInstance *)c;
-    if (inst != NULL && inst->magic == FMI_INSTANCE_MAGIC && !inst->modelExchange) {
+    if (inst != NULL && inst->magic == FMI_INSTANCE_MAGIC && !inst->me) {
         fmiLog(inst, FmiOK, LogCalls, "%s (state: %s)", fn, fsmStateName(inst->fsm));
         fmiLogStatus(inst, FmiError, "%s: not available: the instance was instantiated for co-simulation "
                      "(fmuType = fmi2CoSimulation)", fn);
@@ -42,7 +43,7 @@ static FmiInstance *enterArray(fmi2Component c, const char *fn, int mask, const 
     const char *what = nz ? "ni" : "nx";
     int expected;
     if (inst == NULL) return NULL;
-    expected = nz ? inst->model->me->nz : inst->model->me->nx;
+    expected = nz ? inst->me->nz : inst->me->nx;
     if (n != (size_t)expected) {
         fmiLogStatus(inst, FmiError, "%s: %s = %lu, but this FMU has %d", fn, what, (unsigned long)n, expected);
         return NULL;
@@ -82,7 +83,7 @@ fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t n
             return fmi2Discard;
         }
     }
-    inst->model->me->setStates(inst, x);
+    inst->me->setStates(inst, x);
     return fmi2OK;
 }
 
@@ -91,7 +92,7 @@ fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx
     const char *fn = "fmi2GetDerivatives";
     FmiInstance *inst = enterArray(c, fn, MASK_GetStates, derivatives, nx, 0);
     if (inst == NULL) return fmi2Error;
-    return (fmi2Status)inst->model->me->derivatives(inst, fn, derivatives);
+    return (fmi2Status)inst->me->derivatives(inst, fn, derivatives);
 }
 
 fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], size_t ni)
@@ -99,7 +100,7 @@ fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], s
     const char *fn = "fmi2GetEventIndicators";
     FmiInstance *inst = enterArray(c, fn, MASK_GetStates, eventIndicators, ni, 1);
     if (inst == NULL) return fmi2Error;
-    return (fmi2Status)inst->model->me->eventIndicators(inst, fn, eventIndicators);
+    return (fmi2Status)inst->me->eventIndicators(inst, fn, eventIndicators);
 }
 
 fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx)
@@ -107,7 +108,7 @@ fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx)
     const char *fn = "fmi2GetContinuousStates";
     FmiInstance *inst = enterArray(c, fn, MASK_GetStates, x, nx, 0);
     if (inst == NULL) return fmi2Error;
-    inst->model->me->getStates(inst, x);
+    inst->me->getStates(inst, x);
     return fmi2OK;
 }
 
@@ -116,7 +117,7 @@ fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x_nominal
     const char *fn = "fmi2GetNominalsOfContinuousStates";
     FmiInstance *inst = enterArray(c, fn, MASK_GetNominals, x_nominal, nx, 0);
     if (inst == NULL) return fmi2Error;
-    inst->model->me->nominals(inst, x_nominal);
+    inst->me->nominals(inst, x_nominal);
     return fmi2OK;
 }
 
@@ -142,7 +143,7 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *eventInfo)
     if (fmiEnsureBuilt(inst, fn) != FmiOK) return fmi2Error;
     /* the model iterates to the end in one call; no time events (the period ends are state
      * events of the excitation phase, which follows the rotorSpeed input) */
-    status = inst->model->me->eventUpdate(inst, fn, &changed);
+    status = inst->me->eventUpdate(inst, fn, &changed);
     eventInfo->newDiscreteStatesNeeded = fmi2False;
     eventInfo->terminateSimulation = fmi2False;
     eventInfo->nominalsOfContinuousStatesChanged = fmi2False;

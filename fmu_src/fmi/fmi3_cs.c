@@ -290,7 +290,7 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3String ins
         sink->env = instanceEnvironment;
     }
     /* resourcePath (a native path in FMI 3.0, may be NULL) is kept; this FMU has no resources */
-    inst = fmiNew(&fmiModel, &FMI3_FACE, instanceName, resourcePath, sink ? fmi3Sink : NULL, sink, loggingOn);
+    inst = fmiNew(&fmiModel, NULL, &FMI3_FACE, instanceName, resourcePath, sink ? fmi3Sink : NULL, sink, loggingOn);
     if (inst == NULL) {
         instantiateFailed(logMessage, instanceEnvironment, fmi3Fatal,
                           "fmi3InstantiateCoSimulation: out of memory");

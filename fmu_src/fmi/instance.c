@@ -20,9 +20,13 @@ static char *copyString(const char *s)
     return p;
 }
 
+/* n bytes zeroed (at least one: calloc(0) may return NULL) */
+static void *zeroed(size_t n) { return calloc(1, n > 0 ? n : 1); }
+
 /* memory is zeroed once here (a cache, not state: a reset keeps it) */
-FmiInstance *fmiNew(const FmiModel *model, const FmiFace *face, const char *instanceName,
-                    const char *resourceLocation, FmiLogSink sink, void *sinkCtx, int loggingOn)
+FmiInstance *fmiNew(const FmiModel *model, const FmiModelExchange *me, const FmiFace *face,
+                    const char *instanceName, const char *resourceLocation, FmiLogSink sink, void *sinkCtx,
+                    int loggingOn)
 {
     FmiInstance *inst = (FmiInstance *)calloc(1, sizeof *inst);
     if (inst == NULL) {
@@ -30,14 +34,19 @@ FmiInstance *fmiNew(const FmiModel *model, const FmiFace *face, const char *inst
         return NULL;
     }
     inst->model = model;
+    inst->me = me;
     inst->face = face;
     inst->sinkCtx = sinkCtx;
     inst->instanceName = copyString(instanceName);
     inst->resourceLocation = copyString(resourceLocation);
-    inst->data = calloc(1, model->dataSize > 0 ? model->dataSize : 1);
-    inst->memory = calloc(1, model->memorySize > 0 ? model->memorySize : 1);
+    inst->data = zeroed(model->dataSize);
+    inst->memory = zeroed(model->memorySize);
+    if (me) {
+        inst->meData = zeroed(me->dataSize);
+        inst->meMemory = zeroed(me->memorySize);
+    }
     if (inst->instanceName == NULL || (resourceLocation != NULL && inst->resourceLocation == NULL) ||
-        inst->data == NULL || inst->memory == NULL) {
+        inst->data == NULL || inst->memory == NULL || (me && (inst->meData == NULL || inst->meMemory == NULL))) {
         fmiFree(inst);
         return NULL;
     }
@@ -56,6 +65,8 @@ void fmiFree(FmiInstance *inst)
     free(inst->resourceLocation);
     free(inst->data);
     free(inst->memory);
+    free(inst->meData);
+    free(inst->meMemory);
     free(inst->sinkCtx);
     inst->magic = 0;
     free(inst);
@@ -76,6 +87,7 @@ FmiInstance *fmiEnter(void *handle, const char *fn, int mask, int logCall)
 void fmiReset(FmiInstance *inst)
 {
     memset(inst->data, 0, inst->model->dataSize);
+    if (inst->me) memset(inst->meData, 0, inst->me->dataSize);
     memset(&inst->run, 0, sizeof inst->run); /* time = startTime = 0, no stop time, last status OK */
     inst->fsm = FsmInstantiated;
     inst->built = 0;
@@ -107,10 +119,17 @@ FmiStatus fmiSetupExperiment(FmiInstance *inst, const char *fn, int toleranceDef
     return FmiOK;
 }
 
+FmiStatus fmiBuild(FmiInstance *inst, const char *fn, int initState)
+{
+    FmiStatus status = inst->model->build(inst, fn, initState);
+    if (status == FmiOK && inst->me && inst->me->built) status = inst->me->built(inst, fn, initState);
+    inst->built = status == FmiOK;
+    return status;
+}
+
 FmiStatus fmiExitInitialization(FmiInstance *inst, const char *fn)
 {
-    FmiStatus status = inst->model->build(inst, fn, 1);
-    inst->built = status == FmiOK;
+    FmiStatus status = fmiBuild(inst, fn, 1);
     if (status != FmiOK) return status;
     inst->run.time = inst->run.startTime;
     inst->run.initialized = 1;

@@ -45,11 +45,13 @@ typedef struct FmiInstance {
     const FmiModel *model;
     const FmiFace *face;       /* names for messages (static storage of the face) */
     int32_t fsm;               /* FsmState */
-    int32_t modelExchange;     /* 1: instantiated for model exchange (the model has FmiModel.me) */
+    const FmiModelExchange *me; /* instantiated for model exchange with this table; NULL: co-simulation */
     FmiRun run;
     int32_t built;             /* the model's derived data follow its parameters */
     void *data;                /* model->dataSize bytes: the model's part of the FMU state */
     void *memory;              /* model->memorySize bytes: per-instance memory, not state */
+    void *meData;              /* me->dataSize bytes (model exchange): its part of the FMU state */
+    void *meMemory;            /* me->memorySize bytes (model exchange): per-instance memory */
     char *instanceName;
     char *resourceLocation;
     FmiLogSink sink;
@@ -62,9 +64,11 @@ typedef struct FmiInstance {
 #define FMI_INSTANCE_MAGIC 0x53426c6164654932ULL /* "SBladeI2" */
 
 /* Copies the strings; takes sinkCtx (freed with the instance, also on failure). sink may be NULL
- * (nothing is logged). NULL on allocation failure. */
-FmiInstance *fmiNew(const FmiModel *model, const FmiFace *face, const char *instanceName,
-                    const char *resourceLocation, FmiLogSink sink, void *sinkCtx, int loggingOn);
+ * (nothing is logged). me: the model-exchange table for a model-exchange instance, else NULL.
+ * NULL on allocation failure. */
+FmiInstance *fmiNew(const FmiModel *model, const FmiModelExchange *me, const FmiFace *face,
+                    const char *instanceName, const char *resourceLocation, FmiLogSink sink, void *sinkCtx,
+                    int loggingOn);
 void fmiFree(FmiInstance *inst);
 void fmiReset(FmiInstance *inst); /* start values, time 0, state machine instantiated; keeps logging */
 
@@ -73,6 +77,10 @@ void fmiReset(FmiInstance *inst); /* start values, time 0, state machine instant
  * logged when the handle is an instance. logCall: log the call (category logCalls) first. */
 FmiInstance *fmiEnter(void *handle, const char *fn, int mask, int logCall);
 
+
+/* The model's build (FmiModel.build), then for a model-exchange instance its FmiModelExchange.built;
+ * sets inst->built. */
+FmiStatus fmiBuild(FmiInstance *inst, const char *fn, int initState);
 
 FmiStatus fmiSetupExperiment(FmiInstance *inst, const char *fn, int toleranceDefined, double tolerance,
                              double startTime, int stopTimeDefined, double stopTime);

@@ -33,6 +33,7 @@ struct FmiStateCopy {
     FmiRun run;
     int32_t built;
     void *data;         /* model->dataSize bytes */
+    void *meData;       /* me->dataSize bytes of a model-exchange instance's copy, else NULL */
 };
 
 /* ------------------------------------------------------------------------------------------- */
@@ -54,7 +55,10 @@ static FmiStateCopy *newCopy(FmiInstance *inst)
     FmiStateCopy *b = (FmiStateCopy *)calloc(1, sizeof *b);
     if (b == NULL) return NULL;
     b->data = calloc(1, inst->model->dataSize > 0 ? inst->model->dataSize : 1);
-    if (b->data == NULL) {
+    if (inst->me) b->meData = calloc(1, inst->me->dataSize > 0 ? inst->me->dataSize : 1);
+    if (b->data == NULL || (inst->me && b->meData == NULL)) {
+        free(b->data);
+        free(b->meData);
         free(b);
         return NULL;
     }
@@ -71,6 +75,7 @@ static void destroyCopy(FmiStateCopy *b)
     unlinkCopy(b);
     b->magic = 0;
     free(b->data);
+    free(b->meData);
     free(b);
 }
 
@@ -107,6 +112,7 @@ FmiStatus fmiStateGet(FmiInstance *inst, const char *fn, void **state)
     b->run = inst->run;
     b->built = inst->built;
     memcpy(b->data, inst->data, inst->model->dataSize);
+    if (inst->me && b->meData) memcpy(b->meData, inst->meData, inst->me->dataSize);
     *state = b;
     return FmiOK;
 }
@@ -118,6 +124,9 @@ FmiStatus fmiStateSet(FmiInstance *inst, const char *fn, void *state)
     inst->run = b->run;
     inst->built = b->built;
     memcpy(inst->data, b->data, inst->model->dataSize);
+    /* a copy without model-exchange data (taken by a co-simulation instance) leaves them zero */
+    if (inst->me && b->meData) memcpy(inst->meData, b->meData, inst->me->dataSize);
+    else if (inst->me) memset(inst->meData, 0, inst->me->dataSize);
     inst->fsm = b->fsm;
     return FmiOK;
 }
@@ -356,6 +365,7 @@ FmiStatus fmiStateDeserialize(FmiInstance *inst, const char *fn, const unsigned 
     b->run = run;
     b->built = built;
     memcpy(b->data, data, m->dataSize);
+    if (inst->me && b->meData) memset(b->meData, 0, inst->me->dataSize); /* not serialized */
     free(data);
     *state = b;
     return FmiOK;

@@ -74,11 +74,8 @@ static double storedValue(const VarInfo *v, const void *data)
 /* Outputs need the model's derived data; before initialization they follow the parameters. */
 FmiStatus fmiEnsureBuilt(FmiInstance *inst, const char *fn)
 {
-    FmiStatus status;
     if (inst->built) return FmiOK;
-    status = inst->model->build(inst, fn, fsmPreInit(inst->fsm));
-    inst->built = status == FmiOK;
-    return status;
+    return fmiBuild(inst, fn, fsmPreInit(inst->fsm));
 }
 
 /* Looks up vr, checks its type; logs and returns NULL if unknown or of another type. */
@@ -118,6 +115,7 @@ FmiStatus fmiGetValues(FmiInstance *inst, const char *fn, const FmiValueRef vr[]
         if (!haveOutputs) {
             if (fmiEnsureBuilt(inst, fn) != FmiOK) return FmiError;
             m->outputs(inst);
+            if (inst->me && inst->me->outputs) inst->me->outputs(inst);
             haveOutputs = 1;
         }
         x = m->output(inst, v->output);

@@ -48,6 +48,12 @@ int dynBuildModel(DynModel *m, const BladeReduction *r, const ContactParams *cp,
     return 0;
 }
 
+void dynSetLoad(DynModel *m, double fw0, int engineOrder, int bladeIndex, int bladeCount)
+{
+    m->loadAmplitude = fw0;
+    m->loadLead = DYN_TWO_PI * (double)engineOrder * (double)bladeIndex / (double)bladeCount;
+}
+
 DynStatus dynUpdateDescribe(const DynModel *m, DynState *s)
 {
     /* the Jenkins element reports the macroslip DF (model-notes s.4) */

@@ -47,6 +47,9 @@ typedef struct {
     double K0omega2;          /* dK0/d(Omega^2) [kg] */
     double G;                 /* load gain int phi / phi(l) [m] */
     double omegaPerRpm;       /* excitation omega = omegaPerRpm n = engineOrder 2 pi n / 60 [rad/s per rpm] */
+    /* the built-in aerodynamic load (eq. 17), added to the aeroLoad input: F_w0 sin(psi + lead) */
+    double loadAmplitude;     /* F_w0 [N/m]; 0: off */
+    double loadLead;          /* 2 pi engineOrder i / N: blade i of N in the travelling wave [rad] */
     /* contact constants (eq. 3, 4, 14; model-notes s.2) */
     double sinG, cosG;        /* sin(gamma), cos(gamma) [-] */
     double kd;                /* tangential stiffness kdRatio kn [N/m] */
@@ -80,6 +83,11 @@ typedef struct {
  * NULL, gating and tracking are off, the contact force is 0. Returns 0 on success. */
 int dynBuildModel(DynModel *m, const BladeReduction *r, const ContactParams *cp, FrictionModel friction,
                   Projection projection, int gating, int tracked, int engineOrder);
+
+/* The built-in load F_w0 sin(psi + 2 pi engineOrder bladeIndex / bladeCount) [N/m] (eq. 17 on a
+ * disk of bladeCount blades; psi = engineOrder int Omega dt is the integrated state, so the load
+ * is exact at any communication step and follows any speed history). Call after dynBuildModel. */
+void dynSetLoad(DynModel *m, double fw0, int engineOrder, int bladeIndex, int bladeCount);
 
 /* (Re)computes s->df for s->B (macroslip DF for the Jenkins element: outputs only). Returns
  * DynOk or DynDescribeFailed. */

@@ -15,6 +15,13 @@ static inline int dynContactOn(const DynModel *m, const DynState *s)
     return s->mode == GateOn;
 }
 
+/* The aerodynamic load [N/m] at phase psi: the input fw plus the built-in F_w0 sin(psi + lead)
+ * (skipped when off: bit-identical to the input alone). */
+static inline double dynLoad(const DynModel *m, double fw, double psi)
+{
+    return m->loadAmplitude != 0.0 ? fw + m->loadAmplitude * sin(psi + m->loadLead) : fw;
+}
+
 /* f = dx/dt at state x for inputs fw [N/m], n [rpm] and an external force fext [N] on q (positive
  * along q; 0 for ShroudedBlade) with the discrete state of s (eq. 27 plus fext on the right).
  * Returns 1 if omega <= 0 while a describing-function force is needed (model-notes s.2). */
@@ -59,7 +66,7 @@ static inline int dynRhsExt(const DynModel *m, const DynState *s, double fw, dou
     }
     f[0] = v;
     {
-        double a = m->G * fw - m->C0 * v - K0 * q - Fc; /* generalized force [N] */
+        double a = m->G * dynLoad(m, fw, x[2]) - m->C0 * v - K0 * q - Fc; /* generalized force [N] */
         if (fext != 0.0) a += fext; /* skipped for 0: bit-identical to the blade without it */
         f[1] = a * m->invM;
     }

@@ -29,10 +29,11 @@ from typing import Any, Callable, Sequence
 import numpy as np
 from tqdm.auto import tqdm
 
-from harness.fmu.build import REPO_ROOT
 from harness.optional import require
 
-RESULTS_DIR = REPO_ROOT / "results"
+# relative: under the current directory, never inside the installed package (`make run` passes
+# --out results, the committed results of the checkout)
+RESULTS_DIR = Path("shroudedblade-results")
 DEFAULT_CACHE_DIR = RESULTS_DIR / "cache"
 
 

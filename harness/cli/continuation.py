@@ -25,7 +25,7 @@ from harness.studies.plots import branches_figure
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: build/ShroudedBlade.fmu, built if needed)")
+    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: the installed package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
     p.add_argument("--speed-range", type=float, nargs=2, default=[3000.0, 10000.0], metavar=("LO", "HI"),
                    help="speed range [rpm] (default 3000 10000)")
     p.add_argument("--model", choices=MODELS, default="fixedPoint", help="as for `periodic` (default fixedPoint)")

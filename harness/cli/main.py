@@ -13,14 +13,17 @@ import argparse
 import ast
 import importlib
 import importlib.util
+import os
 import re
 import sys
 from typing import Sequence
 
+from harness.api import version
 from harness.fmu.blade import FMUError, FMUNotFoundError
 from harness.fmu.build import BuildError
 from harness.model.excitation import ExcitationError
 from harness.model.params import ParameterError
+from harness.paths import IN_CHECKOUT
 
 # command name -> module (add your command with one line). Imported by name, only when run: the
 # product never imports the validation packages, and `validate`, `crosscheck`, `bench` are the only
@@ -40,6 +43,9 @@ COMMANDS: dict[str, str] = {
 }
 
 EXIT_USAGE = 2
+# validation commands that read and write the checkout's own files (bench/, crosscheck/): not for
+# an installed package, whose directory must stay as installed
+CHECKOUT_ONLY = ("bench", "crosscheck")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -74,19 +80,29 @@ def _known_errors() -> tuple[type[BaseException], ...]:
     return (ParameterError, ExcitationError, FMUNotFoundError, FMUError, BuildError)
 
 
+def _prog() -> str:
+    """`harness` when run as the installed console command, else `python -m harness`."""
+    return "harness" if os.path.basename(sys.argv[0]) == "harness" else "python -m harness"
+
+
 def build_parser(command: str | None) -> argparse.ArgumentParser:
+    prog = _prog()
     parser = _Parser(
-        prog="python -m harness",
-        description="ShroudedBlade: simulate the shrouded-blade FMU (build/ShroudedBlade.fmu), sweep speeds,"
+        prog=prog,
+        description="ShroudedBlade: simulate the shrouded-blade FMU (harness.fmu_path('ShroudedBlade')), sweep speeds,"
                     " reproduce the paper's studies and validate the FMU against the Python reference."
-                    " Run `python -m harness <command> --help` for the options of one command.",
+                    f" Run `{prog} <command> --help` for the options of one command.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog="examples:\n"
-               "  python -m harness simulate --plot tip.png              # 0.3 s at 5000 rpm -> CSV + PNG\n"
-               "  python -m harness simulate --speed 7000 --start-values d 4e-5 gating false\n"
-               "  python -m harness validate --quick                     # FMU vs reference, pass/fail table\n"
-               "The FMU (build/ShroudedBlade.fmu) is built on first use (cmake + gcc); parameter names\n"
-               "and defaults are those of modelDescription.xml (paper Table 1) plus Fw0 [N/m].")
+               f"  {prog} simulate --plot tip.png              # 0.3 s at 5000 rpm -> CSV + PNG\n"
+               f"  {prog} simulate --speed 7000 --start-values d 4e-5 gating false\n"
+               f"  {prog} periodic --speed 7000 --json          # every periodic orbit at 7000 rpm\n"
+               f"  {prog} run --out DIR                         # the paper's studies into DIR\n"
+               "Installed (pip install .), the FMUs come with the package; in a checkout they are built into\n"
+               "build/ on first use (cmake + gcc). Results go where --out/--output-file say (default: under\n"
+               "the current directory). Parameter names and defaults are those of modelDescription.xml\n"
+               "(paper Table 1) plus Fw0 [N/m].")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {version()}")
     sub = parser.add_subparsers(dest="command", metavar="<command>", parser_class=_Parser)
     for name, module in COMMANDS.items():
         p = sub.add_parser(name, help=_summary(module), description=_summary(module) + ".")
@@ -100,13 +116,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     command = next((a for a in argv if not a.startswith("-")), None)
     if command is not None and command not in COMMANDS:
         print(f"error: unknown command {command!r}; commands: {', '.join(COMMANDS)}"
-              " (see `python -m harness --help`)", file=sys.stderr)
+              f" (see `{_prog()} --help`)", file=sys.stderr)
         return EXIT_USAGE
     parser = build_parser(command)
     args = parser.parse_args(argv)
     if args.command is None:
         parser.print_help()
         return EXIT_USAGE
+    if args.command in CHECKOUT_ONLY:
+        if not IN_CHECKOUT:
+            print(f"error: `{args.command}` runs in a checkout of the sources (it writes to its {args.command}/"
+                  " directory), not in an installed harness", file=sys.stderr)
+            return EXIT_USAGE
     module = importlib.import_module(COMMANDS[args.command])
     try:
         return int(module.run(args) or 0)

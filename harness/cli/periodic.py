@@ -21,7 +21,7 @@ from harness.analysis.periodic.shooting import describe
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: build/ShroudedBlade.fmu, built if needed)")
+    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: the installed package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
     p.add_argument("--speed", type=float, required=True, metavar="RPM",
                    help=f"rotor speed [rpm], in (0, {input_range('rotorSpeed')[1]:g}]")
     p.add_argument("--model", choices=MODELS, default="fixedPoint",

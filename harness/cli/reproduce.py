@@ -27,7 +27,8 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                    help=f"parameter studies to run (default all: {' '.join(STUDIES)})")
     p.add_argument("--no-extras", action="store_true",
                    help="only the parameter studies (skip Fig. 2, 4/5, Campbell, Coulomb, paper iteration)")
-    p.add_argument("--output-dir", default=str(RESULTS_DIR), metavar="DIR", help=f"where to write (default {RESULTS_DIR})")
+    p.add_argument("--out", "--output-dir", dest="output_dir", default=str(RESULTS_DIR), metavar="DIR",
+                   help=f"where to write (default ./{RESULTS_DIR})")
     add_execution_options(p, cache=False)
 
 

@@ -1,10 +1,10 @@
-"""The main job: reproduce every study of the paper with the FMU and write results/ (make run).
+"""The main job: reproduce every study of the paper with the FMU and write them to --out (make run: results/).
 
 `python -m harness run` = `python -m harness reproduce --size default` with all studies and
 extras: Fig. 2, 4/5, 6-9 (the studies as branches of periodic orbits with their stability), the
 section-4 Coulomb comparison and a Campbell diagram as PNG + CSV, summary.json and the claims
 table claims.md; then the bladed disk's mistuning study at size small (issue 11,
-harness/studies/mistuning.py: results/mistuning/, cached per ring under results/cache/mistuning, so
+harness/studies/mistuning.py: <out>/mistuning/, cached per ring under <out>/cache/mistuning, so
 a second run reads it back). About 70 s on 2 cores (12 s with the ring cache warm).
 """
 from __future__ import annotations
@@ -22,7 +22,8 @@ from harness.studies.paper import SIZES
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--size", default="default", choices=list(SIZES), help="work size (default: default)")
-    p.add_argument("--output-dir", default=str(RESULTS_DIR), metavar="DIR", help=f"where to write (default {RESULTS_DIR})")
+    p.add_argument("--out", "--output-dir", dest="output_dir", default=str(RESULTS_DIR), metavar="DIR",
+                   help=f"where to write (default ./{RESULTS_DIR})")
     add_execution_options(p, cache=False)
 
 

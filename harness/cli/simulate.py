@@ -31,7 +31,7 @@ DEFAULT_OUTPUT = "ShroudedBlade_out.csv"
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: build/ShroudedBlade.fmu, built if needed)")
+    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: the installed package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
     p.add_argument("--start-time", type=float, default=0.0, metavar="S", help="start time [s] (default 0)")
     p.add_argument("--stop-time", type=float, default=0.3, metavar="S", help="stop time [s] (default 0.3)")
     p.add_argument("--output-interval", type=float, default=1e-4, metavar="S",

@@ -5,7 +5,7 @@
 [--plot sweep.png]`. `time` = FMU up/down sweeps carrying the state from speed to speed (tracked
 amplitude, grid refined near peaks and jumps), `fixed` = the paper's fixed point A(B) = B per speed
 (every root), `hb` = harmonic balance of the reference (every branch, stability). Every point is
-cached (results/cache by default), so an interrupted sweep continues where it stopped when the
+cached (./shroudedblade-results/cache by default), so an interrupted sweep continues where it stopped when the
 same command is run again. The configuration is checked completely before any work starts.
 """
 from __future__ import annotations
@@ -28,7 +28,7 @@ OUT_DTYPE = [("speed", "f8"), ("method", "U9"), ("amplitude", "f8"), ("band_lo",
 def add_execution_options(p: argparse.ArgumentParser, cache: bool = True) -> None:
     """Options shared by sweep / reproduce / run: where and how the work runs (with `cache`, the
     per-point result cache of the transient sweeps)."""
-    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: build/ShroudedBlade.fmu, built if needed)")
+    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: the installed package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="local worker processes (default: number of CPUs; 1 = in this process)")
     p.add_argument("--scheduler", metavar="ADDRESS",

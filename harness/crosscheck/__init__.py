@@ -1,1 +1,2 @@
-"""The same FMU in other FMI importers (importers/), compared; the cross-check deliverables."""
+"""Validation: the same FMU in other FMI importers (importers/), compared; the cross-check
+deliverables; the two-blade system example in fmpy and libcosim."""

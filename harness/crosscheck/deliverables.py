@@ -262,7 +262,7 @@ ME_CHECK_REL_TOL = 1e-11  # fmpy's filed model-exchange run: CVode tighter than 
 #: that differ by 4e-6 (relative, in q) at 0.02 s (fmpy's model exchange applies the table's steps at
 #: its own solver points; FMI4j's RK4 and the co-simulation FMU hold them exactly) are 2e-4 apart at
 #: 0.12 s and 0.85 apart at 0.3 s, and the tracked amplitude then falls out of the band; up to 0.1 s
-#: all three stay within 1.3e-4 (measured for issue 12).
+#: all three stay within 1.3e-4 (measured when the 2.0/me deliverables were made).
 ME_STOP_TIME = 0.1
 
 

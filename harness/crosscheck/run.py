@@ -1,11 +1,11 @@
 """Cross-tool validation: the same FMU in independent FMI importers, compared with fmpy (`crosscheck`).
 
 For each scenario (`harness.crosscheck.plan.SCENARIOS`: 5000 rpm, and a run-up) one input plan is
-built and fed to every importer: fmpy (`simulate_fmu` with the input table: the reference; and an
-FMU2Slave loop), libcosim (libcosimpy), Ecos (ecospy) and FMI4j (Java driver, Maven). Held inputs
-are compared with fmpy's `simulate_fmu`; runs with input derivatives (order 8) with fmpy's loop fed
-the same derivatives. A tool that passes its own communication points/step sizes (libcosim:
-integer nanoseconds; Ecos: accumulated time, constant h) is also compared with fmpy's loop fed that
+built and fed to every importer: fmpy (`simulate_fmu` with the input table: the reference), a
+master loop over the project's FMI binding, libcosim (libcosimpy), Ecos (ecospy) and FMI4j (Java driver, Maven). Held inputs
+are compared with fmpy's `simulate_fmu`; runs with input derivatives (order 8) with the binding loop
+fed the same derivatives. A tool that passes its own communication points/step sizes (libcosim:
+integer nanoseconds; Ecos: accumulated time, constant h) is also compared with the binding loop fed that
 very (t_k, h_k) sequence, which isolates the FMU from the tool. The static checkers
 (fmu-manipulation-toolbox, fmpy.validation) run on the archive. Prints the agreement table
 (importer, version, inputs, max relative difference, wall time) and writes it to
@@ -47,7 +47,7 @@ class Row:
     run: Run
     diff: float = float("nan")  # max relative difference to the fmpy run with the same inputs
     worst: str = ""
-    own_grid_diff: float | None = None  # to fmpy fed the tool's own (t_k, h_k), where they differ
+    own_grid_diff: float | None = None  # to the binding loop fed the tool's own (t_k, h_k), where they differ
     compared_with: str = ""
 
     @property
@@ -65,7 +65,7 @@ class ScenarioReport:
     scenario: Scenario
     rows: list[Row] = field(default_factory=list)
     held_vs_taylor: float = float("nan")  # input reconstruction effect: held vs order-8 inputs (fmpy)
-    sensitivity: float = float("nan")  # fmpy vs fmpy with step sizes changed by a few ulps
+    sensitivity: float = float("nan")  # fmpy vs the binding loop with step sizes changed by a few ulps
 
 
 def _attempt(importer: str, inputs: str, fn: Callable[[], Run]) -> Run:
@@ -104,7 +104,7 @@ def run_scenario(fmu: Path, scenario: Scenario, tools: tuple[str, ...] = TOOLS,
         add(xfmpy.run_slave_loop(fmu, scenario, held), ref, "fmpy simulate_fmu, held")
         # the model's own sensitivity: h_k = step exactly instead of t_{k+1} - t_k (a few ulps apart)
         sens = xfmpy.run_slave_loop(fmu, scenario, held.with_time(held.time, scenario.step))
-        sens.importer, sens.inputs = "fmpy FMU2Slave loop, h_k = h (ulp-perturbed steps)", "held"
+        sens.importer, sens.inputs = "FMI binding loop, h_k = h (ulp-perturbed steps)", "held"
         row = Row(sens, compared_with="sensitivity")
         row.diff, row.worst = max_rel_diff(sens.result, ref.result)
         report.sensitivity = row.diff
@@ -122,7 +122,7 @@ def run_scenario(fmu: Path, scenario: Scenario, tools: tuple[str, ...] = TOOLS,
         run = _attempt("FMI4j (Java driver)", "held", lambda: xj.run(fmu, scenario, held))
         add(run, ref, "fmpy simulate_fmu, held")
         run = _attempt("FMI4j (Java driver)", f"taylor{order}", lambda: xj.run(fmu, scenario, plan, build_first=False))
-        add(run, taylor_ref, f"fmpy FMU2Slave loop, order {order}")
+        add(run, taylor_ref, f"FMI binding loop, order {order}")
     return report
 
 
@@ -168,11 +168,11 @@ def static_table(fmu: Path) -> tuple[str, bool]:
 
 
 def system_section(fmu: Path, stop_time: float | None) -> tuple[str, bool]:
-    """The system example (Excitation FMU + two blades) in the fmpy master and in libcosim."""
+    """The system example (Excitation FMU + two blades) in the binding master and in libcosim."""
     system = se.System() if stop_time is None else se.System(stop_time=stop_time)
     exc = se.build_excitation_fmu()
     t0 = _time.perf_counter()
-    a = se.run_fmpy(fmu, exc, system)
+    a = se.run_binding(fmu, exc, system)
     t1 = _time.perf_counter()
     b = se.run_libcosim(fmu, exc, system)
     t2 = _time.perf_counter()
@@ -180,8 +180,8 @@ def system_section(fmu: Path, stop_time: float | None) -> tuple[str, bool]:
     blades = ", ".join(f"{k} {dict(v) or 'Table 1'}" for k, v in system.blades.items())
     lines = [f"### System example: Excitation FMU (run-up {system.excitation['n0']:g} -> {system.excitation['n1']:g} rpm) "
              f"driving two blades ({blades}); {system.stop_time:g} s, step {system.step:g} s", "",
-             "| master | recorded variables | max rel. diff to the fmpy master | wall time [s] |", "|---|---|---|---|",
-             f"| fmpy FMU2Slave loop | {len(a.dtype.names) - 1} | (reference) | {t1 - t0:.3f} |",
+             "| master | recorded variables | max rel. diff to the binding master | wall time [s] |", "|---|---|---|---|",
+             f"| FMI binding loop | {len(a.dtype.names) - 1} | (reference) | {t1 - t0:.3f} |",
              f"| libcosim (libcosimpy) | {len(b.dtype.names) - 1} | {_fmt(d)}{' (' + worst + ')' if d else ''} | "
              f"{t2 - t1:.3f} |"]
     return "\n".join(lines), d <= TOLERANCE

@@ -1,12 +1,12 @@
-"""System-level example: an excitation FMU driving two blade FMU instances, in fmpy and in libcosim.
+"""System-level example: an excitation FMU driving two blade FMU instances, in our master loop and in libcosim.
 
-The project's small `Excitation` FMU (crosscheck/excitation: rotor speed n(t), constant or a
+The project's small `Excitation` FMU (fmu_src/models/Excitation: rotor speed n(t), constant or a
 linear run-up, and the phase-continuous load f_w = Fw0 sin(3 * int 2 pi n/60)) is connected to two
 instances of ShroudedBlade with different parameters: `tuned` (paper Table 1) and `mistuned` (a
 heavier shroud, m0 = 0.03 kg, and a wider gap, d = 4e-5 m). Connections: excitation.aeroLoad ->
 each blade's aeroLoad, excitation.rotorSpeed -> each blade's rotorSpeed. Both masters use the same
 fixed-step Jacobi scheme (outputs at t_k are the inputs for [t_k, t_{k+1}], inputs held): a
-hand-written fmpy loop over FMU2Slave, and libcosim (libcosimpy) with `connect_real_variables`;
+hand-written loop over the project's FMI binding (harness.fmu.slave), and libcosim (libcosimpy) with `connect_real_variables`;
 both pass libcosim's integer-nanosecond communication points. The excitation FMU is built by the
 project's CMake build with the blade (build/Excitation.fmu, `build_excitation_fmu`). `python -m
 harness.crosscheck.system_example` runs both masters and prints the largest relative difference.
@@ -14,20 +14,18 @@ harness.crosscheck.system_example` runs both masters and prints the largest rela
 from __future__ import annotations
 
 import argparse
-import shutil
+from contextlib import ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
-from fmpy import extract, read_model_description
-from fmpy.fmi2 import FMU2Slave
 import numpy as np
 
 from harness.crosscheck.common import max_rel_diff, outputs, result_array
 from harness.fmu.blade import fmu_path
 from harness.fmu.build import EXCITATION_FMU, build
 from harness.fmu.libcosim import NS_PER_S, last_error, ns_time_grid, samples, to_ns
-from harness.fmu.slave import variables_by_name
+from harness.fmu.slave import Slave, Unpacked, variables_by_name
 from harness.optional import require
 EXC = "excitation"
 
@@ -49,7 +47,7 @@ class System:
 
 def build_excitation_fmu(out: Path = EXCITATION_FMU) -> Path:
     """build/Excitation.fmu, built by CMake with the blade FMU (target excitation_fmu, linked with
-    libm), from fmu_src/fmi + fmu_src/models/excitation.c; CMake rebuilds it when a source changed."""
+    libm), from fmu_src/fmi + fmu_src/models/Excitation; CMake rebuilds it when a source changed."""
     build(("excitation_fmu",))
     return out
 
@@ -62,67 +60,39 @@ def _result_names(blade_fmu: Path, system: System) -> list[tuple[str, str, str]]
     return cols
 
 
-class _Slave:
-    def __init__(self, fmu: Path, name: str):
-        self.md = read_model_description(str(fmu))
-        self.dir = extract(str(fmu))
-        self.vars = variables_by_name(fmu)
-        self.fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=self.dir,
-                             modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=name)
-        self.fmu.instantiate()
-
-    def set(self, values: Mapping[str, Any]) -> None:
-        for name, v in values.items():
-            vr, typ = self.vars[name]
-            {"Real": lambda: self.fmu.setReal([vr], [float(v)]),
-             "Integer": lambda: self.fmu.setInteger([vr], [int(v)]),
-             "Boolean": lambda: self.fmu.setBoolean([vr], [bool(v)])}[typ]()
-
-    def get(self, name: str) -> float:
-        vr, typ = self.vars[name]
-        return float(self.fmu.getReal([vr])[0] if typ == "Real" else self.fmu.getInteger([vr])[0])
-
-    def close(self) -> None:
-        try:
-            self.fmu.terminate()
-        finally:
-            self.fmu.freeInstance()
-            shutil.rmtree(self.dir, ignore_errors=True)
-
-
-def run_fmpy(blade_fmu: Path, exc_fmu: Path, system: System) -> np.ndarray:
-    """The system in a hand-written fmpy master loop (Jacobi, held inputs, libcosim's time grid)."""
+def run_binding(blade_fmu: Path, exc_fmu: Path, system: System) -> np.ndarray:
+    """The system in a hand-written master loop over the FMI binding (Jacobi, held inputs,
+    libcosim's time grid)."""
     t = ns_time_grid(0.0, system.step, system.n_steps)
     cols = _result_names(blade_fmu, system)
-    slaves: dict[str, _Slave] = {}
-    try:
-        slaves[EXC] = _Slave(exc_fmu, EXC)
+    slaves: dict[str, Slave] = {}
+    with ExitStack() as stack:
+        exc, blade = (stack.enter_context(Unpacked(f)) for f in (exc_fmu, blade_fmu))
+        slaves[EXC] = exc.instance(EXC, initialize=False, stop_time=float(t[-1]))
+        stack.callback(slaves[EXC].free)
         for b in system.blades:
-            slaves[b] = _Slave(blade_fmu, b)
+            slaves[b] = blade.instance(b, initialize=False, stop_time=float(t[-1]))
+            stack.callback(slaves[b].free)
         params = {EXC: dict(system.excitation), **{b: dict(p) for b, p in system.blades.items()}}
         for name, s in slaves.items():
-            s.fmu.setupExperiment(startTime=0.0, stopTime=float(t[-1]))
-            s.fmu.enterInitializationMode()
-            s.set(params[name])
+            s.s.enter_initialization_mode()
+            s.set_params(params[name])
 
         def transfer() -> None:
-            u = {"aeroLoad": slaves[EXC].get("aeroLoad"), "rotorSpeed": slaves[EXC].get("rotorSpeed")}
+            u = dict(zip(("aeroLoad", "rotorSpeed"), slaves[EXC].get(["aeroLoad", "rotorSpeed"])))
             for b in system.blades:
-                slaves[b].set(u)
+                slaves[b].set_params(u)
 
         transfer()  # initial inputs from the excitation's initial outputs
         for s in slaves.values():
-            s.fmu.exitInitializationMode()
+            s.s.exit_initialization_mode()
         rows = np.empty((len(t), len(cols)))
-        rows[0] = [slaves[i].get(v) for i, v, _ in cols]
+        rows[0] = [slaves[i].get([v])[0] for i, v, _ in cols]
         for k in range(system.n_steps):
             transfer()
             for s in slaves.values():
-                s.fmu.doStep(currentCommunicationPoint=float(t[k]), communicationStepSize=float(t[k + 1] - t[k]))
-            rows[k + 1] = [slaves[i].get(v) for i, v, _ in cols]
-    finally:
-        for s in slaves.values():
-            s.close()
+                s.step(float(t[k]), float(t[k + 1] - t[k]))
+            rows[k + 1] = [slaves[i].get([v])[0] for i, v, _ in cols]
     return result_array(t, {c: rows[:, j] for j, (_, _, c) in enumerate(cols)})
 
 
@@ -191,13 +161,13 @@ def main(argv: list[str] | None = None) -> int:
     system = System(stop_time=args.stop_time)
     blade = fmu_path(build=True)
     exc = build_excitation_fmu()
-    a = run_fmpy(blade, exc, system)
+    a = run_binding(blade, exc, system)
     b = run_libcosim(blade, exc, system)
     d, worst = compare(b, a)
     for name in system.blades:
         amp = np.max(np.abs(a[f"{name}.tipDisplacement"]))
         print(f"{name}: max |tipDisplacement| = {amp:.4e} m")
-    print(f"libcosim vs fmpy master: max relative difference {d:.2e} ({worst})")
+    print(f"libcosim vs the binding master: max relative difference {d:.2e} ({worst})")
     return 0 if d <= 1e-10 else 1
 
 

@@ -1,1 +1,3 @@
-"""The FMU from Python: build it with CMake (build) and drive it through a ctypes/fmpy binding (blade)."""
+"""The FMU from Python (layer above model): build it with CMake (build), the FMI binding (binding: ctypes,
+FMI 2.0 and 3.0), the wrappers on it (blade: BladeFMU; slave: the ring's name-based slave) and
+libcosim's time (libcosim)."""

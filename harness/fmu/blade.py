@@ -1,4 +1,5 @@
-"""Locate/build the ShroudedBlade FMU and drive it fast: a context-managed wrapper over fmpy's FMU2Slave.
+"""Locate/build the ShroudedBlade FMU and drive it fast: a context-managed wrapper over the project's
+FMI binding (harness.fmu.binding; fmpy reads the model description and extracts the FMU).
 
 `BladeFMU` extracts the FMU once, instantiates it once, and for every `run()` calls fmi2Reset,
 sets the (validated) parameters, initializes and steps over a fixed communication grid. The step
@@ -21,14 +22,11 @@ import sys
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
-from fmpy import calloc, extract, free, read_model_description
-from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
-                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
 import numpy as np
+from fmpy import extract, read_model_description
 
 from harness.fmu import build as _build
-from harness.fmu.fmi2_api import bind
+from harness.fmu.binding import FmiError, LogRecord, fmi2
 from harness.model.excitation import MAX_ORDER, AeroLoad, ExcitationError, Signal, as_speed
 from harness.model.params import ParameterError, fmu_parameters, input_range, validate
 
@@ -60,8 +58,9 @@ class FMUState(bytes):
 
 
 def fmu_path(build: bool = True) -> Path:
-    """build/ShroudedBlade.fmu, built (if out of date) when `build` and the C sources are present."""
-    sources = list((_build.REPO_ROOT / "fmu_src").rglob("*.c"))
+    """build/ShroudedBlade.fmu, built (if out of date) when `build` and the C sources are present;
+    installed: the package's own (harness/fmus/ShroudedBlade.fmu)."""
+    sources = list((_build.REPO_ROOT / "fmu_src").rglob("*.c")) if _build.IN_CHECKOUT else []
     if build and sources and shutil.which("cmake"):
         try:
             return _build.build(("fmu",))
@@ -70,7 +69,8 @@ def fmu_path(build: bool = True) -> Path:
             raise FMUNotFoundError(f"building {_build.FMU_PATH} failed ({first}): run `make fmu` to see the"
                                    " compiler output") from exc
     if not _build.FMU_PATH.is_file():
-        raise FMUNotFoundError(f"{_build.FMU_PATH} not found: build it with `make fmu`"
+        how = "build it with `make fmu`" if _build.IN_CHECKOUT else "reinstall the harness with `pip install`"
+        raise FMUNotFoundError(f"{_build.FMU_PATH} not found: {how}"
                                " (needs cmake and a C compiler) or pass the path of an FMU")
     return _build.FMU_PATH
 
@@ -210,7 +210,7 @@ class BladeFMU:
         self.variables = {v.name: v for v in self.md.modelVariables}
         self.output_names = [v.name for v in self.md.modelVariables if v.causality == "output"]
         self._unzip: str | None = extract(str(self.path))
-        self._slave: FMU2Slave | None = None
+        self._slave: fmi2.Fmi2Instance | None = None
         self._phase = "closed"  # instantiated | stepping | failed | closed
         self._time = math.nan
         self._params: dict[str, Any] | None = None
@@ -223,33 +223,25 @@ class BladeFMU:
 
     # ---- lifecycle ----
     def _instantiate(self) -> None:
-        self._slave = FMU2Slave(guid=self.md.guid, unzipDirectory=self._unzip,
-                                modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName="blade",
-                                fmiCallLogger=(lambda m: print(m, file=sys.stderr)) if self.fmi_logging else None)
-        cb = fmi2CallbackFunctions()
-        cb.logger = fmi2CallbackLoggerTYPE(self._on_log)
-        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        # No fmpy logger proxy: it keeps ONE process-global Python logger, so a second instance
-        # would steal (and, once freed, crash) the first one's messages. Our FMU formats every
-        # message itself and passes it as a printf format with '%' escaped as '%%', so a plain
-        # per-instance ctypes callback receives it complete.
-        self._callbacks = cb  # kept alive until after fmi2FreeInstance
-        self._slave.instantiate(callbacks=cb, loggingOn=True)
+        lib = fmi2.load(fmi2.binary_path(self._unzip, self.md.coSimulation.modelIdentifier))
+        # the binding's per-instance logger: several instances in one process keep their messages apart
+        self._slave = fmi2.Fmi2Instance(lib, "blade", self.md.guid, fmi2.resource_uri(self._unzip), logging_on=True,
+                                        log_limit=200, on_log=self._on_log,
+                                        on_call=self._print_call if self.fmi_logging else None)
         self._phase = "instantiated"
         if not self.log:  # loggingOn enabled every category: keep only the status ones
-            self._slave.setDebugLogging(False, [])
-            self._slave.setDebugLogging(True, _ERROR_CATEGORIES)
-        dll = self._slave.dll
-        self._c = self._slave.component
-        self._setReal = bind(dll, "fmi2SetReal")
-        self._getReal = bind(dll, "fmi2GetReal")
-        self._getInteger = bind(dll, "fmi2GetInteger")
-        self._setDer = bind(dll, "fmi2SetRealInputDerivatives")
-        self._doStep = bind(dll, "fmi2DoStep")
+            self._slave.set_debug_logging(False, [])
+            self._slave.set_debug_logging(True, _ERROR_CATEGORIES)
+        self._c = self._slave.c
+        self._setReal, self._getReal, self._getInteger = lib.fmi2SetReal, lib.fmi2GetReal, lib.fmi2GetInteger
+        self._setDer, self._doStep = lib.fmi2SetRealInputDerivatives, lib.fmi2DoStep
         if self.fmi_logging:
             for name in ("_setReal", "_getReal", "_getInteger", "_setDer", "_doStep"):
                 setattr(self, name, self._logged(name[1:], getattr(self, name)))
+
+    @staticmethod
+    def _print_call(function: str, status: int) -> None:
+        print(f"{function} -> {STATUS[status] if 0 <= status < 6 else status}", file=sys.stderr)
 
     def _logged(self, name: str, f):
         """Wrap a raw FMI function so each call is printed with its values (for --fmi-logging)."""
@@ -275,10 +267,9 @@ class BladeFMU:
             return st
         return call
 
-    def _on_log(self, env, instance, status, category, message) -> None:
-        text = (f"[{STATUS[status] if 0 <= status < 6 else status}] "
-                f"{(category or b'').decode(errors='replace')}: "
-                f"{(message or b'').decode(errors='replace').replace('%%', '%')}")
+    def _on_log(self, rec: LogRecord) -> None:
+        status = rec.status
+        text = f"[{STATUS[status] if 0 <= status < 6 else status}] {rec.category or ''}: {rec.message or ''}"
         self.messages.append(text)
         self._run_messages.append(text)
         if self.log:
@@ -291,10 +282,13 @@ class BladeFMU:
                 if self._phase == "stepping":
                     try:
                         self._slave.terminate()
-                    except FMICallException:
+                    except FmiError:
                         pass
                 if self._phase != "fatal":
-                    self._slave.freeInstance()
+                    self._slave.free_instance()
+                    self._slave.lib.close()
+                else:
+                    self._slave.abandon()  # no call is allowed after Fatal
         finally:
             self._slave, self._phase = None, "closed"
             if self._unzip is not None:
@@ -324,7 +318,7 @@ class BladeFMU:
     def _guard(self, what: str, t: float, fn, *args):
         try:
             return fn(*args)
-        except FMICallException as exc:
+        except FmiError as exc:
             raise self._fail(what, exc.status, t, None) from None
 
     # ---- parameters and setup ----
@@ -338,13 +332,13 @@ class BladeFMU:
             v = self.variables[name]
             by_type[v.type][0].append(v.valueReference)
             by_type[v.type][1].append(value)
-        self._guard("fmi2SetReal (parameters)", start, s.setReal, *by_type["Real"])
-        self._guard("fmi2SetInteger (parameters)", start, s.setInteger, *by_type["Integer"])
-        self._guard("fmi2SetBoolean (parameters)", start, s.setBoolean, *by_type["Boolean"])
-        self._guard("fmi2SetupExperiment", start, s.setupExperiment, None, start, None)
-        self._guard("fmi2EnterInitializationMode", start, s.enterInitializationMode)
-        self._guard("fmi2SetReal (inputs)", start, s.setReal, [VR_AERO, VR_SPEED], list(u0))
-        self._guard("fmi2ExitInitializationMode", start, s.exitInitializationMode)
+        self._guard("fmi2SetReal (parameters)", start, s.set_real, *by_type["Real"])
+        self._guard("fmi2SetInteger (parameters)", start, s.set_integer, *by_type["Integer"])
+        self._guard("fmi2SetBoolean (parameters)", start, s.set_boolean, *by_type["Boolean"])
+        self._guard("fmi2SetupExperiment", start, s.setup_experiment, start)
+        self._guard("fmi2EnterInitializationMode", start, s.enter_initialization_mode)
+        self._guard("fmi2SetReal (inputs)", start, s.set_real, [VR_AERO, VR_SPEED], list(u0))
+        self._guard("fmi2ExitInitializationMode", start, s.exit_initialization_mode)
         self._phase = "stepping"
 
     @staticmethod
@@ -540,11 +534,11 @@ class BladeFMU:
         if self._phase not in ("stepping", "instantiated"):
             raise RuntimeError(f"cannot get the FMU state in phase {self._phase}")
         s = self._slave
-        st = self._guard("fmi2GetFMUstate", self._time, s.getFMUstate)
+        st = self._guard("fmi2GetFMUstate", self._time, s.get_fmu_state)
         try:
-            raw = self._guard("fmi2SerializeFMUstate", self._time, s.serializeFMUstate, st)
+            raw = self._guard("fmi2SerializeFMUstate", self._time, s.serialize_fmu_state, st)
         finally:
-            s.freeFMUstate(st)
+            s.free_fmu_state(st)
         out = FMUState(raw)
         out.time, out.params = self._time, dict(self._params) if self._params else None
         self._held = bytes(raw)
@@ -565,11 +559,11 @@ class BladeFMU:
         if self._phase == "failed":
             self._guard("fmi2Reset", self._time, s.reset)
             self._phase = "instantiated"
-        st = self._guard("fmi2DeSerializeFMUstate", self._time, s.deSerializeFMUstate, bytes(state))
+        st = self._guard("fmi2DeSerializeFMUstate", self._time, s.deserialize_fmu_state, bytes(state))
         try:
-            self._guard("fmi2SetFMUstate", self._time, s.setFMUstate, st)
+            self._guard("fmi2SetFMUstate", self._time, s.set_fmu_state, st)
         finally:
-            s.freeFMUstate(st)
+            s.free_fmu_state(st)
         self._phase = "stepping"
         self._held = bytes(state)
         self._time = getattr(state, "time", None) if getattr(state, "time", None) is not None else math.nan
@@ -582,12 +576,12 @@ class RawFMI:
     component pointer `c`; statuses are returned as ints, nothing is checked here."""
 
     def __init__(self, fmu: BladeFMU):
-        dll = fmu._slave.dll
+        lib = fmu._slave.lib
         self.c = fmu._c
-        self.reset = bind(dll, "fmi2Reset")
-        self.setupExperiment = bind(dll, "fmi2SetupExperiment")
-        self.enterInitializationMode = bind(dll, "fmi2EnterInitializationMode")
-        self.exitInitializationMode = bind(dll, "fmi2ExitInitializationMode")
+        self.reset = lib.fmi2Reset
+        self.setupExperiment = lib.fmi2SetupExperiment
+        self.enterInitializationMode = lib.fmi2EnterInitializationMode
+        self.exitInitializationMode = lib.fmi2ExitInitializationMode
         self.setReal, self.getReal, self.setDer, self.doStep = fmu._setReal, fmu._getReal, fmu._setDer, fmu._doStep
-        self.setInteger = bind(dll, "fmi2SetInteger")
-        self.setBoolean = bind(dll, "fmi2SetBoolean")
+        self.setInteger = lib.fmi2SetInteger
+        self.setBoolean = lib.fmi2SetBoolean

@@ -1,7 +1,8 @@
-"""Build the FMU (and the physics test library) with CMake into build/, once, under a file lock.
+"""Build the FMUs (and the physics test library) with CMake into build/, once, under a file lock.
 
 Used by `harness.fmu.blade` (build-if-needed) and the test session fixture. CMake decides what is out
-of date; the lock keeps concurrent processes (pytest workers, sweeps) from building at once.
+of date; the lock keeps concurrent processes (pytest workers, sweeps) from building at once. An
+installed package has its FMUs already (harness/paths.py): there `build` only checks that they are.
 """
 from __future__ import annotations
 
@@ -10,13 +11,16 @@ import subprocess
 import sys
 from pathlib import Path
 
-from harness.paths import REPO_ROOT
+from harness.paths import BUILD_DIR, IN_CHECKOUT, INSTALLED_DIR, REPO_ROOT
 
-BUILD_DIR = REPO_ROOT / "build"
 FMU_PATH = BUILD_DIR / "ShroudedBlade.fmu"
 FMU3_PATH = BUILD_DIR / "fmi3" / "ShroudedBlade.fmu"  # FMI 3.0 co-simulation, CMake target fmu3
 EXCITATION_FMU = BUILD_DIR / "Excitation.fmu"
 PHYSICS_LIB = BUILD_DIR / "libsbphysics.so"
+# CMake target -> its file under BUILD_DIR (those an installed package carries; sbphysics is for tests)
+TARGET_FILES = {"fmu": "ShroudedBlade.fmu", "fmu3": "fmi3/ShroudedBlade.fmu", "excitation_fmu": "Excitation.fmu",
+                "blade_external_fmu": "BladeExternalContact.fmu", "shroud_contact_fmu": "ShroudContact.fmu",
+                "ring_master": "libring_master.so"}
 
 
 class BuildError(RuntimeError):
@@ -24,7 +28,10 @@ class BuildError(RuntimeError):
 
 
 def build(targets: tuple[str, ...] = ("fmu", "excitation_fmu", "sbphysics"), build_dir: Path = BUILD_DIR) -> Path:
-    """Configure (first time) and build `targets`; returns the FMU path."""
+    """Configure (first time) and build `targets`; returns the FMU path. Installed: checks that the
+    targets' files are in the package (nothing to build)."""
+    if not IN_CHECKOUT:
+        return _installed(targets)
     build_dir.mkdir(parents=True, exist_ok=True)
     with open(build_dir / ".build.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
@@ -40,9 +47,31 @@ def build(targets: tuple[str, ...] = ("fmu", "excitation_fmu", "sbphysics"), bui
     return build_dir / "ShroudedBlade.fmu"
 
 
+# FMU name (its file under BUILD_DIR without .fmu) -> CMake target
+FMU_TARGETS = {f.removesuffix(".fmu"): t for t, f in TARGET_FILES.items() if f.endswith(".fmu")}
+
+
+def fmu_file(name: str) -> Path:
+    """The FMU `name` (a key of FMU_TARGETS): the installed package's, or the checkout's build/ one,
+    built if out of date."""
+    if name not in FMU_TARGETS:
+        raise KeyError(f"no FMU named {name!r}: choose from {', '.join(FMU_TARGETS)}")
+    build((FMU_TARGETS[name],))
+    return BUILD_DIR / TARGET_FILES[FMU_TARGETS[name]]
+
+
+def _installed(targets: tuple[str, ...]) -> Path:
+    for t in targets:
+        path = INSTALLED_DIR / TARGET_FILES.get(t, t)
+        if not path.is_file():
+            raise BuildError(f"{path} is not installed (CMake target {t!r}): the installed harness carries only"
+                             f" {', '.join(TARGET_FILES.values())}; reinstall it with `pip install` from the sources")
+    return INSTALLED_DIR / TARGET_FILES["fmu"]
+
+
 # fmpy's CMake project (fmpy/c-code/CMakeLists.txt) links no library, and <SourceFiles> in FMI 2.0
 # has no place to name one: without this the binary leaves sin/cos/acos undefined and loads only
-# into processes that already hold libm (Python), not into a C master (issue 13). STANDARD_LIBRARIES
+# into processes that already hold libm (Python), not into a C master. STANDARD_LIBRARIES
 # goes at the end of the link line, so it also holds with --as-needed.
 REBUILD_CMAKE_OPTIONS = {"CMAKE_C_STANDARD_LIBRARIES:STRING": "-lm"}
 

@@ -1,1 +1,2 @@
-"""The model's inputs: parameter sets with validation (params) and the aerodynamic excitation (excitation)."""
+"""The model (the lowest layer): parameter sets with validation (params), the aerodynamic excitation
+(excitation), the blade's Galerkin reduction (galerkin) and the contact's describing functions (contact)."""

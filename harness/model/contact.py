@@ -209,6 +209,32 @@ def _df_closed(cc: ContactConsts, B: np.ndarray, model: int) -> tuple[np.ndarray
     return fk, fcw, pk, angles
 
 
+def df_model(model: int, projection: int) -> int:
+    """The describing-function model of frictionModel `model` (3, the time-domain element, reports
+    the macroslip DF), after checking model and projection."""
+    if model not in (MACROSLIP_DF, COULOMB_DF, MACROSLIP_TD):
+        raise ValueError(f"model must be 1, 2 or 3, got {model!r}")
+    if projection not in (1, 2):
+        raise ValueError(f"projection must be 1 or 2, got {projection!r}")
+    return MACROSLIP_DF if model == MACROSLIP_TD else model
+
+
+def pack_df(B: Any, omega: float, sin_gamma: float, fk: np.ndarray, fcw: np.ndarray, pk: np.ndarray,
+            Keq: np.ndarray, Cw: np.ndarray, reg: np.ndarray, angles: tuple) -> DF:
+    """The DF record in B's shape (scalars for scalar B) from per-amplitude arrays; f_c = (f_c omega)
+    / omega and C_eq = f_c sin(gamma) (inf where omega = 0 and the loop dissipates)."""
+    Bv = np.asarray(B, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        fc = np.where(fcw == 0.0, 0.0, fcw / omega) if omega != 0 else np.where(fcw == 0.0, 0.0, np.inf)
+        Ceq = fc * sin_gamma
+    out = [fk, fc, pk, Keq, Ceq, reg, *angles, fcw, Cw]
+    if Bv.ndim == 0:
+        out = [int(x[0]) if i == 5 else float(x[0]) for i, x in enumerate(out)]
+    else:
+        out = [x.reshape(Bv.shape) for x in out]
+    return DF(*out)
+
+
 def describing_function(params: Mapping[str, Any] | ContactConsts, B: Any, omega: float, model: int = MACROSLIP_DF,
                         projection: int = 1) -> DF:
     """Describing function of the macroslip (model 1) or Coulomb (model 2) loop at amplitude B [m]
@@ -216,25 +242,10 @@ def describing_function(params: Mapping[str, Any] | ContactConsts, B: Any, omega
     omega = 0 they are inf where the loop dissipates). model 3 (time-domain element) reports the
     macroslip DF."""
     cc = params if isinstance(params, ContactConsts) else contact_consts(params)
-    if model == MACROSLIP_TD:
-        model = MACROSLIP_DF
-    if model not in (MACROSLIP_DF, COULOMB_DF):
-        raise ValueError(f"model must be 1, 2 or 3, got {model!r}")
-    if projection not in (1, 2):
-        raise ValueError(f"projection must be 1 or 2, got {projection!r}")
-    Bv = np.asarray(B, dtype=float)
-    B1 = np.atleast_1d(Bv)
-    fk, fcw, pk, (t1, t2, t3) = _df_closed(cc, B1, model)
+    model = df_model(model, projection)
+    B1 = np.atleast_1d(np.asarray(B, dtype=float))
+    fk, fcw, pk, angles = _df_closed(cc, B1, model)
     sg, cg = math.sin(cc.gamma), math.cos(cc.gamma)
     Keq = (fk + pk) * sg if projection == 1 else fk * sg + pk * cg  # eq. 12 / consistent
     Cw = fcw * sg  # eq. 13, p_c = 0 (eq. 11)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        fc = np.where(fcw == 0.0, 0.0, fcw / omega) if omega != 0 else np.where(fcw == 0.0, 0.0, np.inf)
-        Ceq = fc * sg
-    reg = np.atleast_1d(regime(cc, B1, model))
-    out = [fk, fc, pk, Keq, Ceq, reg, t1, t2, t3, fcw, Cw]
-    if Bv.ndim == 0:
-        out = [int(x[0]) if i == 5 else float(x[0]) for i, x in enumerate(out)]
-    else:
-        out = [x.reshape(Bv.shape) for x in out]
-    return DF(*out)
+    return pack_df(B, omega, sg, fk, fcw, pk, Keq, Cw, np.atleast_1d(regime(cc, B1, model)), angles)

@@ -17,13 +17,15 @@ from __future__ import annotations
 
 import math
 import xml.etree.ElementTree as ET
+import zipfile
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any, Mapping
 
-from harness.paths import REPO_ROOT
+from harness.paths import BUILD_DIR, IN_CHECKOUT, REPO_ROOT
 
-MODEL_DESCRIPTION = REPO_ROOT / "modelDescription.xml"
+# in a checkout, in the model's folder (fmu_src/models/<Name>/); installed: inside the FMU
+MODEL_DESCRIPTION = REPO_ROOT / "fmu_src" / "models" / "ShroudedBlade" / "modelDescription.xml"
 
 
 class ParameterError(ValueError):
@@ -67,9 +69,18 @@ _HARNESS_ONLY = [
 
 
 @lru_cache(maxsize=1)
+def _model_description() -> ET.Element:
+    """The checkout's modelDescription.xml, or an installed package's: the one inside its FMU."""
+    if IN_CHECKOUT:
+        return ET.parse(MODEL_DESCRIPTION).getroot()
+    with zipfile.ZipFile(BUILD_DIR / "ShroudedBlade.fmu") as z:
+        return ET.fromstring(z.read("modelDescription.xml"))
+
+
+@lru_cache(maxsize=1)
 def specs() -> dict[str, ParamSpec]:
     """All parameters by name: the FMU's (from modelDescription.xml) and the harness-only ones."""
-    root = ET.parse(MODEL_DESCRIPTION).getroot()
+    root = _model_description()
     out: dict[str, ParamSpec] = {}
     for sv in root.iter("ScalarVariable"):
         start_value = sv.get("causality") == "output" and sv.get("initial") == "exact"
@@ -100,7 +111,7 @@ def specs() -> dict[str, ParamSpec]:
 @lru_cache(maxsize=None)
 def input_range(name: str) -> tuple[float, float]:
     """(min, max) of a Real input of the FMU, from modelDescription.xml (e.g. rotorSpeed [rpm])."""
-    root = ET.parse(MODEL_DESCRIPTION).getroot()
+    root = _model_description()
     for sv in root.iter("ScalarVariable"):
         if sv.get("name") == name and sv.get("causality") == "input":
             (typ,) = list(sv)

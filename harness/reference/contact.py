@@ -22,7 +22,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from harness.model.contact import (COULOMB_DF, DF, FULL_STICK, MACROSLIP_DF, MACROSLIP_TD, OPEN, STATE_OPEN,
-                                   STATE_SLIP, STATE_STICK, STICK_SLIP, ContactConsts, contact_consts)
+                                   STATE_SLIP, STATE_STICK, STICK_SLIP, ContactConsts, contact_consts, df_model, pack_df)
 
 def normal_force(params: Mapping[str, Any] | ContactConsts, v: Any) -> Any:
     """F_n(v) [N], eq. 3 (vectorised)."""
@@ -183,34 +183,18 @@ def _df_quadrature(cc: ContactConsts, B: float, model: int) -> tuple[float, floa
 def describing_function(params: Mapping[str, Any] | ContactConsts, B: Any, omega: float, model: int = MACROSLIP_DF,
                         projection: int = 1) -> DF:
     """Describing function of the macroslip (model 1) or Coulomb (model 2) loop at amplitude B [m]
-    (scalar or array) and excitation frequency omega [rad/s] (> 0 needed for f_c, C_eq; with
-    omega = 0 they are inf where the loop dissipates). model 3 (time-domain element) reports the
-    macroslip DF. By quadrature of the loop (`_df_quadrature`), one amplitude at a time."""
+    (scalar or array) and excitation frequency omega [rad/s] (> 0 needed for f_c, C_eq). model 3
+    (time-domain element) reports the macroslip DF. By quadrature of the loop (`_df_quadrature`),
+    one amplitude at a time; the record is packed as the model's (`pack_df`)."""
     cc = params if isinstance(params, ContactConsts) else contact_consts(params)
-    if model == MACROSLIP_TD:
-        model = MACROSLIP_DF
-    if model not in (MACROSLIP_DF, COULOMB_DF):
-        raise ValueError(f"model must be 1, 2 or 3, got {model!r}")
-    if projection not in (1, 2):
-        raise ValueError(f"projection must be 1 or 2, got {projection!r}")
-    Bv = np.asarray(B, dtype=float)
-    B1 = np.atleast_1d(Bv)
+    model = df_model(model, projection)
+    B1 = np.atleast_1d(np.asarray(B, dtype=float))
     res = np.array([_df_quadrature(cc, float(b), model) for b in B1]).reshape(-1, 3)
     fk, fcw, pk = res[:, 0], res[:, 1], res[:, 2]
-    t1, t2, t3 = (np.atleast_1d(t) for t in loop_angles(cc, B1, model))
-    sg, cg = math.sin(cc.gamma), math.cos(cc.gamma)
-    Keq = (fk + pk) * sg if projection == 1 else fk * sg + pk * cg  # eq. 12 / consistent
-    Cw = fcw * sg  # eq. 13, p_c = 0 (eq. 11)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        fc = np.where(fcw == 0.0, 0.0, fcw / omega) if omega != 0 else np.where(fcw == 0.0, 0.0, np.inf)
-        Ceq = fc * sg
-    reg = np.atleast_1d(regime(cc, B1, model))
-    out = [fk, fc, pk, Keq, Ceq, reg, t1, t2, t3, fcw, Cw]
-    if Bv.ndim == 0:
-        out = [int(x[0]) if i == 5 else float(x[0]) for i, x in enumerate(out)]
-    else:
-        out = [x.reshape(Bv.shape) for x in out]
-    return DF(*out)
+    sg = math.sin(cc.gamma)
+    Keq = (fk + pk) * sg if projection == 1 else fk * sg + pk * math.cos(cc.gamma)  # eq. 12 / 2nd projection
+    return pack_df(B, omega, sg, fk, fcw, pk, Keq, fcw * sg, np.atleast_1d(regime(cc, B1, model)),
+                   tuple(np.atleast_1d(t) for t in loop_angles(cc, B1, model)))
 
 
 def jenkins_cycle_dissipation(params: Mapping[str, Any] | ContactConsts, B: float) -> float:

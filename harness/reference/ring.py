@@ -1,4 +1,4 @@
-"""Monolithic reference of the bladed-disk ring (issue 11, docs/model.md s.8): N blades and N
+"""Monolithic reference of the bladed-disk ring (docs/model.md s.8): N blades and N
 Jenkins contacts as ONE ODE, integrated by scipy (DOP853) with its own event location
 (solve_ivp terminal events, restarted after each discrete update).
 
@@ -13,7 +13,7 @@ blade the viscous dissipation int C0 q'^2 and the aero work int G f q' (energy b
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Mapping
 
 import numpy as np
@@ -46,8 +46,26 @@ class RingSpec:
     blade_each: tuple[Mapping[str, Any], ...] = ()  # per-blade overrides of `blade` (mistuning), empty or N
 
 
+@dataclass
+class RingState:
+    """The reference's full state at time t: y (q, v and the energy integrals, as in `solve`) and
+    every contact's discrete state (mode, side, slip sign, stick anchor)."""
+
+    t: float
+    y: np.ndarray
+    contacts: list[_Contact]
+
+    @classmethod
+    def rest(cls, n: int) -> "RingState":
+        """At rest at t = 0, every contact open."""
+        return cls(0.0, np.zeros(5 * n), [_Contact() for _ in range(n)])
+
+    def copy(self) -> "RingState":
+        return RingState(self.t, self.y.copy(), [replace(c) for c in self.contacts])
+
+
 class MonolithicRing:
-    """The ring ODE; `solve(t_eval)` integrates from rest."""
+    """The ring ODE; `solve(t_eval)` integrates from rest, or from a RingState."""
 
     def __init__(self, spec: RingSpec, rtol: float = 1e-11):
         self.spec, self.N, self.rtol = spec, spec.n, rtol
@@ -164,15 +182,18 @@ class MonolithicRing:
             switched.add(hit[0])
             n += 1
 
-    def solve(self, t_eval: np.ndarray) -> dict[str, np.ndarray]:
+    def solve(self, t_eval: np.ndarray, start: RingState | None = None) -> dict[str, np.ndarray]:
         """q, v, friction energy per contact, viscous dissipation and aero work per blade at t_eval
-        (from rest, contacts open), and the number of events."""
+        (from rest at t = 0 with the contacts open, or from `start`, which is not changed; t_eval
+        within [start.t, ...]), the number of events, "end": the RingState at t_eval[-1], and "switches":
+        (time, contact states) at the start and after every event."""
         N = self.N
-        cs = [_Contact() for _ in range(N)]
-        y = np.zeros(5 * N)
-        t0, t_end = 0.0, float(t_eval[-1])
+        start = (start or RingState.rest(N)).copy()
+        cs, y = start.contacts, start.y
+        t0, t_end = start.t, float(t_eval[-1])
         out = np.zeros((len(t_eval), 5 * N))
         done, n_events = 0, 0
+        switches = [(t0, [replace(c) for c in cs])]  # the contacts' discrete states from each event on
         while t0 < t_end:
             evs = self._events(cs)
             sol = solve_ivp(self.rhs, (t0, t_end), y, method="DOP853", rtol=self.rtol, atol=1e-15,
@@ -195,6 +216,7 @@ class MonolithicRing:
                 self._apply(cs[j], kind, u[j], du[j])
                 n_events += 1
                 n_events += self._simultaneous(cs, t1, y, {j})
+                switches.append((t1, [replace(c) for c in cs]))
             else:
                 y = sol.y[:, -1]
             t0 = t1
@@ -202,4 +224,6 @@ class MonolithicRing:
         res = {k: out[:, i * N:(i + 1) * N] for i, k in enumerate(names)}
         res["time"] = np.asarray(t_eval)
         res["events"] = np.array(n_events)
+        res["end"] = RingState(t0, np.array(y, dtype=float), cs)
+        res["switches"] = switches
         return res

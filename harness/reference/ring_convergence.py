@@ -1,4 +1,4 @@
-"""Co-simulation vs monolithic reference for the ring (issue 11): the error of the fmpy Jacobi
+"""Co-simulation vs monolithic reference for the ring: the error of the fmpy Jacobi
 master (harness/system/ring.py) against harness/reference/ring.py as the communication step h
 shrinks, per extrapolation order of the input derivatives, with the measured order (least-squares
 slope of log error over log h on the finest points), and the largest stable h.

@@ -5,7 +5,7 @@ to order 8; the reference (harness.reference.simulate) is fed `fmu_view(...)` of
 inputs the FMU saw, with integration restarts at the communication points, and both are compared
 on the communication grid, for every friction model, formulation, projection, gating setting and
 amplitude mode, at constant speeds (3000, 5000 = resonance, 8000 rpm) and a 4000 -> 6000 rpm
-run-up. Tolerances (issue 3): tip displacement within 1e-6 of its amplitude over the whole run for
+run-up. Tolerances: tip displacement within 1e-6 of its amplitude over the whole run for
 the describing-function models without switching (no gating, fixed B), 1e-4 with switching
 instants (gating at |q| = d, tracked-B updates at period ends) and for the time-domain element. Harmonic-balance cases: gating off, tracked amplitude: the FMU's
 periodic steady state (harness.analysis.steady_state) against the nearest harmonic-balance solution
@@ -275,7 +275,7 @@ def format_row(r: Row) -> str:
 def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--quick", action="store_true",
                    help="reduced matrix: one option changed at a time, 5000 rpm and a run-up, one HB setting")
-    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: build/ShroudedBlade.fmu, built if needed)")
+    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: the installed package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
     p.add_argument("--output-file", metavar="CSV", help="also write the table to this CSV file")
     p.add_argument("--max-step", type=float, default=MAX_STEP, metavar="S",
                    help=f"FMU internal step maxStep for the time-domain cases (default {MAX_STEP:g} s; the FMU's"

@@ -1,4 +1,4 @@
-"""Mistuning study of the ring (issue 11): random blade-to-blade scatter of one blade parameter
+"""Mistuning study of the ring: random blade-to-blade scatter of one blade parameter
 (EI, the bending stiffness, or m0, the shroud mass), relative standard deviation per level, patterns
 from a seeded generator; every pattern is one ring run (harness/system/ring_c.py) on the Runner
 (local process pool, or dask with a scheduler address), cached in its own file (PointCache), so a

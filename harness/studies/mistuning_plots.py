@@ -35,7 +35,7 @@ def write(out: dict, directory: Path) -> list[Path]:
     ax.set(xlabel="blade", ylabel="max |q| [mm]", title=f"sigma = {levels[-1]:g} ({out['parameter']}), dashed: tuned")
     ax.legend()
     files += _save(fig, d / "mistuning_blades", rows,
-                   [("variant", "U10"), ("blade", "i4"), ("tuned_m", "f8"), ("mistuned_m", "f8")])
+                   [("variant", "U12"), ("blade", "i4"), ("tuned_m", "f8"), ("mistuned_m", "f8")])
 
     # amplification vs level
     fig, ax = plt.subplots(figsize=(6, 4))
@@ -54,7 +54,7 @@ def write(out: dict, directory: Path) -> list[Path]:
     ax.set(xlabel="relative standard deviation", ylabel="amplification", title=f"N = {n}, {out['patterns']} patterns")
     ax.legend(fontsize=8)
     files += _save(fig, d / "mistuning_amplification", rows,
-                   [("variant", "U10"), ("sigma", "f8"), ("mean", "f8"), ("max", "f8"), ("min", "f8")])
+                   [("variant", "U12"), ("sigma", "f8"), ("mean", "f8"), ("max", "f8"), ("min", "f8")])
 
     # histogram at the largest level
     fig, ax = plt.subplots(figsize=(6, 4))
@@ -67,7 +67,7 @@ def write(out: dict, directory: Path) -> list[Path]:
         rows += [(v, k, x) for k, x in enumerate(a)]
     ax.set(xlabel="amplification", ylabel="patterns", title=f"sigma = {levels[-1]:g}")
     ax.legend()
-    files += _save(fig, d / "mistuning_histogram", rows, [("variant", "U10"), ("pattern", "i4"), ("amplification", "f8")])
+    files += _save(fig, d / "mistuning_histogram", rows, [("variant", "U12"), ("pattern", "i4"), ("amplification", "f8")])
     return files
 
 

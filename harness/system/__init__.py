@@ -1,1 +1,2 @@
-"""System-level examples: several FMUs coupled in a co-simulation."""
+"""The bladed disk (layer above analysis): a ring of blade and contact FMUs in a co-simulation
+(fmpy master, its loop in C, libcosim, SSP), and its energy books."""

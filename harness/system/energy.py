@@ -1,4 +1,4 @@
-"""Energy balance of the co-simulated ring over an excitation period (issue 11 acceptance: over a
+"""Energy balance of the co-simulated ring over an excitation period (the acceptance test: over a
 steady period the aero work equals the viscous plus friction dissipation).
 
 Books over the window [t_a, t_b] (communication points; t_b the run's end or `shift` steps

@@ -1,6 +1,6 @@
-"""A bladed disk as a co-simulation (issue 11): a ring of N BladeExternalContact FMUs coupled by N
+"""A bladed disk as a co-simulation: a ring of N BladeExternalContact FMUs coupled by N
 ShroudContact FMUs, each blade loaded by its own Excitation FMU (travelling wave: blade i's load
-leads blade 0's by 2 pi EO i / N), run by a fixed-step Jacobi master on fmpy.
+leads blade 0's by 2 pi EO i / N), run by a fixed-step Jacobi master on the project's FMI binding (harness.fmu.slave).
 
 Coupling (docs/model.md s.8): contact j joins blade j (side A) and blade j+1 mod N (side B),
 u_j = q_j - q_{j+1}. At each communication point t_k the master
@@ -30,7 +30,6 @@ from dataclasses import dataclass, field
 from math import factorial
 from typing import Any, Callable, Mapping
 
-from fmpy.fmi2 import fmi2Integer, fmi2Real, fmi2ValueReference
 import numpy as np
 
 from harness.system.ring_instances import open_ring
@@ -135,24 +134,24 @@ def run(ring: Ring, record_inputs: bool = False, correction: Callable[..., float
         hv, hf, ha = _History(p, h, N), _History(p, h, N), _History(p, h, N)
         for k in range(K + 1):
             t = float(tk[k])
-            st = np.array([b.s.getReal(bv) for b in blades])  # q, v, E, W
+            st = np.array([b.s.get_real(bv) for b in blades])  # q, v, E, W
             q, v = st[:, 0], st[:, 1]
-            ex = np.array([e.s.getReal(ev) for e in excs])
+            ex = np.array([e.s.get_real(ev) for e in excs])
             dv, da = hv.push(v), ha.push(ex[:, 0])
             res["q"][k], res["v"][k], res["E"][k], res["W"][k] = st.T
             fA, fB = np.zeros(N), np.zeros(N)
             for j, c in enumerate(contacts):
                 a, b = j, (j + 1) % N
                 if after_step and k > 0:  # libcosim: the outputs of the step just done
-                    fA[j], fB[j], res["Ec"][k, j] = c.s.getReal(c_out)
-                    res["state"][k, j] = c.s.getInteger([c_state])[0]
-                c.s.setReal(c_in, [q[a], v[a], q[b], v[b], ex[a, 1]])
+                    fA[j], fB[j], res["Ec"][k, j] = c.s.get_real(c_out)
+                    res["state"][k, j] = c.s.get_integer([c_state])[0]
+                c.s.set_real(c_in, [q[a], v[a], q[b], v[b], ex[a, 1]])
                 if p > 0:
                     _set_derivatives(c, [c_in[1]] * p + [c_in[3]] * p, list(range(1, p + 1)) * 2,
                                      list(dv[:, a]) + list(dv[:, b]))
                 if not (after_step and k > 0):  # feedthrough at the q, v just set
-                    fA[j], fB[j], res["Ec"][k, j] = c.s.getReal(c_out)
-                    res["state"][k, j] = c.s.getInteger([c_state])[0]
+                    fA[j], fB[j], res["Ec"][k, j] = c.s.get_real(c_out)
+                    res["state"][k, j] = c.s.get_integer([c_state])[0]
             res["forceA"][k], res["forceB"][k] = fA, fB
             force = np.array([fB[(i - 1) % N] + fA[i] for i in range(N)])
             df = hf.push(force)  # the history holds the contacts' forces, not a correction
@@ -166,19 +165,17 @@ def run(ring: Ring, record_inputs: bool = False, correction: Callable[..., float
             if k == K:
                 break
             for i, bl in enumerate(blades):
-                bl.s.setReal(b_in, [ex[i, 0], ex[i, 1], force[i]])
+                bl.s.set_real(b_in, [ex[i, 0], ex[i, 1], force[i]])
                 if p > 0:
                     _set_derivatives(bl, [b_in[0]] * p + [b_in[2]] * p, list(range(1, p + 1)) * 2,
                                      list(da[:, i]) + list(df[:, i]))
             for fmu in (*blades, *contacts, *excs):
-                fmu.s.doStep(currentCommunicationPoint=t, communicationStepSize=float(tk[k + 1] - tk[k]))
+                fmu.s.do_step(t, float(tk[k + 1] - tk[k]))
     return res
 
 
 def _set_derivatives(slave, vrs: list[int], orders: list[int], values: list[float]) -> None:
-    m = len(vrs)
-    slave.s.fmi2SetRealInputDerivatives(slave.s.component, (fmi2ValueReference * m)(*vrs), m,
-                                       (fmi2Integer * m)(*orders), (fmi2Real * m)(*[float(x) for x in values]))
+    slave.s.set_real_input_derivatives(vrs, orders, values)
 
 
 def harmonic(res: Mapping[str, np.ndarray], omega: float, periods: int = 1) -> np.ndarray:

@@ -1,4 +1,4 @@
-"""The ring of harness/system/ring.py with its communication loop in C (fmu_src/master/ring_master.c):
+"""The ring of harness/system/ring.py with its communication loop in C (harness/native/ring_master.c):
 the same instances (made, parameterised and initialised through fmpy), the same data flow (both
 couplings, "feedthrough" and "libcosim") and extrapolation weights, but no Python between the FMI
 calls. Returns what `ring.run` returns (the
@@ -55,7 +55,7 @@ def _library() -> C.CDLL:
 
 
 def _api(slave) -> _Api:
-    dll = slave.s.dll
+    dll = slave.s.lib.dll
     return _Api(*(C.cast(getattr(dll, f), C.c_void_p) for f in _FUNCTIONS))
 
 
@@ -86,7 +86,7 @@ def run(ring: Ring, time_dosteps: bool = False, record_every: int = 1) -> dict[s
         res["time"] = tk[::record_every]
         b0, c0, e0 = blades[0], contacts[0], excs[0]
         W = np.ascontiguousarray(weights(p, ring.step))
-        handles = [(C.c_void_p * N)(*(x.s.component for x in group)) for group in (blades, contacts, excs)]
+        handles = [(C.c_void_p * N)(*(x.s.c for x in group)) for group in (blades, contacts, excs)]
         s = _Setup(n=N, steps=K, order=p, afterStep=int(ring.coupling == "libcosim"), timeDoSteps=int(time_dosteps),
                    recordEvery=record_every, time=_ptr(tk), weights=_ptr(W), blade=_api(b0), contact=_api(c0),
                    excitation=_api(e0), blades=handles[0], contacts=handles[1], excitations=handles[2])
@@ -102,7 +102,7 @@ def run(ring: Ring, time_dosteps: bool = False, record_every: int = 1) -> dict[s
         rc = lib.ringRun(C.byref(s), C.byref(rec), _ptr(work), C.byref(step), C.byref(fmu), C.byref(inside))
         if rc != 0:
             who = [*blades, *contacts, *excs][fmu.value] if fmu.value >= 0 else None
-            name = who.s.instanceName if who else "the setup"
+            name = who.s.name if who else "the setup"
             said = "; ".join(who.messages) if who and who.messages else "no message"
             raise RuntimeError(f"ring (C loop): {_FAILED.get(rc, rc)} failed for {name} at t = "
                                f"{tk[min(step.value, K)]:.9g} s (step {step.value}): {said}")

@@ -129,7 +129,7 @@ def run_libcosim(ssp_dir: Path, ring: Ring) -> dict[str, float | Any]:
     obs = CosimObserver.create_time_series(buffer_size=K + 16)
     ex.add_observer(observer=obs)
     idx = [ex.slave_index_from_instance_name(f"blade{i}") for i in range(ring.n)]
-    vr = 50  # tipDisplacement (descriptions/BladeExternalContact.xml)
+    vr = 50  # tipDisplacement (fmu_src/models/BladeExternalContact/modelDescription.xml)
     for k in idx:
         if k < 0 or not obs.start_time_series(k, vr, CosimVariableType.REAL):
             raise RuntimeError(f"libcosim: cannot observe the blades: {last_error()}")

@@ -4,7 +4,7 @@
  *
  * This program is built WITHOUT -lm (tests/test_fmu_links.py checks that), so the process holds
  * no libm: a binary that uses sin/cos/sqrt without linking libm itself fails here, with
- * RTLD_NOW, as it fails in any C or C++ master (issue 13). Python masters hide that fault because
+ * RTLD_NOW, as it fails in any C or C++ master. Python masters hide that fault because
  * the interpreter has libm loaded.
  * Prints "OK <value of outputVr after one step>" and exits 0, or prints the failing call and
  * exits 1. */

@@ -685,7 +685,7 @@ static void badSteps(const Api *api) {
 
 static void badReferencesAndPointers(const Api *api) {
     Inst in = readyInstance(api, "badRefs");
-    fmi2ValueReference bad[] = {0, 14, 25, 32, 42, 49, 63, 999, 0xFFFFFFFFu};
+    fmi2ValueReference bad[] = {0, 15, 27, 32, 42, 49, 63, 999, 0xFFFFFFFFu};
     fmi2ValueReference good = 50, ivr = 60, rvr = vrEI, bvr = vrGating, ovr = 50;
     double x = 0.0;
     fmi2Integer i = 0;

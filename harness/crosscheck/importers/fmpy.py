@@ -1,14 +1,14 @@
-"""fmpy as the cross-check reference: `simulate_fmu` with an input table, and an FMU2Slave loop.
+"""fmpy as the cross-check reference: `simulate_fmu` with an input table; and a master loop of our own.
 
 `run_simulate_fmu` is fmpy's one-shot API with the held input table (inputs sampled at the left end
 of each step: fmpy's co-simulation default without `set_input_derivatives`); it is the reference
 every held-input importer is compared with. `run_slave_loop` is the hand-written master loop over
-`FMU2Slave` that passes t_k = start + k h and h exactly from the plan and, for a plan of order > 0,
-sets the input derivatives with fmi2SetRealInputDerivatives after the values.
+the project's FMI binding (harness.fmu.binding; fmpy extracts the FMU) that passes t_k = start + k h
+and h exactly from the plan and, for a plan of order > 0, sets the input derivatives with
+fmi2SetRealInputDerivatives after the values.
 """
 from __future__ import annotations
 
-import ctypes
 import shutil
 from pathlib import Path
 from typing import Any, Mapping
@@ -16,13 +16,14 @@ from typing import Any, Mapping
 import fmpy
 import numpy as np
 from fmpy import extract, read_model_description, simulate_fmu
-from fmpy.fmi2 import FMU2Slave
 
 from harness.crosscheck.common import Run, as_float_result, outputs, result_array, timed
 from harness.fmu.slave import variables_by_name
 from harness.crosscheck.plan import INPUTS, InputPlan, Scenario
+from harness.fmu.binding import FmiError, fmi2
 
 VERSION = fmpy.__version__
+SLAVE_LOOP = "FMI binding loop"  # run_slave_loop's importer name in the reports (our own code: no version)
 
 
 def _start_values(overrides: Mapping[str, Any]) -> dict[str, Any]:
@@ -46,7 +47,7 @@ def run_simulate_fmu(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
 
 
 class SlaveLoop:
-    """An extracted FMU instantiated once: run plans with reset in between (fmpy FMU2Slave)."""
+    """An extracted FMU instantiated once: run plans with reset in between (the FMI binding)."""
 
     def __init__(self, fmu: Path, instance_name: str = "blade"):
         self.fmu = Path(fmu)
@@ -54,17 +55,17 @@ class SlaveLoop:
         self.unzipdir = extract(str(fmu))
         self.vars = variables_by_name(fmu)
         self.outs = outputs(fmu)
-        self.slave = FMU2Slave(guid=self.md.guid, unzipDirectory=self.unzipdir,
-                               modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=instance_name)
-        self.slave.instantiate()
+        lib = fmi2.load(fmi2.binary_path(self.unzipdir, self.md.coSimulation.modelIdentifier))
+        self.slave = fmi2.Fmi2Instance(lib, instance_name, self.md.guid, fmi2.resource_uri(self.unzipdir))
         self._fresh = True
 
     def close(self) -> None:
         try:
             self.slave.terminate()
-        except Exception:  # already terminated or failed: freeing is what matters
+        except FmiError:  # already terminated or failed: freeing is what matters
             pass
-        self.slave.freeInstance()
+        self.slave.free_instance()
+        self.slave.lib.close()
         shutil.rmtree(self.unzipdir, ignore_errors=True)
 
     def __enter__(self) -> "SlaveLoop":
@@ -77,17 +78,17 @@ class SlaveLoop:
         for name, value in values.items():
             vr, typ = self.vars[name]
             if typ == "Real":
-                self.slave.setReal([vr], [float(value)])
+                self.slave.set_real([vr], [float(value)])
             elif typ == "Integer":
-                self.slave.setInteger([vr], [int(value)])
+                self.slave.set_integer([vr], [int(value)])
             elif typ == "Boolean":
-                self.slave.setBoolean([vr], [bool(value)])
+                self.slave.set_boolean([vr], [bool(value)])
             else:
                 raise ValueError(f"cannot set {name} of type {typ}")
 
     def set_inputs(self, plan: InputPlan, k: int, derivatives: bool) -> None:
         vrs = [self.vars[n][0] for n in INPUTS]
-        self.slave.setReal(vrs, [float(plan.derivs[n][0, k]) for n in INPUTS])
+        self.slave.set_real(vrs, [float(plan.derivs[n][0, k]) for n in INPUTS])
         if derivatives and plan.order > 0:
             dvrs, orders, vals = [], [], []
             for j in range(1, plan.order + 1):
@@ -95,15 +96,13 @@ class SlaveLoop:
                     dvrs.append(vr)
                     orders.append(j)
                     vals.append(float(plan.derivs[n][j, k]))
-            n = len(dvrs)
-            self.slave.fmi2SetRealInputDerivatives(self.slave.component, (ctypes.c_uint * n)(*dvrs), n,
-                                                   (ctypes.c_int * n)(*orders), (ctypes.c_double * n)(*vals))
+            self.slave.set_real_input_derivatives(dvrs, orders, vals)
 
     def sample(self) -> list[float]:
         reals = [o.vr for o in self.outs if o.type == "Real"]
         ints = [o.vr for o in self.outs if o.type == "Integer"]
-        rv = dict(zip(reals, self.slave.getReal(reals))) if reals else {}
-        iv = dict(zip(ints, self.slave.getInteger(ints))) if ints else {}
+        rv = dict(zip(reals, self.slave.get_real(reals))) if reals else {}
+        iv = dict(zip(ints, self.slave.get_integer(ints))) if ints else {}
         return [float(rv[o.vr]) if o.type == "Real" else float(iv[o.vr]) for o in self.outs]
 
     def run(self, plan: InputPlan, start_values: Mapping[str, Any] | None = None) -> np.ndarray:
@@ -112,23 +111,23 @@ class SlaveLoop:
             self.slave.reset()
         self._fresh = False
         t0, t_end = float(plan.time[0]), float(plan.time[-1])
-        self.slave.setupExperiment(startTime=t0, stopTime=t_end)
-        self.slave.enterInitializationMode()
+        self.slave.setup_experiment(t0, t_end)
+        self.slave.enter_initialization_mode()
         self.set_values(start_values or {})
         self.set_inputs(plan, 0, derivatives=False)
-        self.slave.exitInitializationMode()
+        self.slave.exit_initialization_mode()
         rows = np.empty((len(plan.time), len(self.outs)))
         rows[0] = self.sample()
         t, h = plan.time, plan.h()
         for k in range(plan.n_steps):
             self.set_inputs(plan, k, derivatives=True)
-            self.slave.doStep(currentCommunicationPoint=float(t[k]), communicationStepSize=float(h[k]))
+            self.slave.do_step(float(t[k]), float(h[k]))
             rows[k + 1] = self.sample()
         return result_array(plan.time, {o.name: rows[:, i] for i, o in enumerate(self.outs)})
 
 
 def run_slave_loop(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
-    """FMU2Slave master loop along `plan` (held values, or values + derivatives up to plan.order)."""
+    """Our master loop along `plan` (held values, or values + derivatives up to plan.order)."""
     inputs = "held" if plan.order == 0 else f"taylor{plan.order}"
     overrides = scenario.fmu_overrides()
 
@@ -137,5 +136,5 @@ def run_slave_loop(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
             return loop.run(plan, overrides)
 
     res, wall = timed(go)
-    return Run("fmpy FMU2Slave loop", VERSION, inputs, res, wall,
+    return Run(SLAVE_LOOP, "-", inputs, res, wall,
                note="t_k and h_k from the plan")

@@ -1,0 +1,259 @@
+/* The ShroudContact model for the generic FMI layer: the macroslip contact between two
+ * neighbouring shrouds A and B on their relative displacement u = q_A - q_B (docs/model.md s.8),
+ * over physics/contact_element. Direct feedthrough: the forces at a communication point follow the
+ * inputs set there (the element is first moved along the straight path from the state's u to the
+ * new u, ceProject); over a step u(tau) is the difference of the two displacement polynomials,
+ * each q + sum_j q^(j) tau^j / j! with the displacement's own derivatives if any is nonzero,
+ * else q^(j) = (velocity)^(j-1) (a master that sets values only gets u linear in tau). Inputs not
+ * set again go on as the polynomials of the step (the displacements from their end values). */
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+#include "fmi/log.h"
+#include "fmi/model.h"
+#include "models/ShroudContact/config.h"
+#include "physics/contact_element.h"
+
+typedef enum { ParKn = 0, ParKdRatio, ParMu, ParGamma, ParD, ParB, ParE0, PAR_NUM } RealParam;
+typedef enum { IparFriction = 0, IparProjection, IparEngineOrder, IparGating, IPAR_NUM } IntParam;
+enum { InQA = 0, InVA, InQB, InVB, InSpeed, NUM_INPUTS };
+
+typedef struct {
+    double par[PAR_NUM];
+    int32_t ipar[IPAR_NUM];
+    double in[NUM_INPUTS][MAX_ORDER + 1]; /* input values and derivatives [unit/s^j] */
+    CeState state;
+    CeModel model; /* derived */
+} ScData;
+
+typedef struct {
+    CeOutputs out;
+    double u; /* relative displacement of the current get call [m] */
+    double E; /* dissipated energy at the current inputs [J] */
+} ScMemory;
+
+enum { OutForceA = 0, OutForceB, OutNormal, OutFriction, OutEnergy, OutU, OutState };
+
+#define INF HUGE_VAL
+#define HALF_PI 1.5707963267948966
+#define AT(member) (long)offsetof(ScData, member)
+#define PAR(k) AT(par[k])
+#define IPAR(k) AT(ipar[k])
+#define INPUT(k) AT(in[k][0])
+#define NONE VAR_NO_OFFSET
+#define DATA(inst) ((ScData *)(inst)->data)
+
+/* Sorted by value reference; the contact parameters keep ShroudedBlade's references. */
+static const VarInfo VARS[] = {
+    {7, "kn", VarReal, CausParameter, "N/m", 1e7, 0.0, INF, 1, 0, PAR(ParKn), -1},
+    {8, "kdRatio", VarReal, CausParameter, "", 0.608695652173913, 0.0, INF, 1, 0, PAR(ParKdRatio), -1},
+    {9, "mu", VarReal, CausParameter, "", 0.33, 0.0, INF, 0, 0, PAR(ParMu), -1},
+    {10, "gamma", VarReal, CausParameter, "rad", 1.0471975511965976, 0.0, HALF_PI, 1, 1, PAR(ParGamma), -1},
+    {11, "d", VarReal, CausParameter, "m", 3e-5, 0.0, INF, 0, 0, PAR(ParD), -1},
+    {12, "B", VarReal, CausParameter, "m", 6e-5, 0.0, INF, 1, 0, PAR(ParB), -1},
+    {20, "frictionModel", VarInteger, CausParameter, "", 3, 1, 3, 0, 0, IPAR(IparFriction), -1},
+    {22, "projection", VarInteger, CausParameter, "", 1, 1, 2, 0, 0, IPAR(IparProjection), -1},
+    {24, "engineOrder", VarInteger, CausParameter, "", 3, 1, 100, 0, 0, IPAR(IparEngineOrder), -1},
+    {30, "gating", VarBoolean, CausParameter, "", 1, 0, 1, 0, 0, IPAR(IparGating), -1},
+    {40, "displacementA", VarReal, CausInput, "m", 0.0, -INF, INF, 0, 0, INPUT(InQA), -1},
+    {41, "velocityA", VarReal, CausInput, "m/s", 0.0, -INF, INF, 0, 0, INPUT(InVA), -1},
+    {42, "displacementB", VarReal, CausInput, "m", 0.0, -INF, INF, 0, 0, INPUT(InQB), -1},
+    {43, "velocityB", VarReal, CausInput, "m/s", 0.0, -INF, INF, 0, 0, INPUT(InVB), -1},
+    {44, "rotorSpeed", VarReal, CausInput, "rpm", 5000.0, 0.0, ROTOR_SPEED_MAX, 0, 0, INPUT(InSpeed), -1},
+    {50, "forceA", VarReal, CausOutput, "N", 0.0, -INF, INF, 0, 0, NONE, OutForceA},
+    {51, "forceB", VarReal, CausOutput, "N", 0.0, -INF, INF, 0, 0, NONE, OutForceB},
+    {52, "normalForce", VarReal, CausOutput, "N", 0.0, -INF, INF, 0, 0, NONE, OutNormal},
+    {53, "frictionForce", VarReal, CausOutput, "N", 0.0, -INF, INF, 0, 0, NONE, OutFriction},
+    {57, "dissipatedEnergy", VarReal, CausOutput, "J", 0.0, -INF, INF, 0, 0, PAR(ParE0), OutEnergy},
+    {58, "relativeDisplacement", VarReal, CausOutput, "m", 0.0, -INF, INF, 0, 0, NONE, OutU},
+    {61, "contactState", VarInteger, CausOutput, "", 0, -INF, INF, 0, 0, NONE, OutState},
+};
+
+#define COUNT(member) (int)(sizeof(((ScData *)0)->member) / sizeof(((ScData *)0)->member[0]))
+#define F64(member) {AT(member), FieldF64, 1}
+#define I32(member) {AT(member), FieldI32, 1}
+
+static const StateField FIELDS[] = {
+    {AT(par), FieldF64, COUNT(par)},
+    {AT(in), FieldF64, COUNT(in) * COUNT(in[0])},
+    F64(state.w), F64(state.E), F64(state.uRef),
+    {AT(ipar), FieldI32, COUNT(ipar)},
+    I32(state.mode), I32(state.side), I32(state.slipDir),
+};
+#define STATE_VERSION 1
+
+/* The displacement polynomial of one side (see the head comment). */
+static void sidePoly(const ScData *d, int q, int v, CePoly *p)
+{
+    int own = 0;
+    double fact = 1.0;
+    memset(p, 0, sizeof *p);
+    for (int j = 1; j <= MAX_ORDER; ++j) own |= d->in[q][j] != 0.0;
+    p->c[0] = d->in[q][0];
+    for (int j = 1; j <= CE_MAX_DEG; ++j) {
+        fact *= (double)j;
+        p->c[j] = (own ? (j <= MAX_ORDER ? d->in[q][j] : 0.0) : d->in[v][j - 1]) / fact;
+    }
+    p->deg = CE_MAX_DEG;
+    while (p->deg > 0 && p->c[p->deg] == 0.0) --p->deg;
+}
+
+/* u(tau) = q_A(tau) - q_B(tau) and the rotor speed polynomial. */
+static void stepPolys(const ScData *d, CePoly *u, CePoly *n)
+{
+    CePoly b;
+    double fact = 1.0;
+    sidePoly(d, InQA, InVA, u);
+    sidePoly(d, InQB, InVB, &b);
+    for (int j = 0; j <= CE_MAX_DEG; ++j) u->c[j] -= b.c[j];
+    if (b.deg > u->deg) u->deg = b.deg;
+    while (u->deg > 0 && u->c[u->deg] == 0.0) --u->deg;
+    memset(n, 0, sizeof *n);
+    for (int j = 0; j <= MAX_ORDER; ++j) {
+        if (j > 0) fact *= (double)j;
+        n->c[j] = d->in[InSpeed][j] / fact;
+        if (n->c[j] != 0.0) n->deg = j;
+    }
+}
+
+static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
+{
+    ScData *d = DATA(inst);
+    const double *p = d->par;
+    ContactParams cp;
+    int rc;
+    cp.kn = p[ParKn];
+    cp.kdRatio = p[ParKdRatio];
+    cp.mu = p[ParMu];
+    cp.gamma = p[ParGamma];
+    cp.d = p[ParD];
+    rc = ceBuild(&d->model, &cp, (FrictionModel)d->ipar[IparFriction], (Projection)d->ipar[IparProjection],
+                 d->ipar[IparGating] != 0, p[ParB], d->ipar[IparEngineOrder]);
+    if (rc != 0) {
+        fmiLogStatus(inst, FmiError,
+                     "%s: the contact parameters kn = %g N/m, kdRatio = %g, mu = %g, gamma = %g rad, d = %g m, "
+                     "B = %g m (frictionModel %d) are not usable together%s", fn, cp.kn, cp.kdRatio, cp.mu,
+                     cp.gamma, cp.d, p[ParB], (int)d->ipar[IparFriction],
+                     rc == 2 ? ": the describing function (eq. 7-13) failed at B" : "");
+        return FmiError;
+    }
+    if (initState) ceInit(&d->model, &d->state, d->in[InQA][0] - d->in[InQB][0], p[ParE0]);
+    return FmiOK;
+}
+
+/* The outputs at the inputs set now: the element moved to them (ceProject) in a copy of the state;
+ * before the end of initialization, the start state at them. */
+static void outputs(FmiInstance *inst)
+{
+    const ScData *d = DATA(inst);
+    ScMemory *o = (ScMemory *)inst->memory;
+    CeState s = d->state;
+    CePoly u, n;
+    stepPolys(d, &u, &n);
+    if (inst->run.initialized) (void)ceProject(&d->model, &s, u.c[0]);
+    else ceInit(&d->model, &s, u.c[0], d->par[ParE0]);
+    ceOutputs(&d->model, &s, u.c[0], u.c[1], n.c[0], &o->out);
+    o->u = u.c[0];
+    o->E = s.E;
+}
+
+static double output(const FmiInstance *inst, int id)
+{
+    const ScMemory *o = (const ScMemory *)inst->memory;
+    switch (id) {
+    case OutForceA: return 0.0 - o->out.contactForce; /* exactly opposite, never -0.0 */
+    case OutForceB: return o->out.contactForce;
+    case OutNormal: return o->out.normalForce;
+    case OutFriction: return o->out.frictionForce;
+    case OutEnergy: return o->E;
+    case OutU: return o->u;
+    default: return (double)o->out.contactState;
+    }
+}
+
+static const char *failure(CeStatus st)
+{
+    switch (st) {
+    case CeChattering: return "more than 1000 contact events in one step (chattering)";
+    case CeOmegaZero: return "rotorSpeed <= 0 while the describing-function contact acts (f_c needs omega > 0)";
+    default: return "the element state became non-finite";
+    }
+}
+
+/* Shifts input i's Taylor polynomial to tau = h (an input the master does not set again goes on). */
+static void shiftInput(double c[MAX_ORDER + 1], double h)
+{
+    double a[MAX_ORDER + 1], fact = 1.0;
+    int top = 0;
+    for (int j = 0; j <= MAX_ORDER; ++j) {
+        if (j > 0) fact *= (double)j;
+        a[j] = c[j] / fact;
+        if (a[j] != 0.0) top = j;
+    }
+    for (int j = 0; j < top; ++j)
+        for (int k = top - 1; k >= j; --k) a[k] += h * a[k + 1];
+    fact = 1.0;
+    for (int j = 0; j <= MAX_ORDER; ++j) {
+        if (j > 0) fact *= (double)j;
+        c[j] = j <= top ? a[j] * fact : 0.0;
+    }
+}
+
+static FmiStatus doStep(FmiInstance *inst, const char *fn, double tc, double h)
+{
+    ScData *d = DATA(inst);
+    const CeState backup = d->state;
+    CePoly u, n;
+    CeStatus st;
+    stepPolys(d, &u, &n);
+    if (d->model.friction != FrictionMacroslipTD) {
+        const double n1 = cePolyAt(&n, h);
+        if (!(n.c[0] >= 0.0 && n.c[0] <= ROTOR_SPEED_MAX && n1 >= 0.0 && n1 <= ROTOR_SPEED_MAX)) {
+            fmiLogStatus(inst, FmiDiscard, "%s: rotorSpeed = %g rpm at t = %.17g s and %g rpm at the step end: "
+                         "it must stay in [0, %g] rpm; the step is refused, the state is unchanged", fn, n.c[0],
+                         tc, n1, ROTOR_SPEED_MAX);
+            return FmiDiscard;
+        }
+    }
+    st = ceProject(&d->model, &d->state, u.c[0]);
+    if (st == CeOk) st = ceAdvance(&d->model, &d->state, &u, &n, h, NULL);
+    if (st != CeOk) {
+        d->state = backup;
+        fmiLogStatus(inst, FmiDiscard, "%s: %s in the step from t = %.17g s; the step is discarded and the "
+                     "state restored", fn, failure(st), tc);
+        return FmiDiscard;
+    }
+    /* inputs carried to the next point: each as the polynomial the step used, so a master that
+     * does not set them again reads the forces at the step's end state (a displacement without
+     * derivatives of its own moved along its velocity: it takes the value reached) */
+    {
+        CePoly pa, pb;
+        sidePoly(d, InQA, InVA, &pa);
+        sidePoly(d, InQB, InVB, &pb);
+        for (int i = 0; i < NUM_INPUTS; ++i) shiftInput(d->in[i], h);
+        d->in[InQA][0] = cePolyAt(&pa, h);
+        d->in[InQB][0] = cePolyAt(&pb, h);
+    }
+    return FmiOK;
+}
+
+static int validData(FmiInstance *inst, const char *fn, const void *data, int initialized)
+{
+    const CeState *s = &((const ScData *)data)->state;
+    if (initialized && (!isfinite(s->w) || !isfinite(s->E) || !isfinite(s->uRef) || s->mode < 0 ||
+                        s->mode > 2 || (s->side != 1 && s->side != -1) || (s->slipDir != 1 && s->slipDir != -1))) {
+        fmiLogStatus(inst, FmiError, "%s: invalid contact state in the data", fn);
+        return 0;
+    }
+    return 1;
+}
+
+const FmiModel fmiModel = {
+    MODEL_NAME, MODEL_GUID, VARS, (int)(sizeof VARS / sizeof VARS[0]), MAX_ORDER,
+    sizeof(ScData), sizeof(ScMemory), 1, STATE_VERSION, FIELDS, (int)(sizeof FIELDS / sizeof FIELDS[0]),
+    NULL, build, NULL, outputs, output, NULL, doStep, validData,
+};
+
+/* co-simulation only */
+const FmiModelExchange *const fmiModelExchange = NULL;

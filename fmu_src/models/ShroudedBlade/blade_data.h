@@ -1,0 +1,60 @@
+/* The ShroudedBlade model's data (its part of the FMU state) and per-instance memory, shared by
+ * model.c (variables, build, outputs, the step) and model_me.c (model exchange, which keeps its
+ * own data: the co-simulation structs have no model-exchange field). */
+#ifndef SHROUDED_BLADE_DATA_H
+#define SHROUDED_BLADE_DATA_H
+
+#include "fmi/instance.h"
+#include "physics/dynamics.h"
+#include "solver/rk4_events.h"
+
+/* Real parameter slots (units as in modelDescription.xml) */
+typedef enum {
+    ParEI = 0, ParRho, ParA, ParL, ParC, ParM0, ParKn, ParKdRatio, ParMu, ParGamma, ParD, ParB,
+    ParMaxStep,
+    ParQ0, ParV0, ParE0, /* start values of the initial="exact" outputs q [m], q' [m/s], E [J] */
+    ParF0,               /* start value of jenkinsForce: Jenkins spring force k_d (Delta_u - w) [N] */
+    ParWindowMax0,       /* start value of runningMaximum: max |q| over the running period [m] */
+    ParFw0,              /* amplitude of the built-in aerodynamic load [N/m] */
+    PAR_NUM
+} RealParam;
+
+typedef enum {
+    IparFrictionModel = 0, IparFormulation, IparProjection, IparAmplitudeMode, IparEngineOrder,
+    IparGating, IparSensitivities, IparBladeIndex, IparBladeCount, IPAR_NUM
+} IntParam;
+
+/* Everything of the model an FMU state captures. Plain data (no pointers). The last block is
+ * derived from the rest (rebuilt after deserialization, not serialized). */
+typedef struct {
+    double par[PAR_NUM];         /* real parameters [units of the XML] */
+    int32_t ipar[IPAR_NUM];      /* integer and Boolean parameters */
+    double in[SOLVER_NUM_INPUTS][SOLVER_MAX_ORDER + 1]; /* input value and derivatives 1..8
+                                                          [unit/s^j] at the communication point */
+    int32_t warnedFullStick;     /* the full-stick warning was given in this run */
+    DynState state;              /* continuous and discrete state */
+    DynSens sens;                /* sensitivities to the start values and B (if sensitivities) */
+    /* derived */
+    BladeReduction blade;
+    DynModel model;
+} BladeData;
+
+/* Per-instance memory outside the FMU state. */
+typedef struct {
+    SolverCounters counters;     /* work statistics */
+    /* the last Galerkin reduction and what it was built from: a master that resets and restarts
+     * with the same blade (shooting) skips eq. 19-26 */
+    int32_t bladeCacheValid;
+    int32_t bladeCacheFormulation;
+    BladeParams bladeCacheParams;
+    BladeReduction bladeCache;
+    DynOutputs out;              /* outputs of the current get call */
+} BladeMemory;
+
+#define BLADE_DATA(inst) ((BladeData *)(inst)->data)
+#define BLADE_MEMORY(inst) ((BladeMemory *)(inst)->memory)
+
+/* Warns once per run when the describing function is in full stick (docs/model.md s.3). */
+FmiStatus bladeWarnFullStickOnce(FmiInstance *inst, const char *fn);
+
+#endif

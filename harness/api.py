@@ -1,0 +1,187 @@
+"""The public API of `harness` (re-exported there on first use): thin over the package's own
+functions, checking every argument with a `ParameterError` that names the value, the accepted
+range and the argument it came from. `python -m harness` / `harness` is the command line over the
+same. Above the system layer: it imports model, fmu, analysis and system (docs/layers.md).
+"""
+from __future__ import annotations
+
+import math
+import tomllib
+from functools import lru_cache
+from importlib import metadata
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+from fmpy import read_model_description
+
+from harness.analysis.periodic.branches import orbits_at, trace_branches
+from harness.analysis.periodic.continuation import Branch
+from harness.analysis.periodic.period_map import MODELS, STATE_STARTS, PeriodMap
+from harness.analysis.periodic.shooting import Orbit
+from harness.fmu.blade import BladeFMU
+from harness.fmu.build import fmu_file
+from harness.fmu.slave import build_ring_fmus
+from harness.model.params import ParameterError, input_range, validate
+from harness.system import ring_c, ring_values
+from harness.system.ring import Ring
+from harness.system.ring import run as ring_run
+
+__all__ = ["version", "fmu_path", "simulate", "periodic_orbits", "branch", "Ring", "run_ring",
+           "ParameterError", "RING_MASTERS"]
+
+RING_MASTERS = ("fmpy", "c")  # the ring's loop in Python (the readable reference) or in C
+
+
+@lru_cache(maxsize=1)
+def version() -> str:
+    """The installed distribution's version; in a bare checkout (not installed) pyproject.toml's,
+    the one source of both."""
+    try:
+        return metadata.version("shroudedblade-harness")
+    except metadata.PackageNotFoundError:
+        with open(Path(__file__).resolve().parents[1] / "pyproject.toml", "rb") as fh:
+            return str(tomllib.load(fh)["project"]["version"])
+
+
+def fmu_path(name: str = "ShroudedBlade") -> Path:
+    """Path of the FMU `name`: "ShroudedBlade" (FMI 2.0 co-simulation and model exchange),
+    "fmi3/ShroudedBlade" (FMI 3.0 co-simulation), "Excitation", "BladeExternalContact" or
+    "ShroudContact". Installed: the FMU that came with the package (harness/fmus/); in a checkout:
+    `build/<name>.fmu`, built with CMake if out of date. Raises KeyError for an unknown name."""
+    return fmu_file(name)
+
+
+def _error(message: str) -> Exception:
+    return ParameterError(message)
+
+
+def _finite(name: str, value: Any, where: str) -> float:
+    """`value` as a float, or ParameterError naming it."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise _error(f"{name} = {value!r} (from {where}) is not a number") from None
+    if not math.isfinite(v):
+        raise _error(f"{name} = {value!r} (from {where}) is not finite")
+    return v
+
+
+def _speed(speed: Any, where: str, low_open: bool) -> float:
+    """A rotor speed [rpm] inside the FMU's rotorSpeed range (from its model description)."""
+    lo, hi = input_range("rotorSpeed")
+    v = _finite("speed", speed, where)
+    if (v <= lo if low_open else v < lo) or v > hi:
+        raise _error(f"speed = {speed!r} rpm (from {where}) is out of range; accepted: {'(' if low_open else '['}{lo:g},"
+                     f" {hi:g}] rpm (the FMU's rotorSpeed)")
+    return v
+
+
+def _parameters(parameters: dict[str, Any], where: str) -> dict[str, Any]:
+    """The parameters as given (names and values checked against the model description)."""
+    validate(parameters, source=where)
+    return dict(parameters)
+
+
+def _model(model: str, where: str) -> None:
+    if model not in MODELS:
+        raise _error(f"model = {model!r} (from {where}(model=...)) is not one of {', '.join(MODELS)}")
+
+
+def simulate(stop_time: float = 0.3, *, speed: float = 5000.0, step: float = 1e-4,
+             outputs: Sequence[str] | None = None, fmu: str | Path | None = None, **parameters: Any) -> np.ndarray:
+    """Run the FMU from rest for `stop_time` [s] at constant `speed` [rpm] with communication step
+    `step` [s] under the aerodynamic load Fw0 sin(EO * phase); returns a numpy record array with
+    'time' and the outputs (all, or `outputs`) at every step. `parameters`: FMU parameters and Fw0
+    by name (e.g. d=4e-5, gating=False). `fmu`: another FMU file (default `fmu_path()`).
+    As `harness simulate` (harness.cli.simulate) without the files."""
+    where = "harness.simulate"
+    params = _parameters(parameters, f"{where}(**parameters)")
+    v = _speed(speed, f"{where}(speed=...)", low_open=False)
+    t = _finite("stop_time", stop_time, f"{where}(stop_time=...)")
+    h = _finite("step", step, f"{where}(step=...)")
+    if not 0 < h <= t:
+        raise _error(f"step = {step!r} s (from {where}(step=...)) is out of range; accepted: (0, stop_time = {t:g}] s")
+    with BladeFMU(fmu) as blade:
+        return blade.run(params, t, h, speed=v, outputs=outputs)
+
+
+def periodic_orbits(speed: float, model: str = "fixedPoint", *, fmu: str | Path | None = None,
+                    **parameters: Any) -> list[Orbit]:
+    """Every periodic orbit of the FMU found at `speed` [rpm], by shooting, sorted by amplitude,
+    each with its Floquet multipliers and stability (`Orbit.amplitude` [m], `.stable`, `.label`,
+    `.multipliers`, `.as_dict()`). model: fixedB (B fixed, parameter B), fixedPoint (the paper's
+    B = A(B), default), jenkins (the time-domain macroslip element) or coulomb.
+    As `harness periodic --speed SPEED --model MODEL`."""
+    where = "harness.periodic_orbits"
+    v = _speed(speed, f"{where}(speed=...)", low_open=True)
+    _model(model, where)
+    state = [k for k in parameters if k in STATE_STARTS]
+    if state:
+        raise _error(f"{state[0]} (from {where}(**parameters)): the state on the orbit is what shooting solves"
+                     " for; give parameters only")
+    params = _parameters(parameters, f"{where}(**parameters)")
+    with BladeFMU(fmu) as blade:
+        return orbits_at(PeriodMap(blade, params, model), v)
+
+
+def branch(speed_range: tuple[float, float], model: str = "fixedPoint", *, fmu: str | Path | None = None,
+           **parameters: Any) -> list[Branch]:
+    """The branches of periodic orbits over `speed_range` = (low, high) [rpm], traced by
+    pseudo-arclength continuation from the orbits found at seed speeds 500 rpm apart (each branch:
+    `.points`, with speed, amplitude and stability). As the studies of `harness reproduce`."""
+    where = "harness.branch"
+    _model(model, where)
+    try:
+        lo, hi = speed_range
+    except (TypeError, ValueError):
+        raise _error(f"speed_range = {speed_range!r} (from {where}(speed_range=...)) is not a pair (low, high) of"
+                     " speeds [rpm]") from None
+    lo = _speed(lo, f"{where}(speed_range=(low, ...))", low_open=True)
+    hi = _speed(hi, f"{where}(speed_range=(..., high))", low_open=True)
+    if not lo < hi:
+        raise _error(f"speed_range = {speed_range!r} rpm (from {where}(speed_range=...)): low must be < high")
+    params = _parameters(parameters, f"{where}(**parameters)")
+    with BladeFMU(fmu) as blade:
+        return trace_branches(blade, params, model, (lo, hi))[0]
+
+
+def _ring_speed(speed: Any, where: str) -> None:
+    """A ring speed [rpm] inside BladeExternalContact's rotorSpeed range (its model description)."""
+    md = read_model_description(str(build_ring_fmus()[0]))
+    rs = next(v for v in md.modelVariables if v.name == "rotorSpeed")
+    lo, hi = float(rs.min), float(rs.max)
+    v = _finite("speed", speed, where)
+    if not lo < v <= hi:
+        raise _error(f"speed = {speed!r} rpm (from {where}) is out of range; accepted: ({lo:g}, {hi:g}] rpm"
+                     " (BladeExternalContact's rotorSpeed)")
+
+
+def run_ring(ring: Ring, master: str = "c") -> dict[str, np.ndarray]:
+    """Run the bladed-disk ring `ring` (a `harness.Ring`: n blades coupled by n shroud contacts,
+    each blade loaded by its own Excitation FMU) from rest; returns time [s] and per blade (columns)
+    q, v, the contact forces and energies (harness.system.ring.run). master: "c" (the communication
+    loop in C) or "fmpy" (the same data flow in Python). As `harness ring`."""
+    where = "harness.run_ring"
+    if master not in RING_MASTERS:
+        raise _error(f"master = {master!r} (from {where}(master=...)) is not one of {', '.join(RING_MASTERS)}")
+    nmax = ring_values.max_blades()
+    if not (isinstance(ring.n, int) and not isinstance(ring.n, bool) and 2 <= ring.n <= nmax):
+        raise _error(f"n = {ring.n!r} (from {where}(ring=Ring(n=...))) is out of range; accepted: [2, {nmax}] blades"
+                     " (the Excitation FMU's bladeCount)")
+    t = _finite("stop_time", ring.stop_time, f"{where}(ring=Ring(stop_time=...))")
+    h = _finite("step", ring.step, f"{where}(ring=Ring(step=...))")
+    if not 0 < h <= t:
+        raise _error(f"step = {ring.step!r} s (from {where}(ring=Ring(step=...))) is out of range; accepted:"
+                     f" (0, stop_time = {t:g}] s")
+    var = ring_values.settable()
+    for kind, values in (("blade", ring.blade), ("contact", ring.contact)):
+        for name, value in values.items():
+            if name not in var[kind]:
+                raise _error(f"{name} (from {where}(ring=Ring({kind}=...))) is not a parameter of the {kind} FMU;"
+                             f" known: {', '.join(sorted(var[kind]))}")
+            ring_values.typed(name, value, *var[kind][name], origin=f"{where}(ring=Ring({kind}=...))")
+    _ring_speed(ring.speed, f"{where}(ring=Ring(speed=...))")
+    if master == "c":
+        return ring_c.run(ring)
+    return ring_run(ring)

@@ -1,0 +1,48 @@
+"""MkDocs hooks (mkdocs.yml `hooks:`): the generated parts of the site, made at build time.
+
+Written pages live in docs/. Generated ones are never copied there by hand: the reports that
+`make run`, `make bench` and `make crosscheck` write (results/claims.md, bench/RESULTS.md,
+crosscheck/agreement.md) become pages under generated/, the figures and CSVs of results/ are
+served under results/, and a page holding the VARIABLE_TABLES marker gets the variable tables of
+every model description (variable_tables.py).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from mkdocs.structure.files import File
+
+import variable_tables
+
+REPO = Path(__file__).resolve().parent.parent
+# site page -> (report in the repository, the command that writes it)
+REPORTS = {
+    "generated/claims.md": ("results/claims.md", "make run"),
+    "generated/bench.md": ("bench/RESULTS.md", "make bench"),
+    "generated/agreement.md": ("crosscheck/agreement.md", "make crosscheck"),
+}
+RESULT_FILES = ("results/**/*.png", "results/**/*.csv", "results/**/*.json")
+VARIABLE_TABLES = "<!-- variable tables -->"
+
+
+def _report_page(source: str, command: str) -> str:
+    text = (REPO / source).read_text()
+    note = (f"!!! note \"Generated report\"\n    This page is `{source}` as `{command}` last wrote it; "
+            "it is included at build time, not edited here.\n\n")
+    head, _, rest = text.partition("\n")
+    return f"{head}\n\n{note}{rest}" if head.startswith("# ") else note + text
+
+
+def on_files(files, config):
+    for uri, (source, command) in REPORTS.items():
+        files.append(File.generated(config, uri, content=_report_page(source, command)))
+    for pattern in RESULT_FILES:
+        for path in sorted(REPO.glob(pattern)):
+            files.append(File.generated(config, path.relative_to(REPO).as_posix(), abs_src_path=str(path)))
+    return files
+
+
+def on_page_markdown(markdown, page, config, files):
+    if VARIABLE_TABLES in markdown:
+        markdown = markdown.replace(VARIABLE_TABLES, variable_tables.markdown(REPO))
+    return markdown

@@ -1,0 +1,144 @@
+"""Numbers quoted in README.md and on the documentation's findings pages against the files they
+come from, so a quoted number cannot drift from what the code last measured: the invalid-input
+catalogue (docs/invalid-inputs.md, generated from real runs), the claims table (results/claims.md,
+written by `make run`), the mistuning tables (results/mistuning*/mistuning_amplification.csv,
+written by `python -m harness mistuning`) and the performance table (bench/RESULTS.json, written by
+`make bench`). A quoted number is compared as printed (rounded to the digits it shows)."""
+from __future__ import annotations
+
+import csv
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parent.parent
+README = "README.md"
+ROBUSTNESS = "docs/findings/robustness.md"
+RESULTS = "docs/findings/results.md"
+PERFORMANCE = "docs/findings/performance.md"
+RING = "docs/guide/ring.md"
+MISTUNING = "docs/guide/mistuning.md"
+
+
+def _one(page: str, pattern: str) -> re.Match:
+    found = list(re.finditer(pattern, (REPO / page).read_text()))
+    assert len(found) == 1, f"{page} must quote this exactly once: {pattern!r} ({len(found)} found)"
+    return found[0]
+
+
+@pytest.fixture(scope="module")
+def bench():
+    return json.loads((REPO / "bench" / "RESULTS.json").read_text())
+
+
+@pytest.mark.parametrize("page", [README, ROBUSTNESS])
+def test_invalid_input_catalogue_size(page):
+    m = _one(page, r"lists (\d+)\s+invalid inputs in (\d+) groups")
+    lines = (REPO / "docs" / "invalid-inputs.md").read_text().splitlines()
+    head = next(i for i, ln in enumerate(lines) if ln.startswith("| group |"))
+    rows = [ln for ln in lines[head + 2:] if ln.startswith("| ")]  # the catalogue table's rows
+    groups = {ln.split("|")[1].strip() for ln in rows}
+    assert (int(m.group(1)), int(m.group(2))) == (len(rows), len(groups))
+
+
+@pytest.mark.parametrize("page", [README, RESULTS])
+def test_claims_summary_counts(page):
+    m = _one(page, r"(\d+) reproduced, (\d+) trend only, (\d+) not reproduced,\s+(\d+) new checks")
+    verdicts = re.findall(r"\| \*\*([a-z ,-]+)\*\* \|$", (REPO / "results" / "claims.md").read_text(), re.M)
+    counts = [verdicts.count(v) for v in ("reproduced", "trend only", "not reproduced", "new check")]
+    assert [int(g) for g in m.groups()] == counts
+
+
+def test_make_run_wall_times(bench):
+    m = _one(PERFORMANCE, r"\| `make run` \(`reproduce`[^|]*?(\d+)k periods\) \| ([\d.]+) s wall on (\d+) workers; "
+                          r"branches ([\d.]+) s")
+    r = bench["reproduce"]
+    assert int(m.group(1)) == round(r["branches_evaluations"] / 1000)
+    assert m.group(2) == f"{r['wall']:.1f}" and int(m.group(3)) == r["workers"]
+    assert m.group(4) == f"{r['branches_wall']:.1f}"
+    m = _one(README, r"`make run` takes ([\d.]+) s on (\d+) cores")
+    assert m.group(1) == f"{r['wall']:.1f}" and int(m.group(2)) == r["workers"]
+
+
+def test_branches_vs_transient_path(bench):
+    m = _one(PERFORMANCE, r"\| ([\d.]+) s vs ([\d.]+) s: \*\*([\d.]+)x\*\* less wall \(whole reproduction ([\d.]+)x; "
+                          r"blade time (\d+) s vs (\d+) s\)")
+    r, t = bench["reproduce"], bench["transient"]
+    studies = r["hb_wall"] + r["branches_wall"]
+    assert m.group(1) == f"{studies:.1f}" and m.group(2) == f"{t['wall']:.1f}"
+    assert m.group(3) == f"{t['wall'] / studies:.2f}"
+    assert m.group(4) == f"{(t['wall'] + r['extras_wall']) / r['wall']:.2f}"
+    assert (int(m.group(5)), int(m.group(6))) == (round(r["branches_simulated_s"]), round(t["sim_time"]))
+
+
+def test_worker_time_over_fmi_time(bench):
+    m = _one(PERFORMANCE, r"worker time / time inside the FMI calls \| \*\*([\d.]+)\*\* \(wall x workers / FMI time "
+                          r"([\d.]+)\)")
+    r = bench["reproduce"]
+    assert m.group(1) == f"{r['branches_worker_s'] / r['branches_fmi_s']:.2f}"
+    assert m.group(2) == f"{r['branches_wall'] * r['workers'] / r['branches_fmi_s']:.2f}"
+
+
+def test_rk4_step_cost(bench):
+    """The range of ns per internal step at 100 internal steps per doStep (the C benchmark's second
+    table), rounded as printed, and the RHS evaluations per step."""
+    m = _one(PERFORMANCE, r"100 steps per doStep\) \| (\d+)-(\d+) ns \(linear ... Jenkins element\); "
+                          r"~([\d.]+)-([\d.]+) RHS")
+    table = bench["c_step"]["text"].split("(100 internal steps each)")[1]
+    rows = [ln.split() for ln in table.splitlines() if ln and ln[0].isalpha() and "ns/step" not in ln
+            and not ln.startswith("communication")]
+    ns = [float(r[-3]) for r in rows]
+    rhs = [float(r[-2]) for r in rows]
+    assert (int(m.group(1)), int(m.group(2))) == (round(min(ns)), round(max(ns)))
+    assert (m.group(3), m.group(4)) == (f"{min(rhs):.1f}", f"{max(rhs):.1f}")
+
+
+def test_ring_row(bench):
+    """The 24-blade ring row: wall / time inside fmi2DoStep (measured in C) for libcosim (whole run
+    and stepping alone), the fmpy master (feedthrough and libcosim's data flow) and the C loop, and
+    the compute per doStep; the same ratios where README and the ring page quote them."""
+    m = _one(PERFORMANCE, r"\| a 24-blade ring[^|]*\| libcosim \*\*([\d.]+)x\*\* \(stepping alone ([\d.]+)x\), "
+                          r"fmpy master ([\d.]+)x \(in libcosim's data flow ([\d.]+)x\), C loop \*\*([\d.]+)x\*\*; "
+                          r"([\d.]+) us per doStep")
+    g = bench["ring"]
+    lc = g["libcosim"]
+    c_loop = f"{g['C loop']['ratio_wall']:.2f}"
+    assert m.groups() == (f"{lc['ratio_wall']:.2f}", f"{lc['ratio_step_wall']:.2f}",
+                          f"{g['fmpy feedthrough']['ratio_wall']:.2f}",
+                          f"{g['fmpy libcosim data flow']['ratio_wall']:.2f}",
+                          c_loop, f"{lc['inside_doStep'] / lc['doSteps'] * 1e6:.2f}")
+    m = _one(README, r"costs the C loop ([\d.]+)x the FMUs' own compute\s+\(libcosim ([\d.]+)x\)")
+    assert m.groups() == (c_loop, f"{lc['ratio_wall']:.2f}")
+    m = _one(RING, r"The C loop costs ([\d.]+)x the FMUs' own compute against (\d+)x for the fmpy loop")
+    assert m.group(1) == c_loop and int(m.group(2)) == round(g["fmpy feedthrough"]["ratio_wall"])
+
+
+def _amplification(folder: str) -> dict[tuple[str, str], tuple[float, float]]:
+    """(variant, sigma in %) -> (mean, max) from the study's CSV."""
+    with open(REPO / "results" / folder / "mistuning_amplification.csv", newline="") as f:
+        return {(r["variant"], f"{100 * float(r['sigma']):g}"): (float(r["mean"]), float(r["max"]))
+                for r in csv.DictReader(f)}
+
+
+@pytest.mark.parametrize("folder, variants", [("mistuning", ("friction", "frictionless")),
+                                              ("mistuning_cluster", ("friction", "open"))])
+def test_mistuning_tables(folder, variants):
+    """Each mean / max cell of a mistuning table on the mistuning page against the study's CSV."""
+    csv_rows = _amplification(folder)
+    text = (REPO / MISTUNING).read_text()
+    header = f"| sigma (EI) | {variants[0]} | {variants[1]}"
+    table = text[text.index(header):].split("\n\n")[0].splitlines()[2:]
+    assert len(table) == 4
+    for line in table:
+        sigma, *cells = [c.strip() for c in line.strip("|").split("|")]
+        for variant, cell in zip(variants, cells):
+            mean, top = csv_rows[(variant, sigma.rstrip(" %"))]
+            assert cell == f"{mean:.4f} / {top:.4f}", (folder, sigma, variant)
+
+
+def test_readme_mistuning_maxima():
+    m = _one(README, r"\(([\d.]+)x at 5 % scatter on 6 blades, ([\d.]+)x on 24\)")
+    assert m.group(1) == f"{_amplification('mistuning')[('friction', '5')][1]:.2f}"
+    assert m.group(2) == f"{_amplification('mistuning_cluster')[('friction', '5')][1]:.2f}"
