@@ -34,6 +34,7 @@ from harness.crosscheck.static import fmpy_validate, fmutool_check
 from harness.fmu import build as _build
 from harness.fmu.blade import fmu_path
 from harness.fmu.build import REPO_ROOT
+from harness.fmu.libcosim import ns_time_grid
 
 AGREEMENT_FILE = REPO_ROOT / "crosscheck" / "agreement.md"
 TOOLS = ("fmpy", "libcosim", "ecos", "fmi4j")
@@ -112,7 +113,7 @@ def run_scenario(fmu: Path, scenario: Scenario, tools: tuple[str, ...] = TOOLS,
         report.rows.append(Row(taylor_ref, 0.0, "", None, "(reference, order 8)"))
     if "libcosim" in tools:
         run = _attempt("libcosim (libcosimpy)", "held", lambda: xl.run(fmu, scenario, held))
-        grid = xl.ns_time_grid(scenario.start_time, scenario.step, held.n_steps)
+        grid = ns_time_grid(scenario.start_time, scenario.step, held.n_steps)
         add(run, ref, "fmpy simulate_fmu, held", held.with_time(grid))
     if "ecos" in tools:
         run = _attempt("Ecos (ecospy)", "held", lambda: xe.run(fmu, scenario, held))
