@@ -40,9 +40,8 @@ class Fmus:
         self.vr3 = {v.name: v.valueReference for v in self.md3.modelVariables}
 
     def slave(self, guid: str | None = None) -> FMU2Slave:
-        s = FMU2Slave(guid=guid or self.md2.guid, unzipDirectory=self.dir2, instanceName="sb",
-                      modelIdentifier=self.md2.coSimulation.modelIdentifier)
-        return s
+        return FMU2Slave(guid=guid or self.md2.guid, unzipDirectory=self.dir2, instanceName="sb",
+                         modelIdentifier=self.md2.coSimulation.modelIdentifier)
 
     def model(self) -> FMU2Model:
         return FMU2Model(guid=self.md2.guid, unzipDirectory=self.dir2, instanceName="sb",
@@ -152,10 +151,6 @@ def _null_array3(s: FMU3Slave, vr: int) -> None:
 
 def _instantiate(make: Callable[[], object]) -> None:
     _refused(lambda: make().instantiate(loggingOn=False))
-
-
-def _nothing(_: object) -> None:
-    pass
 
 
 # group -> (what drives it through fmpy, what the printed reason must contain)

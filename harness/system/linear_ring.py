@@ -88,11 +88,6 @@ def response(ring: Ring, speeds: Sequence[float] | np.ndarray) -> np.ndarray:
     return LinearRing(ring).amplitudes(speeds)
 
 
-def peak(ring: Ring, band: tuple[float, float], points: int = 400) -> tuple[float, float]:
-    """LinearRing(ring).peak(band, points)."""
-    return LinearRing(ring).peak(band, points)
-
-
 def worst_mistuning(ring: Ring, band: tuple[float, float], spread: float = 0.1, seed: int = 1,
                     maxiter: int = 60, popsize: int = 15) -> tuple[float, np.ndarray]:
     """The largest amplification over zero-mean stiffness patterns EI_i = EI (1 + d_i), |d_i| <=
