@@ -21,7 +21,11 @@ typedef enum {
     OutQ = 0, OutV, OutNormalForce, OutFrictionForce, OutKeq, OutCeq, OutAmplitude, OutEnergy,
     OutFrequency, OutJenkinsForce, OutRegime, OutContactState, OutRunningMaximum,
     OutPsi, OutW, OutDer0, /* OutDer0 + i: dx_i/dt */
-    OutSens0 = OutDer0 + DYN_NX /* OutSens0 + SENS_NP row + col: the sensitivities (vr_sens0) */
+    OutSens0 = OutDer0 + DYN_NX_MAX, /* OutSens0 + SENS_NP row + col: the sensitivities (vr_sens0) */
+    OutModalQ1 = OutSens0 + 20,  /* OutModalQ1 + i - 1: modalDisplacement[i] */
+    OutModalV1 = OutModalQ1 + MODES_MAX,
+    OutModeFrequency1 = OutModalV1 + MODES_MAX,
+    OutRootMoment = OutModeFrequency1 + MODES_MAX
 } OutputId;
 
 /* The rows of the sensitivity outputs (config.h) */
@@ -57,6 +61,7 @@ static const VarInfo VARS[] = {
     {vr_engineOrder, "engineOrder", VarInteger, CausParameter, "", 3, 1, 100, 0, 0, IPAR(IparEngineOrder), -1},
     {vr_bladeIndex, "bladeIndex", VarInteger, CausParameter, "", 0, 0, 9999, 0, 0, IPAR(IparBladeIndex), -1},
     {vr_bladeCount, "bladeCount", VarInteger, CausParameter, "", 1, 1, 10000, 0, 0, IPAR(IparBladeCount), -1},
+    {vr_modes, "modes", VarInteger, CausParameter, "", 1, 1, MODES_MAX, 0, 0, IPAR(IparModes), -1},
     {vr_gating, "gating", VarBoolean, CausParameter, "", 1, 0, 1, 0, 0, IPAR(IparGating), -1},
     {vr_sensitivities, "sensitivities", VarBoolean, CausParameter, "", 0, 0, 1, 0, 0, IPAR(IparSensitivities), -1},
     {vr_aeroLoad, "aeroLoad", VarReal, CausInput, "N/m", 0.0, -INF, INF, 0, 0, INPUT(SOLVER_INPUT_AERO), -1},
@@ -90,26 +95,79 @@ static const VarInfo VARS[] = {
     {vr_der_sliderPosition, "der(sliderPosition)", VarReal, CausLocal, "m/s", 0.0, -INF, INF, 0, 0, NONE,
      OutDer0 + 4},
     /* sensitivities (docs/model-notes.md s.8) */
-    {vr_sens0 + 0, "dTipDisplacement_dQ0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 0},
-    {vr_sens0 + 1, "dTipDisplacement_dV0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 1},
-    {vr_sens0 + 2, "dTipDisplacement_dF0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 2},
-    {vr_sens0 + 3, "dTipDisplacement_dB", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 3},
-    {vr_sens0 + 4, "dTipVelocity_dQ0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 4},
-    {vr_sens0 + 5, "dTipVelocity_dV0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 5},
-    {vr_sens0 + 6, "dTipVelocity_dF0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 6},
-    {vr_sens0 + 7, "dTipVelocity_dB", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 7},
-    {vr_sens0 + 8, "dJenkinsForce_dQ0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 8},
-    {vr_sens0 + 9, "dJenkinsForce_dV0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 9},
-    {vr_sens0 + 10, "dJenkinsForce_dF0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 10},
-    {vr_sens0 + 11, "dJenkinsForce_dB", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 11},
-    {vr_sens0 + 12, "dRunningMaximum_dQ0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 12},
-    {vr_sens0 + 13, "dRunningMaximum_dV0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 13},
-    {vr_sens0 + 14, "dRunningMaximum_dF0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 14},
-    {vr_sens0 + 15, "dRunningMaximum_dB", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 15},
-    {vr_sens0 + 16, "dAmplitude_dQ0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 16},
-    {vr_sens0 + 17, "dAmplitude_dV0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 17},
-    {vr_sens0 + 18, "dAmplitude_dF0", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 18},
-    {vr_sens0 + 19, "dAmplitude_dB", VarReal, CausOutput, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 19},
+    {vr_sens0 + 0, "dTipDisplacement_dQ0", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 0},
+    {vr_sens0 + 1, "dTipDisplacement_dV0", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 1},
+    {vr_sens0 + 2, "dTipDisplacement_dF0", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 2},
+    {vr_sens0 + 3, "dTipDisplacement_dB", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 3},
+    {vr_sens0 + 4, "dTipVelocity_dQ0", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 4},
+    {vr_sens0 + 5, "dTipVelocity_dV0", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 5},
+    {vr_sens0 + 6, "dTipVelocity_dF0", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 6},
+    {vr_sens0 + 7, "dTipVelocity_dB", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 7},
+    {vr_sens0 + 8, "dJenkinsForce_dQ0", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 8},
+    {vr_sens0 + 9, "dJenkinsForce_dV0", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 9},
+    {vr_sens0 + 10, "dJenkinsForce_dF0", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 10},
+    {vr_sens0 + 11, "dJenkinsForce_dB", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 11},
+    {vr_sens0 + 12, "dRunningMaximum_dQ0", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 12},
+    {vr_sens0 + 13, "dRunningMaximum_dV0", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 13},
+    {vr_sens0 + 14, "dRunningMaximum_dF0", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 14},
+    {vr_sens0 + 15, "dRunningMaximum_dB", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 15},
+    {vr_sens0 + 16, "dAmplitude_dQ0", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 16},
+    {vr_sens0 + 17, "dAmplitude_dV0", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 17},
+    {vr_sens0 + 18, "dAmplitude_dF0", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 18},
+    {vr_sens0 + 19, "dAmplitude_dB", VarReal, CausLocal, "", 0.0, -INF, INF, 0, 0, NONE, OutSens0 + 19},
+    /* m modes (docs/model.md s.2a); entries above m read 0 */
+    {vr_modalDisplacement1 + 0, "modalDisplacement[1]", VarReal, CausOutput, "m", 0.0, -INF, INF, 0, 0, PAR(ParQm0 + 0),
+     OutModalQ1 + 0},
+    {vr_modalDisplacement1 + 1, "modalDisplacement[2]", VarReal, CausOutput, "m", 0.0, -INF, INF, 0, 0, PAR(ParQm0 + 1),
+     OutModalQ1 + 1},
+    {vr_modalDisplacement1 + 2, "modalDisplacement[3]", VarReal, CausOutput, "m", 0.0, -INF, INF, 0, 0, PAR(ParQm0 + 2),
+     OutModalQ1 + 2},
+    {vr_modalDisplacement1 + 3, "modalDisplacement[4]", VarReal, CausOutput, "m", 0.0, -INF, INF, 0, 0, PAR(ParQm0 + 3),
+     OutModalQ1 + 3},
+    {vr_modalDisplacement1 + 4, "modalDisplacement[5]", VarReal, CausOutput, "m", 0.0, -INF, INF, 0, 0, PAR(ParQm0 + 4),
+     OutModalQ1 + 4},
+    {vr_modalDisplacement1 + 5, "modalDisplacement[6]", VarReal, CausOutput, "m", 0.0, -INF, INF, 0, 0, PAR(ParQm0 + 5),
+     OutModalQ1 + 5},
+    {vr_modalVelocity1 + 0, "modalVelocity[1]", VarReal, CausOutput, "m/s", 0.0, -INF, INF, 0, 0, PAR(ParVm0 + 0),
+     OutModalV1 + 0},
+    {vr_modalVelocity1 + 1, "modalVelocity[2]", VarReal, CausOutput, "m/s", 0.0, -INF, INF, 0, 0, PAR(ParVm0 + 1),
+     OutModalV1 + 1},
+    {vr_modalVelocity1 + 2, "modalVelocity[3]", VarReal, CausOutput, "m/s", 0.0, -INF, INF, 0, 0, PAR(ParVm0 + 2),
+     OutModalV1 + 2},
+    {vr_modalVelocity1 + 3, "modalVelocity[4]", VarReal, CausOutput, "m/s", 0.0, -INF, INF, 0, 0, PAR(ParVm0 + 3),
+     OutModalV1 + 3},
+    {vr_modalVelocity1 + 4, "modalVelocity[5]", VarReal, CausOutput, "m/s", 0.0, -INF, INF, 0, 0, PAR(ParVm0 + 4),
+     OutModalV1 + 4},
+    {vr_modalVelocity1 + 5, "modalVelocity[6]", VarReal, CausOutput, "m/s", 0.0, -INF, INF, 0, 0, PAR(ParVm0 + 5),
+     OutModalV1 + 5},
+    {vr_modeFrequency1 + 0, "modeFrequency[1]", VarReal, CausOutput, "Hz", 0.0, -INF, INF, 0, 0, NONE, OutModeFrequency1 + 0},
+    {vr_modeFrequency1 + 1, "modeFrequency[2]", VarReal, CausOutput, "Hz", 0.0, -INF, INF, 0, 0, NONE, OutModeFrequency1 + 1},
+    {vr_modeFrequency1 + 2, "modeFrequency[3]", VarReal, CausOutput, "Hz", 0.0, -INF, INF, 0, 0, NONE, OutModeFrequency1 + 2},
+    {vr_modeFrequency1 + 3, "modeFrequency[4]", VarReal, CausOutput, "Hz", 0.0, -INF, INF, 0, 0, NONE, OutModeFrequency1 + 3},
+    {vr_modeFrequency1 + 4, "modeFrequency[5]", VarReal, CausOutput, "Hz", 0.0, -INF, INF, 0, 0, NONE, OutModeFrequency1 + 4},
+    {vr_modeFrequency1 + 5, "modeFrequency[6]", VarReal, CausOutput, "Hz", 0.0, -INF, INF, 0, 0, NONE, OutModeFrequency1 + 5},
+    {vr_rootMoment, "rootMoment", VarReal, CausOutput, "N.m", 0.0, -INF, INF, 0, 0, NONE, OutRootMoment},
+    /* model exchange: the derivatives of the modal states q_2..q_6, q_2'..q_6' (vr 240.., 250..) */
+    {vr_modalDisplacement1 + 38 + 2, "der(modalDisplacement[2])", VarReal, CausLocal, "m/s", 0.0, -INF, INF, 0, 0, NONE,
+     OutDer0 + DYN_NX + 0},
+    {vr_modalDisplacement1 + 38 + 3, "der(modalDisplacement[3])", VarReal, CausLocal, "m/s", 0.0, -INF, INF, 0, 0, NONE,
+     OutDer0 + DYN_NX + 1},
+    {vr_modalDisplacement1 + 38 + 4, "der(modalDisplacement[4])", VarReal, CausLocal, "m/s", 0.0, -INF, INF, 0, 0, NONE,
+     OutDer0 + DYN_NX + 2},
+    {vr_modalDisplacement1 + 38 + 5, "der(modalDisplacement[5])", VarReal, CausLocal, "m/s", 0.0, -INF, INF, 0, 0, NONE,
+     OutDer0 + DYN_NX + 3},
+    {vr_modalDisplacement1 + 38 + 6, "der(modalDisplacement[6])", VarReal, CausLocal, "m/s", 0.0, -INF, INF, 0, 0, NONE,
+     OutDer0 + DYN_NX + 4},
+    {vr_modalVelocity1 + 38 + 2, "der(modalVelocity[2])", VarReal, CausLocal, "m/s2", 0.0, -INF, INF, 0, 0, NONE,
+     OutDer0 + DYN_X_RATES + 0},
+    {vr_modalVelocity1 + 38 + 3, "der(modalVelocity[3])", VarReal, CausLocal, "m/s2", 0.0, -INF, INF, 0, 0, NONE,
+     OutDer0 + DYN_X_RATES + 1},
+    {vr_modalVelocity1 + 38 + 4, "der(modalVelocity[4])", VarReal, CausLocal, "m/s2", 0.0, -INF, INF, 0, 0, NONE,
+     OutDer0 + DYN_X_RATES + 2},
+    {vr_modalVelocity1 + 38 + 5, "der(modalVelocity[5])", VarReal, CausLocal, "m/s2", 0.0, -INF, INF, 0, 0, NONE,
+     OutDer0 + DYN_X_RATES + 3},
+    {vr_modalVelocity1 + 38 + 6, "der(modalVelocity[6])", VarReal, CausLocal, "m/s2", 0.0, -INF, INF, 0, 0, NONE,
+     OutDer0 + DYN_X_RATES + 4},
 };
 
 /* ------------------------------------------------------------------------------------------- */
@@ -124,6 +182,8 @@ static const StateField FIELDS[] = {
     {(long)offsetof(BladeData, in), FieldF64, COUNT(in) * COUNT(in[0])},
     F64(state.q), F64(state.v), F64(state.psi), F64(state.E), F64(state.w), F64(state.B),
     F64(state.windowMax), F64(state.periods),
+    {(long)offsetof(BladeData, state.qx), FieldF64, MODES_MAX - 1},
+    {(long)offsetof(BladeData, state.vx), FieldF64, MODES_MAX - 1},
     {(long)offsetof(BladeData, ipar), FieldI32, COUNT(ipar)},
     I32(warnedFullStick), I32(state.mode), I32(state.side), I32(state.slipDir), I32(state.vdir),
     {(long)offsetof(BladeData, sens.S), FieldF64, SENS_NY * SENS_NP},
@@ -133,10 +193,10 @@ static const StateField FIELDS[] = {
     F64(sens.dKeq), F64(sens.dCeqOmega), I32(sens.grazing),
 };
 
-/* Versions: 5 the built-in load's parameters joined; 4 the sensitivities; 3 the state-machine
+/* Versions: 6 the modes (their parameter, start values and modal states); 5 the built-in load's parameters joined; 4 the sensitivities; 3 the state-machine
  * value left the blob and the layer's run fields moved ahead; 2 the start values of jenkinsForce
  * and runningMaximum joined the parameters. Older versions are refused. */
-#define STATE_VERSION 5
+#define STATE_VERSION 6
 
 /* ------------------------------------------------------------------------------------------- */
 /* Start values, build                                                                          */
@@ -153,10 +213,10 @@ static void startValues(FmiInstance *inst)
 /* The start value of jenkinsForce must fit the start state (model-notes s.7): 0 for the
  * describing-function models and for an open contact, inside the friction cone [-L, L] (relative
  * tolerance DYN_CONE_RTOL) otherwise. Cross-field, so checked here, not at the set. */
-static FmiStatus checkStartForce(FmiInstance *inst, const char *fn)
+static FmiStatus checkStartForce(FmiInstance *inst, const char *fn, double q0)
 {
     const BladeData *d = BLADE_DATA(inst);
-    const double F0 = d->par[ParF0], q0 = d->par[ParQ0];
+    const double F0 = d->par[ParF0];
     double L;
     if (F0 == 0.0) return FmiOK;
     if (d->model.friction != FrictionMacroslipTD) {
@@ -249,10 +309,22 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
         return FmiError;
     }
     dynSetLoad(&d->model, p[ParFw0], d->ipar[IparEngineOrder], d->ipar[IparBladeIndex], d->ipar[IparBladeCount]);
+    {
+        const BladeModesSetup setup = {d->ipar[IparModes], d->ipar[IparFormulation], p[ParMaxStep],
+                                       d->in[SOLVER_INPUT_SPEED][0]};
+        BLADE_MEMORY(inst)->frequencyValid = 0;
+        if (bladeModesBuild(inst, fn, &setup, &bp, &d->blade, &BLADE_MEMORY(inst)->modesCache, &d->model,
+                            d->curvature) != FmiOK)
+            return FmiError;
+    }
     if (initState) {
-        if (checkStartForce(inst, fn) != FmiOK) return FmiError;
-        st = dynInitState(&d->model, &d->state, p[ParQ0], p[ParV0], p[ParE0], p[ParF0], p[ParB],
-                          p[ParWindowMax0]);
+        double u0, du0;
+        if (bladeModesStart(inst, fn, d->ipar[IparModes], p[ParQ0], p[ParV0], &p[ParQm0], &p[ParVm0], &u0, &du0) !=
+                FmiOK ||
+            checkStartForce(inst, fn, u0) != FmiOK)
+            return FmiError;
+        st = dynInitState(&d->model, &d->state, u0, du0, p[ParE0], p[ParF0], p[ParB], p[ParWindowMax0]);
+        bladeModesInitState(&d->model, &d->state, &p[ParQm0], &p[ParVm0]);
         memset(&d->sens, 0, sizeof d->sens);
         if (st == DynOk && d->ipar[IparSensitivities]) st = sensInit(&d->model, &d->state, p[ParWindowMax0], &d->sens);
     } else {
@@ -275,7 +347,14 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
 static void outputs(FmiInstance *inst)
 {
     BladeData *d = BLADE_DATA(inst);
-    dynOutputs(&d->model, &d->state, d->in[SOLVER_INPUT_SPEED][0], &BLADE_MEMORY(inst)->out);
+    BladeMemory *mem = BLADE_MEMORY(inst);
+    const double n = d->in[SOLVER_INPUT_SPEED][0];
+    dynOutputs(&d->model, &d->state, n, &mem->out);
+    if (!mem->frequencyValid || mem->frequencySpeed != n) { /* an eigenproblem per speed, not per get */
+        dynModeFrequencies(&d->model, n, mem->frequencies);
+        mem->frequencySpeed = n;
+        mem->frequencyValid = 1;
+    }
 }
 
 /* dx_i/dt, the der(...) variables, evaluated only when asked for (at omega = 0 with a
@@ -284,8 +363,11 @@ static double derivative(const FmiInstance *inst, int i)
 {
     const BladeData *d = BLADE_DATA(inst);
     const DynState *s = &d->state;
-    const double x[DYN_NX] = {s->q, s->v, s->psi, s->E, s->w};
-    double f[DYN_NX];
+    double x[DYN_NX_MAX] = {s->q, s->v, s->psi, s->E, s->w}, f[DYN_NX_MAX];
+    for (int k = 0; k < MODES_MAX - 1; ++k) { /* the extra modal coordinates (dynamics.h) */
+        x[DYN_NX + k] = s->qx[k];
+        x[DYN_X_RATES + k] = s->vx[k];
+    }
     (void)dynRhs(&d->model, s, d->in[SOLVER_INPUT_AERO][0], d->in[SOLVER_INPUT_SPEED][0], x, f);
     return f[i];
 }
@@ -303,6 +385,16 @@ static double sensitivity(const FmiInstance *inst, int k)
     case SensRowRunningMaximum: sensPeakGradient(&d->sens, g); return d->ipar[IparSensitivities] ? g[col] : 0.0;
     default: return d->sens.dB[col];
     }
+}
+
+/* modalDisplacement[i], modalVelocity[i], modeFrequency[i] (0 above m) */
+static double modeOutput(const FmiInstance *inst, int id)
+{
+    const BladeData *d = BLADE_DATA(inst);
+    double q[MODES_MAX], v[MODES_MAX];
+    if (id >= OutModeFrequency1) return BLADE_MEMORY(inst)->frequencies[id - OutModeFrequency1];
+    dynModalState(&d->model, &d->state, q, v);
+    return id >= OutModalV1 ? v[id - OutModalV1] : q[id - OutModalQ1];
 }
 
 static double output(const FmiInstance *inst, int id)
@@ -327,7 +419,10 @@ static double output(const FmiInstance *inst, int id)
     case OutW: return s->w;
     default: break;
     }
-    if (id >= OutDer0 && id < OutDer0 + DYN_NX) return derivative(inst, id - OutDer0);
+    if (id >= OutModalQ1 && id < OutRootMoment) return modeOutput(inst, id);
+    if (id == OutRootMoment)
+        return bladeRootMoment(&BLADE_DATA(inst)->model, s, BLADE_DATA(inst)->par[ParEI], BLADE_DATA(inst)->curvature);
+    if (id >= OutDer0 && id < OutDer0 + DYN_NX_MAX) return derivative(inst, id - OutDer0);
     if (id >= OutSens0 && id < OutSens0 + SENS_ROWS * SENS_NP) return sensitivity(inst, id - OutSens0);
     return 0.0;
 }
@@ -386,6 +481,11 @@ static int validData(FmiInstance *inst, const char *fn, const void *data, int in
         return 0;
     }
     if (!initialized) return 1; /* the state is built at the end of initialization */
+    for (int k = 0; k < MODES_MAX - 1; ++k)
+        if (!isfinite(s->qx[k]) || !isfinite(s->vx[k])) {
+            fmiLogStatus(inst, FmiError, "%s: invalid solver state in the data", fn);
+            return 0;
+        }
     if (!isfinite(s->q) || !isfinite(s->v) || !isfinite(s->psi) || !isfinite(s->E) || !isfinite(s->w) ||
         !(s->B >= 0.0) || !isfinite(s->B) || !(s->windowMax >= 0.0) || !isfinite(s->windowMax) ||
         !(s->periods >= 0.0) || s->periods > 9e15 || s->periods != floor(s->periods) ||
