@@ -262,7 +262,7 @@ class PeriodMap:
             if st > 1:
                 raise self.fmu.failure("fmi2DoStep", st, t)
         o = self._oval
-        st = r.getReal(c, ctypes.addressof(self._ovr), len(o) if want else len(_OUT), ctypes.addressof(o))
+        st = r.getReal(c, ctypes.addressof(self._ovr), len(o) if want or m > 1 else len(_OUT), ctypes.addressof(o))
         acct.fmi_seconds += time.perf_counter() - t_in
         if st > 1:
             raise self.fmu.failure("fmi2GetReal", st, self.T)
