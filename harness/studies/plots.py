@@ -248,3 +248,29 @@ def branches_figure(path: Path | str, models: dict[str, Sequence[Any]], title: s
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, title="bold: stable, faint: unstable", title_fontsize=8)
     return _save(fig, path)
+
+
+def campbell_modes(path: Path | str, speed: np.ndarray, freqs: np.ndarray, orders: Sequence[int],
+                   crossings: Sequence[tuple[float, float, int, int]]) -> Path:
+    """Campbell diagram of m modes: each mode's contact-free frequency vs speed, the engine-order
+    lines, and every located crossing (speed, frequency, mode, EO) marked and labelled."""
+    fig, ax = plt.subplots(figsize=(8.5, 5.5))
+    for i, c in enumerate(_colors(freqs.shape[1])):
+        ax.plot(speed, freqs[:, i], "-", color=c, lw=1.8, label=f"mode {i + 1} (contact-free), FMU modeFrequency[{i + 1}]")
+    top = float(np.max(freqs)) * 1.05
+    for k in orders:
+        ax.plot(speed, k * speed / 60.0, ":", color="0.45", lw=0.8)
+        n_end = min(float(speed[-1]), 60.0 * top / k)
+        ax.annotate(f"EO {k}", (n_end, k * n_end / 60.0), fontsize=7, color="0.35", ha="right", va="bottom")
+    for n, f, mode, k in crossings:
+        ax.plot([n], [f], "o", color="red", ms=4)
+        ax.annotate(f"{n:.0f}", (n, f), textcoords="offset points", xytext=(3, -9), fontsize=6, color="red")
+    ax.plot([], [], "o", color="red", ms=4, label="crossing (located), its speed in rpm")
+    ax.set_xlabel("rotor speed n [rpm]")
+    ax.set_ylabel("frequency [Hz]")
+    ax.set_ylim(0, top)
+    ax.set_xlim(float(speed[0]), float(speed[-1]))
+    ax.set_title(f"Campbell diagram: bending modes 1..{freqs.shape[1]} and engine orders {min(orders)}..{max(orders)}")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="upper left")
+    return _save(fig, path)
