@@ -498,8 +498,17 @@ static int validData(FmiInstance *inst, const char *fn, const void *data, int in
     return 1;
 }
 
+/* The model-exchange locals: the states excitationPhase, sliderPosition and the derivatives (the
+ * sensitivities are co-simulation locals) */
+static int modelExchangeOnly(FmiValueRef vr)
+{
+    return (vr >= vr_excitationPhase && vr <= vr_der_sliderPosition) ||
+           (vr >= vr_modalDisplacement1 + 40 && vr < vr_modalVelocity1 + 45);
+}
+
 const FmiModel fmiModel = {
     MODEL_NAME, MODEL_GUID, VARS, (int)(sizeof VARS / sizeof VARS[0]), SOLVER_MAX_ORDER,
     sizeof(BladeData), sizeof(BladeMemory), 1, STATE_VERSION, FIELDS, (int)(sizeof FIELDS / sizeof FIELDS[0]),
     startValues, build, bladeWarnFullStickOnce, outputs, output, nonFiniteHint, doStep, validData,
+    modelExchangeOnly,
 };
