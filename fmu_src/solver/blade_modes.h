@@ -12,6 +12,9 @@
  * stability region's extent on the imaginary axis). */
 #define BLADE_RK4_STABLE_HW 2.8284271247461903
 
+/* Relative tolerance of a tip start value against the sum of the modal ones. */
+#define BLADE_START_SUM_RTOL 1e-12
+
 /* The model's parameters for the modes. */
 typedef struct {
     int modes;          /* m, 1..MODES_MAX */
@@ -39,7 +42,8 @@ FmiStatus bladeModesBuild(FmiInstance *inst, const char *fn, const BladeModesSet
 
 /* The start tip displacement u0 and rate du0 from the tip start values (q0, v0) and the modal
  * ones (qm, vm; m entries used): u0 = sum qm unless all qm are 0 (then q0: the tip start value
- * as a first-mode displacement); a nonzero q0 must then equal sum qm; entries above m must be 0.
+ * as a first-mode displacement); a nonzero q0 must then equal sum qm (within BLADE_START_SUM_RTOL of
+ * sum |qm|, the state starts from sum qm); entries above m must be 0.
  * Same for the rates. Logs and returns FmiError on a conflict. */
 FmiStatus bladeModesStart(FmiInstance *inst, const char *fn, int modes, double q0, double v0,
                           const double qm[MODES_MAX], const double vm[MODES_MAX], double *u0, double *du0);

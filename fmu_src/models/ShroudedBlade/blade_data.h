@@ -57,6 +57,7 @@ typedef struct {
     double frequencies[MODES_MAX]; /* modeFrequency at frequencySpeed [Hz] */
     double frequencySpeed;       /* [rpm] */
     int32_t frequencyValid;      /* 0: to be computed (after every build) */
+    double jacobian[SENS_MODAL_ROWS][SENS_MODAL_COLS]; /* sensitivity[r,c] of the current get call */
 } BladeMemory;
 
 #define BLADE_DATA(inst) ((BladeData *)(inst)->data)

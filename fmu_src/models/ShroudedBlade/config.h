@@ -73,5 +73,8 @@
 #define vr_modalVelocity1 210
 #define vr_modeFrequency1 220
 #define vr_rootMoment 230
+/* the modal Jacobian sensitivity[r,c] (r = 1..15, c = 1..14, docs/model.md s.2a) at
+ * vr_sensitivity11 + 14 (r - 1) + (c - 1) */
+#define vr_sensitivity11 1000
 
 #endif
