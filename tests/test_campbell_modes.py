@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
+from harness.cli.main import main
 from harness.reference.modes import modal_galerkin
 
 REPO = Path(__file__).resolve().parent.parent
@@ -25,13 +26,14 @@ def harness(*args: str, cwd: Path = REPO) -> subprocess.CompletedProcess:
 def reference_crossings(p: dict, m: int, lo: float, hi: float) -> list[tuple[int, int, float]]:
     """(mode, EO, speed) of every root of f_i(n) = EO n / 60 in [lo, hi], from the reference."""
     g = modal_galerkin(p, m)
+    ns = np.linspace(lo, hi, 2001)
+    grid = np.array([g.frequencies_hz(n) for n in ns])
     out = []
     for i in range(m):
         for k in range(1, 9):
             def gap(n: float) -> float:
                 return float(g.frequencies_hz(n)[i]) - k * n / 60.0
-            ns = np.linspace(lo, hi, 2001)
-            vals = np.array([gap(n) for n in ns])
+            vals = grid[:, i] - k * ns / 60.0
             for j in np.nonzero((vals[:-1] > 0) != (vals[1:] > 0))[0]:
                 out.append((i + 1, k, brentq(gap, ns[j], ns[j + 1], xtol=1e-8)))
     return sorted(out)
@@ -81,10 +83,21 @@ def test_range_per_speed_per_mode_and_plot(fmu_path, tmp_path):
     (["--modes", "2", "--speed", "100", "--speeds", "0", "10"], "not allowed with argument"),
     (["--modes", "2", "--start-values", "modes", "3"], "--start-values modes: give the number of modes with --modes"),
 ])
-def test_bad_input_is_one_line(args, expect, tmp_path):
+def test_bad_input_is_one_line(args, expect, tmp_path, capsys):
+    """In-process (main() is what `python -m harness` runs; the process exit is checked once below)."""
     fake = tmp_path / "never-loaded.fmu"
     fake.write_bytes(b"not an FMU")
-    proc = harness("--fmu", str(fake), *args, cwd=tmp_path)
-    assert proc.returncode == 2, proc.stderr
-    lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("error: ") and expect in lines[0], proc.stderr
+    try:
+        code = main(["campbell", "--fmu", str(fake), *args])
+    except SystemExit as exc:  # argparse's own errors
+        code = exc.code
+    err = capsys.readouterr().err
+    assert code == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ") and expect in lines[0], err
+
+
+def test_bad_modes_exit_code_of_the_process(tmp_path):
+    proc = harness("--modes", "7", cwd=tmp_path)
+    assert proc.returncode == 2 and proc.stderr.strip() == "error: modes = 7 outside the range [1, 6]", proc.stderr
+    assert "Traceback" not in proc.stderr

@@ -101,8 +101,9 @@ def campbell(fmu: Any, params: Mapping[str, Any], speeds: Sequence[float],
 def campbell_study(fmu: Any, out: Path, params: Mapping[str, Any], modes: int = 3,
                    speed_range: tuple[float, float] = (0.0, 30000.0), points: int = 301) -> CampbellModes:
     """results/campbell_modes.csv (frequencies per speed, crossings in the header) and .png:
-    modes 1..m, engine orders 1..8, over the FMU's whole speed range by default."""
-    p = campbell_params(params, modes)
+    modes 1..m (consistent formulation for m > 1, whatever params say), engine orders 1..8, over the
+    FMU's whole speed range by default."""
+    p = campbell_params(dict(params, formulation=2) if modes > 1 else params, modes)
     data = campbell(fmu, p, np.linspace(speed_range[0], speed_range[1], points))
     tab = np.zeros(len(data.speeds), dtype=[("speed", "f8")] + [(f"f{i}", "f8") for i in range(1, data.modes + 1)])
     tab["speed"] = data.speeds
