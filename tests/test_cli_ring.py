@@ -43,7 +43,7 @@ def single_blade_amplitude(i: int, n: int, speed: float, h: float, K: int, eo: i
     with Unpacked(EXCITATION_FMU) as EX, Unpacked(FMU_PATH) as SB:
         ex = EX.instance("exc", {"Fw0": 100.0, "n0": speed, "n1": speed, "engineOrder": eo,
                                  "bladeIndex": i, "bladeCount": n})
-        s = SB.instance("alone", {"d": 1.0, "amplitudeMode": 1})
+        s = SB.instance("alone", {"d": 1.0, "amplitudeMode": 1, "Fw0": 0.0})  # fed aeroLoad
         q, prev = [s.get(["tipDisplacement"])[0]], None
         try:
             for k in range(K):

@@ -52,7 +52,7 @@ def open_ring(ring) -> Iterator[tuple[np.ndarray, list[Slave], list[Slave], list
     BX, SC, EX = (_extracted(p) for p in (bx_path, sc_path, EXCITATION_FMU))
     made: list[Slave] = []
     try:
-        blades = [BX.instance(f"blade{i}", ring.blade_params(i)) for i in range(N)]
+        blades = [BX.instance(f"blade{i}", {**ring.blade_params(i), "Fw0": 0.0}) for i in range(N)]  # load: Excitation FMU
         made += blades
         contacts = [SC.instance(f"contact{j}", {**dict(ring.contact), "engineOrder": ring.engine_order})
                     for j in range(N)]

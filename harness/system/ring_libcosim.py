@@ -56,7 +56,7 @@ def run(ring: Ring) -> dict[str, np.ndarray]:
             if k < 0:
                 raise RuntimeError(f"libcosim could not load {path}: {last_error()}")
             idx[kind, i] = k
-            vals = {**p, "bladeIndex": i} if kind == "exc" else ring.blade_params(i) if kind == "blade" else p
+            vals = {**p, "bladeIndex": i} if kind == "exc" else {**ring.blade_params(i), "Fw0": 0.0} if kind == "blade" else p
             for name, v in vals.items():
                 vr, typ = var[path][name]
                 ok = {"Real": lambda: ex.real_initial_value(k, vr, float(v)),

@@ -74,7 +74,7 @@ def apply(ring: Ring, values: Mapping[str, Any], origin: str = "--start-values")
             raise ParameterError(f"{origin} {name}: no FMU of the ring has this variable; known: {', '.join(known)}")
         for kind in owners:
             v = typed(name, text, *var[kind][name], origin=origin)
-            if kind == "blade":
+            if kind == "blade" and name != "Fw0":  # the load is the Excitation FMUs' (blades: Fw0 = 0)
                 blade[name] = v
             elif kind == "contact" and name != "engineOrder":
                 contact[name] = v

@@ -84,7 +84,7 @@ def ssd(ring: Ring) -> str:
             "Fw0": float(ring.fw0), "n0": float(ring.speed), "n1": float(ring.speed),
             "engineOrder": int(ring.engine_order), "bladeIndex": i, "bladeCount": n}))
         comps.append(_component(f"blade{i}", "resources/BladeExternalContact.fmu", BLADE_IO,
-                                ring.blade_params(i)))
+                                {**ring.blade_params(i), "Fw0": 0.0}))  # the Excitation FMU loads it
         comps.append(_component(f"contact{i}", "resources/ShroudContact.fmu", CONTACT_IO,
                                 {**dict(ring.contact), "engineOrder": int(ring.engine_order)}))
     conns = "".join(f'<ssd:Connection startElement="{a}" startConnector="{b}" endElement="{c}" endConnector="{d}"/>'
