@@ -3,7 +3,8 @@
  *
  * The instances are made, parameterised and initialised by the harness through fmpy; this loop
  * gets their fmi2Component handles and the binaries' function pointers, and per communication
- * point t_k = k stepNs / 1e9 (libcosim's integer-nanosecond grid):
+ * point t_k = (baseNs + (k - baseK) stepNs) / 1e9 (libcosim's integer-nanosecond grid; a sweep
+ * changes the step with the speed and starts a new base there):
  *   1. reads every blade's q, v, E, W (and, with Excitation FMUs, every excitation's aeroLoad and
  *      rotorSpeed; without, the blades make their load and the speed is the setup's rpm);
  *   2. sets each contact j's inputs (blade j side A, blade j+1 side B) with the velocities'
@@ -45,7 +46,8 @@ typedef struct {
     int order;                    /* extrapolation order p */
     int afterStep, timeDoSteps;   /* libcosim's data flow; time the doSteps */
     int recordEvery;              /* record t_k for (k - first) a multiple of it: row (k - first) / recordEvery */
-    long long stepNs;             /* communication step [ns] */
+    long long stepNs, baseNs;     /* communication step [ns]; t_baseK [ns] */
+    int baseK;
     double rpm;                   /* rotor speed without Excitation FMUs */
     double qLimit;                /* divergence: |q| above it [m] */
     const double *weights;        /* W[(q (p+1) + m) (p+1) + j]: derivative m at t_k of the order-q fit, value j steps back */
@@ -198,8 +200,8 @@ int ringRun(const RingSetup *s, RingRecord *rec, double *work, int *filled, int 
                                         ex ? dBlade : dBlade + 1, cols))
                 FAIL(RING_DERIVATIVES, i);
         }
-        const double t = (double)((long long)k * s->stepNs) / 1e9;
-        const double h = (double)((long long)(k + 1) * s->stepNs) / 1e9 - t;
+        const double t = (double)(s->baseNs + (long long)(k - s->baseK) * s->stepNs) / 1e9;
+        const double h = (double)(s->baseNs + (long long)(k + 1 - s->baseK) * s->stepNs) / 1e9 - t;
         for (int i = 0; i < n; i++)
             if (doStep(s->blade.doStep, s->blades[i], t, h, timed, inside)) FAIL(RING_STEP, i);
         for (int j = 0; j < n; j++)

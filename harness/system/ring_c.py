@@ -4,12 +4,15 @@ couplings, both loads) and extrapolation weights, but no Python between the FMI 
 returns what `ring.run` returns (the fmpy master stays the readable reference; tests/test_ring_c.py
 holds the two together). `CRing` keeps a ring open between calls: `advance` runs it on by a number
 of steps at a rotor speed (a speed sweep steps rotorSpeed between calls; built-in load only),
-`save`/`restore` keep and put back the whole state (FMU states and the master's histories).
+`set_step` changes the communication step from the current point on (the extrapolation history
+restarts, as at t_0), `save`/`restore` keep and put back the whole state (FMU states and the
+master's histories).
 """
 from __future__ import annotations
 
 import ctypes as C
 from contextlib import ExitStack
+from dataclasses import replace
 
 import numpy as np
 
@@ -34,7 +37,8 @@ class _Api(C.Structure):
 class _Setup(C.Structure):
     _fields_ = [("n", C.c_int), ("first", C.c_int), ("last", C.c_int), ("finish", C.c_int), ("order", C.c_int),
                 ("afterStep", C.c_int), ("timeDoSteps", C.c_int), ("recordEvery", C.c_int),
-                ("stepNs", C.c_longlong), ("rpm", C.c_double), ("qLimit", C.c_double),
+                ("stepNs", C.c_longlong), ("baseNs", C.c_longlong), ("baseK", C.c_int), ("rpm", C.c_double),
+                ("qLimit", C.c_double),
                 ("weights", C.POINTER(C.c_double)), ("blade", _Api), ("contact", _Api), ("excitation", _Api),
                 ("blades", C.POINTER(C.c_void_p)), ("contacts", C.POINTER(C.c_void_p)),
                 ("excitations", C.POINTER(C.c_void_p)), ("bladeOut", C.c_uint * 4), ("excitationOut", C.c_uint * 2),
@@ -87,14 +91,13 @@ class CRing:
         self._lib = _library()
         self._stack = ExitStack()
         tk, self.blades, self.contacts, self.excs = self._stack.enter_context(open_ring(ring))
-        self.step_ns = to_ns(ring.step)
         N, p = ring.n, ring.order
         b0, c0 = self.blades[0], self.contacts[0]
         self._W = np.ascontiguousarray(weights(p, ring.step))
         groups = (self.blades, self.contacts, self.excs)
         self._handles = [(C.c_void_p * N)(*(x.s.c for x in g)) if g else None for g in groups]
         s = self.setup = _Setup(n=N, order=p, afterStep=int(ring.coupling == "libcosim"),
-                                timeDoSteps=int(time_dosteps), stepNs=self.step_ns, qLimit=ring.q_limit,
+                                timeDoSteps=int(time_dosteps), stepNs=to_ns(ring.step), qLimit=ring.q_limit,
                                 weights=_ptr(self._W), blade=_api(b0), contact=_api(c0),
                                 blades=self._handles[0], contacts=self._handles[1])
         if self.excs:
@@ -118,7 +121,20 @@ class CRing:
 
     def time(self, k: int) -> float:
         """t_k [s], as the C loop computes it (libcosim's integer nanoseconds)."""
-        return float(k * self.step_ns) / 1e9
+        s = self.setup
+        return float(s.baseNs + (k - s.baseK) * s.stepNs) / 1e9
+
+    def set_step(self, h: float) -> None:
+        """Communication step h [s, whole ns] from the current point on; the input derivatives'
+        history restarts (lower orders for the next p steps, as at the start of a run)."""
+        ns = to_ns(h)
+        s = self.setup
+        if ns == s.stepNs:
+            return
+        s.baseNs, s.baseK, s.stepNs = s.baseNs + (self.k - s.baseK) * s.stepNs, self.k, ns
+        self.ring = replace(self.ring, step=h)
+        self._W[:] = weights(self.ring.order, h)
+        self._filled[:] = (0, 0, 0)
 
     def advance(self, steps: int, rpm: float | None = None, record_every: int = 1, finish: bool = False
                 ) -> dict[str, np.ndarray]:
@@ -164,14 +180,18 @@ class CRing:
         fmus = [x.s.get_fmu_state() for x in (*self.blades, *self.contacts)]
         for x, h in zip((*self.blades, *self.contacts), fmus):
             self._stack.callback(x.s.free_fmu_state, h)
-        return self.k, self.rpm, fmus, self._work.copy(), tuple(self._filled)
+        s = self.setup
+        return (self.k, self.rpm, fmus, self._work.copy(), tuple(self._filled), (s.stepNs, s.baseNs, s.baseK),
+                self.ring, self._W.copy())
 
     def restore(self, state: tuple) -> None:
-        self.k, self.rpm, fmus, work, filled = state
+        self.k, self.rpm, fmus, work, filled, (step_ns, base_ns, base_k), self.ring, W = state
         for x, h in zip((*self.blades, *self.contacts), fmus):
             x.s.set_fmu_state(h)
         self._work[:] = work
         self._filled[:] = filled
+        self.setup.stepNs, self.setup.baseNs, self.setup.baseK = step_ns, base_ns, base_k
+        self._W[:] = W
 
 
 def run(ring: Ring, time_dosteps: bool = False, record_every: int = 1) -> dict[str, np.ndarray]:
