@@ -90,9 +90,11 @@ def with_units(result: np.ndarray, variables: dict) -> np.ndarray:
             return "s"
         v = variables.get(name)
         return None if v is None else (v.unit or (v.declaredType.unit if v.declaredType else None))
-    out = result.copy()
-    out.dtype.names = [with_unit(n, unit(n)) for n in result.dtype.names]
-    return out
+    named = np.dtype({"names": [with_unit(n, unit(n)) for n in result.dtype.names],
+                      "formats": [result.dtype.fields[n][0] for n in result.dtype.names],
+                      "offsets": [result.dtype.fields[n][1] for n in result.dtype.names],
+                      "itemsize": result.dtype.itemsize})
+    return result.view(named).copy()  # a new dtype: the caller's array keeps its names
 
 
 def write_csv_atomic(path: str | Path, result: np.ndarray) -> None:
@@ -114,6 +116,7 @@ def plot_atomic(path: str | Path, result: np.ndarray, title: str) -> None:
         scale, unit = (1e3, "mm") if n in ("tipDisplacement", "amplitude") else (1.0, "")
         ax.plot(result["time"], result[n] * scale, label=f"{n} [{unit}]" if unit else n, lw=0.8)
     ax.set_xlabel("time [s]")
+    ax.set_ylabel("tip displacement q and its amplitude [mm]" if "tipDisplacement" in names else names[0])
     ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend()
@@ -164,6 +167,6 @@ def run(args: argparse.Namespace) -> int:
             else:
                 print(f"steady state: {ss.message}")
     if args.plot:
-        plot_atomic(args.plot, res, f"ShroudedBlade, {speed_text}")
+        plot_atomic(args.plot, res, f"ShroudedBlade: tip response, {speed_text}, load Fw0 = {params['Fw0']:g} N/m")
         print(f"wrote {args.plot}")
     return 0

@@ -116,7 +116,9 @@ def run(args: argparse.Namespace) -> int:
         nr = int(np.sum(~res.time["reached"]))
         print(f"time domain: {len(res.time)} plateaus, {nr} without a periodic steady state within the cap")
     if args.plot:
-        plots.study_curves(args.plot, "sweep", [{"label": "sweep", "time": res.time, "fixed": res.fixed, "hb": res.hb}],
-                           [params["d"]])
+        changed = parse_start_values(args.start_values)
+        label = ", ".join(f"{k} = {v}" for k, v in changed.items()) or "paper Table 1 parameters"
+        plots.study_curves(args.plot, f"Tip amplitude vs rotor speed: {label}, load Fw0 = {params['Fw0']:g} N/m",
+                           [{"label": label, "time": res.time, "fixed": res.fixed, "hb": res.hb}], [params["d"]])
         print(f"wrote {args.plot}")
     return 0
