@@ -19,8 +19,7 @@ from harness.cli.simulate import parse_start_values
 from harness.fmu.blade import SPEED_RANGE, BladeFMU
 from harness.model.params import ParameterError
 from harness.studies.campbell_modes import (MAX_MODES, campbell, campbell_params, check_modes, check_speed,
-                                            mode_frequencies)
-from harness.studies import plots
+                                            mode_frequencies, plot)
 
 POINTS_RANGE = (2, 10001)
 
@@ -65,8 +64,7 @@ def run(args: argparse.Namespace) -> int:
             out = {"modes": m, "speed_rpm": speed, "frequencies_hz": mode_frequencies(fmu, params, speed).tolist(),
                    "crossings": out["crossings"]}
     if args.plot:
-        plots.campbell_modes(args.plot, data.speeds, data.frequencies, range(1, 9),
-                             [(c.speed_rpm, c.frequency_hz, c.mode, c.engine_order) for c in data.crossings])
+        plot(args.plot, data, int(params["engineOrder"]))
     if args.json:
         print(json.dumps(out, indent=1))
         return 0

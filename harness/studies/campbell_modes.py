@@ -113,6 +113,13 @@ def campbell_study(fmu: Any, out: Path, params: Mapping[str, Any], modes: int = 
              "crossings f_i(n) = EO n / 60 (brentq on the FMU's frequencies):"]
     lines += [f"mode {c.mode} EO {c.engine_order}: {c.speed_rpm:.4f} rpm, {c.frequency_hz:.4f} Hz" for c in data.crossings]
     write_csv(out / "campbell_modes.csv", tab, "\n".join(lines))
-    plots.campbell_modes(out / "campbell_modes.png", data.speeds, data.frequencies, ORDERS,
-                         [(c.speed_rpm, c.frequency_hz, c.mode, c.engine_order) for c in data.crossings])
+    plot(out / "campbell_modes.png", data, int(p["engineOrder"]))
     return data
+
+
+def plot(path: Path | str, data: CampbellModes, eo: int) -> Path:
+    """The diagram (harness.studies.plots.campbell with every located crossing marked)."""
+    return plots.campbell(path, data.speeds, data.frequencies, ORDERS, eo, math.nan,
+                          crossings=[(c.speed_rpm, c.frequency_hz, f"{c.speed_rpm:.0f}") for c in data.crossings],
+                          title=f"Campbell diagram: bending modes 1..{data.modes} (contact-free) and engine orders "
+                                f"{ORDERS[0]}..{ORDERS[-1]}, crossings located")
