@@ -55,3 +55,19 @@ def test_claims_row_verdict(peak1, verdict):
     assert row.verdict.startswith(verdict), row.verdict
     assert _modes(None) == []
     assert np.isfinite(_conv(1.0).one_mode_error()[0])
+
+
+def test_second_mode_crossing_with_contact(fmu, tmp_path):
+    """EO 8 crosses mode 2 (contact-free) where the reference's reduction says; with the contact the
+    Jenkins element's located peak lies in contact (max|q| > d) and above that speed (stiffening)."""
+    from scipy.optimize import brentq
+
+    from harness.studies.mode2_crossing import mode2_crossing
+    base = base_params()
+    r = mode2_crossing(fmu, tmp_path, base)
+    g = modal_galerkin(dict(base, formulation=2), 2)
+    free = brentq(lambda n: g.frequencies_hz(n)[1] - 8 * n / 60.0, 8000.0, 30000.0, xtol=1e-9)
+    assert r.free_crossing == pytest.approx(free, rel=1e-9)
+    jen = next(b for b in r.branches if b.model == "jenkins")
+    assert jen.peak > base["d"] and free < jen.speed < 1.15 * free
+    assert (tmp_path / "mode2_crossing_branches.csv").is_file() and (tmp_path / "mode2_crossing.png").is_file()

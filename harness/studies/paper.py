@@ -38,6 +38,7 @@ from harness.model import params as _params
 from harness.model.excitation import LinearRamp
 from harness.studies import plots
 from harness.studies.campbell_modes import campbell_study
+from harness.studies.mode2_crossing import Mode2Crossing, mode2_crossing
 from harness.studies.modes_convergence import ModesConvergence, modes_convergence, modes_tasks
 from harness.studies.study_branches import curve_tasks, write_coulomb, write_study
 
@@ -388,6 +389,7 @@ class Summary:
     campbell: CampbellSummary | None = None
     campbell_modes: CampbellModesSummary | None = None
     modes: ModesConvergence | None = None  # convergence in the number of modes
+    mode2_crossing: Mode2Crossing | None = None  # the second mode's EO 8 crossing with the contact
     paper_iteration: PaperIteration | None = None
     timing: Timing | None = None
 
@@ -486,6 +488,7 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
                 if size.campbell_modes:
                     cm = campbell_study(fmu, out, base_p, size.campbell_modes)
                     summary.campbell_modes = CampbellModesSummary(cm.modes, cm.as_dict()["crossings"])
+                    summary.mode2_crossing = mode2_crossing(fmu, out, base_p)
                 if size.modes:
                     mc = runner.map(trace_curve, modes_tasks(base_p, size.speed_range, size.seed_step, path, size.modes),
                                     desc="branches in the number of modes", unit="curve")
