@@ -2,12 +2,14 @@
 ring as one ODE, DOP853 with its own event location, per-blade Galerkin constants), not against
 the co-simulation itself.
 
-The worst pattern of the small study (friction, sigma 5 %, seed 1, pattern 55: amplification 1.43)
-and the tuned ring, both at the study's settings (N = 6, EO 3, 4966 rpm, h = T / 160, quadratic
-extrapolation, run until settled): every blade amplitude within 1 % of the largest, and the
-amplification within 0.5 %. Measured: mistuned blades within 4.5e-3, tuned within 1.9e-4 (the
-reference's max |q| over 4000 points of the last period, the study's over its 160 communication
-points), amplification 1.42918 (study) against 1.42918 (reference).
+A strongly localised pattern (friction, sigma 5 %, seed 1, pattern 55: one blade 1.43x the tuned
+ring's largest) and the tuned ring, one point of the study's sweep each (N = 6, EO 3, 4966 rpm,
+from rest, h = T / 160, quadratic extrapolation, run until settled). Tolerances from the
+numerics: the tuned blades within 3e-4 of the largest (max |q| over the study's 160 communication
+points is up to 1 - cos(pi / 160) = 1.9e-4 below the reference's over 4000 points; the coupling
+error on top, ~1e-4 off the impacts); the mistuned blades within 5e-3 (where an impact sharpens
+the peak the 160 points miss up to ~3e-3, plus the coupling error at the impacts); the ratio of
+the largest blades within 2e-6. Measured: 1.87e-4, 4.45e-3 and 4.4e-7 (1.4291753 against 1.4291760).
 """
 from __future__ import annotations
 
@@ -35,7 +37,7 @@ def reference_amplitudes(ring, t_end: float = 0.2) -> np.ndarray:
 @pytest.fixture(scope="module")
 def rings():
     study = M.SIZES["small"]
-    tuned = M.tuned_ring(study, "friction")
+    tuned = M.at_speed(M.tuned_ring(study, "friction"), M.resonance_speed(study.blade, 3), study.steps_per_period)
     worst = M.mistuned(tuned, study.parameter, M.factors(study.n, 0.05, study.seed, WORST))
     return tuned, worst
 
@@ -45,8 +47,8 @@ def test_worst_pattern_and_its_amplification_match_the_reference(rings):
     co_t, co_w = (np.array(M.simulate(r)["amplitudes"]) for r in (tuned, worst))
     ref_t, ref_w = reference_amplitudes(tuned), reference_amplitudes(worst)
     assert np.any(np.abs(co_w - co_w.mean()) > 0.1 * co_w.mean())  # a localised pattern, not the tuned one
-    assert np.abs(co_w - ref_w).max() <= 0.01 * ref_w.max()
-    assert np.abs(co_t - ref_t).max() <= 0.01 * ref_t.max()
+    assert np.abs(co_w - ref_w).max() <= 5e-3 * ref_w.max()
+    assert np.abs(co_t - ref_t).max() <= 3e-4 * ref_t.max()
     amp_co, amp_ref = co_w.max() / co_t.max(), ref_w.max() / ref_t.max()
     assert amp_co > 1.3
-    assert abs(amp_co - amp_ref) <= 5e-3 * amp_ref, (amp_co, amp_ref)
+    assert abs(amp_co - amp_ref) <= 2e-6 * amp_ref, (amp_co, amp_ref)

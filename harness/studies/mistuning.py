@@ -1,28 +1,26 @@
-"""Mistuning study of the ring: random blade-to-blade scatter of one blade parameter
-(EI, the bending stiffness, or m0, the shroud mass), relative standard deviation per level, patterns
-from a seeded generator; every pattern is one ring run (harness/system/ring_c.py) on the Runner
-(local process pool, or dask with a scheduler address), cached in its own file (PointCache), so a
+"""Mistuning study of the ring over a speed band: random blade-to-blade scatter of one blade
+parameter (EI, the bending stiffness, or m0, the shroud mass), relative standard deviation per
+level, patterns from a seeded generator. Every (variant, pattern) is one task: the ring's forced
+response at `points` speeds across the band (harness/system/ring_c.py), run on the Runner (local
+process pool, or dask with a scheduler address) and cached in its own file (PointCache), so a
 killed study resumes where it stopped.
 
-Amplification of a pattern = largest blade amplitude (max |q| over the last excitation period) /
-the tuned ring's blade amplitude at the same speed, the speed being the tuned ring's resonance with
-the contacts open (EO n / 60 = contact-free first bending frequency, Campbell crossing, from the
-Galerkin reduction, harness.model.galerkin). Compared with Whitehead's bound (1 + sqrt(N)) / 2, a
-theorem for linear rings with light damping. Variants: `friction` (the contacts as given),
+Amplification of a pattern = max over the band of the mistuned ring's largest blade amplitude /
+max over the band of the tuned ring's, both from the same sweep. The band, 0.8x to 2.4x the
+contact-free Campbell crossing (EO n / 60 = first bending frequency, 4966 rpm at EO 3; Galerkin
+reduction, harness.model.galerkin), contains the response the shroud contacts stiffen and move
+upwards: the tuned 6-blade ring from rest reaches 2.95e-5 m near 7000 rpm, 3.12e-5 m at 10500 rpm,
+and drops to 6.8e-6 m (contacts no longer holding it) at 11000 rpm. A point whose ring did not
+settle is flagged and left out of the maxima. Compared with Whitehead's bound (1 + sqrt(N)) / 2,
+a theorem for linear rings with light damping. Variants: `friction` (the contacts as given),
 `frictionless` (mu = 0: the shrouds impact, no friction) and `open` (d = 1 m: the contacts never
-close, the blades are uncoupled). A ring that does not settle has no amplification (NaN), and a
-variant whose tuned ring does not settle has none at all (its response is not periodic).
+close, the blades are uncoupled).
 
-Numerics (docs/model.md s.8): every ring runs through the C communication loop
-(harness/system/ring_c.py) at h = T / 160 = 2.5e-5 s with quadratic extrapolation (error 1e-3 of
-max |q| against the monolithic reference). At h = 1e-4 s (linear extrapolation, stable but 25 % off) the
-coupling's energy error makes the friction ring wander by 10-30 % from period to period and never
-settle, tuned or not; at 2.5e-5 s it settles to 1e-4 within 0.1 s. Each record keeps `settle`, the
-largest relative change of a blade amplitude between the last period and the period five periods
-(20 ms, about one decay time 2 M / C0) earlier; the study reports the worst. h divides the
-excitation period T, so every period is sampled at the same phases: max |q| over the communication
-points carries the same sampling error (up to ~3e-3 where an impact sharpens the peak) in every
-period, and `settle` sees the motion, not the sampling.
+Numerics (docs/model.md s.8): at each speed the ring runs from rest through the C communication
+loop at h = T / 160 (whole nanoseconds) with quadratic extrapolation (error 1e-3 of max |q|
+against the monolithic reference), for `stop_time`, doubled while a blade amplitude still moves
+(SETTLE_* below). h divides the excitation period T, so every period is sampled at the same
+phases and the settle measure sees the motion, not the sampling.
 """
 from __future__ import annotations
 
@@ -38,10 +36,8 @@ from fmpy import read_model_description
 import numpy as np
 
 from harness.analysis.executor import PointCache, point_key
-from harness.fmu.blade import BladeFMU
 from harness.fmu.build import EXCITATION_FMU
 from harness.fmu.slave import build_ring_fmus
-from harness.model.excitation import AeroLoad
 from harness.model.galerkin import galerkin
 from harness.system.ring import Ring, amplitudes
 from harness.system import ring_c
@@ -50,21 +46,23 @@ from harness.system.ring_values import settable
 PARAMETERS = ("EI", "m0")  # the blade parameters a pattern scatters
 # contact parameters on top of the ring's
 VARIANTS = {"friction": {}, "frictionless": {"mu": 0.0}, "open": {"d": 1.0}}
-CACHE_VERSION = 2  # bump when the meaning of a cached record changes
+CACHE_VERSION = 3  # bump when the meaning of a cached record changes (3: a record is a sweep over speed)
+CROSSING_BAND = (0.8, 2.4)  # the band, as multiples of the contact-free crossing (3973-11918 rpm at EO 3)
 
 
 @dataclass(frozen=True)
 class Study:
     n: int = 6
-    levels: tuple[float, ...] = (0.005, 0.01, 0.02, 0.05)  # relative standard deviations
-    patterns: int = 100
+    levels: tuple[float, ...] = (0.02, 0.05)  # relative standard deviations
+    patterns: int = 10
     parameter: str = "EI"
     seed: int = 1
-    variants: tuple[str, ...] = ("friction", "frictionless")
-    stop_time: float = 0.15  # [s] (transient 2 M / C0 = 0.022 s at c = 298 N s/m2)
-    steps_per_period: int = 160  # h = T / 160 (2.5e-5 s at 4966 rpm): every period sampled at the same phases
+    variants: tuple[str, ...] = ("friction",)
+    points: int = 17  # speeds across the band
+    band: tuple[float, float] | None = None  # [rpm]; None: CROSSING_BAND x the contact-free crossing
+    stop_time: float = 0.15  # [s] per speed, from rest (transient 2 M / C0 = 0.022 s at c = 298 N s/m2)
+    steps_per_period: int = 160  # h = T / 160: every period sampled at the same phases
     order: int = 2  # extrapolation order of the input derivatives
-    speed: float | None = None  # [rpm]; None: the tuned resonance
     engine_order: int = 3
     fw0: float = 300.0
     blade: dict = field(default_factory=lambda: {"c": 298.0})
@@ -72,10 +70,11 @@ class Study:
 
 
 SIZES = {
-    # `make run`: 802 rings of 6 blades, 0.15 s each
+    # `make run`: 6 blades, 2 levels x 10 patterns + the tuned ring, 17 speeds each (357 ring runs)
     "small": Study(),
-    # a cluster: 24 blades, the open (uncoupled) rings too
-    "cluster": Study(n=24, variants=("friction", "frictionless", "open")),
+    # a cluster: 24 blades, 4 levels x 100 patterns, the frictionless and open rings too, 33 speeds
+    "cluster": Study(n=24, levels=(0.005, 0.01, 0.02, 0.05), patterns=100, points=33,
+                     variants=("friction", "frictionless", "open")),
 }
 
 
@@ -98,6 +97,19 @@ def resonance_speed(blade: dict, engine_order: int) -> float:
     Omega^2 (EO^2 M - K0omega2) = K0static (Galerkin reduction, harness/model/galerkin.py)."""
     g = galerkin({k: v for k, v in blade.items() if k in ("EI", "rho", "A", "l", "c", "m0", "formulation")})
     return math.sqrt(g.K0static / (engine_order ** 2 * g.M - g.K0omega2)) * 60 / (2 * math.pi)
+
+
+def band(study: Study) -> tuple[float, float]:
+    """The speed band [rpm]: the study's, or CROSSING_BAND times the contact-free crossing."""
+    if study.band is not None:
+        return study.band
+    n0 = resonance_speed(study.blade, study.engine_order)
+    return CROSSING_BAND[0] * n0, CROSSING_BAND[1] * n0
+
+
+def speeds(study: Study) -> np.ndarray:
+    """The `points` speeds [rpm], evenly spaced across the band."""
+    return np.linspace(*band(study), study.points)
 
 
 @functools.lru_cache(maxsize=None)
@@ -124,25 +136,16 @@ def mistuned(ring: Ring, parameter: str, f: Sequence[float]) -> Ring:
 
 
 def tuned_ring(study: Study, variant: str) -> Ring:
-    speed = study.speed or resonance_speed(study.blade, study.engine_order)
-    period = 60 / (study.engine_order * speed)
-    step = round(period / study.steps_per_period * 1e9) * 1e-9  # whole nanoseconds (libcosim's grid)
-    return Ring(n=study.n, engine_order=study.engine_order, speed=speed, fw0=study.fw0, blade=dict(study.blade),
-                contact={**study.contact, **VARIANTS[variant]}, step=step, stop_time=study.stop_time,
+    """The tuned ring of `variant` (its speed and step are set per point by `at_speed`)."""
+    return Ring(n=study.n, engine_order=study.engine_order, speed=band(study)[0], fw0=study.fw0,
+                blade=dict(study.blade), contact={**study.contact, **VARIANTS[variant]}, stop_time=study.stop_time,
                 order=study.order)
 
 
-def single_blade_amplitude(study: Study, stop_time: float = 0.3) -> float:
-    """ShroudedBlade alone (its built-in Jenkins contact: a rigid neighbour behind the gap d) at the
-    study's speed, load and damping, run from rest: max |q| over the last period [m]."""
-    speed = study.speed or resonance_speed(study.blade, study.engine_order)
-    T = 60 / (study.engine_order * speed)
-    p = {**study.blade, "Fw0": study.fw0, "engineOrder": study.engine_order, "frictionModel": 3}
-    with BladeFMU() as f:
-        r = f.run(p, stop_time, T / study.steps_per_period, aero=AeroLoad(study.fw0, study.engine_order, speed),
-                  speed=speed, outputs=["tipDisplacement"])
-    t, q = r["time"], r["tipDisplacement"]
-    return float(np.abs(q[t >= t[-1] - T - 1e-12]).max())
+def at_speed(ring: Ring, speed: float, steps_per_period: int) -> Ring:
+    """`ring` at `speed` [rpm], h = T / steps_per_period in whole nanoseconds (libcosim's grid)."""
+    T = 60 / (ring.engine_order * speed)
+    return replace(ring, speed=float(speed), step=round(T / steps_per_period * 1e9) * 1e-9)
 
 
 def _fmu_digest() -> str:
@@ -158,80 +161,119 @@ SETTLE_TOL = 1e-3  # a run whose amplitudes still move more than this is run twi
 SETTLE_DOUBLINGS = 3  # ... at most this many times (then it is reported as it is)
 
 
+def movement(t: np.ndarray, q: np.ndarray, omega: float) -> np.ndarray:
+    """Per blade: |amplitude over the last period - amplitude SETTLE_PERIODS periods earlier| /
+    the largest blade amplitude (how much the run still moves)."""
+    a = amplitudes(t, q, omega)
+    back = t <= t[-1] - SETTLE_PERIODS * 2 * math.pi / omega + 1e-12
+    return np.abs(a - amplitudes(t[back], q[back], omega)) / np.max(a)
+
+
 def simulate(ring: Ring) -> dict:
-    """One ring run (C loop): the steady amplitude of every blade [m], `settle`, the largest
-    relative change of a blade amplitude over the last SETTLE_PERIODS periods, and the simulated
-    time it took (doubled from ring.stop_time while settle > SETTLE_TOL)."""
+    """One ring run from rest (C loop): the steady amplitude of every blade [m], its `movement`,
+    `settle` (the largest), and the simulated time it took (ring.stop_time doubled while
+    settle > SETTLE_TOL, at most SETTLE_DOUBLINGS times)."""
     for _ in range(SETTLE_DOUBLINGS + 1):
         res = ring_c.run(ring)
         t, q = res["time"], res["q"]
-        a = amplitudes(t, q, ring.omega)
-        back = t <= t[-1] - SETTLE_PERIODS * 2 * math.pi / ring.omega + 1e-12
-        settle = float(np.max(np.abs(a - amplitudes(t[back], q[back], ring.omega))) / np.max(a))
-        if settle <= SETTLE_TOL:
+        moved = movement(t, q, ring.omega)
+        if moved.max() <= SETTLE_TOL:
             break
         ring = replace(ring, stop_time=2 * ring.stop_time)
-    return {"amplitudes": [float(x) for x in a], "settle": settle, "stop_time": ring.stop_time}
+    return {"amplitudes": [float(x) for x in amplitudes(t, q, ring.omega)], "movement": moved.tolist(),
+            "settle": float(moved.max()), "stop_time": ring.stop_time}
 
 
-def _task(job: tuple[Ring, str, str | None]) -> dict:
-    """One pattern on a worker: run, store in the cache at once (atomic file), return the record."""
-    ring, key, cache_dir = job
+def sweep(ring: Ring, speeds_rpm: Sequence[float], steps_per_period: int) -> dict:
+    """The ring's forced response at each speed (one `simulate` per speed): speeds_rpm (K),
+    amplitudes_m and movement (K x N), settled (K x N: movement <= SETTLE_TOL), the largest
+    settled blade amplitude and its speed (the largest sampled point), simulated time."""
+    runs = [simulate(at_speed(ring, s, steps_per_period)) for s in speeds_rpm]
+    amp = np.array([r["amplitudes"] for r in runs])
+    moved = np.array([r["movement"] for r in runs])
+    settled = moved <= SETTLE_TOL
+    top = np.where(settled, amp, -np.inf).max(axis=1)
+    k = int(np.argmax(top))
+    ok = bool(np.isfinite(top[k]))
+    return {"speeds_rpm": [float(s) for s in speeds_rpm], "amplitudes_m": amp.tolist(), "movement": moved.tolist(),
+            "settled": settled.tolist(), "peak_amplitude_m": float(top[k]) if ok else math.nan,
+            "peak_speed_rpm": float(speeds_rpm[k]) if ok else math.nan,
+            "simulated_s": float(sum(r["stop_time"] for r in runs))}
+
+
+def _task(job: tuple[Ring, list[float], int, str, str | None]) -> dict:
+    """One (variant, pattern) sweep on a worker: run, store in the cache at once (atomic file),
+    return the record."""
+    ring, sp, steps_per_period, key, cache_dir = job
     t0 = time.perf_counter()
-    rec = {**simulate(ring), "wall_s": time.perf_counter() - t0}
+    rec = {**sweep(ring, sp, steps_per_period), "wall_s": time.perf_counter() - t0}
     PointCache(Path(cache_dir) if cache_dir else None).put(key, rec)
     return rec
 
 
 def _variant(study: Study, recs: list[tuple[int, int, dict]]) -> dict:
-    """One variant's results from its (level index or -1 for tuned, pattern, record) triples. A ring
-    that did not settle (settle > SETTLE_TOL after the doublings) has no steady amplitude: its
-    amplification is NaN, and if the tuned ring did not settle, every amplification of the variant
-    is (the response is not periodic: no amplification factor exists)."""
-    tuned_rec = next(r for li, _, r in recs if li == -1)
-    tuned, ref = tuned_rec["amplitudes"], max(tuned_rec["amplitudes"])
-    amps = np.full((len(study.levels), study.patterns, study.n), np.nan)
-    settled = np.zeros((len(study.levels), study.patterns), dtype=bool)
+    """One variant's results from its (level index or -1 for tuned, pattern, sweep record)
+    triples. A pattern without a settled point has no amplification (NaN); if the tuned ring has
+    none, no pattern has."""
+    tuned = next(r for li, _, r in recs if li == -1)
+    ref = tuned["peak_amplitude_m"]
+    K = len(tuned["speeds_rpm"])
+    curves = np.full((len(study.levels), study.patterns, K, study.n), np.nan)
+    peaks = np.full((len(study.levels), study.patterns), np.nan)
+    peak_speeds = np.full_like(peaks, np.nan)
     for li, k, r in recs:
         if li >= 0:
-            amps[li, k] = r["amplitudes"]
-            settled[li, k] = r["settle"] <= SETTLE_TOL
-    tuned_settled = tuned_rec["settle"] <= SETTLE_TOL
-    amplification = np.where(settled & tuned_settled, amps.max(axis=2) / ref, np.nan)
-    return {"tuned": tuned, "tuned_spread": (max(tuned) - min(tuned)) / ref, "tuned_settled": tuned_settled,
-            "amplitudes": amps.tolist(), "amplification": amplification.tolist(),
-            "unsettled": int((~settled).sum()) + (0 if tuned_settled else 1),
-            "settle_max": max(r["settle"] for *_, r in recs)}
+            curves[li, k] = r["amplitudes_m"]
+            peaks[li, k], peak_speeds[li, k] = r["peak_amplitude_m"], r["peak_speed_rpm"]
+    sp = tuned["speeds_rpm"]
+    return {"tuned": tuned["amplitudes_m"], "tuned_settled": tuned["settled"],
+            "tuned_peak_m": ref, "tuned_peak_rpm": tuned["peak_speed_rpm"],
+            "tuned_peak_at_edge": tuned["peak_speed_rpm"] in (sp[0], sp[-1]),
+            "amplitudes": curves.tolist(), "peak_m": peaks.tolist(), "peak_rpm": peak_speeds.tolist(),
+            "amplification": (peaks / ref).tolist(),
+            "unsettled_points": int(sum((~np.array(r["settled"])).any(axis=1).sum() for *_, r in recs)),
+            "points": len(recs) * K,
+            "movement_max": max(float(np.max(r["movement"])) for *_, r in recs)}
+
+
+def jobs(study: Study) -> list[tuple[str, int, int, Ring]]:
+    """Every (variant, level index or -1 for tuned, pattern, ring) of the study."""
+    out = []
+    for v in study.variants:
+        base = tuned_ring(study, v)
+        out.append((v, -1, 0, base))
+        for li, sigma in enumerate(study.levels):
+            for k in range(study.patterns):
+                out.append((v, li, k, mistuned(base, study.parameter, factors(study.n, sigma, study.seed, k))))
+    return out
 
 
 def run_study(study: Study, runner: Any, cache_dir: Path | None) -> dict:
-    """Every (variant, level, pattern) ring, cached ones read, the rest on `runner`; returns the
-    tuned amplitudes, the amplitudes and amplifications per pattern, and how many were computed."""
+    """Every (variant, level, pattern) sweep, cached ones read, the rest on `runner`; returns the
+    tuned curves, the curves, peaks and amplifications per pattern, and how many were computed."""
     cache = PointCache(cache_dir)
     digest = _fmu_digest()
-    jobs: list[tuple[str, int, int, Ring]] = []  # (variant, level index or -1 for tuned, pattern, ring)
-    for v in study.variants:
-        base = tuned_ring(study, v)
-        jobs.append((v, -1, 0, base))
-        for li, sigma in enumerate(study.levels):
-            for k in range(study.patterns):
-                jobs.append((v, li, k, mistuned(base, study.parameter, factors(study.n, sigma, study.seed, k))))
-    keys = [point_key(kind="ring-mistuning", version=CACHE_VERSION, fmus=digest, ring=asdict(r)) for *_, r in jobs]
+    sp = [float(s) for s in speeds(study)]
+    todo_jobs = jobs(study)
+    keys = [point_key(kind="ring-mistuning-sweep", version=CACHE_VERSION, fmus=digest, ring=asdict(r), speeds=sp,
+                      steps_per_period=study.steps_per_period) for *_, r in todo_jobs]
     records: dict[int, dict] = {}
     for i, key in enumerate(keys):
         rec = cache.get(key)
         if rec is not None:
             records[i] = rec
-    todo = [i for i in range(len(jobs)) if i not in records]
+    todo = [i for i in range(len(todo_jobs)) if i not in records]
     cdir = str(cache_dir) if cache_dir else None
-    for i, rec in zip(todo, runner.map(_task, [(jobs[i][3], keys[i], cdir) for i in todo],
-                                       desc="mistuning", unit="ring")):
+    t0 = time.perf_counter()
+    for i, rec in zip(todo, runner.map(_task, [(todo_jobs[i][3], sp, study.steps_per_period, keys[i], cdir)
+                                               for i in todo], desc="mistuning", unit="sweep")):
         records[i] = rec
     out: dict[str, Any] = {"n": study.n, "levels": list(study.levels), "patterns": study.patterns,
                            "parameter": study.parameter, "seed": study.seed, "whitehead": whitehead(study.n),
-                           "speed_rpm": jobs[0][3].speed, "computed": len(todo), "cached": len(jobs) - len(todo),
-                           "single_blade": single_blade_amplitude(study),
-                           "variants": {}}
+                           "speeds_rpm": sp, "crossing_rpm": resonance_speed(study.blade, study.engine_order),
+                           "computed": len(todo), "cached": len(todo_jobs) - len(todo),
+                           "wall_s": time.perf_counter() - t0,
+                           "task_wall_s": sum(records[i]["wall_s"] for i in todo), "variants": {}}
     for v in study.variants:
-        out["variants"][v] = _variant(study, [(j[1], j[2], records[i]) for i, j in enumerate(jobs) if j[0] == v])
+        out["variants"][v] = _variant(study, [(j[1], j[2], records[i]) for i, j in enumerate(todo_jobs) if j[0] == v])
     return out
