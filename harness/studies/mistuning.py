@@ -248,9 +248,10 @@ def jobs(study: Study) -> list[tuple[str, int, int, Ring]]:
     return out
 
 
-def run_study(study: Study, runner: Any, cache_dir: Path | None) -> dict:
-    """Every (variant, level, pattern) sweep, cached ones read, the rest on `runner`; returns the
-    tuned curves, the curves, peaks and amplifications per pattern, and how many were computed."""
+def run_study(study: Study, runner: Any, cache_dir: Path | None, task: Any = None) -> dict:
+    """Every (variant, level, pattern) sweep, cached ones read, the rest on `runner` (each a call of
+    `task`, default `_task`); returns the tuned curves, the curves, peaks and amplifications per
+    pattern, and how many were computed."""
     cache = PointCache(cache_dir)
     digest = _fmu_digest()
     sp = [float(s) for s in speeds(study)]
@@ -265,7 +266,7 @@ def run_study(study: Study, runner: Any, cache_dir: Path | None) -> dict:
     todo = [i for i in range(len(todo_jobs)) if i not in records]
     cdir = str(cache_dir) if cache_dir else None
     t0 = time.perf_counter()
-    for i, rec in zip(todo, runner.map(_task, [(todo_jobs[i][3], sp, study.steps_per_period, keys[i], cdir)
+    for i, rec in zip(todo, runner.map(task or _task, [(todo_jobs[i][3], sp, study.steps_per_period, keys[i], cdir)
                                                for i in todo], desc="mistuning", unit="sweep")):
         records[i] = rec
     out: dict[str, Any] = {"n": study.n, "levels": list(study.levels), "patterns": study.patterns,
