@@ -203,11 +203,16 @@ def sweep(ring: Ring, speeds_rpm: Sequence[float], steps_per_period: int) -> dic
 
 def _task(job: tuple[Ring, list[float], int, str, str | None]) -> dict:
     """One (variant, pattern) sweep on a worker: run, store in the cache at once (atomic file),
-    return the record."""
+    return the record. A record already in the cache is returned as it is (dask recomputes a
+    finished task whose result died with its worker: that costs a file read, not a sweep)."""
     ring, sp, steps_per_period, key, cache_dir = job
-    t0 = time.perf_counter()
-    rec = {**sweep(ring, sp, steps_per_period), "wall_s": time.perf_counter() - t0}
-    PointCache(Path(cache_dir) if cache_dir else None).put(key, rec)
+    cache = PointCache(Path(cache_dir) if cache_dir else None)
+    rec = cache.get(key)
+    if rec is None:
+        t0, c0 = time.perf_counter(), time.process_time()
+        rec = {**sweep(ring, sp, steps_per_period), "wall_s": time.perf_counter() - t0,
+               "cpu_s": time.process_time() - c0}
+        cache.put(key, rec)
     return rec
 
 
@@ -274,7 +279,8 @@ def run_study(study: Study, runner: Any, cache_dir: Path | None, task: Any = Non
                            "speeds_rpm": sp, "crossing_rpm": resonance_speed(study.blade, study.engine_order),
                            "computed": len(todo), "cached": len(todo_jobs) - len(todo),
                            "wall_s": time.perf_counter() - t0,
-                           "task_wall_s": sum(records[i]["wall_s"] for i in todo), "variants": {}}
+                           "task_wall_s": sum(records[i]["wall_s"] for i in todo),
+                           "task_cpu_s": sum(records[i].get("cpu_s", math.nan) for i in todo), "variants": {}}
     for v in study.variants:
         out["variants"][v] = _variant(study, [(j[1], j[2], records[i]) for i, j in enumerate(todo_jobs) if j[0] == v])
     return out

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import signal
 import tempfile
@@ -71,7 +72,28 @@ def timed(study: Study, workers: int) -> dict:
         client.close()
         lc.close()
     return {"workers": workers, "wall_s": wall, "sweeps": out["computed"], "task_s": out["task_wall_s"],
+            "task_cpu_s": out["task_cpu_s"], "busy": out["task_wall_s"] / (workers * wall),
             "amplification": out["variants"]["friction"]["amplification"]}
+
+
+def point_cpu(study: Study, n: int, points: int = 3) -> float:
+    """CPU seconds per speed of one n-blade ring sweep (friction, the study's middle level)."""
+    ring = mistuning.mistuned(mistuning.tuned_ring(replace(study, n=n), "friction"), study.parameter,
+                              mistuning.factors(n, study.levels[-1], study.seed, 0))
+    c0 = time.process_time()
+    mistuning.sweep(ring, mistuning.speeds(replace(study, points=points)), study.steps_per_period)
+    return (time.process_time() - c0) / points
+
+
+def cost(m: dict, size: Study, workers: int) -> dict:
+    """The cluster size's cost on `workers` dedicated single-core workers, from the measurement:
+    CPU per sweep = CPU per speed of a size.n-blade ring x size.points; the workers kept busy as
+    measured with 2 workers (task time / (workers x wall)); whole sweeps per worker."""
+    sweeps = len(mistuning.jobs(size))
+    per_sweep = m["point_cpu_s"][str(size.n)] * size.points
+    wall = math.ceil(sweeps / workers) * per_sweep / m["two_workers"]["busy"]
+    return {"workers": workers, "sweeps": sweeps, "sweep_cpu_s": per_sweep, "wall_h": wall / 3600,
+            "worker_hours": workers * wall / 3600}
 
 
 def killed(study: Study, cache_dir: Path, wait_s: float = 600.0) -> dict:
@@ -116,7 +138,10 @@ def measure(study: Study = MEASURED) -> dict:
     with tempfile.TemporaryDirectory() as d:
         kill = killed(study, Path(d))
     per_sweep = one["task_s"] / one["sweeps"]
-    return {"study": {"n": study.n, "levels": list(study.levels), "patterns": study.patterns, "points": study.points},
+    m = {"point_cpu_s": {str(n): point_cpu(study, n) for n in (study.n, mistuning.SIZES["cluster"].n)}}
+    m["two_workers"] = two
+    m["cluster_cost"] = [cost(m, mistuning.SIZES["cluster"], k) for k in (1, 2, 8, 32, 128)]
+    return {**m, "study": {"n": study.n, "levels": list(study.levels), "patterns": study.patterns, "points": study.points},
             "one_worker": one, "two_workers": two, "speed_up": one["wall_s"] / two["wall_s"],
             "efficiency": one["wall_s"] / (2 * two["wall_s"]), "sweep_s": per_sweep, "killed_worker": kill,
             "cpus": os.cpu_count(), "load_average": os.getloadavg()}
@@ -128,7 +153,8 @@ def main(argv: list[str] | None = None) -> None:
     a = ap.parse_args(argv)
     m = measure()
     atomic_write_text(a.out, json.dumps(m, indent=1))
-    print(json.dumps({k: m[k] for k in ("speed_up", "efficiency", "sweep_s")}), m["killed_worker"])
+    print(json.dumps({k: m[k] for k in ("speed_up", "efficiency", "sweep_s", "point_cpu_s", "cluster_cost")}))
+    print(m["killed_worker"])
 
 
 if __name__ == "__main__":
