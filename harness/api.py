@@ -159,7 +159,7 @@ def _ring_speed(speed: Any, where: str) -> None:
 
 def run_ring(ring: Ring, master: str = "c") -> dict[str, np.ndarray]:
     """Run the bladed-disk ring `ring` (a `harness.Ring`: n blades coupled by n shroud contacts,
-    each blade loaded by its own Excitation FMU) from rest; returns time [s] and per blade (columns)
+    each blade loaded by its built-in travelling-wave load) from rest; returns time [s] and per blade (columns)
     q, v, the contact forces and energies (harness.system.ring.run). master: "c" (the communication
     loop in C) or "fmpy" (the same data flow in Python). As `harness ring`."""
     where = "harness.run_ring"
@@ -168,7 +168,7 @@ def run_ring(ring: Ring, master: str = "c") -> dict[str, np.ndarray]:
     nmax = ring_values.max_blades()
     if not (isinstance(ring.n, int) and not isinstance(ring.n, bool) and 2 <= ring.n <= nmax):
         raise _error(f"n = {ring.n!r} (from {where}(ring=Ring(n=...))) is out of range; accepted: [2, {nmax}] blades"
-                     " (the Excitation FMU's bladeCount)")
+                     " (the blade FMU's bladeCount)")
     t = _finite("stop_time", ring.stop_time, f"{where}(ring=Ring(stop_time=...))")
     h = _finite("step", ring.step, f"{where}(ring=Ring(step=...))")
     if not 0 < h <= t:

@@ -1,12 +1,13 @@
 """`python -m harness ring` (harness/cli/ring.py).
 
-- --json prints the documented keys, `amplitudes` has one entry per blade;
+- --json prints the documented keys (units in the names), `amplitudes_m`, `settled` and `movement`
+  have one entry per blade; a run too short to settle says so on stderr and in `settled`;
 - `--start-values d 1.0` opens every contact: each blade's amplitude equals that of ShroudedBlade
-  alone (contact open, amplitudeMode 1) fed blade i's load, computed here without the ring master:
-  the Excitation FMU run alone (bladeIndex i) and the master's linear extrapolation written out as
-  the backward difference (y_k - y_{k-1}) / h; within 1e-12 relative (rounding of the difference),
-  through the Python loop (`--master fmpy`) and the C loop (`--master c`), at h = 1e-4 s, order 1;
-- bad values exit with code 2 and a message naming the value and the range;
+  alone (contact open, amplitudeMode 1) with blade i's built-in load (Fw0, bladeIndex i, bladeCount,
+  engineOrder), run here without the ring master, within 1e-12 relative, through the Python loop
+  (`--master fmpy`) and the C loop (`--master c`), at h = 1e-4 s, order 1;
+- bad values exit with code 2 and a message naming the value and the range; a diverging ring (held
+  inputs at 4e-4 s) exits 2 with one line naming the step and what to change;
 - --write-ssp writes DIR/SystemStructure.ssd + DIR/resources/*.fmu that libcosim's from_ssp_file
   loads; with the contacts open and a mistuning pattern it gives the fmpy master's held-input
   amplitudes (the per-blade EI reaches the SSP parameter sets; 1e-12 relative).
@@ -20,7 +21,7 @@ import pytest
 
 from harness.cli.main import main
 from harness.fmu.libcosim import ns_time_grid
-from harness.fmu.build import EXCITATION_FMU, FMU_PATH, build
+from harness.fmu.build import FMU_PATH, build
 from harness.fmu.slave import Unpacked
 
 
@@ -31,33 +32,51 @@ def ring_json(capsys, *args: str) -> dict:
 
 def test_json_keys_and_one_amplitude_per_blade(capsys):
     out = ring_json(capsys, "--blades", "3", "--stop-time", "0.02")
-    assert {"blades", "master", "speed_rpm", "engine_order", "stop_time_s", "step_s", "amplitudes",
-            "first_harmonic", "phase_lags_rad", "mistuning", "wall_time_s"} <= set(out)
-    assert len(out["amplitudes"]) == 3 and min(out["amplitudes"]) > 1e-7
+    assert {"blades", "master", "speed_rpm", "engine_order", "stop_time_s", "step_s", "amplitudes_m", "settled",
+            "movement", "first_harmonic_m", "phase_lags_rad", "mistuning", "wall_time_s", "Fw0_N_per_m"} <= set(out)
+    assert len(out["amplitudes_m"]) == 3 and min(out["amplitudes_m"]) > 1e-7
+    assert len(out["settled"]) == len(out["movement"]) == 3
+
+
+def test_unsettled_run_warns_and_a_settled_one_does_not(capsys):
+    # 0.02 s from rest at the default damping (decay time 2 M / C0 = 0.22 s): still moving
+    assert main(["ring", "--blades", "3", "--stop-time", "0.02", "--master", "c", "--json"]) == 0
+    captured = capsys.readouterr()
+    out = json.loads(captured.out)
+    assert not any(out["settled"]) and min(out["movement"]) > out["settle_rule"]["rtol"]
+    assert captured.err.startswith("warning: blades 0, 1, 2 not settled") and len(captured.err.splitlines()) == 1
+    # c = 298 (decay time 0.022 s), 0.4 s: 18 decay times
+    assert main(["ring", "--blades", "3", "--stop-time", "0.4", "--master", "c", "--start-values", "c", "298",
+                 "--json"]) == 0
+    captured = capsys.readouterr()
+    out = json.loads(captured.out)
+    assert all(out["settled"]) and max(out["movement"]) < out["settle_rule"]["rtol"] and captured.err == ""
+
+
+def test_diverging_ring_exits_2_naming_the_step(capsys):
+    args = ["ring", "--blades", "4", "--master", "c", "--order", "0", "--step", "4e-4", "--stop-time", "0.3",
+            "--start-values", "c", "298", "Fw0", "300"]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and err.startswith("error: ")
+    assert "diverged at step" in err and "reduce --step (now 0.0004 s" in err and "raise --order" in err
 
 
 def single_blade_amplitude(i: int, n: int, speed: float, h: float, K: int, eo: int = 3) -> float:
-    """ShroudedBlade alone, contact open, fed blade i's aeroLoad with a first-order derivative."""
-    build(("fmu", "excitation_fmu"))
+    """ShroudedBlade alone, contact open, with blade i's built-in load (the ring's default Fw0 100 N/m)."""
+    build(("fmu",))
     t = ns_time_grid(0.0, h, K)
-    with Unpacked(EXCITATION_FMU) as EX, Unpacked(FMU_PATH) as SB:
-        ex = EX.instance("exc", {"Fw0": 100.0, "n0": speed, "n1": speed, "engineOrder": eo,
-                                 "bladeIndex": i, "bladeCount": n})
-        s = SB.instance("alone", {"d": 1.0, "amplitudeMode": 1})
-        q, prev = [s.get(["tipDisplacement"])[0]], None
+    with Unpacked(FMU_PATH) as SB:
+        s = SB.instance("alone", {"d": 1.0, "amplitudeMode": 1, "Fw0": 100.0, "bladeIndex": i, "bladeCount": n,
+                                  "engineOrder": eo}, inputs={"rotorSpeed": speed})
+        q = [s.get(["tipDisplacement"])[0]]
         try:
             for k in range(K):
-                y = ex.get(["aeroLoad"])[0]
-                dy = 0.0 if prev is None else (y - prev) / h
-                s.set_inputs({"aeroLoad": y, "rotorSpeed": speed}, {"aeroLoad": [dy]})
-                dt = float(t[k + 1] - t[k])
-                s.step(float(t[k]), dt)
-                ex.step(float(t[k]), dt)
+                s.set_inputs({"rotorSpeed": speed})
+                s.step(float(t[k]), float(t[k + 1] - t[k]))
                 q.append(s.get(["tipDisplacement"])[0])
-                prev = y
         finally:
             s.free()
-            ex.free()
     T = 60.0 / (eo * speed)
     return float(np.abs(np.array(q)[t >= t[-1] - T - 1e-12]).max())
 
@@ -70,7 +89,7 @@ def test_open_contacts_give_the_single_blade_amplitude(capsys):
     for master in ("fmpy", "c"):  # the Python loop and the C loop
         out = ring_json(capsys, "--blades", str(n), "--speed", str(speed), "--stop-time", str(stop), "--step",
                         "1e-4", "--order", "1", "--master", master, "--start-values", "d", "1.0")
-        assert np.allclose(out["amplitudes"], ref, rtol=1e-12, atol=0), (master, out["amplitudes"], ref)
+        assert np.allclose(out["amplitudes_m"], ref, rtol=1e-12, atol=0), (master, out["amplitudes_m"], ref)
 
 
 @pytest.mark.parametrize("args,words", [
@@ -104,11 +123,10 @@ def test_write_ssp_loads_in_libcosim(capsys, tmp_path):
     w = ring_json(capsys, *common, "--write-ssp", str(tmp_path / "r3"))
     d = tmp_path / "r3"
     assert w["ssp"] == str(d) and (d / "SystemStructure.ssd").is_file()
-    assert sorted(p.name for p in (d / "resources").iterdir()) == [
-        "BladeExternalContact.fmu", "Excitation.fmu", "ShroudContact.fmu"]
+    assert sorted(p.name for p in (d / "resources").iterdir()) == ["BladeExternalContact.fmu", "ShroudContact.fmu"]
     ref = ring_json(capsys, *common, "--order", "0")
     ring = Ring(n=3, step=2.5e-5, stop_time=0.01)
     res = ssp.run_libcosim(d, ring)
     amp = amplitudes(res["time"], res["q"], ring.omega)
     assert len(set(ref["mistuning"]["values"])) == 3  # three different EI
-    assert np.allclose(amp, ref["amplitudes"], rtol=1e-12, atol=0), (amp, ref["amplitudes"])
+    assert np.allclose(amp, ref["amplitudes_m"], rtol=1e-12, atol=0), (amp, ref["amplitudes_m"])

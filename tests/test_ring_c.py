@@ -6,16 +6,22 @@ the fmpy master (harness/system/ring.py), which does the same calls from Python:
   record within 1e-12 of its largest value (the derivative weights are summed in another order:
   measured <= 4e-12 N on forces of ~20 N, 4e-19 m on q);
 - a diverging ring (held inputs at 1e-3 s, stable only below 5e-5 s: a blade refuses a step once
-  its state overflows) stops with an error that names the FMU instance and the call, as the fmpy master does; a bad order or coupling is refused.
+  its state overflows) stops with an error that names the FMU instance and the call, as the fmpy
+  master does (the divergence check switched off); with the check (held inputs at 4e-4 s, where the
+  unchecked fmpy master reached 1e139 m) both masters stop at the same step, naming it, the blade and
+  what to change; a bad order or coupling is refused.
 """
 from __future__ import annotations
+
+import math
+import re
 
 import numpy as np
 import pytest
 
 from harness.fmu.binding import FmiError
 from harness.system import ring_c
-from harness.system.ring import Ring, run
+from harness.system.ring import Ring, RingDiverged, run
 
 CLOSING = dict(fw0=300.0, blade={"c": 298.0})
 
@@ -45,11 +51,26 @@ def test_closing_contacts_equal_within_rounding(n, order, step, each):
 
 
 def test_a_diverging_ring_names_the_fmu():
-    ring = Ring(n=4, stop_time=0.3, step=1e-3, order=0, **CLOSING)
+    ring = Ring(n=4, stop_time=0.3, step=1e-3, order=0, q_limit=math.inf, **CLOSING)
     with pytest.raises(FmiError):
         run(ring)
     with pytest.raises(RuntimeError, match=r"fmi2DoStep failed for (blade|contact|exc)\d+ at t = .* s"):
         ring_c.run(ring)
+
+
+def test_divergence_check_stops_both_masters_at_the_same_step():
+    ring = Ring(n=4, stop_time=0.3, step=4e-4, order=0, **CLOSING)
+    with pytest.raises(RingDiverged) as a:
+        run(ring)
+    with pytest.raises(RingDiverged) as b:
+        ring_c.run(ring)
+    step = [re.search(r"diverged at step (\d+) ", str(e.value)).group(1) for e in (a, b)]
+    assert step[0] == step[1], (str(a.value), str(b.value))
+    for e in (a, b):
+        assert "\n" not in str(e.value) and "reduce --step (now 0.0004 s" in str(e.value)
+    # below the limit the run is the same run: the check does not change it
+    ok = Ring(n=4, stop_time=0.02, step=2.5e-5, order=2, **CLOSING)
+    assert np.array_equal(ring_c.run(ok)["q"], ring_c.run(Ring(**{**ok.__dict__, "q_limit": math.inf}))["q"])
 
 
 def test_bad_order_is_refused():

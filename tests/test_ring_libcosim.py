@@ -13,6 +13,11 @@ inputs.
   (q and the contact forces; measured difference 0), Ecos from the SSP within 1e-8 of max |q|
   (measured 4.3e-13: Ecos's t += h points differ by ulps); the same ring fed through (the default
   coupling) differs by 1.7e-2 of max |q|;
+- the built-in load at another speed than the inputs' start (6300 rpm): the C loop in libcosim's data
+  flow equals libcosim (API and SSP) bit for bit and Ecos within 1e-10 of max |q| (measured 1.3e-12:
+  Ecos accumulates t += h),
+  so every blade and contact gets rotorSpeed; the former ring (load "excitation") likewise in
+  libcosim through the API;
 - travelling wave in libcosim's data flow (same ring, 0.1 s, steady: the contacts stick, slip and
   open every period): libcosim equals the fmpy master bit for bit, the first-harmonic amplitudes of
   the four blades are equal within 1e-4 relative (measured 3.4e-5, the transient's remainder) and
@@ -73,6 +78,19 @@ def test_libcosim_coupling_equals_libcosim_and_ecos_with_contacts_closing():
     # the default coupling is a different algorithm: it must not pass for libcosim's
     fed = run(Ring(n=4, engine_order=3, step=2.5e-5, stop_time=0.02, order=0, **TUNED))
     assert np.abs(fed["q"] - a["q"]).max() > 1e-3 * scale
+
+
+@pytest.mark.parametrize("load", ["builtin", "excitation"])
+def test_c_loop_equals_libcosim_at_another_speed(load):
+    from harness.system import ring_c
+    ring = Ring(n=4, engine_order=3, step=2.5e-5, stop_time=0.02, order=0, coupling="libcosim", speed=6300.0,
+                load=load, **TUNED)
+    a, b = ring_c.run(ring), ring_libcosim.run(ring)
+    assert np.abs(a["q"]).max() > 1e-5 and np.array_equal(a["q"], b["q"])
+    if load == "builtin":
+        d = ssp.write(ring, BUILD_DIR / "ring4_6300_test")
+        assert np.array_equal(ssp.run_libcosim(d, ring)["q"], a["q"])
+        assert np.abs(ssp.run_ecos(d, ring)["q"] - a["q"]).max() <= 1e-10 * np.abs(a["q"]).max()
 
 
 def test_travelling_wave_in_libcosim_data_flow():

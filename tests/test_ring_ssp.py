@@ -1,5 +1,7 @@
 """The ring as an SSP file (harness/system/ssp.py) in libcosim and Ecos.
 
+- the SSD has N blades and N contacts with the built-in load's parameters (Fw0 explicit; 3 N
+  components with the Excitation FMUs of load "excitation", and their Fw0 0 on the blades);
 - libcosim from the SSP equals libcosim built through its API (harness/system/ring_libcosim.py)
   bit for bit (N = 4, EO = 3, contacts closing);
 - Ecos from the same SSP equals it within 1e-12 of max |q| (Ecos accumulates t += h: its
@@ -23,14 +25,21 @@ pytestmark = pytest.mark.crosscheck
 TUNED = dict(blade={"c": 298.0}, fw0=300.0)
 
 
-def test_ssd_is_well_formed_and_complete(tmp_path):
-    ring = Ring(n=5, **TUNED)
+@pytest.mark.parametrize("load, components, connections", [("builtin", 10, 6 * 5), ("excitation", 15, 9 * 5)])
+def test_ssd_is_well_formed_and_complete(tmp_path, load, components, connections):
+    ring = Ring(n=5, load=load, **TUNED)
     d = ssp.write(ring, tmp_path / "ring5")
     root = ET.parse(d / "SystemStructure.ssd").getroot()
-    ns = {"ssd": ssp.SSD}
-    assert len(root.findall(".//ssd:Component", ns)) == 15
-    assert len(root.findall(".//ssd:Connection", ns)) == 9 * 5
+    ns = {"ssd": ssp.SSD, "ssv": ssp.SSV}
+    assert len(root.findall(".//ssd:Component", ns)) == components
+    assert len(root.findall(".//ssd:Connection", ns)) == connections
     assert (d.with_suffix(".ssp")).is_file()
+    blade3 = next(c for c in root.findall(".//ssd:Component", ns) if c.get("name") == "blade3")
+    values = {p.get("name"): p[0].get("value") for p in blade3.findall(".//ssv:Parameter", ns)}
+    # Fw0 explicit on every blade: the ring's, or 0 when Excitation FMUs feed aeroLoad
+    assert values["Fw0"] == ("300.0" if load == "builtin" else "0.0")
+    if load == "builtin":
+        assert (values["bladeIndex"], values["bladeCount"], values["engineOrder"]) == ("3", "5", "3")
 
 
 def test_libcosim_ssp_equals_api_and_ecos():

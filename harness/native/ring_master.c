@@ -2,21 +2,29 @@
  * master harness/system/ring.py (docs/model.md s.8) without Python between the FMI calls.
  *
  * The instances are made, parameterised and initialised by the harness through fmpy; this loop
- * gets their fmi2Component handles and the three binaries' function pointers, and per
- * communication point t_k:
- *   1. reads every blade's q, v, E, W and every excitation's aeroLoad, rotorSpeed;
+ * gets their fmi2Component handles and the binaries' function pointers, and per communication
+ * point t_k = (baseNs + (k - baseK) stepNs) / 1e9 (libcosim's integer-nanosecond grid; a sweep
+ * changes the step with the speed and starts a new base there):
+ *   1. reads every blade's q, v, E, W (and, with Excitation FMUs, every excitation's aeroLoad and
+ *      rotorSpeed; without, the blades make their load and the speed is the setup's rpm);
  *   2. sets each contact j's inputs (blade j side A, blade j+1 side B) with the velocities'
  *      extrapolated derivatives, reads forceA, forceB, dissipatedEnergy, contactState;
- *   3. sets blade i's aeroLoad, rotorSpeed, contactForce = forceB(i-1) + forceA(i) with the
- *      derivatives of aeroLoad and contactForce;
- *   4. steps blades, contacts, excitations from t_k to t_{k+1}.
+ *   3. sets blade i's rotorSpeed, contactForce = forceB(i-1) + forceA(i) (and aeroLoad) with the
+ *      derivatives of contactForce (and aeroLoad);
+ *   4. steps every FMU from t_k to t_{k+1}.
+ * One call does the points first..last-1 with their steps, and point `last` without a step when
+ * `finish` is set: a run may be cut into calls (a speed sweep changes rpm between them); the
+ * histories live in `work` and `filled`, which the caller keeps between calls.
  * Derivatives: order 1..p of the polynomial through the last q + 1 <= p + 1 values (weights from the
  * harness, the same numbers ring.py uses). afterStep (libcosim's data flow, ring.py coupling
  * "libcosim"): from t_1 on, the blades get the forces the contacts reported at the end of their
  * own step, read before their inputs are set again. timeDoSteps: the time inside every fmi2DoStep
- * is summed into *inside [s] (the FMUs' own compute, for harness/bench.py). A status above
- * fmi2Warning stops the loop: the return value says which call, *failStep and *failFmu where. */
+ * is added to *inside [s] (the FMUs' own compute, for harness/bench.py). A blade |q| above qLimit
+ * (or not finite) stops the loop (RING_DIVERGED: a blowing-up Jacobi coupling, stopped before the
+ * FMU's state overflows). A status above fmi2Warning stops the loop: the return value says which
+ * call, *failStep and *failFmu where. */
 #define _POSIX_C_SOURCE 199309L /* clock_gettime */
+#include <math.h>
 #include <stddef.h>
 #include <string.h>
 #include <time.h>
@@ -34,13 +42,17 @@ typedef struct {
 } RingApi; /* one binary's functions (pointers handed over by ctypes) */
 
 typedef struct {
-    int n, steps, order;          /* N blades, K steps, extrapolation order p */
+    int n, first, last, finish;   /* N blades; points first..last (last stepped to only) */
+    int order;                    /* extrapolation order p */
     int afterStep, timeDoSteps;   /* libcosim's data flow; time the doSteps */
-    int recordEvery;              /* record t_k for k a multiple of it (it divides K): row k / recordEvery */
-    const double *time;           /* t_0..t_K */
+    int recordEvery;              /* record t_k for (k - first) a multiple of it: row (k - first) / recordEvery */
+    long long stepNs, baseNs;     /* communication step [ns]; t_baseK [ns] */
+    int baseK;
+    double rpm;                   /* rotor speed without Excitation FMUs */
+    double qLimit;                /* divergence: |q| above it [m] */
     const double *weights;        /* W[(q (p+1) + m) (p+1) + j]: derivative m at t_k of the order-q fit, value j steps back */
     RingApi blade, contact, excitation;
-    void **blades, **contacts, **excitations;        /* fmi2Component of each instance */
+    void **blades, **contacts, **excitations; /* fmi2Component of each instance; excitations NULL: built-in load */
     unsigned int bladeOut[4];     /* tipDisplacement, tipVelocity, dissipatedEnergy, contactWork */
     unsigned int excitationOut[2];/* aeroLoad, rotorSpeed */
     unsigned int contactIn[5];    /* displacementA, velocityA, displacementB, velocityB, rotorSpeed */
@@ -50,15 +62,15 @@ typedef struct {
 } RingSetup;
 
 typedef struct {
-    double *q, *v, *E, *W, *contactForce, *forceA, *forceB, *Ec, *state; /* (K/every+1) x N, row-major */
+    double *q, *v, *E, *W, *contactForce, *forceA, *forceB, *Ec, *state; /* rows x N, row-major */
 } RingRecord;
 
-enum { RING_OK = 0, RING_BAD_SETUP, RING_GET, RING_SET, RING_DERIVATIVES, RING_STEP };
+enum { RING_OK = 0, RING_BAD_SETUP, RING_GET, RING_SET, RING_DERIVATIVES, RING_STEP, RING_DIVERGED };
 
 /* A signal's last p + 1 values, newest first (ring.py's _History). */
 typedef struct {
     double *buf; /* (p + 1) x N */
-    int filled;
+    int *filled;
 } History;
 
 /* Pushes y (N values) and writes derivatives 1..p at t_k into d (p x N; zero beyond the history). */
@@ -66,8 +78,8 @@ static void historyPush(History *h, const RingSetup *s, const double *y, double 
     const int n = s->n, p = s->order, P = p + 1;
     memmove(h->buf + n, h->buf, sizeof(double) * (size_t)(p * n));
     memcpy(h->buf, y, sizeof(double) * (size_t)n);
-    if (h->filled < P) h->filled++;
-    const int q = h->filled - 1;
+    if (*h->filled < P) (*h->filled)++;
+    const int q = *h->filled - 1;
     for (int m = 1; m <= p; m++)
         for (int i = 0; i < n; i++) {
             double acc = 0.0;
@@ -77,18 +89,17 @@ static void historyPush(History *h, const RingSetup *s, const double *y, double 
         }
 }
 
-/* Sets the values' derivatives 1..p of two inputs (vrA, vrB) from columns a, b of da, db. */
-static int setDerivatives(const RingApi *api, void *c, const RingSetup *s, unsigned int vrA, const double *da, int a,
-                          unsigned int vrB, const double *db, int b) {
+/* Sets derivatives 1..p of the inputs vr[0..count-1] from columns col of the arrays d[0..count-1]. */
+static int setDerivatives(const RingApi *api, void *c, const RingSetup *s, int count, const unsigned int *vrs,
+                          const double *const *d, const int *col) {
     fmi2ValueReference vr[2 * RING_MAX_ORDER];
     fmi2Integer ord[2 * RING_MAX_ORDER];
     fmi2Real val[2 * RING_MAX_ORDER];
     const int p = s->order;
-    for (int m = 0; m < p; m++) {
-        vr[m] = vrA, ord[m] = m + 1, val[m] = da[m * s->n + a];
-        vr[p + m] = vrB, ord[p + m] = m + 1, val[p + m] = db[m * s->n + b];
-    }
-    return api->setRealInputDerivatives(c, vr, (size_t)(2 * p), ord, val) > fmi2Warning;
+    for (int a = 0; a < count; a++)
+        for (int m = 0; m < p; m++)
+            vr[a * p + m] = vrs[a], ord[a * p + m] = m + 1, val[a * p + m] = d[a][m * s->n + col[a]];
+    return api->setRealInputDerivatives(c, vr, (size_t)(count * p), ord, val) > fmi2Warning;
 }
 
 #define FAIL(code, fmu) do { *failFmu = (fmu); return (code); } while (0)
@@ -120,12 +131,15 @@ static int readContact(const RingSetup *s, int j, double *fA, double *fB, RingRe
     return 0;
 }
 
-/* Runs the loop; work holds 3 (p + 1) N + 3 p N + 20 N doubles. */
-int ringRun(const RingSetup *s, RingRecord *rec, double *work, int *failStep, int *failFmu, double *inside) {
-    const int n = s->n, p = s->order;
-    if (n < 2 || s->steps < 0 || p < 0 || p > RING_MAX_ORDER || s->recordEvery < 1 || s->steps % s->recordEvery)
+/* Runs the loop; work holds 3 (p + 1) N + 3 p N + 20 N doubles, filled 3 ints (zero at the start
+ * of a run; both kept between the calls of one run). */
+int ringRun(const RingSetup *s, RingRecord *rec, double *work, int *filled, int *failStep, int *failFmu,
+            double *inside) {
+    const int n = s->n, p = s->order, ex = s->excitations != NULL;
+    if (n < 2 || s->first < 0 || s->last < s->first || p < 0 || p > RING_MAX_ORDER || s->recordEvery < 1 ||
+        (s->last - s->first) % s->recordEvery || s->stepNs <= 0)
         return RING_BAD_SETUP;
-    History hv = {work, 0}, hf = {work + (p + 1) * n, 0}, ha = {work + 2 * (p + 1) * n, 0};
+    History hv = {work, filled}, hf = {work + (p + 1) * n, filled + 1}, ha = {work + 2 * (p + 1) * n, filled + 2};
     double *dv = work + 3 * (p + 1) * n, *df = dv + p * n, *da = df + p * n;
     double *aero = da + p * n, *speed = aero + n, *q = speed + n, *v = q + n, *fA = v + n, *fB = fA + n;
     double *force = fB + n, *st = force + n; /* st: one blade's 4 values, then 9 scratch records */
@@ -134,48 +148,67 @@ int ringRun(const RingSetup *s, RingRecord *rec, double *work, int *failStep, in
     fmi2GetRealTYPE *bGet = s->blade.getReal, *eGet = s->excitation.getReal;
     fmi2SetRealTYPE *cSet = s->contact.setReal, *bSet = s->blade.setReal;
     const int timed = s->timeDoSteps;
-    *inside = 0.0;
-    for (int k = 0; k <= s->steps; k++) {
-        const int kept = k % s->recordEvery == 0;
+    /* blade inputs: with excitations aeroLoad, rotorSpeed, contactForce (derivatives of the first and
+     * last); built-in load: rotorSpeed, contactForce (derivatives of contactForce) */
+    const unsigned int *bIn = ex ? s->bladeIn : s->bladeIn + 1;
+    const int nIn = ex ? 3 : 2;
+    const unsigned int dVr[2] = {s->bladeIn[0], s->bladeIn[2]};
+    const double *const dBlade[2] = {ex ? da : df, df};
+    const double *const dContact[2] = {dv, dv};
+    const unsigned int cVr[2] = {s->contactIn[1], s->contactIn[3]};
+    for (int k = s->first; k <= s->last; k++) {
+        if (k == s->last && !s->finish) break;
+        const int kept = (k - s->first) % s->recordEvery == 0;
         RingRecord *r = kept ? rec : &scratch;
-        const size_t row = kept ? (size_t)(k / s->recordEvery) * (size_t)n : 0;
+        const size_t row = kept ? (size_t)((k - s->first) / s->recordEvery) * (size_t)n : 0;
         *failStep = k;
         for (int i = 0; i < n; i++) {
-            double ex[2];
             if (bGet(s->blades[i], s->bladeOut, 4, st) > fmi2Warning) FAIL(RING_GET, i);
-            if (eGet(s->excitations[i], s->excitationOut, 2, ex) > fmi2Warning) FAIL(RING_GET, 2 * n + i);
-            q[i] = st[0], v[i] = st[1], aero[i] = ex[0], speed[i] = ex[1];
+            if (ex) {
+                double e[2];
+                if (eGet(s->excitations[i], s->excitationOut, 2, e) > fmi2Warning) FAIL(RING_GET, 2 * n + i);
+                aero[i] = e[0], speed[i] = e[1];
+            } else {
+                aero[i] = 0.0, speed[i] = s->rpm;
+            }
+            q[i] = st[0], v[i] = st[1];
             r->q[row + i] = st[0], r->v[row + i] = st[1], r->E[row + i] = st[2], r->W[row + i] = st[3];
+            if (!(fabs(st[0]) <= s->qLimit)) FAIL(RING_DIVERGED, i);
         }
         historyPush(&hv, s, v, dv);
-        historyPush(&ha, s, aero, da);
+        if (ex) historyPush(&ha, s, aero, da);
         const int lagged = s->afterStep && k > 0; /* libcosim: the outputs of the step just done */
         for (int j = 0; j < n; j++) {
             const int a = j, b = (j + 1) % n;
             const double in[5] = {q[a], v[a], q[b], v[b], speed[a]};
+            const int cols[2] = {a, b};
             if (lagged && readContact(s, j, fA, fB, r, row)) FAIL(RING_GET, n + j);
             if (cSet(s->contacts[j], s->contactIn, 5, in) > fmi2Warning) FAIL(RING_SET, n + j);
-            if (p > 0 && setDerivatives(&s->contact, s->contacts[j], s, s->contactIn[1], dv, a, s->contactIn[3], dv, b))
+            if (p > 0 && setDerivatives(&s->contact, s->contacts[j], s, 2, cVr, dContact, cols))
                 FAIL(RING_DERIVATIVES, n + j);
             if (!lagged && readContact(s, j, fA, fB, r, row)) FAIL(RING_GET, n + j); /* feedthrough */
         }
         for (int i = 0; i < n; i++) force[i] = fB[(i + n - 1) % n] + fA[i];
         historyPush(&hf, s, force, df);
         memcpy(r->contactForce + row, force, sizeof(double) * (size_t)n);
-        if (k == s->steps) break;
+        if (k == s->last) break;
         for (int i = 0; i < n; i++) {
-            const double in[3] = {aero[i], speed[i], force[i]};
-            if (bSet(s->blades[i], s->bladeIn, 3, in) > fmi2Warning) FAIL(RING_SET, i);
-            if (p > 0 && setDerivatives(&s->blade, s->blades[i], s, s->bladeIn[0], da, i, s->bladeIn[2], df, i))
+            const double all[3] = {aero[i], speed[i], force[i]};
+            const int cols[2] = {i, i};
+            if (bSet(s->blades[i], bIn, (size_t)nIn, ex ? all : all + 1) > fmi2Warning) FAIL(RING_SET, i);
+            if (p > 0 && setDerivatives(&s->blade, s->blades[i], s, ex ? 2 : 1, ex ? dVr : dVr + 1,
+                                        ex ? dBlade : dBlade + 1, cols))
                 FAIL(RING_DERIVATIVES, i);
         }
-        const double t = s->time[k], h = s->time[k + 1] - s->time[k];
+        const double t = (double)(s->baseNs + (long long)(k - s->baseK) * s->stepNs) / 1e9;
+        const double h = (double)(s->baseNs + (long long)(k + 1 - s->baseK) * s->stepNs) / 1e9 - t;
         for (int i = 0; i < n; i++)
             if (doStep(s->blade.doStep, s->blades[i], t, h, timed, inside)) FAIL(RING_STEP, i);
         for (int j = 0; j < n; j++)
             if (doStep(s->contact.doStep, s->contacts[j], t, h, timed, inside)) FAIL(RING_STEP, n + j);
-        for (int i = 0; i < n; i++)
-            if (doStep(s->excitation.doStep, s->excitations[i], t, h, timed, inside)) FAIL(RING_STEP, 2 * n + i);
+        if (ex)
+            for (int i = 0; i < n; i++)
+                if (doStep(s->excitation.doStep, s->excitations[i], t, h, timed, inside)) FAIL(RING_STEP, 2 * n + i);
     }
     return RING_OK;
 }

@@ -25,12 +25,24 @@ from harness.model.galerkin import Galerkin
 from harness.reference.blade import galerkin
 from harness.reference.contact import (COULOMB_DF, MACROSLIP_DF, MACROSLIP_TD, ContactConsts, contact_consts,
                                        describing_function, loop_state)
+from harness.reference.modes import modal_galerkin, split_modes
 
 OUTPUT_DTYPE = np.dtype([
     ("time", "f8"), ("tipDisplacement", "f8"), ("tipVelocity", "f8"), ("normalForce", "f8"),
     ("frictionForce", "f8"), ("Keq", "f8"), ("Ceq", "f8"), ("amplitude", "f8"), ("dissipatedEnergy", "f8"),
     ("naturalFrequency", "f8"), ("regime", "i4"), ("contactState", "i4"),
 ])
+
+
+def modal_dtype(m: int) -> np.dtype:
+    """OUTPUT_DTYPE plus, for m > 1 modes, the modal coordinates, the natural frequencies of modes
+    1..m at the current speed and the root bending moment (named like the FMU's outputs)."""
+    if m == 1:
+        return OUTPUT_DTYPE
+    extra = [(f"{name}[{i}]", "f8") for name in ("modalDisplacement", "modalVelocity", "modeFrequency")
+             for i in range(1, m + 1)]
+    return np.dtype(OUTPUT_DTYPE.descr + extra + [("rootMoment", "f8")])
+
 
 OPEN, STICK, SLIP = 0, 1, 2  # Jenkins element mode = contactState
 TWO_PI = 2.0 * math.pi
@@ -131,7 +143,7 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
              speed: Callable[[float], float], t_eval: Sequence[float] | np.ndarray, rtol: float = 1e-11,
              atol: Sequence[float] | float | None = None, start_time: float = 0.0,
              breakpoints: Sequence[float] | None = None, max_step: float = np.inf,
-             initial: tuple[float, float] | None = None) -> np.ndarray:
+             initial: tuple[Any, Any] | None = None, modes: int | None = None) -> np.ndarray:
     """Simulate the FMU's model (model-notes s.1-4) from rest at `start_time` to `stop_time`.
 
     aero(t) -> f_w [N/m], speed(t) -> n [rpm]; `t_eval` output times in [start_time, stop_time];
@@ -143,19 +155,34 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
     reported.
     `initial` = (q0, q'0) starts elsewhere than at rest (reference-only extension for stability
     tests; psi(start) = 0; the Jenkins element then starts unloaded).
+    `modes` (or params["modes"]) m = 1..6: with m > 1 the blade is the m-mode consistent reduction
+    (harness.reference.modes), the state (q_1..q_m, q_1'..q_m', psi, E, w), the contact acting on
+    the tip displacement sum_i q_i (the force enters every modal equation with psi_i(l) = 1);
+    `initial` then holds the m modal displacements and velocities.
     """
-    p = validate(params or {})
+    p, m = split_modes(params, modes)
     moved = {k: v for k, v in start_values(p).items() if v != 0}
     if moved:  # not modelled here: refuse rather than silently start at rest
         raise ParameterError(f"start values {moved} are not supported by the reference, which starts at rest"
                              " (use initial=(q0, q'0) for a displaced start)")
-    gal: Galerkin = galerkin(p)
     cc = contact_consts(p)
     model, proj, gating = int(p["frictionModel"]), int(p["projection"]), bool(p["gating"])
     tracked = int(p["amplitudeMode"]) == 2
     EO = int(p["engineOrder"])
     sg, d = math.sin(cc.gamma), cc.d
-    M, C0, K0s, K0w, G = gal.M, gal.C0, gal.K0static, gal.K0omega2, gal.loadGain
+    if m == 1:
+        gal: Galerkin = galerkin(p)
+        M, C0, K0s, K0w, G = gal.M, gal.C0, gal.K0static, gal.K0omega2, gal.loadGain
+    else:
+        mg = modal_galerkin(p, m)
+        Minv = np.linalg.inv(mg.M)
+    iP, iE, iW = 2 * m, 2 * m + 1, 2 * m + 2  # psi, E, w after (q_1..q_m, q_1'..q_m')
+
+    def tq(y: np.ndarray) -> float:  # tip displacement (m = 1: the state itself, bit for bit)
+        return y[0] if m == 1 else float(np.sum(y[:m]))
+
+    def tv(y: np.ndarray) -> float:
+        return y[1] if m == 1 else float(np.sum(y[m:2 * m]))
     jen = Jenkins(cc) if model == MACROSLIP_TD else None
     dfmodel = COULOMB_DF if model == COULOMB_DF else MACROSLIP_DF
 
@@ -171,13 +198,12 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
 
     seg = {"end_minus": math.inf}  # inputs inside a segment [a, b] are read at min(t, b - ulp)
 
-    def rhs(t: float, y: np.ndarray) -> list[float]:
-        q, v = y[0], y[1]
+    def rhs(t: float, y: np.ndarray) -> Any:
+        q, v = tq(y), tv(y)
         t = t if t < seg["end_minus"] else seg["end_minus"]  # the piece that ends at b, not the next one
         n = speed(t)
         Om = TWO_PI * n / 60.0
         om = EO * Om
-        K0 = K0s + K0w * Om * Om
         if jen is None:
             if ds.g:
                 df = ds.df
@@ -191,24 +217,30 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
                 Fc = P = 0.0
             wdot = 0.0
         else:
-            Fn, Ff, wdot, P = jen.forces(q, v, y[4])
+            Fn, Ff, wdot, P = jen.forces(q, v, y[iW])
             Fc = Fn * jen.cg + Ff * jen.sg  # eq. 14
+        if m > 1:  # M qm'' + C0 qm' + K0 qm = G f_w - Fc psi(l), psi_i(l) = 1
+            qm, vm = y[:m], y[m:2 * m]
+            Cv = mg.C0 @ vm
+            acc_m = Minv @ (mg.loadGain * aero(t) - Cv - mg.K0(Om) @ qm - Fc)
+            return np.concatenate([vm, acc_m, [om, float(vm @ Cv) + P, wdot]])
+        K0 = K0s + K0w * Om * Om
         acc = (G * aero(t) - C0 * v - K0 * q - Fc) / M
         return [v, acc, om, C0 * v * v + P, wdot]
 
-    if atol is None:
-        atol = rtol * np.array([1e-6, 1e-3, 1e-6, 1e-9, 1e-6])  # absolute floors: m, m/s, rad, J, m
+    if atol is None:  # absolute floors: m, m/s, rad, J, m
+        atol = rtol * np.array([1e-6] * m + [1e-3] * m + [1e-6, 1e-9, 1e-6])
     t_eval = np.asarray(t_eval, dtype=float)
     if np.any(np.diff(t_eval) < 0) or (t_eval.size and (t_eval[0] < start_time or t_eval[-1] > stop_time)):
         raise ValueError("t_eval must be sorted and inside [start_time, stop_time]")
-    out = np.zeros(t_eval.size, dtype=OUTPUT_DTYPE)
+    out = np.zeros(t_eval.size, dtype=modal_dtype(m))
     out["time"] = t_eval
     bps = sorted({float(b) for b in (breakpoints if breakpoints is not None else []) if start_time < b < stop_time})
     edges = [float(start_time)] + bps + [float(stop_time)]
 
     def outputs(idx: np.ndarray, ts: np.ndarray, Y: np.ndarray) -> None:
         for j, t, y in zip(idx, ts, Y.T):
-            q, v, E, w = y[0], y[1], y[3], y[4]
+            q, v, E, w = tq(y), tv(y), y[iE], y[iW]
             n = speed(t)
             Om = TWO_PI * n / 60.0
             om = EO * Om
@@ -216,7 +248,15 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
             row = out[j]
             row["tipDisplacement"], row["tipVelocity"], row["dissipatedEnergy"] = q, v, E
             row["amplitude"], row["regime"] = ds.B, df.regime
-            row["naturalFrequency"] = math.sqrt((K0s + K0w * Om * Om) / M) / TWO_PI
+            if m == 1:
+                row["naturalFrequency"] = math.sqrt((K0s + K0w * Om * Om) / M) / TWO_PI
+            else:
+                freqs = mg.frequencies_hz(n)
+                row["naturalFrequency"] = freqs[0]
+                for i in range(m):
+                    row[f"modalDisplacement[{i + 1}]"], row[f"modalVelocity[{i + 1}]"] = y[i], y[m + i]
+                    row[f"modeFrequency[{i + 1}]"] = freqs[i]
+                row["rootMoment"] = float(mg.root_moment(y[:m]))
             Ceq_full = (df.CeqOmega / om if om > 0 else (0.0 if df.CeqOmega == 0 else math.nan))
             if jen is None:
                 fc = (df.fcOmega / om if om > 0 else (0.0 if df.fcOmega == 0 else math.nan))
@@ -236,18 +276,26 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
                 row["Keq"], row["Ceq"] = df.Keq, Ceq_full
                 row["contactState"] = jen.mode
 
-    y = np.array([0.0, 0.0, 0.0, 0.0, 0.0])
+    y = np.zeros(2 * m + 3)
     if initial is not None:
-        y[0], y[1] = float(initial[0]), float(initial[1])
-        y[4] = sg * y[0]
-        if gating and abs(y[0]) > d:
+        y[:m], y[m:2 * m] = np.ravel(initial[0]), np.ravel(initial[1])
+        q0 = tq(y)
+        y[iW] = sg * q0
+        if gating and abs(q0) > d:
             ds.g = 1
-        if jen is not None and abs(y[0]) > d:
-            jen._set(STICK, 1 if y[0] > 0 else -1, 0)  # w = sg q: unloaded spring, inside the cone
-    ds.qmax = abs(y[0])
+        if jen is not None and abs(q0) > d:
+            jen._set(STICK, 1 if q0 > 0 else -1, 0)  # w = sg q: unloaded spring, inside the cone
+    ds.qmax = abs(tq(y))
     t = float(start_time)
     zero_len = 0
-    qv = lambda ts, Y: (Y[0], Y[1])  # noqa: E731
+    if m == 1:
+        qv = lambda ts, Y: (Y[0], Y[1])  # noqa: E731
+        view = lambda y: y  # noqa: E731  (events and transitions read q, q', w at 0, 1, 4)
+        jidx = (0, 1, 4)
+    else:
+        qv = lambda ts, Y: (Y[:m].sum(axis=0), Y[m:2 * m].sum(axis=0))  # noqa: E731
+        view = lambda y: np.array([tq(y), tv(y), y[iW]])  # noqa: E731
+        jidx = (0, 1, 2)
     for seg_i in range(len(edges) - 1):
         t_end = edges[seg_i + 1]
         seg["end_minus"] = float(np.nextafter(t_end, -math.inf)) if seg_i < len(edges) - 2 else math.inf
@@ -257,18 +305,18 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
             acts: list = []
             if jen is None and gating:
                 if ds.g == 0:
-                    evs += [(lambda t, y: y[0] - d, 1.0), (lambda t, y: y[0] + d, -1.0)]
+                    evs += [(lambda t, y: tq(y) - d, 1.0), (lambda t, y: tq(y) + d, -1.0)]
                     acts += [lambda y: setattr(ds, "g", 1)] * 2
                 else:
-                    side = 1.0 if y[0] > 0 else -1.0
-                    evs.append((lambda t, y, side=side: side * (y[0] - side * d), -1.0))
+                    side = 1.0 if tq(y) > 0 else -1.0
+                    evs.append((lambda t, y, side=side: side * (tq(y) - side * d), -1.0))
                     acts.append(lambda y: setattr(ds, "g", 0))
             if jen is not None:
-                for f, a in jen.events(0, 1, 4):
-                    evs.append((f, f.direction))
+                for f, a in jen.events(*jidx):
+                    evs.append((f if m == 1 else (lambda t, y, f=f: f(t, view(y))), f.direction))
                     acts.append(a)
             if tracked:
-                evs.append((lambda t, y, k=ds.k: y[2] - TWO_PI * k, 1.0))
+                evs.append((lambda t, y, k=ds.k: y[iP] - TWO_PI * k, 1.0))
                 acts.append(None)  # period end, handled below
             idx = np.nonzero((t_eval >= t) & ((t_eval < t_end) | (last_edge & (t_eval <= t_end))))[0]
             res = run_segment(rhs, t, y, t_end, evs, qv, rtol, atol, max_step, t_eval[idx],
@@ -288,11 +336,11 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
                 ds.B = ds.qmax
                 ds.df = describe(ds.B)
                 ds.k += 1
-                ds.qmax = abs(y[0])
+                ds.qmax = abs(tq(y))
             else:
-                act(y)
+                act(view(y))
                 if jen is not None:
-                    y[4] = jen.consistent_w(y[0], y[4])
+                    y[iW] = jen.consistent_w(tq(y), y[iW])
     # an output at stop_time reached exactly by an event (post-event state)
     rest = np.nonzero(t_eval >= t)[0]
     if rest.size and t >= stop_time:

@@ -1,17 +1,24 @@
 """The ring of harness/system/ring.py with its communication loop in C (harness/native/ring_master.c):
 the same instances (made, parameterised and initialised through fmpy), the same data flow (both
-couplings, "feedthrough" and "libcosim") and extrapolation weights, but no Python between the FMI
-calls. Returns what `ring.run` returns (the
-fmpy master stays the readable reference; tests/test_ring_c.py holds the two together).
+couplings, both loads) and extrapolation weights, but no Python between the FMI calls. `run`
+returns what `ring.run` returns (the fmpy master stays the readable reference; tests/test_ring_c.py
+holds the two together). `CRing` keeps a ring open between calls: `advance` runs it on by a number
+of steps at a rotor speed (a speed sweep steps rotorSpeed between calls; built-in load only),
+`set_step` changes the communication step from the current point on (the extrapolation history
+restarts, as at t_0), `save`/`restore` keep and put back the whole state (FMU states and the
+master's histories).
 """
 from __future__ import annotations
 
 import ctypes as C
+from contextlib import ExitStack
+from dataclasses import replace
 
 import numpy as np
 
 from harness.fmu.build import BUILD_DIR, build
-from harness.system.ring import Ring, extrapolation_weights
+from harness.fmu.libcosim import to_ns
+from harness.system.ring import Ring, RingDiverged, diverged_message, extrapolation_weights
 from harness.system.ring_instances import open_ring
 
 LIBRARY = BUILD_DIR / "libring_master.so"
@@ -19,6 +26,7 @@ MAX_ORDER = 4  # RING_MAX_ORDER
 _FUNCTIONS = ("fmi2GetReal", "fmi2SetReal", "fmi2GetInteger", "fmi2SetRealInputDerivatives", "fmi2DoStep")
 _FAILED = {1: "a bad setup", 2: "an fmi2Get call", 3: "an fmi2SetReal call", 4: "fmi2SetRealInputDerivatives",
            5: "fmi2DoStep"}
+_DIVERGED = 6
 _RECORDS = ("q", "v", "E", "W", "contactForce", "forceA", "forceB", "Ec", "state")
 
 
@@ -27,8 +35,10 @@ class _Api(C.Structure):
 
 
 class _Setup(C.Structure):
-    _fields_ = [("n", C.c_int), ("steps", C.c_int), ("order", C.c_int), ("afterStep", C.c_int),
-                ("timeDoSteps", C.c_int), ("recordEvery", C.c_int), ("time", C.POINTER(C.c_double)),
+    _fields_ = [("n", C.c_int), ("first", C.c_int), ("last", C.c_int), ("finish", C.c_int), ("order", C.c_int),
+                ("afterStep", C.c_int), ("timeDoSteps", C.c_int), ("recordEvery", C.c_int),
+                ("stepNs", C.c_longlong), ("baseNs", C.c_longlong), ("baseK", C.c_int), ("rpm", C.c_double),
+                ("qLimit", C.c_double),
                 ("weights", C.POINTER(C.c_double)), ("blade", _Api), ("contact", _Api), ("excitation", _Api),
                 ("blades", C.POINTER(C.c_void_p)), ("contacts", C.POINTER(C.c_void_p)),
                 ("excitations", C.POINTER(C.c_void_p)), ("bladeOut", C.c_uint * 4), ("excitationOut", C.c_uint * 2),
@@ -49,7 +59,7 @@ def _library() -> C.CDLL:
         build(("ring_master",))
         _lib = C.CDLL(str(LIBRARY))
         _lib.ringRun.argtypes = [C.POINTER(_Setup), C.POINTER(_Record), C.POINTER(C.c_double), C.POINTER(C.c_int),
-                                 C.POINTER(C.c_int), C.POINTER(C.c_double)]
+                                 C.POINTER(C.c_int), C.POINTER(C.c_int), C.POINTER(C.c_double)]
         _lib.ringRun.restype = C.c_int
     return _lib
 
@@ -71,41 +81,128 @@ def weights(p: int, h: float) -> np.ndarray:
     return W
 
 
-def run(ring: Ring, time_dosteps: bool = False, record_every: int = 1) -> dict[str, np.ndarray]:
-    """As harness.system.ring.run(ring) (without record_inputs), the loop in C; with time_dosteps,
-    res["inside_doStep"] is the time spent inside fmi2DoStep of all FMUs [s]; record_every = m keeps
-    the communication points t_0, t_m, t_2m, ... (m must divide the number of steps)."""
-    N, K, p = ring.n, ring.n_steps, ring.order
-    if record_every < 1 or K % record_every:
-        raise ValueError(f"record_every {record_every}: must be >= 1 and divide the {K} steps")
-    if not 0 <= p <= MAX_ORDER:
-        raise ValueError(f"extrapolation order {p} outside [0, {MAX_ORDER}] (the C loop's limit)")
-    lib = _library()
-    with open_ring(ring) as (tk, blades, contacts, excs):
-        res = {k: np.zeros((K // record_every + 1, N)) for k in _RECORDS}
-        res["time"] = tk[::record_every]
-        b0, c0, e0 = blades[0], contacts[0], excs[0]
-        W = np.ascontiguousarray(weights(p, ring.step))
-        handles = [(C.c_void_p * N)(*(x.s.c for x in group)) for group in (blades, contacts, excs)]
-        s = _Setup(n=N, steps=K, order=p, afterStep=int(ring.coupling == "libcosim"), timeDoSteps=int(time_dosteps),
-                   recordEvery=record_every, time=_ptr(tk), weights=_ptr(W), blade=_api(b0), contact=_api(c0),
-                   excitation=_api(e0), blades=handles[0], contacts=handles[1], excitations=handles[2])
+class CRing:
+    """An open ring driven by the C loop; use as a context manager (frees the instances)."""
+
+    def __init__(self, ring: Ring, time_dosteps: bool = False):
+        if not 0 <= ring.order <= MAX_ORDER:
+            raise ValueError(f"extrapolation order {ring.order} outside [0, {MAX_ORDER}] (the C loop's limit)")
+        self.ring, self.k, self.rpm = ring, 0, ring.speed
+        self._lib = _library()
+        self._stack = ExitStack()
+        tk, self.blades, self.contacts, self.excs = self._stack.enter_context(open_ring(ring))
+        N, p = ring.n, ring.order
+        b0, c0 = self.blades[0], self.contacts[0]
+        self._W = np.ascontiguousarray(weights(p, ring.step))
+        groups = (self.blades, self.contacts, self.excs)
+        self._handles = [(C.c_void_p * N)(*(x.s.c for x in g)) if g else None for g in groups]
+        s = self.setup = _Setup(n=N, order=p, afterStep=int(ring.coupling == "libcosim"),
+                                timeDoSteps=int(time_dosteps), stepNs=to_ns(ring.step), qLimit=ring.q_limit,
+                                weights=_ptr(self._W), blade=_api(b0), contact=_api(c0),
+                                blades=self._handles[0], contacts=self._handles[1])
+        if self.excs:
+            e0 = self.excs[0]
+            s.excitation, s.excitations = _api(e0), self._handles[2]
+            s.excitationOut[:] = [e0.vr("aeroLoad"), e0.vr("rotorSpeed")]
         s.bladeOut[:] = [b0.vr(n) for n in ("tipDisplacement", "tipVelocity", "dissipatedEnergy", "contactWork")]
-        s.excitationOut[:] = [e0.vr("aeroLoad"), e0.vr("rotorSpeed")]
         s.contactIn[:] = [c0.vr(n) for n in ("displacementA", "velocityA", "displacementB", "velocityB", "rotorSpeed")]
         s.contactOut[:] = [c0.vr(n) for n in ("forceA", "forceB", "dissipatedEnergy")]
         s.contactState = c0.vr("contactState")
         s.bladeIn[:] = [b0.vr(n) for n in ("aeroLoad", "rotorSpeed", "contactForce")]
+        self._work = np.zeros(3 * (p + 1) * N + 3 * p * N + 20 * N)
+        self._filled = (C.c_int * 3)(0, 0, 0)
+        self.inside = 0.0  # time inside fmi2DoStep so far [s] (with time_dosteps)
+
+    def __enter__(self) -> "CRing":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._stack.close()
+
+    def time(self, k: int) -> float:
+        """t_k [s], as the C loop computes it (libcosim's integer nanoseconds)."""
+        s = self.setup
+        return float(s.baseNs + (k - s.baseK) * s.stepNs) / 1e9
+
+    def set_step(self, h: float) -> None:
+        """Communication step h [s, whole ns] from the current point on; the input derivatives'
+        history restarts (lower orders for the next p steps, as at the start of a run)."""
+        ns = to_ns(h)
+        s = self.setup
+        if ns == s.stepNs:
+            return
+        s.baseNs, s.baseK, s.stepNs = s.baseNs + (self.k - s.baseK) * s.stepNs, self.k, ns
+        self.ring = replace(self.ring, step=h)
+        self._W[:] = weights(self.ring.order, h)
+        self._filled[:] = (0, 0, 0)
+
+    def advance(self, steps: int, rpm: float | None = None, record_every: int = 1, finish: bool = False
+                ) -> dict[str, np.ndarray]:
+        """Runs points k..k+steps-1 with their steps (and point k+steps, not stepped, with finish)
+        at rotor speed rpm (built-in load; default: the last one); returns the records of the kept
+        points (every record_every-th from k) and their times; raises RingDiverged or RuntimeError."""
+        if rpm is not None and rpm != self.rpm:
+            if self.excs:
+                raise ValueError("the rotor speed of a ring with Excitation FMUs is their parameter")
+            self.rpm = float(rpm)
+        if record_every < 1 or steps % record_every:
+            raise ValueError(f"record_every {record_every}: must be >= 1 and divide the {steps} steps")
+        N, k0 = self.ring.n, self.k
+        rows = steps // record_every + int(finish)
+        res = {k: np.zeros((rows, N)) for k in _RECORDS}
+        s = self.setup
+        s.first, s.last, s.finish, s.recordEvery, s.rpm = k0, k0 + steps, int(finish), record_every, self.rpm
         rec = _Record(*(_ptr(res[k]) for k in _RECORDS))
-        work = np.zeros(3 * (p + 1) * N + 3 * p * N + 20 * N)
         step, fmu, inside = C.c_int(0), C.c_int(-1), C.c_double(0.0)
-        rc = lib.ringRun(C.byref(s), C.byref(rec), _ptr(work), C.byref(step), C.byref(fmu), C.byref(inside))
+        rc = self._lib.ringRun(C.byref(s), C.byref(rec), _ptr(self._work), self._filled, C.byref(step),
+                               C.byref(fmu), C.byref(inside))
+        self.inside += inside.value
+        if rc == _DIVERGED:
+            row = (step.value - k0) // record_every
+            q = res["q"][row, fmu.value] if (step.value - k0) % record_every == 0 else float("nan")
+            if not np.isfinite(q) or abs(q) <= self.ring.q_limit:  # not a kept row: read the blade
+                q = self.blades[fmu.value].get(["tipDisplacement"])[0]
+            raise RingDiverged(diverged_message(self.ring, step.value, self.time(step.value), fmu.value, q, "c"))
         if rc != 0:
-            who = [*blades, *contacts, *excs][fmu.value] if fmu.value >= 0 else None
+            who = [*self.blades, *self.contacts, *self.excs][fmu.value] if fmu.value >= 0 else None
             name = who.s.name if who else "the setup"
             said = "; ".join(who.messages) if who and who.messages else "no message"
             raise RuntimeError(f"ring (C loop): {_FAILED.get(rc, rc)} failed for {name} at t = "
-                               f"{tk[min(step.value, K)]:.9g} s (step {step.value}): {said}")
-    if time_dosteps:
-        res["inside_doStep"] = np.array(inside.value)
+                               f"{self.time(step.value):.9g} s (step {step.value}): {said}")
+        self.k = k0 + steps
+        res["time"] = np.array([self.time(k) for k in range(k0, k0 + steps + int(finish), record_every)][:rows])
+        return res
+
+    def save(self) -> tuple:
+        """The whole state: every FMU's (fmi2GetFMUstate; freed with the ring) and the master's."""
+        if self.excs:
+            raise ValueError("the Excitation FMU cannot save its state: save needs the built-in load")
+        fmus = [x.s.get_fmu_state() for x in (*self.blades, *self.contacts)]
+        for x, h in zip((*self.blades, *self.contacts), fmus):
+            self._stack.callback(x.s.free_fmu_state, h)
+        s = self.setup
+        return (self.k, self.rpm, fmus, self._work.copy(), tuple(self._filled), (s.stepNs, s.baseNs, s.baseK),
+                self.ring, self._W.copy())
+
+    def restore(self, state: tuple) -> None:
+        self.k, self.rpm, fmus, work, filled, (step_ns, base_ns, base_k), self.ring, W = state
+        for x, h in zip((*self.blades, *self.contacts), fmus):
+            x.s.set_fmu_state(h)
+        self._work[:] = work
+        self._filled[:] = filled
+        self.setup.stepNs, self.setup.baseNs, self.setup.baseK = step_ns, base_ns, base_k
+        self._W[:] = W
+
+
+def run(ring: Ring, time_dosteps: bool = False, record_every: int = 1) -> dict[str, np.ndarray]:
+    """As harness.system.ring.run(ring) (without record_inputs), the loop in C; with time_dosteps,
+    res["inside_doStep"] is the time spent inside fmi2DoStep of all FMUs [s]; record_every = m keeps
+    the communication points t_0, t_m, t_2m, ... (m must divide the number of steps)."""
+    K = ring.n_steps
+    if record_every < 1 or K % record_every:
+        raise ValueError(f"record_every {record_every}: must be >= 1 and divide the {K} steps")
+    with CRing(ring, time_dosteps=time_dosteps) as r:
+        res = r.advance(K, record_every=record_every, finish=True)
+        if time_dosteps:
+            res["inside_doStep"] = np.array(r.inside)
     return res

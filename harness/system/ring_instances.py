@@ -1,6 +1,7 @@
-"""The ring's instances (docs/model.md s.8): N BladeExternalContact blades, N ShroudContact contacts,
-N Excitation instances (travelling wave: bladeIndex i of bladeCount N), initialised and freed
-together, with the communication points both masters use (libcosim's integer nanoseconds)."""
+"""The ring's instances (docs/model.md s.8): N BladeExternalContact blades (the built-in load's
+travelling wave: bladeIndex i of bladeCount N), N ShroudContact contacts (and, with load
+"excitation", N Excitation instances making the load instead), initialised and freed together,
+with the communication points both masters use (libcosim's integer nanoseconds)."""
 from __future__ import annotations
 
 import atexit
@@ -26,11 +27,13 @@ _built: set[str] = set()  # per process: CMake is asked once (0.3 s a call), not
 _unpacked: dict[str, Unpacked] = {}  # per process: each FMU extracted once (20 ms), removed at exit
 
 
-def _build_once() -> tuple:
+def _build_once(excitation: bool) -> tuple:
     if "ring" not in _built:
         build_ring_fmus()
-        build(("excitation_fmu",))
         _built.add("ring")
+    if excitation and "excitation" not in _built:
+        build(("excitation_fmu",))
+        _built.add("excitation")
     return BLADE_EXTERNAL_FMU, SHROUD_CONTACT_FMU
 
 
@@ -45,21 +48,28 @@ def _extracted(path) -> Unpacked:
 
 @contextmanager
 def open_ring(ring) -> Iterator[tuple[np.ndarray, list[Slave], list[Slave], list[Slave]]]:
-    """(t_0..t_K, blades, contacts, excitations) of `ring` (a harness.system.ring.Ring), freed on exit."""
+    """(t_0..t_K, blades, contacts, excitations) of `ring` (a harness.system.ring.Ring), freed on
+    exit; excitations is empty with the built-in load, whose blades and contacts start with
+    rotorSpeed = ring.speed (the former ring: the inputs' start value, set before the first step)."""
     check(ring)
-    bx_path, sc_path = _build_once()
+    excited = ring.load == "excitation"
+    bx_path, sc_path = _build_once(excited)
     N = ring.n
-    BX, SC, EX = (_extracted(p) for p in (bx_path, sc_path, EXCITATION_FMU))
+    BX, SC = _extracted(bx_path), _extracted(sc_path)
+    speed = {} if excited else {"rotorSpeed": ring.speed}
     made: list[Slave] = []
     try:
-        blades = [BX.instance(f"blade{i}", ring.blade_params(i)) for i in range(N)]
+        blades = [BX.instance(f"blade{i}", ring.blade_instance_params(i), inputs=speed) for i in range(N)]
         made += blades
-        contacts = [SC.instance(f"contact{j}", {**dict(ring.contact), "engineOrder": ring.engine_order})
+        contacts = [SC.instance(f"contact{j}", {**dict(ring.contact), "engineOrder": ring.engine_order}, inputs=speed)
                     for j in range(N)]
         made += contacts
-        excs = [EX.instance(f"exc{i}", {"Fw0": ring.fw0, "n0": ring.speed, "n1": ring.speed,
-                                        "engineOrder": ring.engine_order, "bladeIndex": i, "bladeCount": N})
-                for i in range(N)]
+        excs = []
+        if excited:
+            EX = _extracted(EXCITATION_FMU)
+            excs = [EX.instance(f"exc{i}", {"Fw0": ring.fw0, "n0": ring.speed, "n1": ring.speed,
+                                            "engineOrder": ring.engine_order, "bladeIndex": i, "bladeCount": N})
+                    for i in range(N)]
         made += excs
         yield ns_time_grid(0.0, ring.step, ring.n_steps), blades, contacts, excs
     finally:

@@ -2,10 +2,12 @@
 connections, libcosim's fixed-step algorithm (all slaves step, then outputs go to inputs; inputs
 held, no derivatives).
 
-Connections: excitation i -> blade i (aeroLoad, rotorSpeed); blade j -> contact j side A and blade
-j+1 -> contact j side B (tipDisplacement -> displacement*, tipVelocity -> velocity*); contact j
-forceA -> blade j contactForce2, contact j forceB -> blade j+1 contactForce (libcosim cannot add two
-outputs into one input: the blade adds its two force inputs). Excitation j rotorSpeed -> contact j.
+Connections: blade j -> contact j side A and blade j+1 -> contact j side B (tipDisplacement ->
+displacement*, tipVelocity -> velocity*); contact j forceA -> blade j contactForce2, contact j forceB
+-> blade j+1 contactForce (libcosim cannot add two outputs into one input: the blade adds its two
+force inputs). Built-in load: every blade gets Fw0, bladeIndex, bladeCount, engineOrder, and blades
+and contacts rotorSpeed as the inputs' initial value (constant speed). Load "excitation" (the former
+ring): excitation i -> blade i (aeroLoad, rotorSpeed), excitation j rotorSpeed -> contact j.
 After a step the contact's outputs are those at the end of its step (u moved along the held
 velocities, harness/system/ring.py docs), so the blades get the force of the extrapolated u.
 """
@@ -36,18 +38,21 @@ def run(ring: Ring) -> dict[str, np.ndarray]:
 
     log_output_level(CosimLogLevel.ERROR)
     bx, sc = build_ring_fmus()
-    build(("excitation_fmu",))
+    excited = ring.load == "excitation"
     N, K = ring.n, ring.n_steps
     ex = CosimExecution.from_step_size(step_size=to_ns(ring.step))
-    var = {p: variables_by_name(p) for p in (bx, sc, EXCITATION_FMU)}
+    speed = {} if excited else {"rotorSpeed": float(ring.speed)}  # the inputs' initial value
+    params = {
+        "blade": (bx, None),
+        "contact": (sc, {**dict(ring.contact), "engineOrder": ring.engine_order, **speed}),
+    }
+    if excited:
+        build(("excitation_fmu",))
+        params["exc"] = (EXCITATION_FMU, {"Fw0": ring.fw0, "n0": ring.speed, "n1": ring.speed,
+                                          "engineOrder": ring.engine_order, "bladeCount": N})
+    var = {p: variables_by_name(p) for p, _ in params.values()}
     idx: dict[tuple[str, int], int] = {}
     keep = []
-    params = {
-        "blade": (bx, dict(ring.blade)),
-        "contact": (sc, {**dict(ring.contact), "engineOrder": ring.engine_order}),
-        "exc": (EXCITATION_FMU, {"Fw0": ring.fw0, "n0": ring.speed, "n1": ring.speed,
-                                 "engineOrder": ring.engine_order, "bladeCount": N}),
-    }
     for kind, (path, p) in params.items():
         for i in range(N):
             sl = CosimLocalSlave(fmu_path=str(path), instance_name=f"{kind}{i}")
@@ -56,7 +61,8 @@ def run(ring: Ring) -> dict[str, np.ndarray]:
             if k < 0:
                 raise RuntimeError(f"libcosim could not load {path}: {last_error()}")
             idx[kind, i] = k
-            vals = {**p, "bladeIndex": i} if kind == "exc" else ring.blade_params(i) if kind == "blade" else p
+            vals = ({**p, "bladeIndex": i} if kind == "exc" else {**ring.blade_instance_params(i), **speed}
+                    if kind == "blade" else p)
             for name, v in vals.items():
                 vr, typ = var[path][name]
                 ok = {"Real": lambda: ex.real_initial_value(k, vr, float(v)),
@@ -72,9 +78,10 @@ def run(ring: Ring) -> dict[str, np.ndarray]:
 
     for i in range(N):
         j = (i + 1) % N
-        connect(("exc", i), "aeroLoad", ("blade", i), "aeroLoad")
-        connect(("exc", i), "rotorSpeed", ("blade", i), "rotorSpeed")
-        connect(("exc", i), "rotorSpeed", ("contact", i), "rotorSpeed")
+        if excited:
+            connect(("exc", i), "aeroLoad", ("blade", i), "aeroLoad")
+            connect(("exc", i), "rotorSpeed", ("blade", i), "rotorSpeed")
+            connect(("exc", i), "rotorSpeed", ("contact", i), "rotorSpeed")
         connect(("blade", i), "tipDisplacement", ("contact", i), "displacementA")
         connect(("blade", i), "tipVelocity", ("contact", i), "velocityA")
         connect(("blade", j), "tipDisplacement", ("contact", i), "displacementB")

@@ -1,7 +1,9 @@
 """Start values for a whole ring: `--start-values NAME VALUE ...` goes to every FMU instance that has
-the variable (BladeExternalContact, ShroudContact, Excitation), typed and range-checked against the
-FMUs' model descriptions before any instance is made (the FMU's own error would surface as an
-unexplained fmi2Error in the middle of a run).
+the variable (BladeExternalContact, ShroudContact, and the Excitation FMU of the former ring), typed
+and range-checked against the FMUs' model descriptions before any instance is made (the FMU's own
+error would surface as an unexplained fmi2Error in the middle of a run). The load's Fw0 and
+engineOrder are the ring's (every blade and contact gets them); its bladeIndex and bladeCount are
+set by the ring itself.
 """
 from __future__ import annotations
 
@@ -17,9 +19,9 @@ from harness.fmu.slave import build_ring_fmus
 from harness.model.params import ParameterError
 from harness.system.ring import Ring
 
-# Excitation parameters that the ring sets itself (constant speed, the blade's place in the ring)
+# load parameters that the ring sets itself (constant speed, the blade's place in the ring)
 RING_OWNED = {"n0": "--speed", "n1": "--speed", "t0": "--speed (constant)", "t1": "--speed (constant)",
-              "bladeIndex": "the ring (blade i)", "bladeCount": "--blades"}
+              "bladeIndex": "the ring (blade i)", "bladeCount": "--blades", "rotorSpeed": "--speed"}
 
 
 @lru_cache(maxsize=None)
@@ -39,8 +41,8 @@ def settable() -> dict[str, dict[str, tuple[str, float, float]]]:
 
 
 def max_blades() -> int:
-    """Largest ring the Excitation FMU describes (bladeCount's max)."""
-    return int(settable()["excitation"]["bladeCount"][2])
+    """Largest ring the blade FMU describes (its built-in load's bladeCount max)."""
+    return int(settable()["blade"]["bladeCount"][2])
 
 
 def typed(name: str, text: Any, typ: str, lo: float, hi: float, origin: str) -> Any:
@@ -60,8 +62,8 @@ def typed(name: str, text: Any, typ: str, lo: float, hi: float, origin: str) -> 
 
 def apply(ring: Ring, values: Mapping[str, Any], origin: str = "--start-values") -> Ring:
     """`ring` with every value set on each instance that has the variable: blade and contact
-    parameters into ring.blade / ring.contact, Excitation's Fw0 and engineOrder into ring.fw0 and
-    ring.engine_order (engineOrder is also the contacts' parameter); an unknown name, a name the
+    parameters into ring.blade / ring.contact, the load's Fw0 and engineOrder into ring.fw0 and
+    ring.engine_order (the blades' and contacts' parameters alike); an unknown name, a name the
     ring sets itself, a bad type or range raises ParameterError naming it."""
     var = settable()
     blade, contact, fw0, eo = dict(ring.blade), dict(ring.contact), ring.fw0, ring.engine_order
@@ -74,12 +76,12 @@ def apply(ring: Ring, values: Mapping[str, Any], origin: str = "--start-values")
             raise ParameterError(f"{origin} {name}: no FMU of the ring has this variable; known: {', '.join(known)}")
         for kind in owners:
             v = typed(name, text, *var[kind][name], origin=origin)
-            if kind == "blade":
-                blade[name] = v
-            elif kind == "contact" and name != "engineOrder":
-                contact[name] = v
-            elif name == "Fw0":
+            if name == "Fw0":
                 fw0 = float(v)
             elif name == "engineOrder":
                 eo = int(v)
+            elif kind == "blade":
+                blade[name] = v
+            elif kind == "contact":
+                contact[name] = v
     return replace(ring, blade=blade, contact=contact, fw0=fw0, engine_order=eo)

@@ -1,15 +1,16 @@
-"""The ring (harness/system/ring.py) as an SSP 1.0 system: SystemStructure.ssd with N Excitation,
-N BladeExternalContact and N ShroudContact components, their parameters as inline parameter sets
-and the one-to-one connections of harness/system/ring_libcosim.py; the three FMUs in resources/.
+"""The ring (harness/system/ring.py) as an SSP 1.0 system: SystemStructure.ssd with N
+BladeExternalContact and N ShroudContact components (and N Excitation components with load
+"excitation"), their parameters as inline parameter sets (with the built-in load: Fw0, bladeIndex,
+bladeCount, engineOrder, and the constant rotorSpeed as the input's start value) and the one-to-one
+connections of harness/system/ring_libcosim.py; the FMUs in resources/.
 `write(ring, out)` writes the directory `out` and the archive `out.ssp`; libcosim
 (CosimExecution.from_ssp_file, `run_libcosim`) and Ecos (EcosSimulation(ssp_path=...), `run_ecos`)
 load it. Every parameter set is named "initial": libcosim applies inline parameter bindings
 whatever their name, Ecos only the set named at init.
-`python -m harness.system.ssp --n 36 --out build/ring36` writes one.
+`python -m harness ring --blades 36 --write-ssp build/ring36` writes one.
 """
 from __future__ import annotations
 
-import argparse
 import shutil
 import zipfile
 from pathlib import Path
@@ -37,14 +38,16 @@ CONTACT_IO = {"displacementA": "input", "velocityA": "input", "displacementB": "
 EXC_IO = {"aeroLoad": "output", "rotorSpeed": "output"}
 
 
-def connections(n: int) -> list[tuple[str, str, str, str]]:
-    """(start element, start connector, end element, end connector) of the ring."""
+def connections(n: int, excited: bool = False) -> list[tuple[str, str, str, str]]:
+    """(start element, start connector, end element, end connector) of the ring (with Excitation FMUs)."""
     out = []
     for i in range(n):
         j = (i + 1) % n
-        out += [(f"exc{i}", "aeroLoad", f"blade{i}", "aeroLoad"), (f"exc{i}", "rotorSpeed", f"blade{i}", "rotorSpeed"),
-                (f"exc{i}", "rotorSpeed", f"contact{i}", "rotorSpeed"),
-                (f"blade{i}", "tipDisplacement", f"contact{i}", "displacementA"),
+        if excited:
+            out += [(f"exc{i}", "aeroLoad", f"blade{i}", "aeroLoad"),
+                    (f"exc{i}", "rotorSpeed", f"blade{i}", "rotorSpeed"),
+                    (f"exc{i}", "rotorSpeed", f"contact{i}", "rotorSpeed")]
+        out += [(f"blade{i}", "tipDisplacement", f"contact{i}", "displacementA"),
                 (f"blade{i}", "tipVelocity", f"contact{i}", "velocityA"),
                 (f"blade{j}", "tipDisplacement", f"contact{i}", "displacementB"),
                 (f"blade{j}", "tipVelocity", f"contact{i}", "velocityB"),
@@ -66,7 +69,7 @@ def _component(name: str, source: str, io: Mapping[str, str], params: Mapping[st
                     for k, kind in io.items())
     conns += "".join(f'<ssd:Connector name={quoteattr(k)} kind="parameter">'
                      f'{"<ssc:Real/>" if isinstance(v, float) else ("<ssc:Boolean/>" if isinstance(v, bool) else "<ssc:Integer/>")}'
-                     f'</ssd:Connector>' for k, v in params.items())
+                     f'</ssd:Connector>' for k, v in params.items() if k not in io)
     pars = "".join(f'<ssv:Parameter name={quoteattr(k)}>{_value(v)}</ssv:Parameter>' for k, v in params.items())
     binding = (f'<ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues>'
                f'<ssv:ParameterSet version="1.0" name="initial"><ssv:Parameters>{pars}</ssv:Parameters></ssv:ParameterSet>'
@@ -77,18 +80,20 @@ def _component(name: str, source: str, io: Mapping[str, str], params: Mapping[st
 
 def ssd(ring: Ring) -> str:
     """The SystemStructure.ssd text."""
-    n = ring.n
+    n, excited = ring.n, ring.load == "excitation"
+    speed = {} if excited else {"rotorSpeed": float(ring.speed)}  # the unconnected input's start value
     comps = []
     for i in range(n):
-        comps.append(_component(f"exc{i}", "resources/Excitation.fmu", EXC_IO, {
-            "Fw0": float(ring.fw0), "n0": float(ring.speed), "n1": float(ring.speed),
-            "engineOrder": int(ring.engine_order), "bladeIndex": i, "bladeCount": n}))
+        if excited:
+            comps.append(_component(f"exc{i}", "resources/Excitation.fmu", EXC_IO, {
+                "Fw0": float(ring.fw0), "n0": float(ring.speed), "n1": float(ring.speed),
+                "engineOrder": int(ring.engine_order), "bladeIndex": i, "bladeCount": n}))
         comps.append(_component(f"blade{i}", "resources/BladeExternalContact.fmu", BLADE_IO,
-                                ring.blade_params(i)))
+                                {**ring.blade_instance_params(i), **speed}))
         comps.append(_component(f"contact{i}", "resources/ShroudContact.fmu", CONTACT_IO,
-                                {**dict(ring.contact), "engineOrder": int(ring.engine_order)}))
+                                {**dict(ring.contact), "engineOrder": int(ring.engine_order), **speed}))
     conns = "".join(f'<ssd:Connection startElement="{a}" startConnector="{b}" endElement="{c}" endConnector="{d}"/>'
-                    for a, b, c, d in connections(n))
+                    for a, b, c, d in connections(n, excited))
     return (f'<?xml version="1.0" encoding="UTF-8"?>\n'
             f'<ssd:SystemStructureDescription xmlns:ssd="{SSD}" xmlns:ssc="{SSC}" xmlns:ssv="{SSV}" '
             f'version="1.0" name="ring{n}">\n<ssd:System name="ring{n}"><ssd:Elements>{"".join(comps)}</ssd:Elements>'
@@ -100,11 +105,12 @@ def ssd(ring: Ring) -> str:
 def write(ring: Ring, out: Path) -> Path:
     """Writes the directory `out` (SystemStructure.ssd, resources/) and `out`.ssp; returns the directory."""
     bx, sc = build_ring_fmus()
-    build(("excitation_fmu",))
+    if ring.load == "excitation":
+        build(("excitation_fmu",))
     out = Path(out)
     shutil.rmtree(out, ignore_errors=True)
     (out / "resources").mkdir(parents=True)
-    for p in (bx, sc, EXCITATION_FMU):
+    for p in (bx, sc, *((EXCITATION_FMU,) if ring.load == "excitation" else ())):
         shutil.copy(p, out / "resources" / p.name)
     (out / "SystemStructure.ssd").write_text(ssd(ring))
     with zipfile.ZipFile(out.with_suffix(".ssp"), "w", zipfile.ZIP_DEFLATED) as z:
@@ -160,16 +166,3 @@ def run_ecos(ssp_dir: Path, ring: Ring) -> dict[str, Any]:
     finally:
         sim.free()
     return {"time": t, "q": q}
-
-
-def main(argv: list[str] | None = None) -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--n", type=int, default=4)
-    ap.add_argument("--eo", type=int, default=3)
-    ap.add_argument("--out", type=Path, default=Path("build/ring"))
-    a = ap.parse_args(argv)
-    print(write(Ring(n=a.n, engine_order=a.eo), a.out))
-
-
-if __name__ == "__main__":
-    main()

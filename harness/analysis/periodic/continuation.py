@@ -138,11 +138,19 @@ def write_branches_csv(path: Path, branches: list[Branch], columns: dict[str, li
             lead = [f"{columns[c][i]:.9g}" if isinstance(columns[c][i], float) else columns[c][i] for c in columns]
             rows = [("point", p, p.label) for p in br.points] + [(e.kind, e, e.stability) for e in br.extrema]
             for kind, p, label in rows:
-                B = "" if br.model in ("fixedB", "jenkins") else f"{p.x[2]:.12g}"
+                B = "" if br.model in ("fixedB", "jenkins") else f"{p.x[-1]:.12g}"
                 mus = " ".join(f"{m.real:.9g}{m.imag:+.9g}j" for m in p.multipliers)
-                w.writerow(lead + [i, kind, br.model, f"{p.speed:.9g}", f"{p.amplitude:.12g}", B, f"{p.x[0]:.12g}",
-                            f"{p.x[1]:.12g}", int(p.stable), label, f"{np.max(np.abs(p.multipliers)):.9g}", mus])
+                q0, v0 = tip_state(p.x)
+                w.writerow(lead + [i, kind, br.model, f"{p.speed:.9g}", f"{p.amplitude:.12g}", B, f"{q0:.12g}",
+                            f"{v0:.12g}", int(p.stable), label, f"{np.max(np.abs(p.multipliers)):.9g}", mus])
     tmp.replace(path)
+
+
+def tip_state(x: np.ndarray) -> tuple[float, float]:
+    """(q0, q0') at the tip from a branch point's unknowns: 2m or 2m + 1 of them (period_map), the
+    modal ones summed for m > 1."""
+    m = len(x) // 2
+    return (float(x[0]), float(x[1])) if m == 1 else (float(np.sum(x[:m])), float(np.sum(x[m:2 * m])))
 
 
 class BranchProblem:

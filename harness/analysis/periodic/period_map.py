@@ -19,13 +19,18 @@ Unknowns x per model (MODELS):
 - jenkins: (q0, q0', phi0), the time-domain macroslip element (frictionModel 3), phi = F_f / L(q)
   the element force as a fraction of its slip limit L = mu kn cos(gamma) (|q| - d) (0 while open),
   so the cone |phi| <= 1 does not move with q0.
+With m = `modes` > 1 bending modes, (q0, q0') becomes the modal start state (q_1..q_m, q_1'..q_m')
+(the FMU's modalDisplacement / modalVelocity start values), so the unknowns are 2m (fixedB) or
+2m + 1; q above is then the tip displacement sum_i q_i (every mode normalised to 1 at the tip, the
+quantity the contact, B and max |q| refer to). DP comes from finite differences for m > 1 (the
+FMU's sensitivities are used for m = 1 only).
 """
 from __future__ import annotations
 
 import ctypes
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Mapping
 
 import numpy as np
@@ -37,6 +42,17 @@ from harness.model.params import ParameterError, fmu_parameters, validate
 MODELS = ("fixedB", "fixedPoint", "jenkins", "coulomb")
 STATE_STARTS = ("tipDisplacement", "tipVelocity", "jenkinsForce", "runningMaximum")
 _OUT = ("tipDisplacement", "tipVelocity", "jenkinsForce", "runningMaximum", "amplitude")
+
+
+def modal_names(m: int) -> tuple[str, ...]:
+    """The FMU's modal start values / outputs (q_1..q_m, q_1'..q_m')."""
+    return tuple(f"modalDisplacement[{i}]" for i in range(1, m + 1)) + \
+        tuple(f"modalVelocity[{i}]" for i in range(1, m + 1))
+
+
+def modes_of(params: Mapping[str, Any]) -> int:
+    """m = params["modes"] (1 where the parameter set has none)."""
+    return int(params.get("modes", 1))
 # the FMU's sensitivities: d(row)/d(column), rows as _OUT, columns the start values q0, q0', F0 and B
 _SENS = tuple(f"d{r[0].upper()}{r[1:]}_d{c}" for r in _OUT for c in ("Q0", "V0", "F0", "B"))
 
@@ -93,9 +109,12 @@ class PeriodMap:
                  settings: ShootingSettings = ShootingSettings()):
         self.fmu, self.model, self.s = fmu, model, settings.check()
         self.p = model_params(params, model)
+        self.m = modes_of(self.p)
+        if self.m > 1 and settings.sensitivities:  # finite differences for m > 1 (module doc)
+            self.s = settings = replace(settings, sensitivities=False)
         self.p["sensitivities"] = settings.sensitivities
         self.DP: np.ndarray | None = None  # DP at the last evaluation (with sensitivities)
-        self.dim = 2 if model == "fixedB" else 3
+        self.dim = 2 * self.m + (0 if model == "fixedB" else 1)
         self.B = float(self.p["B"])  # the fixed amplitude of fixedB (settable: scans in B) [m]
         self.d = float(self.p["d"])
         self.muKnCos = float(self.p["mu"] * self.p["kn"] * math.cos(self.p["gamma"]))  # L = muKnCos (|q| - d) [N/m]
@@ -107,9 +126,10 @@ class PeriodMap:
         v = fmu.variables
         fixed = {k: x for k, x in fmu_parameters(self.p).items() if k != "B"}
         reals = [(k, x) for k, x in fixed.items() if v[k].type == "Real"]
-        names = [k for k, _ in reals] + ["B", *STATE_STARTS]
+        starts = STATE_STARTS if self.m == 1 else modal_names(self.m) + STATE_STARTS[2:]
+        names = [k for k, _ in reals] + ["B", *starts]
         self._rvr = (ctypes.c_uint * len(names))(*[v[k].valueReference for k in names])
-        self._rval = (ctypes.c_double * len(names))(*[x for _, x in reals], *([0.0] * (1 + len(STATE_STARTS))))
+        self._rval = (ctypes.c_double * len(names))(*[x for _, x in reals], *([0.0] * (1 + len(starts))))
         self._iB = len(reals)  # index of B, then the start values in STATE_STARTS order
         ints = [(k, x) for k, x in fixed.items() if v[k].type == "Integer"]
         bools = [(k, x) for k, x in fixed.items() if v[k].type == "Boolean"]
@@ -118,7 +138,8 @@ class PeriodMap:
         self._bvr = (ctypes.c_uint * len(bools))(*[v[k].valueReference for k, _ in bools])
         self._bval = (ctypes.c_int * len(bools))(*[int(bool(x)) for _, x in bools])
         self._isens = next((i for i, (k, _) in enumerate(bools) if k == "sensitivities"), None)
-        out = _OUT + (_SENS if settings.sensitivities else ())
+        out = (_OUT + (_SENS if settings.sensitivities else ())) if self.m == 1 else \
+            _OUT + modal_names(self.m)  # m > 1: the modal state at T after the tip quantities
         self._ovr = (ctypes.c_uint * len(out))(*[v[k].valueReference for k in out])
         self._oval = (ctypes.c_double * len(out))()
         K = MAX_ORDER
@@ -167,13 +188,30 @@ class PeriodMap:
         """L(q) = mu kn cos(gamma) (|q| - d) [N], 0 while open."""
         return self.muKnCos * max(abs(q) - self.d, 0.0)
 
+    def tip(self, x: np.ndarray) -> tuple[float, float]:
+        """(q0, q0') at the tip: the unknowns themselves for m = 1, else the sums of the modal ones."""
+        m = self.m
+        return (float(x[0]), float(x[1])) if m == 1 else (float(np.sum(x[:m])), float(np.sum(x[m:2 * m])))
+
+    def lift(self, q0: float, v0: float, third: float | None = None) -> np.ndarray:
+        """Unknowns from a one-mode guess: the tip state in the first mode, the others at rest."""
+        x = np.zeros(2 * self.m)
+        x[0], x[self.m] = q0, v0
+        return x if third is None else np.append(x, third)
+
     def scales(self, x: np.ndarray, speed: float) -> np.ndarray:
-        """Scale of each unknown for Newton and finite differences: S, S omega (, S or 1)."""
-        S = max(abs(x[0]), abs(x[1]) / omega(self.p, speed), self.d, 1e-9)
-        if self.dim == 2:
-            return np.array([S, S * omega(self.p, speed)])
-        third = 1.0 if self.model == "jenkins" else max(abs(x[2]), self.d, 1e-9)
-        return np.array([S, S * omega(self.p, speed), third])
+        """Scale of each unknown for Newton and finite differences: S, S omega (, S or 1), S the
+        tip's (every modal coordinate of a mode gets the same scale)."""
+        q0, v0 = self.tip(x)
+        if self.m > 1:  # a modal state may cancel at the tip: its largest coordinate counts too
+            q0 = max(abs(q0), float(np.max(np.abs(x[:self.m]))))
+            v0 = max(abs(v0), float(np.max(np.abs(x[self.m:2 * self.m]))))
+        S = max(abs(q0), abs(v0) / omega(self.p, speed), self.d, 1e-9)
+        m = self.m
+        if self.dim == 2 * m:
+            return np.array([S] * m + [S * omega(self.p, speed)] * m)
+        third = 1.0 if self.model == "jenkins" else max(abs(x[-1]), self.d, 1e-9)
+        return np.array([S] * m + [S * omega(self.p, speed)] * m + [third])
 
     def __call__(self, x: np.ndarray, speed: float, jacobian: bool = True) -> tuple[np.ndarray, float]:
         """(image of x, max |q| over the period); with sensitivities (the settings) and jacobian,
@@ -184,14 +222,21 @@ class PeriodMap:
         self.DP = None
         if self._isens is not None:
             self._bval[self._isens] = int(want)
-        q0, v0 = float(x[0]), float(x[1])
+        m = self.m
+        q0, v0 = self.tip(x)
         if self.model == "jenkins":
-            B, F0 = self.B, min(max(float(x[2]), -1.0), 1.0) * self.slip_limit(q0)
+            B, F0 = self.B, min(max(float(x[-1]), -1.0), 1.0) * self.slip_limit(q0)
         else:
-            B, F0 = (self.B if self.dim == 2 else float(x[2])), 0.0
+            B, F0 = (self.B if self.dim == 2 * m else float(x[-1])), 0.0
         r, i = self._raw, self._iB
         c, val = r.c, self._rval
-        val[i], val[i + 1], val[i + 2], val[i + 3], val[i + 4] = B, q0, v0, F0, 0.0
+        if m == 1:
+            val[i], val[i + 1], val[i + 2], val[i + 3], val[i + 4] = B, q0, v0, F0, 0.0
+        else:
+            val[i] = B
+            for k in range(2 * m):
+                val[i + 1 + k] = float(x[k])
+            val[i + 1 + 2 * m], val[i + 2 + 2 * m] = F0, 0.0
         acct = self.account
         acct.evaluations += 1
         acct.simulated += self.T
@@ -229,12 +274,13 @@ class PeriodMap:
         if want:
             self.DP = self._dp(o[len(_OUT):len(_OUT) + len(_SENS)], q0, F0, q, F,
                                4 if ended else (3 if run_max >= abs(q) else -1))
-        if self.dim == 2:
-            return np.array([q, v]), A
+        state = [q, v] if m == 1 else list(o[len(_OUT):len(_OUT) + 2 * m])
+        if self.dim == 2 * m:
+            return np.array(state), A
         if self.model == "jenkins":
             L = self.slip_limit(q)
-            return np.array([q, v, F / L if L > 0.0 else 0.0]), A
-        return np.array([q, v, A]), A
+            return np.array(state + [F / L if L > 0.0 else 0.0]), A
+        return np.array(state + [A]), A
 
     def _dp(self, s: list[float], q0: float, F0: float, q: float, F: float, arow: int) -> np.ndarray:
         """DP in the unknowns from the FMU's sensitivities s (row-major 5 x 4: rows q, q', F,
@@ -269,12 +315,15 @@ class PeriodMap:
 
     def start_values(self, x: np.ndarray) -> dict[str, float]:
         """The FMU start values (and B) that start a run on the state x at load phase 0."""
-        q0, v0 = float(x[0]), float(x[1])
-        out = {"tipDisplacement": q0, "tipVelocity": v0}
+        q0, v0 = self.tip(x)
+        if self.m == 1:
+            out = {"tipDisplacement": q0, "tipVelocity": v0}
+        else:
+            out = {k: float(x[j]) for j, k in enumerate(modal_names(self.m))}
         if self.model == "fixedB":
             out["B"] = self.B
         elif self.model == "jenkins":
-            out["jenkinsForce"] = float(np.clip(x[2], -1.0, 1.0)) * self.slip_limit(q0)
-        elif self.dim == 3:
-            out["B"] = float(x[2])
+            out["jenkinsForce"] = float(np.clip(x[-1], -1.0, 1.0)) * self.slip_limit(q0)
+        else:
+            out["B"] = float(x[-1])
         return out

@@ -74,14 +74,14 @@ def _guesses(pm: PeriodMap, speed: float, s: SearchSettings, hb: list | None = N
     out = []
     for q0, v0, B in states:
         third = {"fixedB": None, "jenkins": 0.0}.get(pm.model, B)
-        out.append(np.array([q0, v0] if third is None else [q0, v0, third]))
+        out.append(pm.lift(q0, v0, third))
     return out
 
 
 def same_orbit(pm: PeriodMap, xa: np.ndarray, xb: np.ndarray, speed: float, rtol: float) -> bool:
     sc = np.maximum(pm.scales(xa, speed), pm.scales(xb, speed))
     if pm.model == "jenkins":  # phi is free while open or in stick at the section: compare q, q'
-        sc, xa, xb = sc[:2], xa[:2], xb[:2]
+        sc, xa, xb = sc[:-1], xa[:-1], xb[:-1]
     return bool(np.max(np.abs(xa - xb) / sc) <= rtol)
 
 
@@ -121,7 +121,7 @@ def fixed_point_candidates(pm: PeriodMap, speed: float, s: SearchSettings) -> li
         fb.B = float(B)
         sol = newton(fb, prev[0], speed, prev[1], SCAN_TOL) if prev is not None else None
         if sol is None or not sol.amplitude > pm.d:  # else from the linearised orbit at B
-            sol = newton(fb, np.array([lin_q[k], lin_v[k]]), speed, tol=SCAN_TOL)
+            sol = newton(fb, pm.lift(lin_q[k], lin_v[k]), speed, tol=SCAN_TOL)
         if sol is None:
             prev = None
             continue
@@ -135,9 +135,9 @@ def fixed_point_candidates(pm: PeriodMap, speed: float, s: SearchSettings) -> li
             f = g[i] / (g[i] - g[i + 1]) if g[i] != g[i + 1] else 0.0
             B = Bs[i] + f * (Bs[i + 1] - Bs[i])
             x = xs[i] + f * (xs[i + 1] - xs[i])
-            out.append(np.array([x[0], x[1], B]))
+            out.append(np.append(x, B))
     for i in range(1, len(g) - 1):  # a dip of |g| without a sign change: two roots may hide here
         if abs(g[i]) < abs(g[i - 1]) and abs(g[i]) < abs(g[i + 1]) and g[i - 1] * g[i + 1] > 0:
             for j in (i - 1, i, i + 1):
-                out.append(np.array([xs[j][0], xs[j][1], Bs[j] + g[j]]))
+                out.append(np.append(xs[j], Bs[j] + g[j]))
     return out

@@ -100,15 +100,15 @@ def bounded(pm: PeriodMap, x: np.ndarray) -> np.ndarray:
     """x moved into the unknowns' domain: B > 0, |phi| <= 1 (and phi = 0 while open)."""
     x = x.copy()
     if pm.model == "jenkins":
-        x[2] = 0.0 if abs(x[0]) <= pm.d else min(max(float(x[2]), -1.0), 1.0)
-    elif pm.dim == 3:
-        x[2] = max(x[2], 1e-3 * max(pm.d, 1e-9))
+        x[-1] = 0.0 if abs(pm.tip(x)[0]) <= pm.d else min(max(float(x[-1]), -1.0), 1.0)
+    elif pm.dim % 2:  # fixedPoint, coulomb: the last unknown is B
+        x[-1] = max(x[-1], 1e-3 * max(pm.d, 1e-9))
     return x
 
 
 def fd_direction(pm: PeriodMap, x: np.ndarray, j: int) -> float:
     """+1, or -1 where a forward step would leave the domain (phi at +1, B near 0)."""
-    if pm.model == "jenkins" and j == 2 and x[2] > 0.0:
+    if pm.model == "jenkins" and j == pm.dim - 1 and x[j] > 0.0:
         return -1.0
     return 1.0
 
@@ -116,7 +116,7 @@ def fd_direction(pm: PeriodMap, x: np.ndarray, j: int) -> float:
 def at_bound(pm: PeriodMap, x: np.ndarray, j: int) -> bool:
     """True if unknown j sits on its bound (the Jenkins element's slip limit |phi| = 1), where only
     a one-sided difference stays in the domain."""
-    return pm.model == "jenkins" and j == 2 and abs(x[2]) >= 1.0
+    return pm.model == "jenkins" and j == pm.dim - 1 and abs(x[j]) >= 1.0
 
 
 def jacobian(pm: PeriodMap, x: np.ndarray, speed: float, Px: np.ndarray, central: bool = False) -> np.ndarray:
@@ -234,6 +234,6 @@ def orbit(pm: PeriodMap, sol: Solution, speed: float, central: bool = True) -> O
     forward ones), its multipliers and the FMU start values that start a run on it."""
     x = sol.x
     J = sol.J if sol.exact else jacobian(pm, x, speed, sol.Px, central=central)
-    B = math.nan if pm.model == "jenkins" else (pm.B if pm.dim == 2 else float(x[2]))
+    B = math.nan if pm.model == "jenkins" else (pm.B if pm.model == "fixedB" else float(x[-1]))
     return Orbit(pm.model, float(speed), x.copy(), sol.amplitude, B, multipliers(J), sol.residual, sol.iterations,
                  pm.start_values(x))
