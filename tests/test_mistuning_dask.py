@@ -10,8 +10,8 @@ from harness.analysis.executor import Runner
 from harness.studies import mistuning, mistuning_dask
 from harness.studies.mistuning import Study
 
-# 5 sweeps of 3 uncoupled blades, ~0.5 s each: long enough to be killed inside one
-SMALL = Study(n=3, levels=(0.05,), patterns=4, points=3, stop_time=0.3, variants=("friction",))
+# 5 sweeps of 3 blades over the band, about 1 s each: long enough to be killed inside one
+SMALL = Study(n=3, levels=(0.05,), patterns=4, points=3, variants=("friction",))
 
 
 def test_a_killed_worker_loses_one_sweep_and_the_study_completes(tmp_path):

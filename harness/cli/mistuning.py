@@ -1,7 +1,7 @@
 """Mistuning study of the ring over a speed band: amplification of the largest blade amplitude against Whitehead's bound.
 
 `python -m harness mistuning [--size small|cluster] [--blades N] [--levels SIGMA ...] [--patterns K]
-[--parameter EI|m0] [--seed S] [--points K] [--band FROM TO] [--stop-time S] [--variants ...]
+[--parameter EI|m0] [--seed S] [--points K] [--band FROM TO] [--rtol R] [--max-time S] [--variants ...]
 [--workers N | --scheduler ADDRESS] [--cache-dir DIR | --no-cache] [--out DIR] [--json]`. Each
 (variant, pattern) is one sweep of the ring over the band (harness/studies/mistuning.py), cached in
 its own file, so an interrupted study resumes; the figures (PNG + CSV) go to --out.
@@ -43,9 +43,12 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--band", type=float, nargs=2, metavar=("FROM", "TO"),
                    help=f"speed band [rpm] (default {CROSSING_BAND[0]:g}x to {CROSSING_BAND[1]:g}x the contact-free "
                         "crossing: %.0f to %.0f rpm)" % mistuning.band(_S))
-    p.add_argument("--stop-time", type=float, metavar="S",
-                   help=f"simulated time per speed from rest [s], doubled up to {mistuning.SETTLE_DOUBLINGS} times "
-                        f"until settled (default {_S.stop_time:g})")
+    p.add_argument("--rtol", type=float, metavar="R",
+                   help="settled: every blade's per-period amplitude change / the largest amplitude below this over "
+                        f"5 periods (default {_S.rtol:g})")
+    p.add_argument("--max-time", type=float, metavar="S",
+                   help=f"simulated time at most at one speed [s]; a speed not settled by then is flagged "
+                        f"(default {_S.max_time:g})")
     p.add_argument("--variants", nargs="+", choices=VARIANTS,
                    help=f"friction (contacts as given), frictionless (mu = 0), open (d = 1 m) "
                         f"(default {' '.join(_S.variants)})")
@@ -58,7 +61,8 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 def study_from(args: argparse.Namespace):
     s = SIZES[args.size]
     given = {"n": args.blades, "levels": tuple(args.levels) if args.levels else None, "patterns": args.patterns,
-             "parameter": args.parameter, "seed": args.seed, "stop_time": args.stop_time, "points": args.points,
+             "parameter": args.parameter, "seed": args.seed, "rtol": args.rtol, "max_time": args.max_time,
+             "points": args.points,
              "band": tuple(args.band) if args.band else None,
              "variants": tuple(args.variants) if args.variants else None}
     s = replace(s, **{k: v for k, v in given.items() if v is not None})
@@ -73,10 +77,10 @@ def study_from(args: argparse.Namespace):
     bad = [x for x in s.levels if not (math.isfinite(x) and 0 <= x <= 0.2)]
     if bad:
         raise ParameterError(f"--levels {bad[0]!r} outside [0, 0.2] (relative standard deviation)")
-    need = (mistuning.SETTLE_PERIODS + 1) * 60 / (s.engine_order * mistuning.band(s)[0])
-    if not (math.isfinite(s.stop_time) and s.stop_time >= need):
-        raise ParameterError(f"--stop-time {s.stop_time!r} s shorter than {mistuning.SETTLE_PERIODS + 1} excitation "
-                             f"periods at the band's lowest speed ({need:.4g} s): the settle check needs them")
+    if not (math.isfinite(s.rtol) and 0 < s.rtol < 1):
+        raise ParameterError(f"--rtol {s.rtol!r} outside (0, 1)")
+    if not (math.isfinite(s.max_time) and s.max_time > 0):
+        raise ParameterError(f"--max-time {s.max_time!r} s must be > 0")
     return s
 
 

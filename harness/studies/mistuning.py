@@ -6,21 +6,22 @@ process pool, or dask with a scheduler address) and cached in its own file (Poin
 killed study resumes where it stopped.
 
 Amplification of a pattern = max over the band of the mistuned ring's largest blade amplitude /
-max over the band of the tuned ring's, both from the same sweep. The band, 0.8x to 2.4x the
+max over the band of the tuned ring's, both from the same sweep. The band, 0.8x to 3x the
 contact-free Campbell crossing (EO n / 60 = first bending frequency, 4966 rpm at EO 3; Galerkin
 reduction, harness.model.galerkin), contains the response the shroud contacts stiffen and move
-upwards: the tuned 6-blade ring from rest reaches 2.95e-5 m near 7000 rpm, 3.12e-5 m at 10500 rpm,
-and drops to 6.8e-6 m (contacts no longer holding it) at 11000 rpm. A point whose ring did not
+upwards: swept up, the tuned 6-blade ring leaves its travelling wave near 7000 rpm for a localised
+state that grows to 4.30e-5 m at 13568 rpm and falls back to the wave (3.8e-6 m) by 14000 rpm. A point whose ring did not
 settle is flagged and left out of the maxima. Compared with Whitehead's bound (1 + sqrt(N)) / 2,
 a theorem for linear rings with light damping. Variants: `friction` (the contacts as given),
 `frictionless` (mu = 0: the shrouds impact, no friction) and `open` (d = 1 m: the contacts never
 close, the blades are uncoupled).
 
-Numerics (docs/model.md s.8): at each speed the ring runs from rest through the C communication
-loop at h = T / 160 (whole nanoseconds) with quadratic extrapolation (error 1e-3 of max |q|
-against the monolithic reference), for `stop_time`, doubled while a blade amplitude still moves
-(SETTLE_* below). h divides the excitation period T, so every period is sampled at the same
-phases and the settle measure sees the motion, not the sampling.
+Numerics: each task is one sweep up the band (harness/system/ring_sweep.py): the C
+communication loop from rest at the lowest speed, the state carried from speed to speed, h = T / 160
+at each speed with quadratic extrapolation (error ~1e-3 of max |q| against the monolithic
+reference), every blade settled when its per-period amplitude changes by less than `rtol` of the
+largest over 5 periods (at most `max_time` s per speed, else flagged), and the peak located by
+refinement to `speed_tol` rpm.
 """
 from __future__ import annotations
 
@@ -39,15 +40,15 @@ from harness.analysis.executor import PointCache, point_key
 from harness.fmu.build import EXCITATION_FMU
 from harness.fmu.slave import build_ring_fmus
 from harness.model.galerkin import galerkin
-from harness.system.ring import Ring, amplitudes
-from harness.system import ring_c
+from harness.system.ring import Ring
+from harness.system import ring_sweep
 from harness.system.ring_values import settable
 
 PARAMETERS = ("EI", "m0")  # the blade parameters a pattern scatters
 # contact parameters on top of the ring's
 VARIANTS = {"friction": {}, "frictionless": {"mu": 0.0}, "open": {"d": 1.0}}
 CACHE_VERSION = 3  # bump when the meaning of a cached record changes (3: a record is a sweep over speed)
-CROSSING_BAND = (0.8, 2.4)  # the band, as multiples of the contact-free crossing (3973-11918 rpm at EO 3)
+CROSSING_BAND = (0.8, 3.0)  # the band, as multiples of the contact-free crossing (3973-14898 rpm at EO 3)
 
 
 @dataclass(frozen=True)
@@ -58,10 +59,12 @@ class Study:
     parameter: str = "EI"
     seed: int = 1
     variants: tuple[str, ...] = ("friction",)
-    points: int = 17  # speeds across the band
+    points: int = 23  # speeds across the band (0.1x the crossing apart: the crossing is one of them)
     band: tuple[float, float] | None = None  # [rpm]; None: CROSSING_BAND x the contact-free crossing
-    stop_time: float = 0.15  # [s] per speed, from rest (transient 2 M / C0 = 0.022 s at c = 298 N s/m2)
-    steps_per_period: int = 160  # h = T / 160: every period sampled at the same phases
+    rtol: float = 1e-4  # settled: per-period change of every blade amplitude / the largest, over 5 periods
+    max_time: float = 1.0  # [s] at most at one speed (decay time 2 M / C0 = 0.022 s at c = 298 N s/m2)
+    speed_tol: float = 10.0  # [rpm] the peak's location
+    steps_per_period: int = 160  # h = T / 160 at each speed: every period sampled at the same phases
     order: int = 2  # extrapolation order of the input derivatives
     engine_order: int = 3
     fw0: float = 300.0
@@ -70,10 +73,10 @@ class Study:
 
 
 SIZES = {
-    # `make run`: 6 blades, 2 levels x 10 patterns + the tuned ring, 17 speeds each (357 ring runs)
+    # `make run`: 6 blades, 2 levels x 10 patterns + the tuned ring: 21 sweeps of 23 speeds
     "small": Study(),
-    # a cluster: 24 blades, 4 levels x 100 patterns, the frictionless and open rings too, 33 speeds
-    "cluster": Study(n=24, levels=(0.005, 0.01, 0.02, 0.05), patterns=100, points=33,
+    # a cluster: 24 blades, 4 levels x 100 patterns, the frictionless and open rings too, 45 speeds
+    "cluster": Study(n=24, levels=(0.005, 0.01, 0.02, 0.05), patterns=100, points=45,
                      variants=("friction", "frictionless", "open")),
 }
 
@@ -136,16 +139,9 @@ def mistuned(ring: Ring, parameter: str, f: Sequence[float]) -> Ring:
 
 
 def tuned_ring(study: Study, variant: str) -> Ring:
-    """The tuned ring of `variant` (its speed and step are set per point by `at_speed`)."""
+    """The tuned ring of `variant` (the sweep sets its speed and step at each point)."""
     return Ring(n=study.n, engine_order=study.engine_order, speed=band(study)[0], fw0=study.fw0,
-                blade=dict(study.blade), contact={**study.contact, **VARIANTS[variant]}, stop_time=study.stop_time,
-                order=study.order)
-
-
-def at_speed(ring: Ring, speed: float, steps_per_period: int) -> Ring:
-    """`ring` at `speed` [rpm], h = T / steps_per_period in whole nanoseconds (libcosim's grid)."""
-    T = 60 / (ring.engine_order * speed)
-    return replace(ring, speed=float(speed), step=round(T / steps_per_period * 1e9) * 1e-9)
+                blade=dict(study.blade), contact={**study.contact, **VARIANTS[variant]}, order=study.order)
 
 
 def _fmu_digest() -> str:
@@ -156,61 +152,32 @@ def _fmu_digest() -> str:
     return h.hexdigest()
 
 
-SETTLE_PERIODS = 5  # the amplitude is compared with the one this many periods earlier
-SETTLE_TOL = 1e-3  # a run whose amplitudes still move more than this is run twice as long ...
-SETTLE_DOUBLINGS = 3  # ... at most this many times (then it is reported as it is)
+def sweep(ring: Ring, speeds_rpm: Sequence[float], study: Study) -> dict:
+    """The ring's forced response swept up the speeds (harness/system/ring_sweep.py) as a JSON-able
+    record: speeds_rpm (K), amplitudes_m, settled and movement (K x N), the located peak
+    (peak_amplitude_m, peak_speed_rpm; NaN if no speed settled; peak_blades_m: every blade there),
+    simulated time."""
+    sw = ring_sweep.sweep(ring, speeds_rpm, "up", rtol=study.rtol, max_time=study.max_time,
+                          steps_per_period=study.steps_per_period, speed_tol=study.speed_tol)
+    at_peak = [e["amplitudes_m"] for e in sw.refinement if e["speed_rpm"] == sw.peak_speed_rpm]
+    at_peak += [a.tolist() for s, a in zip(sw.speeds_rpm, sw.amplitudes_m["up"]) if s == sw.peak_speed_rpm]
+    return {"speeds_rpm": sw.speeds_rpm.tolist(), "amplitudes_m": sw.amplitudes_m["up"].tolist(),
+            "settled": sw.settled["up"].tolist(), "movement": sw.movement["up"].tolist(),
+            "peak_amplitude_m": float(sw.peak_amplitude_m), "peak_speed_rpm": float(sw.peak_speed_rpm),
+            "peak_at_band_edge": bool(sw.peak_at_band_edge), "peak_blades_m": at_peak[0] if at_peak else None,
+            "simulated_s": float(sw.time_at_speed_s["up"].sum())}
 
 
-def movement(t: np.ndarray, q: np.ndarray, omega: float) -> np.ndarray:
-    """Per blade: |amplitude over the last period - amplitude SETTLE_PERIODS periods earlier| /
-    the largest blade amplitude (how much the run still moves)."""
-    a = amplitudes(t, q, omega)
-    back = t <= t[-1] - SETTLE_PERIODS * 2 * math.pi / omega + 1e-12
-    return np.abs(a - amplitudes(t[back], q[back], omega)) / np.max(a)
-
-
-def simulate(ring: Ring) -> dict:
-    """One ring run from rest (C loop): the steady amplitude of every blade [m], its `movement`,
-    `settle` (the largest), and the simulated time it took (ring.stop_time doubled while
-    settle > SETTLE_TOL, at most SETTLE_DOUBLINGS times)."""
-    for _ in range(SETTLE_DOUBLINGS + 1):
-        res = ring_c.run(ring)
-        t, q = res["time"], res["q"]
-        moved = movement(t, q, ring.omega)
-        if moved.max() <= SETTLE_TOL:
-            break
-        ring = replace(ring, stop_time=2 * ring.stop_time)
-    return {"amplitudes": [float(x) for x in amplitudes(t, q, ring.omega)], "movement": moved.tolist(),
-            "settle": float(moved.max()), "stop_time": ring.stop_time}
-
-
-def sweep(ring: Ring, speeds_rpm: Sequence[float], steps_per_period: int) -> dict:
-    """The ring's forced response at each speed (one `simulate` per speed): speeds_rpm (K),
-    amplitudes_m and movement (K x N), settled (K x N: movement <= SETTLE_TOL), the largest
-    settled blade amplitude and its speed (the largest sampled point), simulated time."""
-    runs = [simulate(at_speed(ring, s, steps_per_period)) for s in speeds_rpm]
-    amp = np.array([r["amplitudes"] for r in runs])
-    moved = np.array([r["movement"] for r in runs])
-    settled = moved <= SETTLE_TOL
-    top = np.where(settled, amp, -np.inf).max(axis=1)
-    k = int(np.argmax(top))
-    ok = bool(np.isfinite(top[k]))
-    return {"speeds_rpm": [float(s) for s in speeds_rpm], "amplitudes_m": amp.tolist(), "movement": moved.tolist(),
-            "settled": settled.tolist(), "peak_amplitude_m": float(top[k]) if ok else math.nan,
-            "peak_speed_rpm": float(speeds_rpm[k]) if ok else math.nan,
-            "simulated_s": float(sum(r["stop_time"] for r in runs))}
-
-
-def _task(job: tuple[Ring, list[float], int, str, str | None]) -> dict:
+def _task(job: tuple[Ring, list[float], Study, str, str | None]) -> dict:
     """One (variant, pattern) sweep on a worker: run, store in the cache at once (atomic file),
     return the record. A record already in the cache is returned as it is (dask recomputes a
     finished task whose result died with its worker: that costs a file read, not a sweep)."""
-    ring, sp, steps_per_period, key, cache_dir = job
+    ring, sp, study, key, cache_dir = job
     cache = PointCache(Path(cache_dir) if cache_dir else None)
     rec = cache.get(key)
     if rec is None:
         t0, c0 = time.perf_counter(), time.process_time()
-        rec = {**sweep(ring, sp, steps_per_period), "wall_s": time.perf_counter() - t0,
+        rec = {**sweep(ring, sp, study), "wall_s": time.perf_counter() - t0,
                "cpu_s": time.process_time() - c0}
         cache.put(key, rec)
     return rec
@@ -226,15 +193,18 @@ def _variant(study: Study, recs: list[tuple[int, int, dict]]) -> dict:
     curves = np.full((len(study.levels), study.patterns, K, study.n), np.nan)
     peaks = np.full((len(study.levels), study.patterns), np.nan)
     peak_speeds = np.full_like(peaks, np.nan)
+    at_peak = np.full((len(study.levels), study.patterns, study.n), np.nan)
     for li, k, r in recs:
         if li >= 0:
             curves[li, k] = r["amplitudes_m"]
             peaks[li, k], peak_speeds[li, k] = r["peak_amplitude_m"], r["peak_speed_rpm"]
-    sp = tuned["speeds_rpm"]
+            if r["peak_blades_m"] is not None:
+                at_peak[li, k] = r["peak_blades_m"]
     return {"tuned": tuned["amplitudes_m"], "tuned_settled": tuned["settled"],
             "tuned_peak_m": ref, "tuned_peak_rpm": tuned["peak_speed_rpm"],
-            "tuned_peak_at_edge": tuned["peak_speed_rpm"] in (sp[0], sp[-1]),
+            "tuned_peak_at_edge": bool(tuned["peak_at_band_edge"]), "tuned_peak_blades": tuned["peak_blades_m"],
             "amplitudes": curves.tolist(), "peak_m": peaks.tolist(), "peak_rpm": peak_speeds.tolist(),
+            "peak_blades": at_peak.tolist(),
             "amplification": (peaks / ref).tolist(),
             "unsettled_points": int(sum((~np.array(r["settled"])).any(axis=1).sum() for *_, r in recs)),
             "points": len(recs) * K,
@@ -261,8 +231,9 @@ def run_study(study: Study, runner: Any, cache_dir: Path | None, task: Any = Non
     digest = _fmu_digest()
     sp = [float(s) for s in speeds(study)]
     todo_jobs = jobs(study)
+    numerics = {k: getattr(study, k) for k in ("rtol", "max_time", "speed_tol", "steps_per_period")}
     keys = [point_key(kind="ring-mistuning-sweep", version=CACHE_VERSION, fmus=digest, ring=asdict(r), speeds=sp,
-                      steps_per_period=study.steps_per_period) for *_, r in todo_jobs]
+                      **numerics) for *_, r in todo_jobs]
     records: dict[int, dict] = {}
     for i, key in enumerate(keys):
         rec = cache.get(key)
@@ -271,7 +242,7 @@ def run_study(study: Study, runner: Any, cache_dir: Path | None, task: Any = Non
     todo = [i for i in range(len(todo_jobs)) if i not in records]
     cdir = str(cache_dir) if cache_dir else None
     t0 = time.perf_counter()
-    for i, rec in zip(todo, runner.map(task or _task, [(todo_jobs[i][3], sp, study.steps_per_period, keys[i], cdir)
+    for i, rec in zip(todo, runner.map(task or _task, [(todo_jobs[i][3], sp, study, keys[i], cdir)
                                                for i in todo], desc="mistuning", unit="sweep")):
         records[i] = rec
     out: dict[str, Any] = {"n": study.n, "levels": list(study.levels), "patterns": study.patterns,

@@ -81,16 +81,17 @@ def point_cpu(study: Study, n: int, points: int = 3) -> float:
     ring = mistuning.mistuned(mistuning.tuned_ring(replace(study, n=n), "friction"), study.parameter,
                               mistuning.factors(n, study.levels[-1], study.seed, 0))
     c0 = time.process_time()
-    mistuning.sweep(ring, mistuning.speeds(replace(study, points=points)), study.steps_per_period)
+    mistuning.sweep(ring, mistuning.speeds(replace(study, points=points)), replace(study, speed_tol=1e9))
     return (time.process_time() - c0) / points
 
 
 def cost(m: dict, size: Study, workers: int) -> dict:
     """The cluster size's cost on `workers` dedicated single-core workers, from the measurement:
-    CPU per sweep = CPU per speed of a size.n-blade ring x size.points; the workers kept busy as
-    measured with 2 workers (task time / (workers x wall)); whole sweeps per worker."""
+    CPU per sweep = CPU per speed of a size.n-blade ring x (size.points + the speeds the peak's
+    refinement added per measured sweep); the workers kept busy as measured with 2 workers (task
+    time / (workers x wall)); whole sweeps per worker."""
     sweeps = len(mistuning.jobs(size))
-    per_sweep = m["point_cpu_s"][str(size.n)] * size.points
+    per_sweep = m["point_cpu_s"][str(size.n)] * (size.points + m["refined_speeds"])
     wall = math.ceil(sweeps / workers) * per_sweep / m["two_workers"]["busy"]
     return {"workers": workers, "sweeps": sweeps, "sweep_cpu_s": per_sweep, "wall_h": wall / 3600,
             "worker_hours": workers * wall / 3600}
@@ -139,6 +140,7 @@ def measure(study: Study = MEASURED) -> dict:
         kill = killed(study, Path(d))
     per_sweep = one["task_s"] / one["sweeps"]
     m = {"point_cpu_s": {str(n): point_cpu(study, n) for n in (study.n, mistuning.SIZES["cluster"].n)}}
+    m["refined_speeds"] = max(0.0, one["task_cpu_s"] / one["sweeps"] / m["point_cpu_s"][str(study.n)] - study.points)
     m["two_workers"] = two
     m["cluster_cost"] = [cost(m, mistuning.SIZES["cluster"], k) for k in (1, 2, 8, 32, 128)]
     return {**m, "study": {"n": study.n, "levels": list(study.levels), "patterns": study.patterns, "points": study.points},

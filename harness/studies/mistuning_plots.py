@@ -50,18 +50,18 @@ def write(out: dict, directory: Path) -> list[Path]:
                    [("variant", "U12"), ("speed_rpm", "f8"), ("tuned_m", "f8"), ("tuned_settled", "i4"),
                     ("worst_pattern", "i4"), ("worst_m", "f8")])
 
-    # amplitude per blade around the disk, each ring at its own peak speed
+    # amplitude per blade around the disk, each ring at its own (located) peak speed
     fig, ax = plt.subplots(figsize=(6, 4))
     rows = []
     for c, (v, r) in zip(COLOURS, V.items()):
-        k, worst = _worst(r)
-        at_w = int(np.nanargmax(np.nanmax(worst, axis=1)))
-        tuned = np.array(r["tuned"])[sp.tolist().index(r["tuned_peak_rpm"])] if np.isfinite(r["tuned_peak_rpm"]) \
-            else np.full(n, np.nan)
-        ax.plot(range(n), worst[at_w] * 1e3, "o-", color=c, label=f"{v}: worst pattern {k} at {sp[at_w]:.0f} rpm")
+        k, _ = _worst(r)
+        worst = np.array(r["peak_blades"], dtype=float)[-1, k]
+        w_rpm = r["peak_rpm"][-1][k]
+        tuned = np.array(r["tuned_peak_blades"] or [np.nan] * n, dtype=float)
+        ax.plot(range(n), worst * 1e3, "o-", color=c, label=f"{v}: worst pattern {k} at {w_rpm:.0f} rpm")
         ax.plot(range(n), tuned * 1e3, "s--", color=c, mfc="none", lw=1.0,
                 label=f"{v}: tuned at {r['tuned_peak_rpm']:.0f} rpm")
-        rows += [(v, i, r["tuned_peak_rpm"], tuned[i], sp[at_w], worst[at_w, i]) for i in range(n)]
+        rows += [(v, i, r["tuned_peak_rpm"], tuned[i], w_rpm, worst[i]) for i in range(n)]
     ax.set(xlabel="blade", ylabel="max |q| [mm]", title=f"{sigma}: at each ring's peak speed")
     ax.legend(fontsize=8)
     files += _save(fig, d / "mistuning_blades", rows,
