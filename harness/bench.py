@@ -429,8 +429,8 @@ def _ring_section(g: dict[str, Any]) -> list[str]:
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--size", default="default", help="reproduce size to time (default: default)")
-    p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes for reproduce")
+    p.add_argument("--size", default="default", metavar="SIZE", help="reproduce size to time: quick, default or full (default: default)")
+    p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes for reproduce (default: number of CPUs)")
     p.add_argument("--skip-reproduce", action="store_true", help="do not time the whole reproduce")
     p.add_argument("--output-file", default=str(BENCH_DIR / "RESULTS.md"), metavar="MD",
                    help="where to write the results (default bench/RESULTS.md)")

@@ -18,7 +18,7 @@ from pathlib import Path
 from harness.analysis.periodic.branches import BranchSettings, trace_branches
 from harness.analysis.periodic.continuation import write_branches_csv
 from harness.analysis.periodic.period_map import MODELS
-from harness.cli.simulate import parse_start_values
+from harness.cli.simulate import check_outputs, parse_start_values
 from harness.fmu.blade import SPEED_RANGE, BladeFMU
 from harness.model.params import ParameterError
 from harness.studies.plots import branches_figure
@@ -30,11 +30,12 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                    help="speed range [rpm] (default 3000 10000)")
     p.add_argument("--model", choices=MODELS, default="fixedPoint", help="as for `periodic` (default fixedPoint)")
     p.add_argument("--start-values", nargs="+", default=[], metavar="NAME VALUE",
-                   help="parameter name-value pairs, e.g. `--start-values d 4e-5 gating false`")
+                   help="parameter name-value pairs, e.g. `--start-values d 4e-5 gating false` (units as in"
+                        " modelDescription.xml; default: none, paper Table 1)")
     p.add_argument("--seed-step", type=float, default=500.0, metavar="RPM",
                    help="search every orbit at seed speeds this far apart (default 500 rpm)")
     p.add_argument("--output-file", default="branches.csv", metavar="CSV", help="branch CSV (default branches.csv)")
-    p.add_argument("--plot", metavar="PNG", help="also plot the branches to this PNG file")
+    p.add_argument("--plot", metavar="PNG", help="also plot the branches to this PNG file (default: no plot)")
     p.add_argument("--json", action="store_true",
                    help="print the branches with their located peaks and folds as JSON on stdout, nothing else")
 
@@ -44,6 +45,7 @@ def run(args: argparse.Namespace) -> int:
     lo, hi = args.speed_range
     if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi <= SPEED_RANGE[1]):
         raise ParameterError(f"--speed-range {lo!r} {hi!r} rpm: need 0 < LO < HI <= {SPEED_RANGE[1]:g}")
+    check_outputs(args, ("output_file", "--output-file"), ("plot", "--plot"))
     with BladeFMU(args.fmu or None) as fmu:
         branches, stats = trace_branches(fmu, overrides, args.model, (lo, hi), BranchSettings(seed_step=args.seed_step))
     write_branches_csv(Path(args.output_file), branches)
