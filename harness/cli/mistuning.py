@@ -11,7 +11,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 from dataclasses import replace
 from pathlib import Path
 
@@ -20,6 +19,7 @@ import numpy as np
 from harness.analysis.executor import RESULTS_DIR
 from harness.cli.sweep import add_execution_options, make_runner
 from harness.model.params import ParameterError
+from harness.outputs import check_dir
 from harness.studies import mistuning, mistuning_plots
 from harness.studies.mistuning import CROSSING_BAND, PARAMETERS, SIZES, VARIANTS
 
@@ -84,33 +84,10 @@ def study_from(args: argparse.Namespace):
     return s
 
 
-def check_directory(path: str, option: str) -> Path:
-    """`path` as a directory we may create or write into (not created here); else ParameterError
-    naming it. The nearest existing ancestor must be a writable directory."""
-    p = Path(path)
-    first = next(a for a in (p, *p.parents) if a.exists() or a == Path(a.anchor))
-    if not first.is_dir():
-        raise ParameterError(f"{option} {path}: a file is in the way ({first} is not a directory)")
-    if not os.access(first, os.W_OK | os.X_OK):
-        raise ParameterError(f"{option} {path}: {first} is not writable")
-    return p
-
-
-def make_directory(p: Path, option: str) -> Path:
-    try:
-        p.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise ParameterError(f"{option} {p}: cannot create it ({exc.strerror})") from None
-    return p
-
-
 def run(args: argparse.Namespace) -> int:
     study = study_from(args)
-    out_dir = check_directory(args.out, "--out")
-    cache = None if args.no_cache else check_directory(args.cache_dir, "--cache-dir")
-    make_directory(out_dir, "--out")
-    if cache is not None:
-        make_directory(cache, "--cache-dir")
+    cache = None if args.no_cache else check_dir(args.cache_dir, "--cache-dir")  # before any work
+    out_dir = check_dir(args.out, "--out")
     with make_runner(args) as runner:
         out = mistuning.run_study(study, runner, cache)
     files = mistuning_plots.write(out, out_dir)
