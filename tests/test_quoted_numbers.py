@@ -3,7 +3,8 @@ come from, so a quoted number cannot drift from what the code last measured: the
 catalogue (docs/invalid-inputs.md, generated from real runs), the claims table (results/claims.md,
 written by `make run`), the mistuning table (results/mistuning/mistuning_amplification.csv,
 written by `python -m harness mistuning`) and the performance table (bench/RESULTS.json, written by
-`make bench`). A quoted number is compared as printed (rounded to the digits it shows)."""
+`make bench`) and the mistuning study's dask measurement (bench/mistuning_dask.json, written by
+`python -m harness.studies.mistuning_dask`). A quoted number is compared as printed (rounded to the digits it shows)."""
 from __future__ import annotations
 
 import csv
@@ -140,3 +141,13 @@ def test_readme_mistuning_maximum():
                      r"([\d.]+)x the tuned ring's peak \(mean ([\d.]+)x")
     mean, top = _amplification("mistuning")[("friction", "5")]
     assert m.groups() == (f"{top:.4f}", f"{mean:.4f}")
+
+
+def test_dask_measurement():
+    """The dask page's speed-up and cluster-cost numbers against bench/mistuning_dask.json."""
+    m = json.loads((REPO / "bench" / "mistuning_dask.json").read_text())
+    text = (REPO / "docs" / "guide" / "dask.md").read_text()
+    assert _one("docs/guide/dask.md", r"\*\*speed-up ([\d.]+)\*\*").group(1) == f"{m['speed_up']:.2f}"
+    row = re.search(r"\| wall \[h\] \| (.*) \|", text).group(1).split(" | ")
+    assert row == [f"{c['wall_h']:.2f}" for c in m["cluster_cost"]]
+    assert m["killed_worker"]["completed"] and m["killed_worker"]["lost"] in m["killed_worker"]["started_twice"]
