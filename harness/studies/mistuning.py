@@ -1,7 +1,7 @@
 """Mistuning study of the ring over a speed band: random blade-to-blade scatter of one blade
 parameter (EI, the bending stiffness, or m0, the shroud mass), relative standard deviation per
 level, patterns from a seeded generator. Every (variant, pattern) is one task: the ring's forced
-response at `points` speeds across the band (harness/system/ring_c.py), run on the Runner (local
+response at `points` speeds across the band (harness/system/ring_sweep.py), run on the Runner (local
 process pool, or dask with a scheduler address) and cached in its own file (PointCache), so a
 killed study resumes where it stopped.
 
@@ -9,9 +9,9 @@ Amplification of a pattern = max over the band of the mistuned ring's largest bl
 max over the band of the tuned ring's, both from the same sweep. The band, 0.8x to 3x the
 contact-free Campbell crossing (EO n / 60 = first bending frequency, 4966 rpm at EO 3; Galerkin
 reduction, harness.model.galerkin), contains the response the shroud contacts stiffen and move
-upwards: swept up, the tuned 6-blade ring leaves its travelling wave near 7000 rpm for a localised
-state that grows to 4.30e-5 m at 13568 rpm and falls back to the wave (3.8e-6 m) by 14000 rpm. A point whose ring did not
-settle is flagged and left out of the maxima. Compared with Whitehead's bound (1 + sqrt(N)) / 2,
+upwards: swept up, the tuned 6-blade ring leaves its travelling wave between 5500 and 6000 rpm
+for a localised state that grows to 4.30e-5 m at 13574 rpm and falls back to the wave (3.8e-6 m)
+by 14000 rpm. A point whose ring did not settle is flagged and left out of the maxima. Compared with Whitehead's bound (1 + sqrt(N)) / 2,
 a theorem for linear rings with light damping. Variants: `friction` (the contacts as given),
 `frictionless` (mu = 0: the shrouds impact, no friction) and `open` (d = 1 m: the contacts never
 close, the blades are uncoupled).
