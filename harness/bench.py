@@ -75,6 +75,56 @@ def c_step_cost() -> dict[str, Any]:
     return {"available": True, "text": text, "ns_values": ns}
 
 
+MODES_SECTION = "## Cost per RK4 step vs the number of modes"
+
+
+def modes_step_cost() -> dict[str, Any]:
+    """`build/bench_step modes`: ns per internal RK4 step of the Jenkins element with m = 1..6 modes
+    (docs/model.md s.2a), all configurations measured one after the other in one process."""
+    exe = BUILD_DIR / "bench_step"
+    if not exe.is_file():
+        build(("bench_step",))
+    proc = subprocess.run([str(exe), "modes"], capture_output=True, text=True, timeout=600, check=True)
+    rows = []
+    for line in proc.stdout.splitlines():
+        mm = re.match(r"(m = \d, \w+(?: \(default\))?)\s+([0-9.]+)\s+([0-9.]+)\s+([0-9.]+)$", line.strip())
+        if mm:
+            rows.append({"configuration": mm.group(1), "ns_per_step": float(mm.group(2)),
+                         "rhs_per_step": float(mm.group(3)), "events_per_step": float(mm.group(4))})
+    return {"text": proc.stdout.strip(), "rows": rows}
+
+
+def modes_section(d: dict[str, Any], machine_text: str, date: str) -> list[str]:
+    base = next(r["ns_per_step"] for r in d["rows"] if r["configuration"] == "m = 1, consistent")
+    L = [MODES_SECTION, "",
+         f"`build/bench_step modes` ({machine_text}; {date}; `python -m harness bench --only-modes`): the Jenkins "
+         "element, tracked B, 5000 rpm, communication step 1 ms, maxStep 1e-5 s, 1 s simulated, best of 3 per "
+         "row, the rows measured one after the other in one process (ratios side by side). m > 1 needs the "
+         "consistent formulation; the stable step of the highest mode is maxStep <= 2 sqrt(2) / w_m "
+         "(docs/model.md s.2a: 2.19e-5 s for m = 6 at 5000 rpm).", "",
+         "| configuration | ns per RK4 step | / m = 1 consistent | rhs calls per step | events per step |",
+         "|---|---|---|---|---|"]
+    for r in d["rows"]:
+        L.append(f"| {r['configuration']} | {r['ns_per_step']:.1f} | {r['ns_per_step'] / base:.2f} | "
+                 f"{r['rhs_per_step']:.2f} | {r['events_per_step']:.5f} |")
+    return L + [""]
+
+
+def update_modes_section(path: Path) -> None:
+    """Measures the modes row and writes its section into an existing RESULTS.md (replacing it)."""
+    m = machine()
+    text = path.read_text() if path.is_file() else "# Benchmark results\n"
+    machine_text = f"{m['nproc']} CPU(s), {m['cpu']}, {m['system']}"
+    sec = "\n".join(modes_section(modes_step_cost(), machine_text, time.strftime("%Y-%m-%d %H:%M")))
+    if MODES_SECTION in text:
+        a = text.index(MODES_SECTION)
+        b = text.find("\n## ", a + 1)
+        text = text[:a] + sec + ("\n" + text[b + 1:] if b >= 0 else "")
+    else:
+        text = text.rstrip("\n") + "\n\n" + sec
+    atomic_write_text(path, text)
+
+
 class _Timed:
     """Wraps the ctypes fmi2DoStep of a BladeFMU and accumulates the time spent inside it."""
 
@@ -307,6 +357,8 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
     c = data.get("c_step", {})
     L += ["## FMU internal step cost (C benchmark `build/bench_step`)", ""]
     L += (["```", c.get("text", ""), "```", ""] if c.get("available") else [c.get("text", "not measured"), ""])
+    if "modes" in data:
+        L += modes_section(data["modes"], f"{m['nproc']} CPU(s), {m['cpu']}, {m['system']}", data["date"])
     if "dostep" in data:
         L += ["## Cost of one fmi2DoStep through the harness loop (fmpy/ctypes)", "",
               "BladeFMU.run at 5000 rpm, outputs sampled every step (first three rows: fmi2SetReal, "
@@ -434,13 +486,21 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--skip-reproduce", action="store_true", help="do not time the whole reproduce")
     p.add_argument("--output-file", default=str(BENCH_DIR / "RESULTS.md"), metavar="MD",
                    help="where to write the results (default bench/RESULTS.md)")
+    p.add_argument("--only-modes", action="store_true",
+                   help="measure only the cost per RK4 step vs the number of modes and write that section")
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.only_modes:
+        update_modes_section(Path(args.output_file))
+        print(Path(args.output_file).read_text())
+        return 0
     path, _ = fmu_identity(None)
     data: dict[str, Any] = {"machine": machine(), "date": time.strftime("%Y-%m-%d %H:%M")}
     print("C step benchmark ...", flush=True)
     data["c_step"] = c_step_cost()
+    print("C step benchmark vs the number of modes ...", flush=True)
+    data["modes"] = modes_step_cost()
     p = base_params()
     with BladeFMU(path) as fmu:
         print("doStep cost ...", flush=True)
