@@ -52,9 +52,9 @@ static double runOnce(const Config *cfg, double duration, double hComm, double m
     const double omega = 3.0 * 2.0 * 3.14159265358979323846 * rpm / 60.0;
     const long n = (long)floor(duration / hComm + 0.5);
     fmi2ValueReference vrIn[2] = {vr_aeroLoad, vr_rotorSpeed}, vrDer[8], vrOut[2] = {vr_tipDisplacement, vr_Keq};
-    fmi2ValueReference vrReal[2] = {vr_d, vr_maxStep}, vrInt[2] = {vr_frictionModel, vr_amplitudeMode};
+    fmi2ValueReference vrReal[3] = {vr_d, vr_maxStep, vr_Fw0}, vrInt[2] = {vr_frictionModel, vr_amplitudeMode};
     fmi2ValueReference vrBool[1] = {vr_gating};
-    fmi2Real rv[2];
+    fmi2Real rv[3]; /* rv[2] = Fw0 = 0: the bench feeds aeroLoad, the built-in load is off */
     fmi2Integer iv[2];
     fmi2Boolean bv[1];
     fmi2Integer order[8];
@@ -68,11 +68,12 @@ static double runOnce(const Config *cfg, double duration, double hComm, double m
     if (c == NULL) return -1.0;
     rv[0] = cfg->d;
     rv[1] = maxStep;
+    rv[2] = 0.0;
     iv[0] = cfg->frictionModel;
     iv[1] = cfg->amplitudeMode;
     bv[0] = cfg->gating;
     fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0);
-    fmi2SetReal(c, vrReal, 2, rv);
+    fmi2SetReal(c, vrReal, 3, rv);
     fmi2SetInteger(c, vrInt, 2, iv);
     fmi2SetBoolean(c, vrBool, 1, bv);
     fmi2EnterInitializationMode(c);

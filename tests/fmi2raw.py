@@ -415,9 +415,10 @@ class Instance:
 
     def initialize(self, params: dict[str, Any] | None = None, start: float = 0.0,
                    stop: float | None = None, inputs: dict[str, float] | None = None) -> int:
-        """setup + start values + enter/exit initialization; returns the worst status."""
+        """setup + start values + enter/exit initialization; returns the worst status. The tests
+        feed aeroLoad themselves (run_steps), so the FMU's built-in load is off unless `params` sets Fw0."""
         worst = self.setup(start, stop)
-        worst = max(worst, self.set_params(params or {}))
+        worst = max(worst, self.set_params({"Fw0": 0.0, **(params or {})}))
         worst = max(worst, self.enter_init())
         if inputs:
             worst = max(worst, self.set_real(list(inputs), list(inputs.values())))

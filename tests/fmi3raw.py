@@ -105,9 +105,10 @@ class Instance3:
         return self.f.exit_initialization_mode()
 
     def initialize(self, params: dict | None = None) -> int:
+        """Enter/exit initialization with the start values; the built-in load off unless `params` sets Fw0
+        (the tests feed aeroLoad themselves)."""
         worst = self.enter_init()
-        if params:
-            worst = max(worst, self.set_params(params))
+        worst = max(worst, self.set_params({"Fw0": 0.0, **(params or {})}))
         return max(worst, self.exit_init())
 
     def terminate(self) -> int:

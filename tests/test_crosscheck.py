@@ -193,7 +193,7 @@ def test_importer_results_pass_validate_result(deliverables):
     a 30 % error does not. Ecos ends its accumulated time a few ulps short of StopTime, which
     validate_result rejects (returns 1) before comparing values: checked here as such."""
     _, dl, _ = deliverables
-    sc = SCENARIOS["steady"]
+    sc = xd.deliverable_scenario(SCENARIOS["steady"])  # the FMU's defaults: its built-in load
     plan = make_plan(sc, 0)
     table = read_csv(dl.in_csv)
     assert np.array_equal(table["aeroLoad"], plan.values("aeroLoad"))

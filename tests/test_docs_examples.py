@@ -69,7 +69,7 @@ def test_blade_fmu_example(fmu_path, monkeypatch, capsys):
     assert np.abs(q - held["tipDisplacement"]).max() <= 1e-6 * np.abs(q).max()
 
 
-@pytest.mark.parametrize("name", ["fmpy_simulate.py", "python_api.py"])
+@pytest.mark.parametrize("name", ["fmpy_builtin.py", "fmpy_simulate.py", "python_api.py"])
 def test_readme_holds_the_example(name):
     code = (EXAMPLES / name).read_text().strip()
     assert f"```python\n{code}\n```" in (REPO / "README.md").read_text()

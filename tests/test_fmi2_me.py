@@ -48,12 +48,12 @@ def _rel(a: np.ndarray, b: np.ndarray) -> float:
 
 def _cs(fmu_path, start, stop, dt=DT, **kw):
     return simulate_fmu(str(fmu_path), fmi_type="CoSimulation", stop_time=stop, output_interval=dt,
-                        start_values=dict(start, maxStep=2.5e-6), output=OUT, **kw)
+                        start_values=dict(start, maxStep=2.5e-6, Fw0=0.0), output=OUT, **kw)
 
 
 def _me(fmu_path, start, stop, solver="CVode", dt=DT, **kw):
     return simulate_fmu(str(fmu_path), fmi_type="ModelExchange", solver=solver, stop_time=stop,
-                        output_interval=dt, start_values=start, output=OUT, record_events=False, **kw)
+                        output_interval=dt, start_values=dict(start, Fw0=0.0), output=OUT, record_events=False, **kw)
 
 
 def test_validate_fmu_clean(fmu_path) -> None:

@@ -25,7 +25,7 @@ from scipy.integrate import quad
 from scipy.optimize import brentq
 
 # value references (modelDescription.xml)
-VR_D, VR_B, VR_MAXSTEP = 11, 12, 13
+VR_D, VR_B, VR_MAXSTEP, VR_FW0 = 11, 12, 13, 14
 VR_FRICTION, VR_FORMULATION, VR_AMPMODE = 20, 21, 23
 VR_AERO, VR_SPEED = 40, 41
 VR_Q, VR_E, VR_FREQ, VR_KEQ = 50, 57, 58, 54
@@ -108,7 +108,7 @@ def run_sine(unzipped: tuple[str, str], formulation: int, rpm: float, duration: 
     slave.instantiate()
     try:
         slave.setupExperiment(startTime=0.0)
-        slave.setReal([VR_D, VR_MAXSTEP], [1.0, MAX_STEP])
+        slave.setReal([VR_D, VR_MAXSTEP, VR_FW0], [1.0, MAX_STEP, 0.0])  # aeroLoad fed: built-in load off
         slave.setInteger([VR_FORMULATION, VR_AMPMODE, VR_FRICTION], [formulation, 1, friction])
         slave.enterInitializationMode()
         slave.setReal([VR_SPEED], [rpm])

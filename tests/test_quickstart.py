@@ -29,7 +29,7 @@ def _direct_last_period_amplitude() -> float:
     md = read_model_description(str(path))
     vr = {v.name: v.valueReference for v in md.modelVariables}
     start = {v.name: float(v.start) for v in md.modelVariables if v.name in ("engineOrder",)}
-    fw0 = 100.0  # the harness's default load amplitude Fw0 [N/m] (docs/model.md s.1), not an FMU variable
+    fw0 = 100.0  # the harness's default load amplitude Fw0 [N/m] (docs/model.md s.1), fed through aeroLoad
     w = start["engineOrder"] * 2 * math.pi * SPEED / 60  # [rad/s]
     unzipdir = extract(str(path))
     fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=md.coSimulation.modelIdentifier,
@@ -37,6 +37,7 @@ def _direct_last_period_amplitude() -> float:
     try:
         fmu.instantiate()
         fmu.setupExperiment(startTime=0.0)
+        fmu.setReal([vr["Fw0"]], [0.0])  # the load is fed through aeroLoad below: the built-in one is off
         fmu.enterInitializationMode()
         fmu.setReal([vr["rotorSpeed"], vr["aeroLoad"]], [SPEED, 0.0])
         fmu.exitInitializationMode()

@@ -30,6 +30,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from harness.optional import require
+from harness.outputs import write_error
 
 # relative: under the current directory, never inside the installed package (`make run` passes
 # --out results, the committed results of the checkout)
@@ -43,8 +44,11 @@ DEFAULT_CACHE_DIR = RESULTS_DIR / "cache"
 def atomic_write_bytes(path: Path | str, data: bytes) -> None:
     """Write `data` to `path` so that readers see either the old file or the complete new one."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    except OSError as exc:  # name the user's path, not a temporary one
+        raise write_error(path, exc) from None
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)

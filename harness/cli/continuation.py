@@ -18,7 +18,7 @@ from pathlib import Path
 from harness.analysis.periodic.branches import BranchSettings, trace_branches
 from harness.analysis.periodic.continuation import write_branches_csv
 from harness.analysis.periodic.period_map import MODELS
-from harness.cli.simulate import parse_start_values
+from harness.cli.simulate import check_outputs, parse_start_values
 from harness.fmu.blade import SPEED_RANGE, BladeFMU
 from harness.model.params import ParameterError
 from harness.studies.plots import branches_figure
@@ -44,6 +44,7 @@ def run(args: argparse.Namespace) -> int:
     lo, hi = args.speed_range
     if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi <= SPEED_RANGE[1]):
         raise ParameterError(f"--speed-range {lo!r} {hi!r} rpm: need 0 < LO < HI <= {SPEED_RANGE[1]:g}")
+    check_outputs(args, ("output_file", "--output-file"), ("plot", "--plot"))
     with BladeFMU(args.fmu or None) as fmu:
         branches, stats = trace_branches(fmu, overrides, args.model, (lo, hi), BranchSettings(seed_step=args.seed_step))
     write_branches_csv(Path(args.output_file), branches)

@@ -23,6 +23,7 @@ from harness.fmu.blade import FMUError, FMUNotFoundError
 from harness.fmu.build import BuildError
 from harness.model.excitation import ExcitationError
 from harness.model.params import ParameterError
+from harness.outputs import OutputPathError
 from harness.paths import IN_CHECKOUT
 
 # command name -> module (add your command with one line). Imported by name, only when run: the
@@ -77,7 +78,7 @@ def _summary(module: str) -> str:
 
 
 def _known_errors() -> tuple[type[BaseException], ...]:
-    return (ParameterError, ExcitationError, FMUNotFoundError, FMUError, BuildError)
+    return (ParameterError, ExcitationError, FMUNotFoundError, FMUError, BuildError, OutputPathError)
 
 
 def _prog() -> str:
@@ -138,6 +139,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("error: interrupted", file=sys.stderr)
         return 130
+    except OSError as exc:  # a file a command writes or reads, named as the system reports it
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return EXIT_USAGE
 
 
 if __name__ == "__main__":

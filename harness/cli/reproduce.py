@@ -16,6 +16,7 @@ from pathlib import Path
 from harness.analysis.executor import RESULTS_DIR
 from harness.cli.sweep import add_execution_options, make_runner
 from harness.reference.hysteresis import hysteresis
+from harness.outputs import check_dir
 from harness.studies.claims import verdict_counts, write_claims
 from harness.studies.paper import SIZES, STUDIES, reproduce, validate_request
 
@@ -34,9 +35,11 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 def reproduce_and_report(args: argparse.Namespace, size: str, studies, extras: bool) -> int:
     validate_request(size, studies)
+    runner = make_runner(args)
+    check_dir(args.output_dir, "--out")  # the configuration is good: can the results be written?
     out = Path(args.output_dir)
     t0 = time.perf_counter()
-    with make_runner(args) as runner:
+    with runner:
         rep = reproduce(out, size, studies, runner=runner, fmu_path=args.fmu, extras=extras, hysteresis=hysteresis)
     wall = time.perf_counter() - t0
     rows = write_claims(out / "claims.md", rep.summary)

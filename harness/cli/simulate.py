@@ -24,6 +24,7 @@ from harness.analysis.steady_state import analyze
 from harness.fmu.blade import SPEED_RANGE, BladeFMU, fmu_path
 from harness.model.excitation import Constant, ExcitationError, LinearRamp
 from harness.model.params import ParameterError, validate
+from harness.outputs import check_file, write_error
 
 matplotlib.use("Agg")  # figures go straight to PNG files: no display
 
@@ -54,6 +55,13 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--fmi-logging", action="store_true", help="print every FMI call of the step loop (slow)")
 
 
+def check_outputs(args: argparse.Namespace, *options: tuple[str, str]) -> None:
+    """Refuse, before any work, an output file (attribute, option name) that cannot be written."""
+    for attr, option in options:
+        if getattr(args, attr, None):
+            check_file(getattr(args, attr), option)
+
+
 def parse_start_values(items: list[str]) -> dict[str, Any]:
     if len(items) % 2:
         raise ParameterError(f"--start-values needs NAME VALUE pairs; got {len(items)} item(s): {' '.join(items)}")
@@ -61,8 +69,11 @@ def parse_start_values(items: list[str]) -> dict[str, Any]:
 
 
 def _atomic_path(target: Path, suffix: str) -> Path:
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix, dir=target.parent)
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix, dir=target.parent)
+    except OSError as exc:  # name the user's path, not a temporary one
+        raise write_error(target, exc) from None
     os.close(fd)
     umask = os.umask(0)
     os.umask(umask)
@@ -105,6 +116,7 @@ def plot_atomic(path: str | Path, result: np.ndarray, title: str) -> None:
 
 def run(args: argparse.Namespace) -> int:
     params = validate(parse_start_values(args.start_values), source="--start-values")
+    check_outputs(args, ("output_file", "--output-file"), ("plot", "--plot"))
     if args.run_up is not None:
         n0, n1, t0, t1 = args.run_up
         speed = LinearRamp(n0, n1, t0, t1)

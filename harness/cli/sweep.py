@@ -17,8 +17,9 @@ import numpy as np
 from harness.analysis.config import SweepSettings
 from harness.analysis.curves import ConfigError, SweepSpec, parse_speed_range, sweep, validate_spec
 from harness.analysis.executor import DEFAULT_CACHE_DIR, Runner, write_csv
-from harness.cli.simulate import parse_start_values
+from harness.cli.simulate import check_outputs, parse_start_values
 from harness.model.params import validate
+from harness.outputs import check_dir
 from harness.studies import plots
 
 OUT_DTYPE = [("speed", "f8"), ("method", "U9"), ("amplitude", "f8"), ("band_lo", "f8"), ("band_hi", "f8"),
@@ -94,6 +95,9 @@ def run(args: argparse.Namespace) -> int:
                      settings=settings)
     spec = validate_spec(spec)  # before any work
     runner = make_runner(args)
+    check_outputs(args, ("output_file", "--output-file"), ("plot", "--plot"))  # the configuration is good
+    if not args.no_cache:
+        check_dir(args.cache_dir, "--cache-dir")
     with runner:
         res = sweep(spec, runner, fmu_path=args.fmu, cache_dir=None if args.no_cache else args.cache_dir)
     table = to_table(res)

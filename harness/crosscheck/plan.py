@@ -34,6 +34,9 @@ class Scenario:
     step: float = 1e-4  # communication step [s]
     start_time: float = 0.0  # [s]
     params: Mapping[str, Any] = field(default_factory=dict)  # overrides of the FMU/harness defaults
+    # True: the FMU's built-in load carries F_w0 (its parameter Fw0) and the master feeds aeroLoad = 0;
+    # False: the master feeds aeroLoad = F_w0 sin(EO Omega t) and sets the FMU's Fw0 = 0
+    builtin_load: bool = False
 
     def validated_params(self) -> dict[str, Any]:
         return _params.validate(dict(self.params), source=f"crosscheck scenario {self.name!r}")
@@ -42,7 +45,12 @@ class Scenario:
         """Only the FMU parameters that differ from the modelDescription start values (set on the FMU)."""
         p = self.validated_params()
         d = _params.defaults()
-        return {k: v for k, v in _params.fmu_parameters(p).items() if k not in d or v != d[k]}
+        out = {k: v for k, v in _params.fmu_parameters(p).items() if k not in d or v != d[k]}
+        if self.builtin_load:
+            out.pop("Fw0", None)
+            if p["Fw0"] != _params.builtin_load_default():
+                out["Fw0"] = p["Fw0"]
+        return out
 
     def speed_signal(self) -> Piecewise:
         if isinstance(self.speed, tuple):
@@ -52,7 +60,7 @@ class Scenario:
 
     def aero_signal(self) -> AeroLoad:
         p = self.validated_params()
-        return AeroLoad(p["Fw0"], p["engineOrder"], self.speed_signal())
+        return AeroLoad(0.0 if self.builtin_load else p["Fw0"], p["engineOrder"], self.speed_signal())
 
     def n_steps(self) -> int:
         n = round((self.stop_time - self.start_time) / self.step)
@@ -68,7 +76,8 @@ class Scenario:
             n0, n1 = speed
             frac = (stop_time - self.start_time) / (self.stop_time - self.start_time)
             speed = (n0, n0 + (n1 - n0) * frac)
-        return Scenario(self.name, self.description, speed, stop_time, self.step, self.start_time, dict(self.params))
+        return Scenario(self.name, self.description, speed, stop_time, self.step, self.start_time, dict(self.params),
+                        self.builtin_load)
 
 
 #: The issue's scenarios: 5000 rpm with F_w0 = 100 N/m, f = F_w0 sin(3 Omega t), 0.3 s, h = 1e-4 s;

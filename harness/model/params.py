@@ -132,9 +132,24 @@ def start_values(params: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def fmu_parameters(params: Mapping[str, Any]) -> dict[str, Any]:
-    """The subset of a validated parameter dict that is set on the FMU."""
+    """The subset of a validated parameter dict that is set on the FMU. The harness feeds the load
+    F_w0 sin(EO Omega t) through the input aeroLoad, so the FMU's own built-in load (its parameter
+    Fw0, default 100 N/m) is switched off: Fw0 = 0 on the FMU, else the load would count twice."""
     sp = specs()
-    return {k: v for k, v in params.items() if not sp[k].harness_only}
+    out = {k: v for k, v in params.items() if not sp[k].harness_only}
+    if builtin_load_default() is not None:
+        out["Fw0"] = 0.0
+    return out
+
+
+@lru_cache(maxsize=1)
+def builtin_load_default() -> float | None:
+    """The start value of the FMU's built-in load amplitude Fw0 [N/m] (modelDescription.xml), None
+    for an FMU without a built-in load."""
+    for sv in _model_description().iter("ScalarVariable"):
+        if sv.get("name") == "Fw0" and sv.get("causality") == "parameter":
+            return float(list(sv)[0].get("start"))
+    return None
 
 
 def _check_one(spec: ParamSpec, value: Any, source: str) -> Any:

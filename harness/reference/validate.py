@@ -27,6 +27,7 @@ from typing import Any, Callable, Iterable
 
 import numpy as np
 
+from harness.outputs import check_file
 from harness.analysis.executor import atomic_write_text
 from harness.analysis.harmonic_balance import harmonic_balance
 from harness.analysis.steady_state import analyze
@@ -283,6 +284,8 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.output_file:
+        check_file(args.output_file, "--output-file")  # before the cases run
     case_list = cases(quick=args.quick)
     print(f"validating the FMU against harness.reference: {len(case_list)} cases, communication step"
           f" {TD_STEP:g} s, maxStep {args.max_step:g} s")

@@ -25,7 +25,7 @@ enum {
     vrEI = 1, vrRho = 2, vrA = 3, vrL = 4, vrC = 5, vrM0 = 6, vrKn = 7, vrKdRatio = 8, vrMu = 9,
     vrGamma = 10, vrD = 11, vrB = 12, vrMaxStep = 13, vrFrictionModel = 20, vrFormulation = 21,
     vrProjection = 22, vrAmplitudeMode = 23, vrEngineOrder = 24, vrGating = 30, vrAeroLoad = 40,
-    vrRotorSpeed = 41
+    vrRotorSpeed = 41, vrFw0 = 14
 };
 static const fmi2ValueReference realOutputs[] = {50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 62};
 static const fmi2ValueReference intOutputs[] = {60, 61};
@@ -269,8 +269,9 @@ typedef struct {
 } RunParams;
 
 static fmi2Status setParams(const Api *api, fmi2Component c, const RunParams *p) {
-    fmi2ValueReference rv[2] = {vrD, vrMaxStep};
-    fmi2Real rx[2];
+    /* Fw0 = 0: this importer feeds aeroLoad itself (setInputs), the FMU's built-in load is off */
+    fmi2ValueReference rv[3] = {vrD, vrMaxStep, vrFw0};
+    fmi2Real rx[3];
     fmi2ValueReference iv[2] = {vrFrictionModel, vrAmplitudeMode};
     fmi2Integer ix[2];
     fmi2ValueReference bv[1] = {vrGating};
@@ -278,9 +279,10 @@ static fmi2Status setParams(const Api *api, fmi2Component c, const RunParams *p)
     fmi2Status s1, s2, s3;
     rx[0] = p->d;
     rx[1] = p->maxStep;
+    rx[2] = 0.0;
     ix[0] = p->frictionModel;
     ix[1] = p->amplitudeMode;
-    s1 = api->setReal(c, rv, 2, rx);
+    s1 = api->setReal(c, rv, 3, rx);
     s2 = api->setInteger(c, iv, 2, ix);
     s3 = api->setBoolean(c, bv, 1, bx);
     return s1 > s2 ? (s1 > s3 ? s1 : s3) : (s2 > s3 ? s2 : s3);

@@ -64,7 +64,7 @@ static const VarInfo VARS[] = {
     {5, "c", VarReal, CausParameter, "N.s/m2", 29.8, 0.0, INF, 0, 0, PAR(ParC), -1},
     {6, "m0", VarReal, CausParameter, "kg", 0.025, 0.0, INF, 0, 0, PAR(ParM0), -1},
     {13, "maxStep", VarReal, CausParameter, "s", 1e-5, 1e-8, 1e-3, 0, 0, PAR(ParMaxStep), -1},
-    {14, "Fw0", VarReal, CausParameter, "N/m", 0.0, 0.0, INF, 0, 0, PAR(ParFw0), -1},
+    {14, "Fw0", VarReal, CausParameter, "N/m", 100.0, 0.0, INF, 0, 0, PAR(ParFw0), -1},
     {21, "formulation", VarInteger, CausParameter, "", 1, 1, 2, 0, 0, AT(formulation), -1},
     {24, "engineOrder", VarInteger, CausParameter, "", 3, 1, 100, 0, 0, AT(engineOrder), -1},
     {25, "bladeIndex", VarInteger, CausParameter, "", 0, 0, 9999, 0, 0, AT(bladeIndex), -1},

@@ -49,7 +49,7 @@ static const VarInfo VARS[] = {
     {vr_d, "d", VarReal, CausParameter, "m", 3e-5, 0.0, INF, 0, 0, PAR(ParD), -1},
     {vr_B, "B", VarReal, CausParameter, "m", 6e-5, 0.0, INF, 1, 0, PAR(ParB), -1},
     {vr_maxStep, "maxStep", VarReal, CausParameter, "s", 1e-5, 1e-8, 1e-3, 0, 0, PAR(ParMaxStep), -1},
-    {vr_Fw0, "Fw0", VarReal, CausParameter, "N/m", 0.0, 0.0, INF, 0, 0, PAR(ParFw0), -1},
+    {vr_Fw0, "Fw0", VarReal, CausParameter, "N/m", 100.0, 0.0, INF, 0, 0, PAR(ParFw0), -1},
     {vr_frictionModel, "frictionModel", VarInteger, CausParameter, "", 1, 1, 3, 0, 0, IPAR(IparFrictionModel), -1},
     {vr_formulation, "formulation", VarInteger, CausParameter, "", 1, 1, 2, 0, 0, IPAR(IparFormulation), -1},
     {vr_projection, "projection", VarInteger, CausParameter, "", 1, 1, 2, 0, 0, IPAR(IparProjection), -1},

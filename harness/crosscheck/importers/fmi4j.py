@@ -77,8 +77,9 @@ def run(fmu: Path, scenario: Scenario, plan: InputPlan, *, build_first: bool = T
         cmd = [java, f"-Djava.io.tmpdir={tmp}", "-cp", _classpath(), ME_CLASS if model_exchange else MAIN_CLASS,
                "--fmu", str(Path(fmu).resolve()), "--plan", str(plan_csv), "--out", str(out_csv)]
         if model_exchange:
-            if scenario.fmu_overrides() or plan.order != 0:
-                raise ValueError("the FMI4j model-exchange driver runs the default parameters with held inputs")
+            # --set takes Real parameters there (the FMU's Fw0 = 0 when the plan feeds aeroLoad)
+            if any(not isinstance(v, float) for v in scenario.fmu_overrides().values()) or plan.order != 0:
+                raise ValueError("the FMI4j model-exchange driver takes Real parameters only, with held inputs")
             cmd += ["--substep", repr(substep)]
         for name, value in scenario.fmu_overrides().items():
             cmd += ["--set", f"{name}={str(value).lower() if isinstance(value, bool) else value}"]

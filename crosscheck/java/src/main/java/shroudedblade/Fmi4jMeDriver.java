@@ -40,14 +40,24 @@ public final class Fmi4jMeDriver {
         String planPath = null;
         String outPath = null;
         double substep = 1e-6;
+        java.util.Map<String, Double> settings = new java.util.LinkedHashMap<>(); // Real parameters, --set name=value
         for (int i = 0; i + 1 < args.length; i += 2) {
             switch (args[i]) {
                 case "--fmu" -> fmuPath = args[i + 1];
                 case "--plan" -> planPath = args[i + 1];
                 case "--out" -> outPath = args[i + 1];
                 case "--substep" -> substep = Double.parseDouble(args[i + 1]);
+                case "--set" -> {
+                    String kv = args[i + 1];
+                    int eq = kv.indexOf('=');
+                    if (eq <= 0) {
+                        System.err.println("error: --set expects name=value, got " + kv);
+                        System.exit(2);
+                    }
+                    settings.put(kv.substring(0, eq), Double.parseDouble(kv.substring(eq + 1)));
+                }
                 default -> {
-                    System.err.println("usage: Fmi4jMeDriver --fmu FILE --plan PLAN.csv --out OUT.csv [--substep S]");
+                    System.err.println("usage: Fmi4jMeDriver --fmu FILE --plan PLAN.csv --out OUT.csv [--substep S] [--set name=value]...");
                     System.exit(2);
                 }
             }
@@ -76,7 +86,7 @@ public final class Fmi4jMeDriver {
         try (Fmu fmu = Fmu.from(new File(fmuPath))) {
             ModelExchangeInstance me = fmu.asModelExchangeFmu().newInstance("blade");
             try {
-                rc = new Run(me, header, plan, substep).simulate(new File(outPath));
+                rc = new Run(me, header, plan, substep, settings).simulate(new File(outPath));
             } finally {
                 me.close();
             }
@@ -91,14 +101,17 @@ public final class Fmi4jMeDriver {
         final String[] header;
         final double[][] plan;
         final double substep;
+        final java.util.Map<String, Double> settings;
         final int nx;
         final int nz;
         final long[] inputVrs;
         final List<TypedScalarVariable<?>> outputs = new ArrayList<>();
         int events;
 
-        Run(ModelExchangeInstance me, String[] header, double[][] plan, double substep) {
+        Run(ModelExchangeInstance me, String[] header, double[][] plan, double substep,
+            java.util.Map<String, Double> settings) {
             this.me = me;
+            this.settings = settings;
             this.header = header;
             this.plan = plan;
             this.substep = substep;
@@ -121,7 +134,7 @@ public final class Fmi4jMeDriver {
         int simulate(File outFile) throws IOException {
             double start = plan[0][0];
             double stop = plan[plan.length - 1][0];
-            if (!me.setupExperiment(start, stop, 0.0) || !me.enterInitializationMode()
+            if (!me.setupExperiment(start, stop, 0.0) || !applySettings() || !me.enterInitializationMode()
                     || !setInputs(plan[0]) || !me.exitInitializationMode()) {
                 return fail("initialization");
             }
@@ -258,6 +271,20 @@ public final class Fmi4jMeDriver {
                 }
             }
             return false;
+        }
+
+        /** The --set values (Real parameters, e.g. Fw0 = 0 when the plan feeds aeroLoad), before initialization. */
+        boolean applySettings() {
+            for (java.util.Map.Entry<String, Double> e : settings.entrySet()) {
+                TypedScalarVariable<?> v = me.getModelVariables().getByNameOrNull(e.getKey());
+                if (v == null || v.getType() != VariableType.REAL) {
+                    throw new IllegalArgumentException("--set " + e.getKey() + ": no Real variable of that name");
+                }
+                if (!ok(me.writeReal(new long[]{v.getValueReference()}, new double[]{e.getValue()}))) {
+                    return false;
+                }
+            }
+            return true;
         }
 
         boolean setInputs(double[] row) {
