@@ -159,7 +159,6 @@ def test_sweep_json_csv_and_plot(capsys, tmp_path):
 @pytest.mark.parametrize("args,words", [
     (["--speeds", "5000", "4000"], ["--speeds 5000 4000", "FROM must be below TO"]),
     (["--speeds", "4000", "5000", "--points", "1"], ["--points 1", "[2, 1000]"]),
-    (["--speeds", "4000", "5000", "--csv", "/nonexistent_dir/x.csv"], ["--csv /nonexistent_dir/x.csv"]),
     (["--speeds", "4000", "5000", "--master", "libcosim"], ["--master libcosim", "C loop"]),
     (["--csv", "x.csv"], ["--csv and --plot", "--speeds"]),
 ])
@@ -167,3 +166,21 @@ def test_bad_sweep_values_are_named(capsys, args, words):
     assert main(["ring", "--blades", "3", *args]) == 2
     err = capsys.readouterr().err
     assert err.startswith("error: ") and len(err.strip().splitlines()) == 1 and all(w in err for w in words), err
+
+
+@pytest.mark.parametrize("option", ["--csv", "--plot", "--write-ssp"])
+def test_output_path_under_a_file_is_named(capsys, tmp_path, option):
+    (tmp_path / "file").write_text("")
+    bad = str(tmp_path / "file" / "out")
+    sweep = [] if option == "--write-ssp" else ["--speeds", "4000", "5000"]
+    assert main(["ring", "--blades", "3", *sweep, option, bad]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: ") and f"{option} {bad}" in err and len(err.strip().splitlines()) == 1, err
+
+
+def test_one_ring_command():
+    import subprocess
+    import sys
+    p = subprocess.run([sys.executable, "-m", "harness.system.ring", "--n", "6"], capture_output=True, text=True,
+                       timeout=120)
+    assert p.returncode == 2 and "python -m harness ring --blades N" in p.stderr and p.stdout == ""

@@ -30,6 +30,7 @@ import numpy as np
 from harness.cli.simulate import parse_start_values
 from harness.fmu.slave import build_ring_fmus
 from harness.model.params import ParameterError
+from harness.outputs import check_dir, check_file
 from harness.studies import mistuning
 from harness.system import ring_c, ring_libcosim, ring_values, ssp
 from harness.system.ring import Ring, RingDiverged, amplitudes, harmonic, run as ring_run
@@ -97,17 +98,6 @@ def _speed_range() -> tuple[float, float]:
     return float(rs.min), float(rs.max)
 
 
-def _writable(option: str, path: str | None) -> None:
-    """A bad output path is a ParameterError naming it (before any work)."""
-    if path is None:
-        return
-    parent = Path(path).expanduser().absolute().parent
-    if not parent.is_dir():
-        raise ParameterError(f"{option} {path}: {parent} is not an existing directory")
-    if Path(path).is_dir():
-        raise ParameterError(f"{option} {path}: is a directory, not a file")
-
-
 def check(args: argparse.Namespace) -> None:
     """Every argument against its range, before any work; ParameterError names value and range."""
     nmax = max_blades()
@@ -130,8 +120,9 @@ def check(args: argparse.Namespace) -> None:
             raise ParameterError(f"--settle-rtol {args.settle_rtol!r} outside (0, 1)")
         if not (math.isfinite(args.max_time) and args.max_time > 0):
             raise ParameterError(f"--max-time {args.max_time!r} s must be > 0")
-        _writable("--csv", args.csv)
-        _writable("--plot", args.plot)
+        for option, path in (("--csv", args.csv), ("--plot", args.plot)):
+            if path is not None:
+                check_file(path, option)
     elif args.csv or args.plot:
         raise ParameterError("--csv and --plot write the curves of a sweep: give --speeds FROM TO")
     if not (math.isfinite(args.stop_time) and args.stop_time > 0):
@@ -140,6 +131,8 @@ def check(args: argparse.Namespace) -> None:
         raise ParameterError(f"--step {args.step!r} s outside (0, --stop-time = {args.stop_time:g}]")
     if not (math.isfinite(args.mistuning) and 0 <= args.mistuning <= 0.2):
         raise ParameterError(f"--mistuning {args.mistuning!r} outside [0, 0.2] (relative standard deviation)")
+    if args.write_ssp:
+        check_dir(args.write_ssp, "--write-ssp")
     if args.master not in EXTRAPOLATING and args.order not in (None, 0):
         raise ParameterError(f"--order {args.order}: only the fmpy and c masters extrapolate; libcosim and Ecos "
                              "hold inputs")
