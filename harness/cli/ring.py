@@ -34,7 +34,7 @@ from harness.outputs import check_dir, check_file
 from harness.studies import mistuning
 from harness.system import ring_c, ring_libcosim, ring_values, ssp
 from harness.system.ring import Ring, RingDiverged, amplitudes, harmonic, run as ring_run
-from harness.system.ring_sweep import DIRECTIONS, per_period_settling, sweep
+from harness.system.ring_sweep import DIRECTIONS, per_period_settling, period_step, sweep
 from harness.system.ring_values import max_blades
 
 MASTERS = ("fmpy", "c", "libcosim", "ecos")
@@ -58,9 +58,10 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--speed", type=float, default=5000.0, metavar="RPM", help="rotor speed [rpm]")
     p.add_argument("--stop-time", type=float, default=0.1, metavar="S", help="simulated time [s] (one speed)")
     p.add_argument("--step", type=float, default=None, metavar="H",
-                   help="communication step [s] (default: 2.5e-5 at one speed; over a band T/160 at each "
-                        "speed, whole ns. At 1e-4 s the friction ring is stable with linear extrapolation but 25 %% off "
-                        "and never settles, docs/model.md s.8)")
+                   help="communication step [s] (default: T/160 at each speed in whole ns, 2.5e-5 at 5000 rpm "
+                        "and EO 3; a step that is not a whole fraction of the period T makes the per-period "
+                        "amplitude jitter with the grid's phase. At 1e-4 s the friction ring is stable with linear "
+                        "extrapolation but 25 %% off and never settles, docs/model.md s.8)")
     p.add_argument("--order", type=int, default=None, choices=range(0, 4), metavar="P",
                    help="fmpy and c masters: extrapolation order of the input derivatives, 0..3 (default: 2)")
     p.add_argument("--master", choices=MASTERS, default="fmpy",
@@ -139,10 +140,11 @@ def check(args: argparse.Namespace) -> None:
 
 
 def make_ring(args: argparse.Namespace):
-    step = args.step if args.step is not None else 2.5e-5
     order = (2 if args.order is None else args.order) if args.master in EXTRAPOLATING else 0
-    ring = Ring(n=args.blades, speed=args.speed, stop_time=args.stop_time, step=step, order=order)
+    ring = Ring(n=args.blades, speed=args.speed, stop_time=args.stop_time, step=args.step or 2.5e-5, order=order)
     ring = ring_values.apply(ring, parse_start_values(args.start_values))
+    if args.step is None:  # T/160: the grid keeps its phase to the excitation, period after period
+        ring = replace(ring, step=period_step(ring, ring.speed, 160))
     T = 60.0 / (ring.engine_order * ring.speed)
     if args.speeds is None and ring.n_steps * ring.step < T * (1 - 1e-9):
         raise ParameterError(f"--stop-time {args.stop_time:g} s shorter than one excitation period ({T:.6g} s):"
