@@ -34,6 +34,8 @@ typedef struct {
     int amplitudeMode;
     int gating;
     double d; /* gap [m] */
+    int modes;       /* m bending modes (docs/model.md s.2a) */
+    int formulation; /* 1 printed, 2 consistent */
 } Config;
 
 static double now(void)
@@ -52,10 +54,11 @@ static double runOnce(const Config *cfg, double duration, double hComm, double m
     const double omega = 3.0 * 2.0 * 3.14159265358979323846 * rpm / 60.0;
     const long n = (long)floor(duration / hComm + 0.5);
     fmi2ValueReference vrIn[2] = {vr_aeroLoad, vr_rotorSpeed}, vrDer[8], vrOut[2] = {vr_tipDisplacement, vr_Keq};
-    fmi2ValueReference vrReal[3] = {vr_d, vr_maxStep, vr_Fw0}, vrInt[2] = {vr_frictionModel, vr_amplitudeMode};
+    fmi2ValueReference vrReal[3] = {vr_d, vr_maxStep, vr_Fw0};
+    fmi2ValueReference vrInt[4] = {vr_frictionModel, vr_amplitudeMode, vr_modes, vr_formulation};
     fmi2ValueReference vrBool[1] = {vr_gating};
     fmi2Real rv[3]; /* rv[2] = Fw0 = 0: the bench feeds aeroLoad, the built-in load is off */
-    fmi2Integer iv[2];
+    fmi2Integer iv[4];
     fmi2Boolean bv[1];
     fmi2Integer order[8];
     fmi2Real der[8], out[2], x[2];
@@ -71,10 +74,12 @@ static double runOnce(const Config *cfg, double duration, double hComm, double m
     rv[2] = 0.0;
     iv[0] = cfg->frictionModel;
     iv[1] = cfg->amplitudeMode;
+    iv[2] = cfg->modes;
+    iv[3] = cfg->formulation;
     bv[0] = cfg->gating;
     fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0);
     fmi2SetReal(c, vrReal, 3, rv);
-    fmi2SetInteger(c, vrInt, 2, iv);
+    fmi2SetInteger(c, vrInt, 4, iv);
     fmi2SetBoolean(c, vrBool, 1, bv);
     fmi2EnterInitializationMode(c);
     if (fmi2ExitInitializationMode(c) > fmi2Warning) return -1.0;
@@ -131,17 +136,36 @@ static void table(const Config *configs, size_t nConfigs, double duration, doubl
     }
 }
 
-int main(void)
+/* `bench_step modes`: the Jenkins element (tracked B, consistent formulation) with m = 1..6 modes
+ * (docs/model.md s.2a), and the one-mode default (printed) as the first row */
+static int modesTable(void)
 {
     static const Config configs[] = {
-        {"linear (d = 1 m, no contact)", 1, 1, 1, 1.0},
-        {"macroslip DF, gating, fixed B", 1, 1, 1, 3e-5},
-        {"macroslip DF, gating, tracked B", 1, 2, 1, 3e-5},
-        {"macroslip DF, no gating, tracked B", 1, 2, 0, 3e-5},
-        {"Coulomb DF, gating, tracked B", 2, 2, 1, 3e-5},
-        {"Jenkins element, tracked B", 3, 2, 1, 3e-5},
+        {"m = 1, printed (default)", 3, 2, 1, 3e-5, 1, 1},
+        {"m = 1, consistent", 3, 2, 1, 3e-5, 1, 2},
+        {"m = 2, consistent", 3, 2, 1, 3e-5, 2, 2},
+        {"m = 3, consistent", 3, 2, 1, 3e-5, 3, 2},
+        {"m = 4, consistent", 3, 2, 1, 3e-5, 4, 2},
+        {"m = 5, consistent", 3, 2, 1, 3e-5, 5, 2},
+        {"m = 6, consistent", 3, 2, 1, 3e-5, 6, 2},
+    };
+    printf("bench_step modes: ns per internal RK4 step through the FMI API (best of 3), Jenkins element\n");
+    table(configs, sizeof configs / sizeof configs[0], 1.0, 1e-3, 1e-5);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    static const Config configs[] = {
+        {"linear (d = 1 m, no contact)", 1, 1, 1, 1.0, 1, 1},
+        {"macroslip DF, gating, fixed B", 1, 1, 1, 3e-5, 1, 1},
+        {"macroslip DF, gating, tracked B", 1, 2, 1, 3e-5, 1, 1},
+        {"macroslip DF, no gating, tracked B", 1, 2, 0, 3e-5, 1, 1},
+        {"Coulomb DF, gating, tracked B", 2, 2, 1, 3e-5, 1, 1},
+        {"Jenkins element, tracked B", 3, 2, 1, 3e-5, 1, 1},
     };
     const size_t n = sizeof configs / sizeof configs[0];
+    if (argc > 1 && strcmp(argv[1], "modes") == 0) return modesTable();
     printf("bench_step: ns per internal RK4 step through the FMI API (best of 3)\n");
     /* the master loop of a sweep: the FMI calls of every communication step are included */
     table(configs, n, 1.0, 1e-4, 1e-5);

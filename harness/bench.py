@@ -75,6 +75,60 @@ def c_step_cost() -> dict[str, Any]:
     return {"available": True, "text": text, "ns_values": ns}
 
 
+MODES_SECTION = "## Cost per RK4 step vs the number of modes"
+
+
+def modes_step_cost() -> dict[str, Any]:
+    """`build/bench_step modes`: ns per internal RK4 step of the Jenkins element with m = 1..6 modes
+    (docs/model.md s.2a), all configurations measured one after the other in one process."""
+    exe = BUILD_DIR / "bench_step"
+    if not exe.is_file():
+        build(("bench_step",))
+    proc = subprocess.run([str(exe), "modes"], capture_output=True, text=True, timeout=600, check=True)
+    rows = []
+    for line in proc.stdout.splitlines():
+        mm = re.match(r"(m = \d, \w+(?: \(default\))?)\s+([0-9.]+)\s+([0-9.]+)\s+([0-9.]+)$", line.strip())
+        if mm:
+            rows.append({"configuration": mm.group(1), "ns_per_step": float(mm.group(2)),
+                         "rhs_per_step": float(mm.group(3)), "events_per_step": float(mm.group(4))})
+    return {"text": proc.stdout.strip(), "rows": rows}
+
+
+def modes_section(d: dict[str, Any], machine_text: str, date: str) -> list[str]:
+    base = next(r["ns_per_step"] for r in d["rows"] if r["configuration"] == "m = 1, consistent")
+    L = [MODES_SECTION, "",
+         f"`build/bench_step modes` ({machine_text}; {date}; `python -m harness bench --only-modes`): the Jenkins "
+         "element, tracked B, 5000 rpm, communication step 1 ms, maxStep 1e-5 s, 1 s simulated, best of 3 per "
+         "row, the rows measured one after the other in one process (ratios side by side). m > 1 needs the "
+         "consistent formulation; the stable step of the highest mode is maxStep <= 2 sqrt(2) / w_m "
+         "(docs/model.md s.2a: 2.19e-5 s for m = 6 at 5000 rpm).", "",
+         "| configuration | ns per RK4 step | / m = 1 consistent | rhs calls per step | events per step |",
+         "|---|---|---|---|---|"]
+    for r in d["rows"]:
+        L.append(f"| {r['configuration']} | {r['ns_per_step']:.1f} | {r['ns_per_step'] / base:.2f} | "
+                 f"{r['rhs_per_step']:.2f} | {r['events_per_step']:.5f} |")
+    return L + [""]
+
+
+def update_modes_section(path: Path) -> None:
+    """Measures the modes row and writes its section into an existing RESULTS.md (replacing it)."""
+    m = machine()
+    text = path.read_text() if path.is_file() else "# Benchmark results\n"
+    machine_text = f"{m['nproc']} CPU(s), {m['cpu']}, {m['system']}"
+    sec = "\n".join(modes_section(modes_step_cost(), machine_text, time.strftime("%Y-%m-%d %H:%M")))
+    atomic_write_text(path, replace_section(text, MODES_SECTION, sec))
+
+
+def replace_section(text: str, heading: str, sec: str) -> str:
+    """`text` with the section starting at `heading` (up to the next "## ") replaced by `sec`, or
+    `sec` appended."""
+    if heading in text:
+        a = text.index(heading)
+        b = text.find("\n## ", a + 1)
+        return text[:a] + sec + ("\n" + text[b + 1:] if b >= 0 else "")
+    return text.rstrip("\n") + "\n\n" + sec
+
+
 class _Timed:
     """Wraps the ctypes fmi2DoStep of a BladeFMU and accumulates the time spent inside it."""
 
@@ -166,6 +220,7 @@ def sweep_overhead(fmu_path: str, repeats: int = 3) -> dict[str, Any]:
 # at 5e-5 s its 24-blade ring stays bounded but loses the travelling wave's symmetry (30 % spread)
 RING_BENCH = dict(n=24, engine_order=3, fw0=300.0, blade={"c": 298.0}, step=2.5e-5, stop_time=0.5)
 RING_LOADS = {"builtin": "built-in load", "excitation": "former ring, Excitation FMUs"}
+RING_SECTION = "## The bladed-disk ring"
 
 
 def _timed(f, *a, **kw) -> tuple[Any, float, float]:
@@ -328,6 +383,8 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
     c = data.get("c_step", {})
     L += ["## FMU internal step cost (C benchmark `build/bench_step`)", ""]
     L += (["```", c.get("text", ""), "```", ""] if c.get("available") else [c.get("text", "not measured"), ""])
+    if "modes" in data:
+        L += modes_section(data["modes"], f"{m['nproc']} CPU(s), {m['cpu']}, {m['system']}", data["date"])
     if "dostep" in data:
         L += ["## Cost of one fmi2DoStep through the harness loop (fmpy/ctypes)", "",
               "BladeFMU.run at 5000 rpm, outputs sampled every step (first three rows: fmi2SetReal, "
@@ -429,7 +486,7 @@ def _ring_section(g: dict[str, Any], run_date: str) -> list[str]:
         when += (f" The machine was shared (load average {g['load_before']:.1f} before, {g['load_after']:.1f} after, "
                  f"on {m.get('nproc')} CPUs): C loop, inside times and libcosim are the least of {g['repeats']} runs, "
                  "the fmpy master one run.")
-    L = [f"## A {st['n']}-blade ring: the masters vs the FMUs' own compute (goal <= 2x for libcosim)", "",
+    L = [f"{RING_SECTION} ({st['n']} blades): the masters vs the FMUs' own compute (goal <= 2x for libcosim)", "",
          f"{st['n']} blades + {st['n']} shroud contacts, the blades making their load (built-in load, "
          f"{g['builtin']['fmus']} FMUs), side by side with the former ring, whose {st['n']} Excitation FMUs feed "
          f"the blades' aeroLoad ({g['excitation']['fmus']} FMUs). EO {st['engine_order']}, 5000 rpm, "
@@ -469,30 +526,39 @@ def _ring_section(g: dict[str, Any], run_date: str) -> list[str]:
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--size", default="default", help="reproduce size to time (default: default)")
-    p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes for reproduce")
+    p.add_argument("--size", default="default", metavar="SIZE", help="reproduce size to time: quick, default or full (default: default)")
+    p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes for reproduce (default: number of CPUs)")
     p.add_argument("--skip-reproduce", action="store_true", help="do not time the whole reproduce")
     p.add_argument("--output-file", default=str(BENCH_DIR / "RESULTS.md"), metavar="MD",
                    help="where to write the results (default bench/RESULTS.md)")
     p.add_argument("--only", choices=("ring",),
                    help="measure only this section and keep the others from the output file's .json")
+    p.add_argument("--only-modes", action="store_true",
+                   help="measure only the cost per RK4 step vs the number of modes and write that section")
 
 
 def run(args: argparse.Namespace) -> int:
     out = Path(args.output_file)
-    if args.only == "ring":
+    if args.only_modes:
+        update_modes_section(out)
+        print(out.read_text())
+        return 0
+    if args.only == "ring":  # the ring section and the .json's ring entry replaced, the rest kept
         old = out.with_suffix(".json")
         data = json.loads(old.read_text()) if old.is_file() else {"machine": machine(), "date": ""}
         print("24-blade ring: built-in load and the former ring ...", flush=True)
         data["ring"] = ring_cost()
-        write_results(out, data)
-        atomic_write_text(out.with_suffix(".json"), json.dumps(data, indent=1, default=str))
+        text = out.read_text() if out.is_file() else "# Benchmark results\n"
+        atomic_write_text(out, replace_section(text, RING_SECTION, "\n".join(_ring_section(data["ring"], data["date"]))))
+        atomic_write_text(old, json.dumps(data, indent=1, default=str))
         print(out.read_text())
         return 0
     path, _ = fmu_identity(None)
     data: dict[str, Any] = {"machine": machine(), "date": time.strftime("%Y-%m-%d %H:%M")}
     print("C step benchmark ...", flush=True)
     data["c_step"] = c_step_cost()
+    print("C step benchmark vs the number of modes ...", flush=True)
+    data["modes"] = modes_step_cost()
     p = base_params()
     with BladeFMU(path) as fmu:
         print("doStep cost ...", flush=True)

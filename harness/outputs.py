@@ -53,6 +53,14 @@ def check_dir(path: str | os.PathLike[str], option: str = "output directory") ->
     return p
 
 
+def with_unit(name: str, unit: str | None) -> str:
+    """A CSV column or JSON key that says its unit: `tipDisplacement_m`, `tipVelocity_m_s`, `time_s`
+    ('/' becomes '_', '.' is dropped: `c_Ns_m2`); a dimensionless quantity keeps its name."""
+    if not unit or unit in ("1", "-"):
+        return name
+    return f"{name}_{unit.replace('/', '_').replace('.', '')}"
+
+
 def write_error(target: str | os.PathLike[str], exc: OSError) -> OutputPathError:
     """The error to raise when writing `target` failed with `exc` (which may name a temporary file)."""
     return OutputPathError(f"cannot write {target} ({_reason(exc)})")

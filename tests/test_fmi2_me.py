@@ -140,8 +140,11 @@ def test_me_sequence_and_variables(lib) -> None:
         assert me.get_dx(inst.c, dx, NX) == OK and dx[0] == x[1]
         assert me.nominals(inst.c, nom, NX) == OK and all(v > 0.0 for v in nom)
         status, der = inst.get_real(["der(tipDisplacement)", "der(tipVelocity)", "der(excitationPhase)",
-                                     "der(dissipatedEnergy)", "der(sliderPosition)"])
+                                     "der(dissipatedEnergy)", "der(sliderPosition)"]
+                                    + [f"der(modalDisplacement[{k}])" for k in range(2, 7)]
+                                    + [f"der(modalVelocity[{k}])" for k in range(2, 7)])
         assert status == OK and list(der) == list(dx)
+        assert NX == 15 and not any(dx[5:])  # the modal states of modes 2..6 held at 0 (modes = 1)
         # 5000 rpm, engine order 3: omega = 2 pi 250 rad/s
         assert dx[2] == pytest.approx(2 * np.pi * 250.0, rel=1e-15)
         assert me.get_z(inst.c, z, NZ) == OK
@@ -178,7 +181,7 @@ def test_invalid_me_calls(lib) -> None:
                "fmuType = fmi2ModelExchange")
         _error(inst, me.set_x(inst.c, x, NX), "fmi2SetContinuousStates: Illegal call sequence (state: eventMode)")
         _error(inst, me.completed(inst.c, 1, None, None), "Illegal call sequence (state: eventMode)")
-        _error(inst, me.get_x(inst.c, x, 4), "fmi2GetContinuousStates: nx = 4, but this FMU has 5")
+        _error(inst, me.get_x(inst.c, x, 4), "fmi2GetContinuousStates: nx = 4, but this FMU has 15")
         _error(inst, me.get_z(inst.c, _arr(NZ), 5), f"fmi2GetEventIndicators: ni = 5, but this FMU has {NZ}")
         _error(inst, me.get_dx(inst.c, None, NX), "fmi2GetDerivatives: NULL array argument")
         _error(inst, me.new_discrete(inst.c, None), "fmi2NewDiscreteStates: fmi2eventInfo is NULL")

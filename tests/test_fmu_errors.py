@@ -139,7 +139,8 @@ L_CONTACT = 0.33 * 1e7 * math.cos(math.pi / 3) * (Q0_CONTACT - 3e-5)  # [N]
 
 
 def _start_state_case(label: str, params: dict, starts: dict, expect: str = "refuse",
-                      name: str | None = None, low: float | None = None, high: float | None = None) -> Case:
+                      name: str | None = None, low: float | None = None, high: float | None = None,
+                      needle: str | None = None) -> Case:
     """Start values that are valid one by one but not together with the rest of the start state
     (model-notes s.7): checked at fmi2ExitInitializationMode."""
     def run(lib: Fmi2Library) -> Outcome:
@@ -158,7 +159,7 @@ def _start_state_case(label: str, params: dict, starts: dict, expect: str = "ref
             return out
     text = ", ".join(f"{k} = {v!r}" for k, v in {**params, **starts}.items())
     value = starts.get(name) if name else None
-    return Case("start value", f"{text}{label}", run, expect, name, value, low, high)
+    return Case("start value", f"{text}{label}", run, expect, name, value, low, high, needle)
 
 
 def start_value_cases() -> list[Case]:
@@ -188,7 +189,30 @@ def start_value_cases() -> list[Case]:
         _start_state_case(" (inside the cone)", td, {"tipDisplacement": Q0_CONTACT, "jenkinsForce": -0.5 * L}, "accept"),
         _start_state_case("", {"amplitudeMode": 2}, {"tipDisplacement": Q0_CONTACT, "runningMaximum": 1e-4}, "accept"),
     ]
-    return cases
+    return cases + modes_cases()
+
+
+def modes_cases() -> list[Case]:
+    """The number of modes with the rest (docs/model.md s.2a): the printed formulation has one mode
+    only, maxStep must keep RK4 stable for the highest mode, the modal start values must agree with
+    the tip ones and stay 0 above m."""
+    consistent = {"modes": 2, "formulation": 2}
+    printed = _start_state_case(" (printed formulation)", {"modes": 3, "formulation": 1}, {})
+    printed.name, printed.value, printed.low, printed.high = "modes", 3.0, 1.0, 1.0
+    return [
+        printed,
+        _start_state_case(" (mode 6 at 20.6 kHz needs maxStep <= 2.19e-05 s)", {"modes": 6, "formulation": 2},
+                          {"maxStep": 1e-4}, name="maxStep", needle="2 sqrt(2)"),
+        _start_state_case(" (not their sum)", consistent, {"tipDisplacement": 1e-5, "modalDisplacement[1]": 2e-5},
+                          name="tipDisplacement", needle="sum"),
+        _start_state_case(" (above modes)", consistent, {"modalDisplacement[3]": 1e-6}, name="modalDisplacement[3]",
+                          low=0.0, high=0.0),
+        _start_state_case(" (above modes)", consistent, {"modalVelocity[6]": -1e-3}, name="modalVelocity[6]",
+                          low=0.0, high=0.0),
+        _start_state_case("", {"modes": 6, "formulation": 2}, {}, "accept"),
+        _start_state_case(" (equal to their sum)", consistent,
+                          {"tipDisplacement": 3e-5, "modalDisplacement[1]": 2e-5, "modalDisplacement[2]": 1e-5}, "accept"),
+    ]
 
 
 def _valid_param_case(name: str, value: float | int) -> Case:

@@ -221,9 +221,9 @@ def blob(lib: Fmi2Library) -> bytes:
     with ready(lib, PARAM_SETS["jenkins-TD"]) as c:
         run(c, 0, 300)
         b = snapshot(c)
-    # the documented layout: magic, version 5, total size, ..., FNV-1a 64 trailer
+    # the documented layout: magic, version 6, total size, ..., FNV-1a 64 trailer
     assert b[:8] == b"SBLDSTAT"
-    assert struct.unpack_from("<i", b, 8)[0] == 5
+    assert struct.unpack_from("<i", b, 8)[0] == 6
     assert struct.unpack_from("<i", b, 12)[0] == len(b)
     assert reseal(b) == b
     return b
@@ -264,8 +264,8 @@ def test_every_single_byte_corruption_gives_error(lib: Fmi2Library, blob: bytes)
 
 def test_wrong_version_gives_error_naming_the_version(lib: Fmi2Library, blob: bytes) -> None:
     # 1: before the start values of jenkinsForce and runningMaximum, 2: with the state machine,
-    # 3: before the sensitivities, 4: before the built-in load, 6: a future one
-    for version in (0, 1, 2, 3, 4, 6, -1, 2**31 - 1):
+    # 3: before the sensitivities, 4: before the built-in load, 5: before the modes, 7: a future one
+    for version in (0, 1, 2, 3, 4, 5, 7, -1, 2**31 - 1):
         bad = reseal(blob[:8] + struct.pack("<i", version) + blob[12:])
         st, c = deserialize(lib, bad)
         assert st == ERROR

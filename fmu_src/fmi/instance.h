@@ -24,8 +24,9 @@ typedef struct {
     const char *serializedStateSize;      /* e.g. "fmi2SerializedFMUstateSize" */
     const char *typeNames[3];             /* VarReal, VarInteger, VarBoolean: "Real", ... */
     const char *(*stateName)(int32_t state);
-    int declaresLocals;                   /* 0: the face's model description has no local variables
-                                             (FMI 3.0 CS): their value references are unknown there */
+    int declaresLocals;                   /* 0: the face's model description has none of the model's
+                                             model-exchange locals (FMI 3.0 CS; FmiModel.modelExchangeOnly):
+                                             their value references are unknown there */
 } FmiFace;
 
 /* The generic part of an FMU state. */

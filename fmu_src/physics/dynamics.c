@@ -30,6 +30,7 @@ int dynBuildModel(DynModel *m, const BladeReduction *r, const ContactParams *cp,
     m->K0omega2 = r->K0omega2;
     m->G = r->loadGain;
     m->omegaPerRpm = (double)engineOrder * DYN_TWO_PI / 60.0;
+    m->modes = 1;
     if (friction == FrictionNone) {
         /* no built-in contact: no gate, no amplitude, no contact constants (all 0) */
         m->gating = 0;
@@ -46,6 +47,61 @@ int dynBuildModel(DynModel *m, const BladeReduction *r, const ContactParams *cp,
     /* model-notes s.2: slip at entry iff kd sin g > mu kn cos g */
     m->stickAtEntry = !(m->kd * m->sinG > m->muKnCos);
     return 0;
+}
+
+/* T^T A T for q = T y, y = (u, q_2..q_m): q_1 = u - sum_{k>=2} q_k (docs/model.md s.2a) */
+static void congruence(int n, const double *A, double out[MODES_MAX][MODES_MAX])
+{
+    double T[MODES_MAX][MODES_MAX] = {{0.0}};
+    for (int k = 0; k < n; ++k) T[k][k] = 1.0;
+    for (int k = 1; k < n; ++k) T[0][k] = -1.0;
+    for (int a = 0; a < n; ++a)
+        for (int b = 0; b < n; ++b) {
+            double v = 0.0;
+            for (int i = 0; i < n; ++i)
+                for (int j = 0; j < n; ++j) v += T[i][a] * A[i * MODES_MAX + j] * T[j][b];
+            out[a][b] = v;
+        }
+}
+
+int dynBuildModes(DynModel *m, const ModalReduction *r)
+{
+    const int n = r->m;
+    m->modes = n;
+    congruence(n, &r->M[0][0], m->My);
+    congruence(n, &r->C[0][0], m->Cy);
+    congruence(n, &r->Kstatic[0][0], m->Ky);
+    congruence(n, &r->Komega2[0][0], m->Ky2);
+    m->Gy[0] = r->load[0];
+    for (int k = 1; k < n; ++k) m->Gy[k] = r->load[k] - r->load[0]; /* T^T g */
+    return modesInverse(n, &m->My[0][0], m->invMy);
+}
+
+double dynTipOf(const DynModel *m, const double a[MODES_MAX])
+{
+    double u = a[0];
+    for (int k = 1; k < m->modes; ++k) u += a[k];
+    return u;
+}
+
+void dynModalState(const DynModel *m, const DynState *s, double q[MODES_MAX], double v[MODES_MAX])
+{
+    q[0] = s->q;
+    v[0] = s->v;
+    for (int k = 1; k < MODES_MAX; ++k) {
+        q[k] = k < m->modes ? s->qx[k - 1] : 0.0;
+        v[k] = k < m->modes ? s->vx[k - 1] : 0.0;
+        q[0] -= q[k];
+        v[0] -= v[k];
+    }
+}
+
+void dynSetModalStart(const DynModel *m, DynState *s, const double qm[MODES_MAX], const double vm[MODES_MAX])
+{
+    for (int k = 1; k < m->modes; ++k) {
+        s->qx[k - 1] = qm[k];
+        s->vx[k - 1] = vm[k];
+    }
 }
 
 void dynSetLoad(DynModel *m, double fw0, int engineOrder, int bladeIndex, int bladeCount)
@@ -223,7 +279,8 @@ void dynOutputs(const DynModel *m, const DynState *s, double nRpm, DynOutputs *o
     const double CeqDF = omega > 0.0 && isfinite(s->df.CeqOmega / omega) ? s->df.CeqOmega / omega : 0.0;
     const double fc = omega > 0.0 && isfinite(s->df.fcOmega / omega) ? s->df.fcOmega / omega : 0.0;
     const double sig = (double)s->side;
-    out->naturalFrequency = sqrt((K0 > 0.0 ? K0 : 0.0) * m->invM) / DYN_TWO_PI;
+    out->naturalFrequency = m->modes > 1 ? dynModeFrequency(m, nRpm, 0)
+                                          : sqrt((K0 > 0.0 ? K0 : 0.0) * m->invM) / DYN_TWO_PI;
     out->regime = (int)s->df.regime;
     if (m->friction == FrictionMacroslipTD) {
         out->Keq = s->df.Keq; /* information only: the DF at the B in use */
@@ -267,6 +324,36 @@ void dynOutputs(const DynModel *m, const DynState *s, double nRpm, DynOutputs *o
             out->contactState = (int)contactLoopState(&m->contact, m->friction, s->B, theta);
         }
     }
+}
+
+void dynModeFrequencies(const DynModel *m, double nRpm, double f[MODES_MAX])
+{
+    const double Omega = DYN_RAD_PER_RPM * nRpm;
+    for (int k = 0; k < MODES_MAX; ++k) f[k] = 0.0;
+    if (m->modes == 1) {
+        const double K0 = m->K0static + m->K0omega2 * Omega * Omega;
+        f[0] = sqrt((K0 > 0.0 ? K0 : 0.0) * m->invM) / DYN_TWO_PI; /* as naturalFrequency */
+        return;
+    }
+    {
+        double K[MODES_MAX][MODES_MAX] = {{0.0}}, w2[MODES_MAX];
+        const int n = m->modes;
+        for (int a = 0; a < n; ++a)
+            for (int b = 0; b < n; ++b) K[a][b] = m->Ky[a][b] + Omega * Omega * m->Ky2[a][b];
+        /* (K_y, M_y) is congruent to the modal (K, M): the same eigenvalues */
+        if (modesEigenvalues(n, &m->My[0][0], &K[0][0], w2) != 0) {
+            for (int k = 0; k < n; ++k) f[k] = NAN;
+            return;
+        }
+        for (int k = 0; k < n; ++k) f[k] = sqrt(w2[k] > 0.0 ? w2[k] : 0.0) / DYN_TWO_PI;
+    }
+}
+
+double dynModeFrequency(const DynModel *m, double nRpm, int k)
+{
+    double f[MODES_MAX];
+    dynModeFrequencies(m, nRpm, f);
+    return f[k];
 }
 
 const char *dynNonFiniteOutput(const DynOutputs *o)

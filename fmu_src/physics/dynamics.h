@@ -11,9 +11,15 @@
 
 #include "physics/blade.h"
 #include "physics/contact.h"
+#include "physics/modes.h"
 
-/* Number of continuous states x = (q, v, psi, E, w). */
+/* Number of continuous states x = (q, v, psi, E, w) of the one-mode blade. With m > 1 modes
+ * (docs/model.md s.2a) q, v are the tip displacement u = sum_i q_i and its rate, and the modal
+ * coordinates q_2..q_6 and their rates follow at fixed places (those above m held at 0):
+ * x[DYN_NX + k] = q_{k+2}, x[DYN_X_RATES + k] = q_{k+2}' (k = 0..4). */
 #define DYN_NX 5
+#define DYN_NX_MAX (DYN_NX + 2 * (MODES_MAX - 1))
+#define DYN_X_RATES (DYN_NX + MODES_MAX - 1)
 
 #define DYN_TWO_PI 6.283185307179586476925286766559
 /* Rotor speed conversion: Omega [rad/s] = DYN_RAD_PER_RPM n [rpm]. */
@@ -57,6 +63,15 @@ typedef struct {
     double muKnCos;           /* mu kn cos(gamma): L = muKnCos (sigma q - d) [N/m] */
     double muKnCosPerKd;      /* muKnCos / kd [-]: slip rate w' = (sin g - s sigma muKnCosPerKd) q' */
     int stickAtEntry;         /* 1 if kd tan(gamma) <= mu kn: contact starts in stick */
+    /* m > 1 modes (docs/model.md s.2a), in the coordinates y = (u, q_2..q_m) with q = T y:
+     * M_y y'' + C_y y' + (K_y + Omega^2 K_y2) y = G_y f_w + e_1 (F_ext - F_c) */
+    int modes;                /* m; 1: the one-mode fields above only */
+    double My[MODES_MAX][MODES_MAX];    /* T^T M T [kg] */
+    double invMy[MODES_MAX][MODES_MAX]; /* M_y^-1 [1/kg] */
+    double Cy[MODES_MAX][MODES_MAX];    /* T^T C T [N s/m] */
+    double Ky[MODES_MAX][MODES_MAX];    /* T^T Kstatic T [N/m] */
+    double Ky2[MODES_MAX][MODES_MAX];   /* T^T Komega2 T [kg] */
+    double Gy[MODES_MAX];               /* T^T load [m] */
 } DynModel;
 
 /* Continuous states, discrete state and the describing-function cache. Plain data (no
@@ -76,6 +91,8 @@ typedef struct {
     int32_t vdir;      /* sign of q' since the last extremum, +1 or -1 (tracking) */
     DescribingFunction df; /* describing function at B (derived: recomputed when B changes) */
     double W;          /* work done on q by the external force (solver/rk4_events.h) [J]; 0 without one */
+    double qx[MODES_MAX - 1]; /* m > 1: modal coordinates q_2..q_m [m] (q is then the tip u) */
+    double vx[MODES_MAX - 1]; /* their rates [m/s] */
 } DynState;
 
 /* Builds the model constants. friction, projection, gating, tracked as the FMU parameters;
@@ -83,6 +100,13 @@ typedef struct {
  * NULL, gating and tracking are off, the contact force is 0. Returns 0 on success. */
 int dynBuildModel(DynModel *m, const BladeReduction *r, const ContactParams *cp, FrictionModel friction,
                   Projection projection, int gating, int tracked, int engineOrder);
+
+/* The m > 1 part of the model from the modal reduction (after dynBuildModel, which sets m = 1).
+ * Returns 0, or nonzero if the modal mass matrix is not positive definite. */
+int dynBuildModes(DynModel *m, const ModalReduction *r);
+
+/* Modal coordinates q_1..q_m and rates of state s (q_1 = u - sum q_k; m = 1: q_1 = q). */
+void dynModalState(const DynModel *m, const DynState *s, double q[MODES_MAX], double v[MODES_MAX]);
 
 /* The built-in load F_w0 sin(psi + 2 pi engineOrder bladeIndex / bladeCount) [N/m] (eq. 17 on a
  * disk of bladeCount blades; psi = engineOrder int Omega dt is the integrated state, so the load
@@ -101,6 +125,13 @@ DynStatus dynUpdateDescribe(const DynModel *m, DynState *s);
  * The caller checks F0 against the cone first (dynStartForceLimit). */
 DynStatus dynInitState(const DynModel *m, DynState *s, double q0, double v0, double E0, double F0, double B0,
                        double windowMax0);
+
+/* sum_i a_i, i < m: the tip displacement (rate) of modal coordinates a (phi_i(l) = 1). */
+double dynTipOf(const DynModel *m, const double a[MODES_MAX]);
+
+/* m > 1: the modal coordinates q_2..q_m and rates of s from qm, vm (after dynInitState with
+ * q0 = dynTipOf(qm), v0 = dynTipOf(vm)). */
+void dynSetModalStart(const DynModel *m, DynState *s, const double qm[MODES_MAX], const double vm[MODES_MAX]);
 
 /* Friction limit L = mu kn cos(gamma) (|q0| - d) [N] of the Jenkins element at q0 [m]; -1 if the
  * contact is open there (|q0| <= d). */
@@ -145,6 +176,11 @@ typedef struct {
 
 /* Outputs for state s at rotor speed nRpm [rpm]. */
 void dynOutputs(const DynModel *m, const DynState *s, double nRpm, DynOutputs *out);
+
+/* Contact-free natural frequencies [Hz] of modes 1..m at rotor speed nRpm (the generalized
+ * eigenproblem K(Omega) x = w^2 M x; m = 1: naturalFrequency's formula), ascending; 0 above m. */
+void dynModeFrequencies(const DynModel *m, double nRpm, double f[MODES_MAX]);
+double dynModeFrequency(const DynModel *m, double nRpm, int k);
 
 /* Name of the first output of o that is not finite (a force of a huge state times a huge
  * coefficient overflows), or NULL if all are finite. */

@@ -22,11 +22,50 @@ static inline double dynLoad(const DynModel *m, double fw, double psi)
     return m->loadAmplitude != 0.0 ? fw + m->loadAmplitude * sin(psi + m->loadLead) : fw;
 }
 
+/* m > 1 modes (docs/model.md s.2a): y'' = M_y^-1 (G_y load - C_y y' - (K_y + Omega^2 K_y2) y + e_1 F)
+ * with y = (x[0], q_2..q_m), y' = (x[1], q_2'..q_m') (dynamics.h), F the force on the tip; sets
+ * f[0], f[1], f[3] = y'^T C_y y' (viscous power) and the rates of the extra coordinates (0 above m). */
+static inline void dynRhsModes(const DynModel *m, double load, double Omega, double F, const double x[],
+                               double f[])
+{
+    const int n = m->modes, e = DYN_NX - 1, r = DYN_X_RATES - 1; /* y_k = x[e + k], y'_k = x[r + k], k >= 1 */
+    const double O2 = Omega * Omega;
+    double y[MODES_MAX], yv[MODES_MAX], a[MODES_MAX], power = 0.0;
+    y[0] = x[0];
+    yv[0] = x[1];
+    for (int k = DYN_NX; k < DYN_NX_MAX; ++k) f[k] = 0.0;
+    for (int k = 1; k < n; ++k) {
+        y[k] = x[e + k];
+        yv[k] = x[r + k];
+    }
+    for (int i = 0; i < n; ++i) {
+        double r = m->Gy[i] * load, cv = 0.0;
+        for (int j = 0; j < n; ++j) {
+            cv += m->Cy[i][j] * yv[j];
+            r -= (m->Ky[i][j] + O2 * m->Ky2[i][j]) * y[j];
+        }
+        a[i] = r - cv;
+        power += yv[i] * cv;
+    }
+    a[0] += F;
+    f[0] = yv[0];
+    f[3] = power;
+    for (int i = 0; i < n; ++i) {
+        double acc = 0.0;
+        for (int j = 0; j < n; ++j) acc += m->invMy[i][j] * a[j];
+        if (i == 0) f[1] = acc;
+        else {
+            f[e + i] = yv[i];
+            f[r + i] = acc;
+        }
+    }
+}
+
 /* f = dx/dt at state x for inputs fw [N/m], n [rpm] and an external force fext [N] on q (positive
  * along q; 0 for ShroudedBlade) with the discrete state of s (eq. 27 plus fext on the right).
  * Returns 1 if omega <= 0 while a describing-function force is needed (model-notes s.2). */
 static inline int dynRhsExt(const DynModel *m, const DynState *s, double fw, double n, double fext,
-                            const double x[DYN_NX], double f[DYN_NX])
+                            const double x[DYN_NX_MAX], double f[DYN_NX_MAX])
 {
     const double q = x[0], v = x[1];
     const double Omega = DYN_RAD_PER_RPM * n;
@@ -64,21 +103,24 @@ static inline int dynRhsExt(const DynModel *m, const DynState *s, double fw, dou
         Fc = s->df.Keq * q + Ceq * v;
         P = Ceq * v * v;
     }
-    f[0] = v;
-    {
+    if (m->modes > 1) {
+        dynRhsModes(m, dynLoad(m, fw, x[2]), Omega, fext - Fc, x, f);
+        f[3] += P;
+    } else {
         double a = m->G * dynLoad(m, fw, x[2]) - m->C0 * v - K0 * q - Fc; /* generalized force [N] */
         if (fext != 0.0) a += fext; /* skipped for 0: bit-identical to the blade without it */
+        f[0] = v;
         f[1] = a * m->invM;
+        f[3] = m->C0 * v * v + P;
     }
     f[2] = omega;
-    f[3] = m->C0 * v * v + P;
     f[4] = dw;
     return bad;
 }
 
 /* dynRhsExt without an external force (ShroudedBlade, model exchange). */
-static inline int dynRhs(const DynModel *m, const DynState *s, double fw, double n, const double x[DYN_NX],
-                         double f[DYN_NX])
+static inline int dynRhs(const DynModel *m, const DynState *s, double fw, double n, const double x[DYN_NX_MAX],
+                         double f[DYN_NX_MAX])
 {
     return dynRhsExt(m, s, fw, n, 0.0, x, f);
 }

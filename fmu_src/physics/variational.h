@@ -14,6 +14,11 @@
 
 #define SENS_NY 3 /* q, q', w */
 #define SENS_NP 4 /* q0, q0', F0, B */
+/* m > 1 modes (docs/model.md s.2a): rows y = (u, u', w, q_2..q_6, q_2'..q_6') (u the tip, at the
+ * places of the state vector x, dynamics.h), columns p = (u0, u0', F0, B, q_2(0)..q_6(0), q_2'(0)..
+ * q_6'(0)); those above m stay 0. The one-mode blade uses the first SENS_NY rows, SENS_NP columns. */
+#define SENS_NY_MAX (SENS_NY + 2 * (MODES_MAX - 1))
+#define SENS_NP_MAX (SENS_NP + 2 * (MODES_MAX - 1))
 #define SENS_PEAKS 3 /* the positive and the negative peak of q in the running period, the floor */
 
 /* Two peaks of max |q| closer than this (relative) count as one kink: its gradient is their mean,
@@ -21,11 +26,11 @@
 #define SENS_SYMMETRIC_RTOL 1e-8
 
 typedef struct {
-    double S[SENS_NY][SENS_NP];         /* dy/dp */
-    double dB[SENS_NP];                 /* dB/dp of the amplitude in use (changes at period ends) */
+    double S[SENS_NY_MAX][SENS_NP_MAX]; /* dy/dp */
+    double dB[SENS_NP_MAX];             /* dB/dp of the amplitude in use (changes at period ends) */
     double peak[SENS_PEAKS];            /* max q, max -q over the running period, the start floor [m];
                                            -1: none yet */
-    double gPeak[SENS_PEAKS][SENS_NP];  /* their gradients */
+    double gPeak[SENS_PEAKS][SENS_NP_MAX]; /* their gradients */
     double dKeq;                        /* dK_eq/dB at the B in use [N/m^2] */
     double dCeqOmega;                   /* d(C_eq omega)/dB [N/m^2] */
     int32_t grazing;                    /* events met tangentially (their jump term left out) */
@@ -48,14 +53,22 @@ void sensRk4(const DynModel *m, const DynState *s, DynSens *e, double h, const d
  * before and after. Also records the peaks (extremum), updates dB and restarts the peaks (period
  * end). Returns DynOk or DynDescribeFailed. */
 DynStatus sensEvent(const DynModel *m, const DynState *before, const DynState *after, DynSwitch sw,
-                    const double fMinus[DYN_NX], const double fPlus[DYN_NX], DynSens *e);
+                    const double fMinus[DYN_NX_MAX], const double fPlus[DYN_NX_MAX], DynSens *e);
 
 /* Gradient of max |q| over the running period (runningMaximum): the largest peak's, or the mean
  * of the two peaks where they are equal within SENS_SYMMETRIC_RTOL. */
-void sensPeakGradient(const DynSens *e, double g[SENS_NP]);
+void sensPeakGradient(const DynSens *e, double g[SENS_NP_MAX]);
 
 /* Gradient of the Jenkins spring force k_d (sin g q - w) (0 while open). */
-void sensJenkinsForceGradient(const DynModel *m, const DynState *s, const DynSens *e, double g[SENS_NP]);
+void sensJenkinsForceGradient(const DynModel *m, const DynState *s, const DynSens *e, double g[SENS_NP_MAX]);
+
+/* The Jacobian in modal coordinates (docs/model.md s.2a): J[r][c], rows the modal q_1..q_6,
+ * q_1'..q_6', jenkinsForce, runningMaximum, amplitude; columns the start values of q_1..q_6,
+ * q_1'..q_6', jenkinsForce and B (entries above m are 0). */
+#define SENS_MODAL_ROWS (2 * MODES_MAX + 3)
+#define SENS_MODAL_COLS (2 * MODES_MAX + 2)
+void sensModalJacobian(const DynModel *m, const DynState *s, const DynSens *e,
+                       double J[SENS_MODAL_ROWS][SENS_MODAL_COLS]);
 
 /* 1 if every entry is finite. */
 int sensFinite(const DynSens *e);

@@ -63,8 +63,9 @@ void solverShiftInput(const SolverInputs *in, int i, double h, double out[SOLVER
 /* RK4                                                                                          */
 
 /* The step functions below take `ext` (1: an external force acts, integrate W too; 0: it is
- * identically 0) as a constant: solverAdvance instantiates them once per value, so the blade
- * without a force (ShroudedBlade) runs exactly the arithmetic and the cost it had before. */
+ * identically 0) and `multi` (1: m > 1 modes, the extra modal coordinates are integrated too) as
+ * constants: solverAdvance instantiates them once per pair, so the one-mode blade without a force
+ * runs exactly the arithmetic and the cost it had before. */
 #if defined(__GNUC__)
 #define SOLVER_INLINE static inline __attribute__((always_inline))
 #else
@@ -90,7 +91,7 @@ SOLVER_INLINE int rhs(const DynModel *m, const DynState *s, const InputValues *u
                       double f[SOLVER_NX], const int ext)
 {
     const int bad = dynRhsExt(m, s, u->fw, u->n, ext ? u->fe : 0.0, x, f);
-    if (ext) f[DYN_NX] = u->fe * x[1];
+    if (ext) f[SOLVER_W] = u->fe * x[1];
     return bad;
 }
 
@@ -99,24 +100,30 @@ SOLVER_INLINE int rhs(const DynModel *m, const DynState *s, const InputValues *u
  * NULL) receives the states of stages 2-4 for the sensitivities. */
 SOLVER_INLINE int rk4(const DynModel *m, const DynState *s, const SolverInputs *in, double tau0,
                       double tau1, const double x0[SOLVER_NX], const double k1[SOLVER_NX],
-                      double x1[SOLVER_NX], InputValues *u1, double stages[3][SOLVER_NX], const int ext)
+                      double x1[SOLVER_NX], InputValues *u1, double stages[3][SOLVER_NX], const int ext,
+                      const int multi)
 {
     double k2[SOLVER_NX], k3[SOLVER_NX], k4[SOLVER_NX], xt[SOLVER_NX];
     const double h = tau1 - tau0, hh = 0.5 * h, h6 = h / 6.0;
     const double tm = tau0 + hh;
     const InputValues um = inputsAt(in, tm, ext), ue = inputsAt(in, tau1, ext);
-    const int nx = ext ? SOLVER_NX : DYN_NX;
+    const int nx = multi ? DYN_NX_MAX : DYN_NX; /* the blade's states, then W */
+    const int W = SOLVER_W;
     int bad = 0, i;
     for (i = 0; i < nx; ++i) xt[i] = x0[i] + hh * k1[i];
+    if (ext) xt[W] = x0[W] + hh * k1[W];
     if (stages) memcpy(stages[0], xt, sizeof xt);
     bad |= rhs(m, s, &um, xt, k2, ext);
     for (i = 0; i < nx; ++i) xt[i] = x0[i] + hh * k2[i];
+    if (ext) xt[W] = x0[W] + hh * k2[W];
     if (stages) memcpy(stages[1], xt, sizeof xt);
     bad |= rhs(m, s, &um, xt, k3, ext);
     for (i = 0; i < nx; ++i) xt[i] = x0[i] + h * k3[i];
+    if (ext) xt[W] = x0[W] + h * k3[W];
     if (stages) memcpy(stages[2], xt, sizeof xt);
     bad |= rhs(m, s, &ue, xt, k4, ext);
     for (i = 0; i < nx; ++i) x1[i] = x0[i] + h6 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+    if (ext) x1[W] = x0[W] + h6 * (k1[W] + 2.0 * (k2[W] + k3[W]) + k4[W]);
     *u1 = ue;
     return bad;
 }
@@ -218,9 +225,9 @@ static double firstNegative(double p0, double m0, double p1, double m1, double t
 /* The earliest switching event of the step [tau0, tau0 + h] (model-notes s.6): the switching
  * functions at both ends with their slopes scaled by h, located on the cubic Hermite interpolant.
  * At equal instants the first listed wins (dynSwitching lists them in priority order). */
-static DynSwitch detect(const DynModel *m, const DynState *s, double h, const double x0[DYN_NX],
-                        const double f0[DYN_NX], const double x1[DYN_NX], const double f1[DYN_NX], double tol,
-                        double *theta)
+static DynSwitch detect(const DynModel *m, const DynState *s, double h, const double x0[SOLVER_NX],
+                        const double f0[SOLVER_NX], const double x1[SOLVER_NX], const double f1[SOLVER_NX],
+                        double tol, double *theta)
 {
     DynSwitchValue a[DYN_MAX_SWITCHING], b[DYN_MAX_SWITCHING];
     double best = NO_EVENT;
@@ -238,40 +245,66 @@ static DynSwitch detect(const DynModel *m, const DynState *s, double h, const do
     return sw;
 }
 
-SOLVER_INLINE void loadX(const DynState *s, double x[SOLVER_NX], const int ext)
+/* the extra modal coordinates of m > 1 modes (dynamics.h: x[DYN_NX + k], x[DYN_X_RATES + k]) */
+static void loadModes(DynState const *s, double x[SOLVER_NX])
+{
+    for (int k = 0; k < MODES_MAX - 1; ++k) {
+        x[DYN_NX + k] = s->qx[k];
+        x[DYN_X_RATES + k] = s->vx[k];
+    }
+}
+
+static void storeModes(DynState *s, const double x[SOLVER_NX])
+{
+    for (int k = 0; k < MODES_MAX - 1; ++k) {
+        s->qx[k] = x[DYN_NX + k];
+        s->vx[k] = x[DYN_X_RATES + k];
+    }
+}
+
+static int modesFinite(const double x[SOLVER_NX])
+{
+    for (int k = DYN_NX; k < DYN_NX_MAX; ++k)
+        if (!isfinite(x[k])) return 0;
+    return 1;
+}
+
+SOLVER_INLINE void loadX(const DynState *s, double x[SOLVER_NX], const int ext, const int multi)
 {
     x[0] = s->q; x[1] = s->v; x[2] = s->psi; x[3] = s->E; x[4] = s->w;
-    if (ext) x[5] = s->W;
+    if (ext) x[SOLVER_W] = s->W;
+    if (multi) loadModes(s, x);
 }
 
-SOLVER_INLINE void storeX(DynState *s, const double x[SOLVER_NX], const int ext)
+SOLVER_INLINE void storeX(DynState *s, const double x[SOLVER_NX], const int ext, const int multi)
 {
     s->q = x[0]; s->v = x[1]; s->psi = x[2]; s->E = x[3]; s->w = x[4];
-    if (ext) s->W = x[5];
+    if (ext) s->W = x[SOLVER_W];
+    if (multi) storeModes(s, x);
 }
 
-SOLVER_INLINE int allFinite(const double x[SOLVER_NX], const int ext)
+SOLVER_INLINE int allFinite(const double x[SOLVER_NX], const int ext, const int multi)
 {
     return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]) && isfinite(x[3]) && isfinite(x[4]) &&
-           (!ext || isfinite(x[5]));
+           (!ext || isfinite(x[SOLVER_W])) && (!multi || modesFinite(x));
 }
 
 /* The sensitivities' jump at an event (the discrete state before it in *before, after it in *s,
  * the continuous state xe at the instant te) */
 SOLVER_INLINE DynStatus sensJump(const DynModel *m, const DynState *before, const DynState *s, DynSwitch sw,
                                  const SolverInputs *in, double te, const double xe[SOLVER_NX], DynSens *e,
-                                 const int ext)
+                                 const int ext, const int multi)
 {
     double fm[SOLVER_NX], fp[SOLVER_NX], xp[SOLVER_NX];
     const InputValues u = inputsAt(in, te, ext);
-    loadX(s, xp, ext);
+    loadX(s, xp, ext, multi);
     if (rhs(m, before, &u, xe, fm, ext) || rhs(m, s, &u, xp, fp, ext)) return DynOmegaZero;
     return sensEvent(m, before, s, sw, fm, fp, e);
 }
 
 SOLVER_INLINE DynStatus advance(const DynModel *m, DynState *s, const SolverInputs *in, double tStart, double h,
                                 long nSteps, SolverEventHook hook, void *ctx, SolverCounters *counters,
-                                double *tFail, DynSens *sens, const int ext)
+                                double *tFail, DynSens *sens, const int ext, const int multi)
 {
     double stages[3][SOLVER_NX];
     const double hi = h / (double)nSteps;
@@ -282,7 +315,7 @@ SOLVER_INLINE DynStatus advance(const DynModel *m, DynState *s, const SolverInpu
     double tau0 = 0.0;
     int f0Valid = 0;
     long k;
-    loadX(s, x0, ext);
+    loadX(s, x0, ext, multi);
     for (k = 0; k < nSteps && status == DynOk; ++k) {
         const double tauB = (k + 1 == nSteps) ? h : (double)(k + 1) * hi;
         int events = 0;
@@ -298,8 +331,8 @@ SOLVER_INLINE DynStatus advance(const DynModel *m, DynState *s, const SolverInpu
                 f0Valid = 1;
             }
             nRhs += 4;
-            if (rk4(m, s, in, tau0, tauB, x0, f0, x1, &uB, sens ? stages : NULL, ext)) { status = DynOmegaZero; break; }
-            if (!allFinite(x1, ext)) { status = DynNonFinite; break; }
+            if (rk4(m, s, in, tau0, tauB, x0, f0, x1, &uB, sens ? stages : NULL, ext, multi)) { status = DynOmegaZero; break; }
+            if (!allFinite(x1, ext, multi)) { status = DynNonFinite; break; }
             if (rhs(m, s, &uB, x1, f1, ext)) { status = DynOmegaZero; break; } /* FSAL: next k1 */
             hs = tauB - tau0;
             tAbs = fabs(tStart + tau0);
@@ -308,7 +341,7 @@ SOLVER_INLINE DynStatus advance(const DynModel *m, DynState *s, const SolverInpu
             ev = detect(m, s, hs, x0, f0, x1, f1, tol, &theta);
             if (ev == DynSwitchNone) { /* no switch: accept the whole step */
                 if (sens) rk4Sens(m, s, sens, in, tau0, tauB, x0, (const double(*)[SOLVER_NX])stages);
-                storeX(s, x1, ext);
+                storeX(s, x1, ext, multi);
                 memcpy(x0, x1, sizeof x0);
                 memcpy(f0, f1, sizeof f0);
                 ++nAccepted;
@@ -319,27 +352,27 @@ SOLVER_INLINE DynStatus advance(const DynModel *m, DynState *s, const SolverInpu
             if (theta >= 1.0 || te >= tauB) {
                 te = tauB;
                 if (sens) rk4Sens(m, s, sens, in, tau0, tauB, x0, (const double(*)[SOLVER_NX])stages);
-                storeX(s, x1, ext);
+                storeX(s, x1, ext, multi);
             } else if (te > tau0) {
                 double xe[SOLVER_NX];
                 InputValues uE;
                 nRhs += 3;
-                if (rk4(m, s, in, tau0, te, x0, f0, xe, &uE, sens ? stages : NULL, ext)) { status = DynOmegaZero; break; }
-                if (!allFinite(xe, ext)) { status = DynNonFinite; break; }
+                if (rk4(m, s, in, tau0, te, x0, f0, xe, &uE, sens ? stages : NULL, ext, multi)) { status = DynOmegaZero; break; }
+                if (!allFinite(xe, ext, multi)) { status = DynNonFinite; break; }
                 if (sens) rk4Sens(m, s, sens, in, tau0, te, x0, (const double(*)[SOLVER_NX])stages);
-                storeX(s, xe, ext);
+                storeX(s, xe, ext, multi);
             } /* else: te == tau0, the switch happens at the step start */
             ++nEvents;
             {
                 const DynState before = *s;
                 double xe[SOLVER_NX];
-                loadX(s, xe, ext);
+                loadX(s, xe, ext, multi);
                 status = dynApplyEvent(m, s, ev, &kind);
-                if (status == DynOk && sens) status = sensJump(m, &before, s, ev, in, te, xe, sens, ext);
+                if (status == DynOk && sens) status = sensJump(m, &before, s, ev, in, te, xe, sens, ext, multi);
             }
             if (status != DynOk) break;
             if (hook) hook(ctx, kind, tStart + te, s);
-            loadX(s, x0, ext);
+            loadX(s, x0, ext, multi);
             f0Valid = 0;
             tau0 = te;
             if (++events > SOLVER_MAX_EVENTS_PER_STEP) { status = DynChattering; break; }
@@ -361,6 +394,9 @@ DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in, 
 {
     /* the external force is identically 0 unless its polynomial has a nonzero coefficient */
     const int ext = in->top[SOLVER_INPUT_FORCE] > 0 || in->coef[SOLVER_INPUT_FORCE][0] != 0.0;
-    return ext ? advance(m, s, in, tStart, h, nSteps, hook, ctx, counters, tFail, sens, 1)
-               : advance(m, s, in, tStart, h, nSteps, hook, ctx, counters, tFail, sens, 0);
+    if (m->modes > 1)
+        return ext ? advance(m, s, in, tStart, h, nSteps, hook, ctx, counters, tFail, sens, 1, 1)
+                   : advance(m, s, in, tStart, h, nSteps, hook, ctx, counters, tFail, sens, 0, 1);
+    return ext ? advance(m, s, in, tStart, h, nSteps, hook, ctx, counters, tFail, sens, 1, 0)
+               : advance(m, s, in, tStart, h, nSteps, hook, ctx, counters, tFail, sens, 0, 0);
 }

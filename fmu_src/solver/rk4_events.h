@@ -19,7 +19,8 @@
 #define SOLVER_INPUT_SPEED 1        /* rotorSpeed n [rpm] */
 #define SOLVER_INPUT_FORCE 2        /* external force on q [N] (BladeExternalContact; 0 by default) */
 #define SOLVER_NUM_POLY 3           /* input polynomials of a step: the blade's inputs + the force */
-#define SOLVER_NX (DYN_NX + 1)      /* integrated: DynState's x plus W, the work of the force [J] */
+#define SOLVER_NX (DYN_NX_MAX + 1)  /* integrated: DynState's x (all modes) plus W, the work of the force [J] */
+#define SOLVER_W DYN_NX_MAX          /* index of W in the integrated state */
 #define SOLVER_MAX_EVENTS_PER_STEP 1000 /* more is chattering (model-notes s.6) */
 
 /* Inputs inside a communication step: u(tau) = sum_j coef[j] tau^j, tau = t - t_k [s],

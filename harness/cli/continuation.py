@@ -30,11 +30,12 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                    help="speed range [rpm] (default 3000 10000)")
     p.add_argument("--model", choices=MODELS, default="fixedPoint", help="as for `periodic` (default fixedPoint)")
     p.add_argument("--start-values", nargs="+", default=[], metavar="NAME VALUE",
-                   help="parameter name-value pairs, e.g. `--start-values d 4e-5 gating false`")
+                   help="parameter name-value pairs, e.g. `--start-values d 4e-5 gating false` (units as in"
+                        " modelDescription.xml; default: none, paper Table 1)")
     p.add_argument("--seed-step", type=float, default=500.0, metavar="RPM",
                    help="search every orbit at seed speeds this far apart (default 500 rpm)")
     p.add_argument("--output-file", default="branches.csv", metavar="CSV", help="branch CSV (default branches.csv)")
-    p.add_argument("--plot", metavar="PNG", help="also plot the branches to this PNG file")
+    p.add_argument("--plot", metavar="PNG", help="also plot the branches to this PNG file (default: no plot)")
     p.add_argument("--json", action="store_true",
                    help="print the branches with their located peaks and folds as JSON on stdout, nothing else")
 

@@ -23,12 +23,13 @@ from harness.analysis.periodic.shooting import describe
 def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--fmu", metavar="PATH", help="FMU file (default: the installed package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
     p.add_argument("--speed", type=float, required=True, metavar="RPM",
-                   help=f"rotor speed [rpm], in (0, {input_range('rotorSpeed')[1]:g}]")
+                   help=f"rotor speed [rpm], in (0, {input_range('rotorSpeed')[1]:g}] (required)")
     p.add_argument("--model", choices=MODELS, default="fixedPoint",
                    help="fixedB: B fixed (parameter B); fixedPoint: the paper's B = A(B) (default); jenkins: "
                         "the time-domain macroslip element; coulomb: the Coulomb describing function with B = A(B)")
     p.add_argument("--start-values", nargs="+", default=[], metavar="NAME VALUE",
-                   help="parameter name-value pairs, e.g. `--start-values d 4e-5 gating false`")
+                   help="parameter name-value pairs, e.g. `--start-values d 4e-5 gating false` (units as in"
+                        " modelDescription.xml; default: none, paper Table 1)")
     p.add_argument("--json", action="store_true", help="print the solutions as JSON on stdout")
 
 

@@ -1,7 +1,7 @@
-"""Reproduce the paper's figures and claims into results/ (figures 2 and 4-9, section 4, Campbell diagram).
+"""A chosen part of the paper's studies (figures 2 and 4-9, section 4, Campbell), without the mistuning study, into --out (default ./shroudedblade-results); `run` is the whole main job.
 
 `python -m harness reproduce [--size quick|default|full] [--studies gap mass angle kn]
-[--output-dir results] [--workers N | --scheduler ADDRESS]`. Writes one PNG and CSV files per
+[--output-dir DIR] [--workers N | --scheduler ADDRESS]`. Writes one PNG and CSV files per
 figure, summary.json and claims.md (paper claim | ours | settings | verdict); files are replaced
 atomically. The studies are branches of periodic orbits (harness.studies.study_branches).
 Fig. 2 is a validation study (the FMU's loop against the reference's): this command, and `run`

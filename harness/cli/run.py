@@ -1,5 +1,8 @@
-"""The main job: reproduce every study of the paper with the FMU and write them to --out (make run: results/).
+"""The whole main job (what `make run` commits): every paper study plus the bladed disk's mistuning study, into --out (default ./shroudedblade-results).
 
+`run` and `reproduce` differ on purpose: `run` is the fixed, complete job behind the committed
+results (`make run` passes --out results); `reproduce` runs a chosen part of the paper's studies
+(--studies, --no-extras, any --size) for a quick look, without the mistuning study.
 `python -m harness run` = `python -m harness reproduce --size default` with all studies and
 extras: Fig. 2, 4/5, 6-9 (the studies as branches of periodic orbits with their stability), the
 section-4 Coulomb comparison and a Campbell diagram as PNG + CSV, summary.json and the claims

@@ -24,7 +24,7 @@ from harness.analysis.steady_state import analyze
 from harness.fmu.blade import SPEED_RANGE, BladeFMU, fmu_path
 from harness.model.excitation import Constant, ExcitationError, LinearRamp
 from harness.model.params import ParameterError, validate
-from harness.outputs import check_file, write_error
+from harness.outputs import check_file, with_unit, write_error
 
 matplotlib.use("Agg")  # figures go straight to PNG files: no display
 
@@ -39,19 +39,20 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                    help="communication step = output interval [s] (default 1e-4)")
     p.add_argument("--start-values", nargs="+", default=[], metavar="NAME VALUE",
                    help="parameter name-value pairs, e.g. `--start-values d 4e-5 kn 1e6 gating false`;"
-                        " names as in modelDescription.xml plus Fw0 (load amplitude, N/m)")
+                        " names and units as in modelDescription.xml plus Fw0 (load amplitude fed through"
+                        " aeroLoad, N/m, default 100); default: none (paper Table 1)")
     speed = p.add_mutually_exclusive_group()
     speed.add_argument("--speed", type=float, default=5000.0, metavar="RPM",
                        help="constant rotor speed [rpm] (default 5000)")
     speed.add_argument("--run-up", type=float, nargs=4, metavar=("N0", "N1", "T0", "T1"),
-                       help="linear speed ramp: N0 rpm until T0 s, N1 rpm from T1 s on")
+                       help="linear speed ramp: N0 rpm until T0 s, N1 rpm from T1 s on (default: none, constant --speed)")
     p.add_argument("--derivative-order", type=int, default=8, choices=range(0, 9), metavar="K",
                    help="input derivatives set per step, 0..8 (0 = inputs held over a step; default 8)")
     p.add_argument("--output-variables", nargs="+", metavar="NAME", help="outputs to record (default: all)")
     p.add_argument("--output-file", default=DEFAULT_OUTPUT, metavar="CSV",
                    help=f"CSV file for the results (default {DEFAULT_OUTPUT})")
-    p.add_argument("--plot", metavar="PNG", help="also plot tipDisplacement (and amplitude) to this PNG file")
-    p.add_argument("--debug-logging", action="store_true", help="print all of the FMU's log messages")
+    p.add_argument("--plot", metavar="PNG", help="also plot tipDisplacement and amplitude [mm] to this PNG file (default: no plot)")
+    p.add_argument("--debug-logging", action="store_true", help="print all of the FMU's log messages (default: warnings and errors only)")
     p.add_argument("--fmi-logging", action="store_true", help="print every FMI call of the step loop (slow)")
 
 
@@ -81,6 +82,21 @@ def _atomic_path(target: Path, suffix: str) -> Path:
     return Path(tmp)
 
 
+def with_units(result: np.ndarray, variables: dict) -> np.ndarray:
+    """`result` (time + FMU outputs) with each column named with its unit from the model description
+    (`time_s`, `tipDisplacement_m`, ...), as every command's CSV and JSON names its quantities."""
+    def unit(name: str) -> str | None:
+        if name == "time":
+            return "s"
+        v = variables.get(name)
+        return None if v is None else (v.unit or (v.declaredType.unit if v.declaredType else None))
+    named = np.dtype({"names": [with_unit(n, unit(n)) for n in result.dtype.names],
+                      "formats": [result.dtype.fields[n][0] for n in result.dtype.names],
+                      "offsets": [result.dtype.fields[n][1] for n in result.dtype.names],
+                      "itemsize": result.dtype.itemsize})
+    return result.view(named).copy()  # a new dtype: the caller's array keeps its names
+
+
 def write_csv_atomic(path: str | Path, result: np.ndarray) -> None:
     target = Path(path)
     tmp = _atomic_path(target, ".csv")
@@ -100,6 +116,7 @@ def plot_atomic(path: str | Path, result: np.ndarray, title: str) -> None:
         scale, unit = (1e3, "mm") if n in ("tipDisplacement", "amplitude") else (1.0, "")
         ax.plot(result["time"], result[n] * scale, label=f"{n} [{unit}]" if unit else n, lw=0.8)
     ax.set_xlabel("time [s]")
+    ax.set_ylabel("tip displacement q and its amplitude [mm]" if "tipDisplacement" in names else names[0])
     ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend()
@@ -135,7 +152,8 @@ def run(args: argparse.Namespace) -> int:
         res = fmu.run(params, args.stop_time, args.output_interval, speed=speed,
                       outputs=args.output_variables, derivative_order=args.derivative_order,
                       start_time=args.start_time)
-    write_csv_atomic(args.output_file, res)
+        variables = fmu.variables
+    write_csv_atomic(args.output_file, with_units(res, variables))
     print(f"wrote {len(res)} rows x {len(res.dtype.names)} columns to {args.output_file}")
     if "tipDisplacement" in res.dtype.names:
         q = res["tipDisplacement"]
@@ -149,6 +167,6 @@ def run(args: argparse.Namespace) -> int:
             else:
                 print(f"steady state: {ss.message}")
     if args.plot:
-        plot_atomic(args.plot, res, f"ShroudedBlade, {speed_text}")
+        plot_atomic(args.plot, res, f"ShroudedBlade: tip response, {speed_text}, load Fw0 = {params['Fw0']:g} N/m")
         print(f"wrote {args.plot}")
     return 0

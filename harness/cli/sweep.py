@@ -22,7 +22,8 @@ from harness.model.params import validate
 from harness.outputs import check_dir
 from harness.studies import plots
 
-OUT_DTYPE = [("speed", "f8"), ("method", "U9"), ("amplitude", "f8"), ("band_lo", "f8"), ("band_hi", "f8"),
+# column names with units, as in every command's CSV and JSON (continue: speed_rpm, amplitude_m)
+OUT_DTYPE = [("speed_rpm", "f8"), ("method", "U9"), ("amplitude_m", "f8"), ("band_lo_m", "f8"), ("band_hi_m", "f8"),
              ("steady", "i4"), ("stable", "i4")]
 
 
@@ -33,7 +34,8 @@ def add_execution_options(p: argparse.ArgumentParser, cache: bool = True) -> Non
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="local worker processes (default: number of CPUs; 1 = in this process)")
     p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="run on a dask.distributed cluster, e.g. tcp://10.0.0.5:8786 (one FMU per worker)")
+                   help="run on a dask.distributed cluster, e.g. tcp://10.0.0.5:8786 (one FMU per worker;"
+                        " default: none, local processes)")
     if cache:
         p.add_argument("--cache-dir", default=str(DEFAULT_CACHE_DIR), metavar="DIR",
                        help=f"per-point result cache, makes interrupted runs resumable (default {DEFAULT_CACHE_DIR})")
@@ -59,8 +61,9 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                    help="time (FMU, tracked amplitude), fixed (paper's fixed point), hb (reference); default time hb")
     p.add_argument("--fixed-speeds", metavar="RANGE", help="speeds for --method fixed (default: --speeds)")
     p.add_argument("--start-values", nargs="+", default=[], metavar="NAME VALUE",
-                   help="parameter name-value pairs, e.g. `--start-values d 4e-5 kn 1e6`")
-    p.add_argument("--rtol", type=float, default=_DEFAULTS.rtol,
+                   help="parameter name-value pairs, e.g. `--start-values d 4e-5 kn 1e6` (units as in modelDescription.xml;"
+                        " default: none, paper Table 1)")
+    p.add_argument("--rtol", type=float, default=_DEFAULTS.rtol, metavar="R",
                    help="steady-state tolerance per plateau: estimated relative distance from the periodic "
                         f"limit (default {_DEFAULTS.rtol:g})")
     p.add_argument("--max-time", type=float, default=_DEFAULTS.max_time, metavar="S",
@@ -71,7 +74,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                    help="communication steps per excitation period, >= 4 (default "
                         f"{_DEFAULTS.steps_per_period}, with 8 input derivatives)")
     p.add_argument("--output-file", default="sweep.csv", metavar="CSV", help="result table (default sweep.csv)")
-    p.add_argument("--plot", metavar="PNG", help="also plot the curves to this PNG file")
+    p.add_argument("--plot", metavar="PNG", help="also plot the curves to this PNG file (default: no plot)")
     add_execution_options(p)
 
 
@@ -101,7 +104,7 @@ def run(args: argparse.Namespace) -> int:
     with runner:
         res = sweep(spec, runner, fmu_path=args.fmu, cache_dir=None if args.no_cache else args.cache_dir)
     table = to_table(res)
-    write_csv(args.output_file, table, "speed [rpm], amplitude [m] (time-up/down: last period, band_lo..band_hi: range over the final periods; fixed: root of A(B) = B,"
+    write_csv(args.output_file, table, "speed_rpm, amplitude_m (time-up/down: last period, band_lo_m..band_hi_m: range over the final periods; fixed: root of A(B) = B,"
               " fixed-jmp: A(B) jumps across B there, no root; hb: harmonic balance); steady: 1/0 (-1 n/a);"
               " stable: 1/0 (-1 n/a)")
     print(f"wrote {len(table)} rows to {args.output_file}")
@@ -113,7 +116,9 @@ def run(args: argparse.Namespace) -> int:
         nr = int(np.sum(~res.time["reached"]))
         print(f"time domain: {len(res.time)} plateaus, {nr} without a periodic steady state within the cap")
     if args.plot:
-        plots.study_curves(args.plot, "sweep", [{"label": "sweep", "time": res.time, "fixed": res.fixed, "hb": res.hb}],
-                           [params["d"]])
+        changed = parse_start_values(args.start_values)
+        label = ", ".join(f"{k} = {v}" for k, v in changed.items()) or "paper Table 1 parameters"
+        plots.study_curves(args.plot, f"Tip amplitude vs rotor speed: {label}, load Fw0 = {params['Fw0']:g} N/m",
+                           [{"label": label, "time": res.time, "fixed": res.fixed, "hb": res.hb}], [params["d"]])
         print(f"wrote {args.plot}")
     return 0

@@ -189,13 +189,19 @@ def system_section(fmu: Path, stop_time: float | None) -> tuple[str, bool]:
 
 
 def configure_parser(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--fmu", type=Path, default=None, help="FMU to check (default: build/ShroudedBlade.fmu, built if needed)")
-    parser.add_argument("--scenario", choices=sorted(SCENARIOS) + ["all"], default="all")
-    parser.add_argument("--stop-time", type=float, default=None, help="shorten the scenarios to this stop time [s]")
-    parser.add_argument("--tools", default=",".join(TOOLS), help=f"comma-separated subset of {','.join(TOOLS)}")
+    parser.add_argument("--fmu", type=Path, default=None, metavar="PATH",
+                        help="FMU to check (default: build/ShroudedBlade.fmu, built if needed)")
+    parser.add_argument("--scenario", choices=sorted(SCENARIOS) + ["all"], default="all", metavar="NAME",
+                        help="; ".join(f"{k}: {v.description}" for k, v in sorted(SCENARIOS.items()))
+                        + "; all: every one (default all)")
+    parser.add_argument("--stop-time", type=float, default=None, metavar="S",
+                        help="shorten the scenarios to this stop time [s] (default: each scenario's own, 0.3 s)")
+    parser.add_argument("--tools", default=",".join(TOOLS), metavar="LIST",
+                        help=f"comma-separated subset of {','.join(TOOLS)} (default all of them)")
     parser.add_argument("--deliverables", action="store_true",
                         help="also regenerate crosscheck/fmus/... and crosscheck/results/... and validate them")
-    parser.add_argument("--output-file", type=Path, default=AGREEMENT_FILE, help="where to write the agreement table")
+    parser.add_argument("--output-file", type=Path, default=AGREEMENT_FILE, metavar="MD",
+                        help="where to write the agreement table (default crosscheck/agreement.md of the checkout)")
 
 
 def snapshot(fmu: Path, directory: Path) -> Path:

@@ -277,7 +277,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--quick", action="store_true",
                    help="reduced matrix: one option changed at a time, 5000 rpm and a run-up, one HB setting")
     p.add_argument("--fmu", metavar="PATH", help="FMU file (default: the installed package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
-    p.add_argument("--output-file", metavar="CSV", help="also write the table to this CSV file")
+    p.add_argument("--output-file", metavar="CSV", help="also write the table to this CSV file (default: none, the table is printed only)")
     p.add_argument("--max-step", type=float, default=MAX_STEP, metavar="S",
                    help=f"FMU internal step maxStep for the time-domain cases (default {MAX_STEP:g} s; the FMU's"
                         " own default is 1e-5)")

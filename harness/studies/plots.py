@@ -66,7 +66,9 @@ def study_branches(path: Path | str, title: str, curves: Sequence[dict]) -> Path
 def study_curves(path: Path | str, title: str, curves: Sequence[dict], gap: Sequence[float] | None = None) -> Path:
     """Amplitude vs speed, one colour per parameter value. Each curve dict: label, time (structured
     array: speed, direction, amplitude, reached), fixed (speed, B, reached), hb (speed, B, stable)."""
-    fig, axes = plt.subplots(1, 2, figsize=(13, 4.8), sharey=True)
+    has_hb = any(c.get("hb") is not None and len(c["hb"]) for c in curves)  # else one panel
+    fig, axes = plt.subplots(1, 1 + has_hb, figsize=(13 if has_hb else 8, 4.8), sharey=True, squeeze=False)
+    axes = axes[0]
     cols = _colors(len(curves))
     for c, col in zip(curves, cols):
         t = c.get("time")
@@ -89,25 +91,29 @@ def study_curves(path: Path | str, title: str, curves: Sequence[dict], gap: Sequ
             axes[0].plot(ok["speed"], ok["B"] * MM, "x", color=col, ms=5, lw=0)
             axes[0].plot(bad["speed"], bad["B"] * MM, "+", color=col, ms=6, lw=0)
         h = c.get("hb")
-        if h is not None and len(h):
+        if has_hb and h is not None and len(h):
             st = h[h["stable"]]
             un = h[~h["stable"]]
             axes[1].plot(st["speed"], st["B"] * MM, ".", color=col, ms=2.5, label=c["label"])
             axes[1].plot(un["speed"], un["B"] * MM, ".", color=col, ms=1.0, alpha=0.35)
     if gap:
-        for g in sorted(set(gap)):
+        for i, g in enumerate(sorted(set(gap))):
             for ax in axes:
-                ax.axhline(g * MM, color="0.6", lw=0.6, ls=":")
+                ax.axhline(g * MM, color="0.6", lw=0.8, ls=":", label="gap d (contact closes above)" if i == 0 else None)
+                ax.annotate(f"gap d = {g * MM:g} mm", (1.0, g * MM), xycoords=("axes fraction", "data"),
+                            xytext=(-3, 3), textcoords="offset points", ha="right", fontsize=7, color="0.4")
     axes[0].set_title("FMU: up (solid) / down (dashed) sweeps, band = amplitude range of the final periods;\n"
                       "o not steady within the cap, x fixed points A(B) = B, + not converged", fontsize=8)
-    axes[1].set_title("harmonic balance (reference): stable (bold), unstable (faint)")
+    if has_hb:
+        axes[1].set_title("harmonic balance (reference): stable (bold), unstable (faint)")
+        axes[1].legend(fontsize=7, loc="upper left", markerscale=4)
     for ax in axes:
         ax.set_xlabel("rotor speed n [rpm]")
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("tip amplitude [mm]")
-    axes[0].legend(fontsize=7, loc="upper left")
-    axes[1].legend(fontsize=7, loc="upper left", markerscale=4)
+    axes[0].legend(fontsize=7, loc="upper right")
     fig.suptitle(title)
+    fig.tight_layout()
     return _save(fig, path)
 
 
@@ -178,31 +184,54 @@ def coulomb(path: Path | str, rows: Mapping[str, Any]) -> Path:
             axes[i, j].grid(alpha=0.3)
             if r.log:
                 axes[i, j].set_xscale("log")
+            if name == "angle":  # x is the divisor of the contact angle gamma = pi / x: say the angle
+                axes[i, j].set_xticks(x, [f"π/{v:g}\n{180 / v:.1f}°" for v in x])
+                axes[i, j].set_xlabel("contact angle γ [deg]")
         axes[0, j].set_ylabel("largest stable max|q| [mm]")
         axes[1, j].set_ylabel("its speed [rpm]")
         axes[0, j].legend(fontsize=7)
     fig.suptitle("Section 4: macroslip (eq. 4) vs traditional Coulomb model")
+    fig.tight_layout()
     return _save(fig, path)
 
 
 def campbell(path: Path | str, speed: np.ndarray, fnat: np.ndarray, orders: Sequence[int], eo: int,
              crossing: float, peaks: Sequence[tuple[float, float, str]] = ()) -> Path:
-    """Campbell diagram: first bending frequency vs speed with engine-order lines."""
-    fig, ax = plt.subplots(figsize=(7.5, 5))
-    ax.plot(speed, fnat, "k-", lw=1.6, label="first bending (contact-free), FMU naturalFrequency")
-    for k in orders:
-        ax.plot(speed, k * speed / 60.0, "-" if k == eo else ":", lw=1.2 if k == eo else 0.8,
-                label=f"EO {k}")
+    """Campbell diagram: the contact-free bending frequencies vs speed (`fnat`: one column per mode,
+    or a vector for one mode) with the engine-order lines, each labelled at its end, the EO `eo`
+    crossing marked; the legend sits beside the axes so that it covers no crossing."""
+    f = np.asarray(fnat, dtype=float).reshape(len(speed), -1)
+    fig, ax = plt.subplots(figsize=(9.5, 5))
+    top = max([float(np.max(f)) * 1.6, 1.0] + [1.05 * fr for _, fr, _ in peaks])
+    for m in range(f.shape[1]):
+        ax.plot(speed, f[:, m], "k-", lw=1.6, label=f"bending mode {m + 1} (contact-free), FMU" if f.shape[1] > 1
+                else "first bending (contact-free), FMU naturalFrequency")
+    _engine_order_lines(ax, speed, orders, eo, top)
     if np.isfinite(crossing):
-        ax.plot([crossing], [eo * crossing / 60.0], "ro", label=f"EO {eo} crossing {crossing:.0f} rpm")
-    for sp, f, lab in peaks:
-        ax.plot([sp], [f], "v", ms=6, label=lab)
+        ax.plot([crossing], [eo * crossing / 60.0], "ro", ms=7, label=f"EO {eo} crossing {crossing:.0f} rpm")
+    for sp, fr, lab in peaks:
+        ax.plot([sp], [fr], "v", ms=6, label=lab)
     ax.set_xlabel("rotor speed n [rpm]")
     ax.set_ylabel("frequency [Hz]")
-    ax.set_ylim(0, max(float(np.max(fnat)) * 1.6, 1.0))
+    ax.set_ylim(0, top)
+    ax.set_xlim(float(speed[0]), float(speed[-1]) * 1.04)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
+    ax.set_title(f"Campbell diagram: bending frequency and engine orders 1-{max(orders)}; resonance where "
+                 f"EO {eo} crosses it", fontsize=10)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    fig.tight_layout()
     return _save(fig, path)
+
+
+def _engine_order_lines(ax: Any, speed: np.ndarray, orders: Sequence[int], eo: int, top: float) -> None:
+    """Lines f = k n / 60 [Hz], the excitation order `eo` solid, each labelled where it leaves the plot."""
+    for k in orders:
+        line = k * speed / 60.0
+        (h,) = ax.plot(speed, line, "-" if k == eo else ":", lw=1.2 if k == eo else 0.8)
+        inside = np.nonzero(line <= top)[0]
+        j = int(inside[-1]) if len(inside) else 0
+        ax.annotate(f"EO {k}", (speed[j], line[j]), xytext=(3, -2 if line[j] < 0.97 * top else -10),
+                    textcoords="offset points", fontsize=7, color=h.get_color())
 
 
 def _stable_runs(stable: np.ndarray) -> list[tuple[int, int, bool]]:

@@ -16,6 +16,7 @@
 #include "fmi/model.h"
 #include "models/BladeExternalContact/config.h"
 #include "physics/dynamics_step.h"
+#include "solver/blade_modes.h"
 #include "solver/blade_step.h"
 
 #define NUM_FORCES 2 /* contactForce, contactForce2: summed (a master that cannot add signals
@@ -27,26 +28,33 @@ typedef enum {
     ParEI = 0, ParRho, ParA, ParL, ParC, ParM0, ParMaxStep,
     ParQ0, ParV0, ParE0, ParW0, /* start values of q [m], q' [m/s], E [J], W [J] */
     ParFw0,                     /* amplitude of the built-in aerodynamic load [N/m] */
-    PAR_NUM
+    ParQm0,                     /* start values of modalDisplacement[1..6] [m] */
+    ParVm0 = ParQm0 + MODES_MAX, /* start values of modalVelocity[1..6] [m/s] */
+    PAR_NUM = ParVm0 + MODES_MAX
 } RealParam;
 
 typedef struct {
     double par[PAR_NUM];                                  /* [units of the XML] */
     int32_t formulation;                                  /* 1 printed, 2 consistent */
     int32_t engineOrder, bladeIndex, bladeCount;          /* the built-in load's travelling wave */
+    int32_t modes;                                        /* m bending modes (docs/model.md s.2a) */
     double in[NUM_INPUTS][SOLVER_MAX_ORDER + 1];          /* input values and derivatives [unit/s^j] */
     DynState state;                                       /* q, q', E, W (psi, w unused) */
     /* derived (rebuilt, not serialized) */
     BladeReduction blade;
     DynModel model;
+    double curvature[MODES_MAX];                          /* phi_i''(0), phi_i(l) = 1 [1/m^2] */
 } BxData;
 
 typedef struct {
     DynOutputs out;
     SolverCounters counters;
+    BladeModesCache modesCache;
+    double frequencies[MODES_MAX];                        /* modeFrequency [Hz] */
 } BxMemory;
 
-enum { OutQ = 0, OutV, OutE, OutW, OutFrequency };
+enum { OutQ = 0, OutV, OutE, OutW, OutFrequency, OutModalQ1, OutModalV1 = OutModalQ1 + MODES_MAX,
+       OutModeFrequency1 = OutModalV1 + MODES_MAX, OutRootMoment = OutModeFrequency1 + MODES_MAX };
 
 #define INF HUGE_VAL
 #define AT(member) (long)offsetof(BxData, member)
@@ -69,6 +77,7 @@ static const VarInfo VARS[] = {
     {24, "engineOrder", VarInteger, CausParameter, "", 3, 1, 100, 0, 0, AT(engineOrder), -1},
     {25, "bladeIndex", VarInteger, CausParameter, "", 0, 0, 9999, 0, 0, AT(bladeIndex), -1},
     {26, "bladeCount", VarInteger, CausParameter, "", 1, 1, 10000, 0, 0, AT(bladeCount), -1},
+    {28, "modes", VarInteger, CausParameter, "", 1, 1, MODES_MAX, 0, 0, AT(modes), -1},
     {40, "aeroLoad", VarReal, CausInput, "N/m", 0.0, -INF, INF, 0, 0, INPUT(SOLVER_INPUT_AERO), -1},
     {41, "rotorSpeed", VarReal, CausInput, "rpm", 5000.0, 0.0, ROTOR_SPEED_MAX, 0, 0, INPUT(SOLVER_INPUT_SPEED), -1},
     {42, "contactForce", VarReal, CausInput, "N", 0.0, -INF, INF, 0, 0, INPUT(SOLVER_INPUT_FORCE), -1},
@@ -78,6 +87,26 @@ static const VarInfo VARS[] = {
     {57, "dissipatedEnergy", VarReal, CausOutput, "J", 0.0, -INF, INF, 0, 0, PAR(ParE0), OutE},
     {58, "naturalFrequency", VarReal, CausOutput, "Hz", 0.0, -INF, INF, 0, 0, NONE, OutFrequency},
     {63, "contactWork", VarReal, CausOutput, "J", 0.0, -INF, INF, 0, 0, PAR(ParW0), OutW},
+    /* m modes (docs/model.md s.2a); entries above m read 0 */
+    {200, "modalDisplacement[1]", VarReal, CausOutput, "m", 0.0, -INF, INF, 0, 0, PAR(ParQm0 + 0), OutModalQ1 + 0},
+    {201, "modalDisplacement[2]", VarReal, CausOutput, "m", 0.0, -INF, INF, 0, 0, PAR(ParQm0 + 1), OutModalQ1 + 1},
+    {202, "modalDisplacement[3]", VarReal, CausOutput, "m", 0.0, -INF, INF, 0, 0, PAR(ParQm0 + 2), OutModalQ1 + 2},
+    {203, "modalDisplacement[4]", VarReal, CausOutput, "m", 0.0, -INF, INF, 0, 0, PAR(ParQm0 + 3), OutModalQ1 + 3},
+    {204, "modalDisplacement[5]", VarReal, CausOutput, "m", 0.0, -INF, INF, 0, 0, PAR(ParQm0 + 4), OutModalQ1 + 4},
+    {205, "modalDisplacement[6]", VarReal, CausOutput, "m", 0.0, -INF, INF, 0, 0, PAR(ParQm0 + 5), OutModalQ1 + 5},
+    {210, "modalVelocity[1]", VarReal, CausOutput, "m/s", 0.0, -INF, INF, 0, 0, PAR(ParVm0 + 0), OutModalV1 + 0},
+    {211, "modalVelocity[2]", VarReal, CausOutput, "m/s", 0.0, -INF, INF, 0, 0, PAR(ParVm0 + 1), OutModalV1 + 1},
+    {212, "modalVelocity[3]", VarReal, CausOutput, "m/s", 0.0, -INF, INF, 0, 0, PAR(ParVm0 + 2), OutModalV1 + 2},
+    {213, "modalVelocity[4]", VarReal, CausOutput, "m/s", 0.0, -INF, INF, 0, 0, PAR(ParVm0 + 3), OutModalV1 + 3},
+    {214, "modalVelocity[5]", VarReal, CausOutput, "m/s", 0.0, -INF, INF, 0, 0, PAR(ParVm0 + 4), OutModalV1 + 4},
+    {215, "modalVelocity[6]", VarReal, CausOutput, "m/s", 0.0, -INF, INF, 0, 0, PAR(ParVm0 + 5), OutModalV1 + 5},
+    {220, "modeFrequency[1]", VarReal, CausOutput, "Hz", 0.0, -INF, INF, 0, 0, NONE, OutModeFrequency1 + 0},
+    {221, "modeFrequency[2]", VarReal, CausOutput, "Hz", 0.0, -INF, INF, 0, 0, NONE, OutModeFrequency1 + 1},
+    {222, "modeFrequency[3]", VarReal, CausOutput, "Hz", 0.0, -INF, INF, 0, 0, NONE, OutModeFrequency1 + 2},
+    {223, "modeFrequency[4]", VarReal, CausOutput, "Hz", 0.0, -INF, INF, 0, 0, NONE, OutModeFrequency1 + 3},
+    {224, "modeFrequency[5]", VarReal, CausOutput, "Hz", 0.0, -INF, INF, 0, 0, NONE, OutModeFrequency1 + 4},
+    {225, "modeFrequency[6]", VarReal, CausOutput, "Hz", 0.0, -INF, INF, 0, 0, NONE, OutModeFrequency1 + 5},
+    {230, "rootMoment", VarReal, CausOutput, "N.m", 0.0, -INF, INF, 0, 0, NONE, OutRootMoment},
 };
 
 #define COUNT(member) (int)(sizeof(((BxData *)0)->member) / sizeof(((BxData *)0)->member[0]))
@@ -89,8 +118,9 @@ static const StateField FIELDS[] = {
     F64(state.q), F64(state.v), F64(state.psi), F64(state.E), F64(state.W),
     {AT(formulation), FieldI32, 1}, {AT(engineOrder), FieldI32, 1}, {AT(bladeIndex), FieldI32, 1},
     {AT(bladeCount), FieldI32, 1},
+    {AT(state.qx), FieldF64, MODES_MAX - 1}, {AT(state.vx), FieldF64, MODES_MAX - 1}, {AT(modes), FieldI32, 1},
 };
-#define STATE_VERSION 2 /* 2: the built-in load's parameters joined */
+#define STATE_VERSION 3 /* 3: the modes; 2: the built-in load's parameters joined */
 
 /* Reduction, dynamics constants (FrictionNone: no contact), and at the end of initialization the
  * start state. */
@@ -115,8 +145,18 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
         return FmiError;
     }
     dynSetLoad(&d->model, p[ParFw0], d->engineOrder, d->bladeIndex, d->bladeCount);
+    {
+        const BladeModesSetup setup = {d->modes, d->formulation, p[ParMaxStep], d->in[SOLVER_INPUT_SPEED][0]};
+        if (bladeModesBuild(inst, fn, &setup, &bp, &d->blade, &((BxMemory *)inst->memory)->modesCache, &d->model,
+                            d->curvature) != FmiOK)
+            return FmiError;
+    }
     if (initState) {
-        (void)dynInitState(&d->model, &d->state, p[ParQ0], p[ParV0], p[ParE0], 0.0, 0.0, 0.0);
+        double u0, du0;
+        if (bladeModesStart(inst, fn, d->modes, p[ParQ0], p[ParV0], &p[ParQm0], &p[ParVm0], &u0, &du0) != FmiOK)
+            return FmiError;
+        (void)dynInitState(&d->model, &d->state, u0, du0, p[ParE0], 0.0, 0.0, 0.0);
+        bladeModesInitState(&d->model, &d->state, &p[ParQm0], &p[ParVm0]);
         d->state.W = p[ParW0];
     }
     return FmiOK;
@@ -125,12 +165,23 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
 static void outputs(FmiInstance *inst)
 {
     const BxData *d = DATA(inst);
-    dynOutputs(&d->model, &d->state, d->in[SOLVER_INPUT_SPEED][0], &((BxMemory *)inst->memory)->out);
+    BxMemory *mem = (BxMemory *)inst->memory;
+    dynOutputs(&d->model, &d->state, d->in[SOLVER_INPUT_SPEED][0], &mem->out);
+    dynModeFrequencies(&d->model, d->in[SOLVER_INPUT_SPEED][0], mem->frequencies);
 }
 
 static double output(const FmiInstance *inst, int id)
 {
-    const DynState *s = &DATA(inst)->state;
+    const BxData *d = DATA(inst);
+    const DynState *s = &d->state;
+    double q[MODES_MAX], v[MODES_MAX];
+    if (id >= OutModalQ1 && id < OutModeFrequency1) {
+        dynModalState(&d->model, s, q, v);
+        return id >= OutModalV1 ? v[id - OutModalV1] : q[id - OutModalQ1];
+    }
+    if (id >= OutModeFrequency1 && id < OutRootMoment)
+        return ((const BxMemory *)inst->memory)->frequencies[id - OutModeFrequency1];
+    if (id == OutRootMoment) return bladeRootMoment(&d->model, s, d->par[ParEI], d->curvature);
     switch (id) {
     case OutQ: return s->q;
     case OutV: return s->v;
@@ -160,6 +211,11 @@ static FmiStatus doStep(FmiInstance *inst, const char *fn, double tc, double h)
 static int validData(FmiInstance *inst, const char *fn, const void *data, int initialized)
 {
     const DynState *s = &((const BxData *)data)->state;
+    for (int k = 0; k < MODES_MAX - 1; ++k)
+        if (initialized && !(isfinite(s->qx[k]) && isfinite(s->vx[k]))) {
+            fmiLogStatus(inst, FmiError, "%s: invalid solver state in the data", fn);
+            return 0;
+        }
     if (initialized && !(isfinite(s->q) && isfinite(s->v) && isfinite(s->psi) && isfinite(s->E) &&
                          isfinite(s->W))) {
         fmiLogStatus(inst, FmiError, "%s: invalid solver state in the data", fn);
@@ -171,7 +227,7 @@ static int validData(FmiInstance *inst, const char *fn, const void *data, int in
 const FmiModel fmiModel = {
     MODEL_NAME, MODEL_GUID, VARS, (int)(sizeof VARS / sizeof VARS[0]), SOLVER_MAX_ORDER,
     sizeof(BxData), sizeof(BxMemory), 1, STATE_VERSION, FIELDS, (int)(sizeof FIELDS / sizeof FIELDS[0]),
-    NULL, build, NULL, outputs, output, NULL, doStep, validData,
+    NULL, build, NULL, outputs, output, NULL, doStep, validData, NULL,
 };
 
 /* co-simulation only */

@@ -122,7 +122,7 @@ static FmiStatus doStep(FmiInstance *inst, const char *fn, double tc, double h)
 const FmiModel fmiModel = {
     MODEL_NAME, MODEL_GUID, VARS, (int)(sizeof VARS / sizeof VARS[0]), 0,
     sizeof(ExcitationData), sizeof(ExcitationMemory), 0, 1, NULL, 0,
-    NULL, build, NULL, outputs, output, NULL, doStep, NULL,
+    NULL, build, NULL, outputs, output, NULL, doStep, NULL, NULL,
 };
 
 /* co-simulation only */

@@ -252,7 +252,7 @@ static int validData(FmiInstance *inst, const char *fn, const void *data, int in
 const FmiModel fmiModel = {
     MODEL_NAME, MODEL_GUID, VARS, (int)(sizeof VARS / sizeof VARS[0]), MAX_ORDER,
     sizeof(ScData), sizeof(ScMemory), 1, STATE_VERSION, FIELDS, (int)(sizeof FIELDS / sizeof FIELDS[0]),
-    NULL, build, NULL, outputs, output, NULL, doStep, validData,
+    NULL, build, NULL, outputs, output, NULL, doStep, validData, NULL,
 };
 
 /* co-simulation only */

@@ -6,6 +6,7 @@
 
 #include "fmi/instance.h"
 #include "physics/dynamics.h"
+#include "solver/blade_modes.h"
 #include "solver/rk4_events.h"
 
 /* Real parameter slots (units as in modelDescription.xml) */
@@ -16,12 +17,14 @@ typedef enum {
     ParF0,               /* start value of jenkinsForce: Jenkins spring force k_d (Delta_u - w) [N] */
     ParWindowMax0,       /* start value of runningMaximum: max |q| over the running period [m] */
     ParFw0,              /* amplitude of the built-in aerodynamic load [N/m] */
-    PAR_NUM
+    ParQm0,              /* start values of modalDisplacement[1..6] [m] */
+    ParVm0 = ParQm0 + MODES_MAX, /* start values of modalVelocity[1..6] [m/s] */
+    PAR_NUM = ParVm0 + MODES_MAX
 } RealParam;
 
 typedef enum {
     IparFrictionModel = 0, IparFormulation, IparProjection, IparAmplitudeMode, IparEngineOrder,
-    IparGating, IparSensitivities, IparBladeIndex, IparBladeCount, IPAR_NUM
+    IparGating, IparSensitivities, IparBladeIndex, IparBladeCount, IparModes, IPAR_NUM
 } IntParam;
 
 /* Everything of the model an FMU state captures. Plain data (no pointers). The last block is
@@ -37,6 +40,7 @@ typedef struct {
     /* derived */
     BladeReduction blade;
     DynModel model;
+    double curvature[MODES_MAX]; /* phi_i''(0) of the modes scaled to phi_i(l) = 1 [1/m^2] */
 } BladeData;
 
 /* Per-instance memory outside the FMU state. */
@@ -49,6 +53,11 @@ typedef struct {
     BladeParams bladeCacheParams;
     BladeReduction bladeCache;
     DynOutputs out;              /* outputs of the current get call */
+    BladeModesCache modesCache;  /* the last modal reduction (m > 1) */
+    double frequencies[MODES_MAX]; /* modeFrequency at frequencySpeed [Hz] */
+    double frequencySpeed;       /* [rpm] */
+    int32_t frequencyValid;      /* 0: to be computed (after every build) */
+    double jacobian[SENS_MODAL_ROWS][SENS_MODAL_COLS]; /* sensitivity[r,c] of the current get call */
 } BladeMemory;
 
 #define BLADE_DATA(inst) ((BladeData *)(inst)->data)

@@ -30,6 +30,7 @@
 #define vr_engineOrder 24
 #define vr_bladeIndex 25
 #define vr_bladeCount 26
+#define vr_modes 28 /* number of bending modes m (docs/model.md s.2a) */
 /* Boolean parameters */
 #define vr_gating 30
 #define vr_sensitivities 31
@@ -67,5 +68,13 @@
  * tipDisplacement, tipVelocity, jenkinsForce, runningMaximum, amplitude (in this order) and
  * p = (start tipDisplacement, start tipVelocity, start jenkinsForce, B): vr_sens0 + 4 row + col */
 #define vr_sens0 100
+/* m modes (docs/model.md s.2a): element i = 1..6 of each array at base + i - 1 */
+#define vr_modalDisplacement1 200
+#define vr_modalVelocity1 210
+#define vr_modeFrequency1 220
+#define vr_rootMoment 230
+/* the modal Jacobian sensitivity[r,c] (r = 1..15, c = 1..14, docs/model.md s.2a) at
+ * vr_sensitivity11 + 14 (r - 1) + (c - 1) */
+#define vr_sensitivity11 1000
 
 #endif

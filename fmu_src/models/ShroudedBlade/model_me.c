@@ -1,5 +1,6 @@
 /* ShroudedBlade for model exchange (FMI 2.0 ME, docs/model-notes.md s.2, s.3, s.6): the continuous
- * states x = (q, q', psi, E, w) of DynState, the right-hand side dynRhs at the current inputs, one
+ * states x = (q, q', psi, E, w) of DynState and the modal coordinates q_2..q_6, q_2'..q_6' (a fixed
+ * number, DYN_NX_MAX: those above m, docs/model.md s.2a, are held at 0 with derivative 0), the right-hand side dynRhs at the current inputs, one
  * event indicator per switching function of dynSwitching, and the event iteration with
  * dynApplyEvent: the functions the co-simulation integrator (solver/rk4_events.c) uses. The
  * discrete state (gate or contact mode, side, slip direction, amplitude B, running maximum,
@@ -49,17 +50,27 @@ static int slotOf(DynSwitch k)
     }
 }
 
-static void loadX(const DynState *s, double x[DYN_NX])
+static void loadX(const DynState *s, double x[DYN_NX_MAX])
 {
     x[0] = s->q; x[1] = s->v; x[2] = s->psi; x[3] = s->E; x[4] = s->w;
+    for (int k = 0; k < MODES_MAX - 1; ++k) {
+        x[DYN_NX + k] = s->qx[k];
+        x[DYN_X_RATES + k] = s->vx[k];
+    }
 }
 
 static void getStates(const FmiInstance *inst, double x[]) { loadX(&BLADE_DATA(inst)->state, x); }
 
+/* the states above m stay 0 */
 static void setStates(FmiInstance *inst, const double x[])
 {
-    DynState *s = &BLADE_DATA(inst)->state;
+    BladeData *d = BLADE_DATA(inst);
+    DynState *s = &d->state;
     s->q = x[0]; s->v = x[1]; s->psi = x[2]; s->E = x[3]; s->w = x[4];
+    for (int k = 0; k < MODES_MAX - 1; ++k) {
+        s->qx[k] = k < d->model.modes - 1 ? x[DYN_NX + k] : 0.0;
+        s->vx[k] = k < d->model.modes - 1 ? x[DYN_X_RATES + k] : 0.0;
+    }
 }
 
 /* Scales of the states (an integrator's absolute tolerance is relative tolerance x nominal): the
@@ -79,20 +90,25 @@ static void nominals(const FmiInstance *inst, double x[])
     x[2] = DYN_TWO_PI;
     x[3] = en;
     x[4] = qn;
+    for (int k = 0; k < MODES_MAX - 1; ++k) { /* the higher modes: the scales of q and q' */
+        x[DYN_NX + k] = x[0];
+        x[DYN_X_RATES + k] = x[1];
+    }
 }
 
 static FmiStatus derivatives(FmiInstance *inst, const char *fn, double dx[])
 {
     const BladeData *d = BLADE_DATA(inst);
-    double x[DYN_NX];
+    double x[DYN_NX_MAX];
     loadX(&d->state, x);
+    for (int i = DYN_NX; i < DYN_NX_MAX; ++i) dx[i] = 0.0; /* m = 1: the held higher modes */
     if (dynRhs(&d->model, &d->state, d->in[SOLVER_INPUT_AERO][0], d->in[SOLVER_INPUT_SPEED][0], x, dx)) {
         fmiLogStatus(inst, FmiDiscard, "%s: rotorSpeed = 0 (omega = 0) at t = %.17g s while the "
                      "describing-function contact acts (B = %g m > d = %g m): f_c needs omega > 0", fn,
                      inst->run.time, d->state.B, d->par[ParD]);
         return FmiDiscard;
     }
-    for (int i = 0; i < DYN_NX; ++i) {
+    for (int i = 0; i < DYN_NX_MAX; ++i) {
         if (!isfinite(dx[i])) { /* a state set far out (e.g. q = 1e300): no silent inf for the solver */
             fmiLogStatus(inst, FmiDiscard, "%s: der(x[%d]) = %g is not finite at t = %.17g s (q = %g m, q' = %g m/s)",
                          fn, i, dx[i], inst->run.time, d->state.q, d->state.v);
@@ -105,7 +121,7 @@ static FmiStatus derivatives(FmiInstance *inst, const char *fn, double dx[])
 /* The active switching functions at the current state, with their slopes (h = 1). */
 static int switching(const BladeData *d, DynSwitchValue sv[DYN_MAX_SWITCHING])
 {
-    double x[DYN_NX], f[DYN_NX];
+    double x[DYN_NX_MAX], f[DYN_NX_MAX];
     loadX(&d->state, x);
     (void)dynRhs(&d->model, &d->state, d->in[SOLVER_INPUT_AERO][0], d->in[SOLVER_INPUT_SPEED][0], x, f);
     return dynSwitching(&d->model, &d->state, 1.0, x, f, sv);
@@ -155,7 +171,7 @@ static void holdContactState(FmiInstance *inst)
     me->held = 1;
     me->contactState = o.contactState;
     if (m->friction != FrictionMacroslipTD && omega > 0.0 && dynContactOn(m, s) && s->df.regime == RegimeStickSlip) {
-        double x[DYN_NX], f[DYN_NX], theta;
+        double x[DYN_NX_MAX], f[DYN_NX_MAX], theta;
         loadX(s, x);
         (void)dynRhs(m, s, d->in[SOLVER_INPUT_AERO][0], d->in[SOLVER_INPUT_SPEED][0], x, f);
         /* d theta/dt has the sign of v^2 - q a (theta = atan2(-v/omega, q), omega > 0) */
@@ -255,7 +271,7 @@ static void heldOutputs(FmiInstance *inst)
 }
 
 static const FmiModelExchange BLADE_ME = {
-    DYN_NX, NZ, sizeof(BladeMeData), sizeof(BladeMeMemory), getStates, setStates, nominals, derivatives,
+    DYN_NX_MAX, NZ, sizeof(BladeMeData), sizeof(BladeMeMemory), getStates, setStates, nominals, derivatives,
     eventIndicators, eventUpdate, afterBuild, heldOutputs,
 };
 
