@@ -30,12 +30,13 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     g = p.add_mutually_exclusive_group()
     g.add_argument("--speed", type=float, metavar="RPM",
                    help=f"one rotor speed [rpm] in [{SPEED_RANGE[0]:g}, {SPEED_RANGE[1]:g}] (default 5000)")
-    g.add_argument("--speeds", type=float, nargs=2, metavar=("FROM", "TO"), help="a speed range [rpm], FROM < TO")
+    g.add_argument("--speeds", type=float, nargs=2, metavar=("FROM", "TO"), help="a speed range [rpm], FROM < TO (default: none, one speed)")
     p.add_argument("--points", type=int, default=101, metavar="N",
                    help=f"speeds on the grid of --speeds (default 101, {POINTS_RANGE[0]}..{POINTS_RANGE[1]})")
     p.add_argument("--start-values", nargs="+", default=[], metavar="NAME VALUE",
-                   help="parameter name-value pairs, e.g. `--start-values m0 0.05 EI 400`")
-    p.add_argument("--plot", metavar="PNG", help="write the diagram (with --speeds)")
+                   help="parameter name-value pairs, e.g. `--start-values m0 0.05 EI 400` (default: none, the model "
+                        "description's values)")
+    p.add_argument("--plot", metavar="PNG", help="write the diagram (with --speeds; default: none)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
 
 
