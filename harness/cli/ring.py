@@ -33,7 +33,7 @@ from harness.model.params import ParameterError
 from harness.outputs import check_dir, check_file
 from harness.studies import mistuning
 from harness.system import ring_c, ring_libcosim, ring_values, ssp
-from harness.system.ring import Ring, RingDiverged, amplitudes, harmonic, run as ring_run
+from harness.system.ring import Ring, RingDiverged, amplitudes, diverged_message, harmonic, run as ring_run
 from harness.system.ring_sweep import DIRECTIONS, per_period_settling, period_step, sweep
 from harness.system.ring_values import max_blades
 
@@ -191,10 +191,19 @@ def run(args: argparse.Namespace) -> int:
         raise ParameterError(str(e)) from None
 
 
+def _check_diverged(ring, res: dict, master: str) -> None:
+    """libcosim and Ecos run on their own: the same divergence check on the run they return."""
+    bad = ~(np.abs(res["q"]) <= ring.q_limit)
+    if bad.any():
+        k, i = np.argwhere(bad)[0]
+        raise RingDiverged(diverged_message(ring, int(k), float(res["time"][k]), int(i), float(res["q"][k, i]), master))
+
+
 def run_one(ring, args) -> int:
     t0 = time.perf_counter()
     res = simulate(ring, args.master)
     wall = time.perf_counter() - t0
+    _check_diverged(ring, res, args.master)
     amp = amplitudes(res["time"], res["q"], ring.omega)
     c = harmonic(res, ring.omega)
     st = per_period_settling(res["time"], res["q"], ring.omega, SETTLE_RTOL, SETTLE_PERIODS)
