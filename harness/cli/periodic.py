@@ -35,7 +35,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     overrides = parse_start_values(args.start_values)
-    bad = [k for k in overrides if k in STATE_STARTS]
+    bad = [k for k in overrides if k in STATE_STARTS or k.startswith("modal")]
     if bad:
         raise ParameterError(f"--start-values {bad[0]}: the state at the section is what shooting solves for;"
                              " give parameters only")
