@@ -115,7 +115,7 @@ def _cache_files(d: Path) -> list[Path]:
 def test_sigint_keeps_finished_points_and_rerun_completes(fmu_path, tmp_path):
     cache = tmp_path / "cache"
     out = tmp_path / "sweep.csv"
-    cmd = [sys.executable, "-m", "harness", "sweep", "--fmu", str(fmu_path), "--speeds", "3000:8000:250",
+    cmd = [sys.executable, "-m", "harness", "sweep", "--fmu", str(fmu_path), "--speeds", "3000:8000:100",
            "--method", "time", "--refine", "1", "--max-time", "1.0", "--start-values", "kn", "1e6",
            "--workers", "2", "--quiet", "--cache-dir", str(cache), "--output-file", str(out)]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)

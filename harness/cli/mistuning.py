@@ -55,7 +55,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", default=str(RESULTS_DIR / "mistuning"), metavar="DIR",
                    help=f"figures and CSVs (default ./{RESULTS_DIR / 'mistuning'})")
     p.add_argument("--json", action="store_true", help="print the study as JSON on stdout")
-    add_execution_options(p)
+    add_execution_options(p, fmu=False)  # the ring's FMUs, not a --fmu of the user's
 
 
 def study_from(args: argparse.Namespace):

@@ -27,10 +27,11 @@ OUT_DTYPE = [("speed_rpm", "f8"), ("method", "U9"), ("amplitude_m", "f8"), ("ban
              ("steady", "i4"), ("stable", "i4")]
 
 
-def add_execution_options(p: argparse.ArgumentParser, cache: bool = True) -> None:
-    """Options shared by sweep / reproduce / run: where and how the work runs (with `cache`, the
-    per-point result cache of the transient sweeps)."""
-    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: the installed package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
+def add_execution_options(p: argparse.ArgumentParser, cache: bool = True, fmu: bool = True) -> None:
+    """Options shared by sweep / reproduce / run / mistuning: where and how the work runs (with
+    `cache`, the per-point result cache of the transient sweeps; with `fmu`, the blade FMU to use)."""
+    if fmu:
+        p.add_argument("--fmu", metavar="PATH", help="FMU file (default: the installed package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="local worker processes (default: number of CPUs; 1 = in this process)")
     p.add_argument("--scheduler", metavar="ADDRESS",
