@@ -8,6 +8,10 @@
   (`--master fmpy`) and the C loop (`--master c`), at h = 1e-4 s, order 1;
 - bad values exit with code 2 and a message naming the value and the range; a diverging ring (held
   inputs at 4e-4 s) exits 2 with one line naming the step and what to change;
+- `--speeds FROM TO --points K` prints the sweep's keys (per direction K x N), T/160 steps in whole ns,
+  the peak = the largest settled sample with --no-refine; --csv has one row per ring, direction and
+  speed (mistuned: the tuned ring's rows too), --plot a PNG; bad sweep values and an output path in a
+  missing directory exit 2 with one line naming them;
 - --write-ssp writes DIR/SystemStructure.ssd + DIR/resources/*.fmu that libcosim's from_ssp_file
   loads; with the contacts open and a mistuning pattern it gives the fmpy master's held-input
   amplitudes (the per-blade EI reaches the SSP parameter sets; 1e-12 relative).
@@ -130,3 +134,53 @@ def test_write_ssp_loads_in_libcosim(capsys, tmp_path):
     amp = amplitudes(res["time"], res["q"], ring.omega)
     assert len(set(ref["mistuning"]["values"])) == 3  # three different EI
     assert np.allclose(amp, ref["amplitudes_m"], rtol=1e-12, atol=0), (amp, ref["amplitudes_m"])
+
+
+def test_sweep_json_csv_and_plot(capsys, tmp_path):
+    csv, png = tmp_path / "curves.csv", tmp_path / "curves.png"
+    out = ring_json(capsys, "--blades", "4", "--speeds", "4800", "5000", "--points", "2", "--max-time", "0.3",
+                    "--start-values", "c", "298", "Fw0", "300", "--mistuning", "0.02", "--no-refine",
+                    "--csv", str(csv), "--plot", str(png))
+    assert {"speeds_rpm", "amplitudes_m", "settled", "movement", "peak_amplitude_m", "peak_speed_rpm", "step_s",
+            "tuned", "settle_rule", "wall_time_s"} <= set(out)
+    assert out["speeds_rpm"] == [4800.0, 5000.0] and out["sweep"] == ["up"]
+    amps = np.array(out["amplitudes_m"]["up"])
+    assert amps.shape == (2, 4) and np.array(out["settled"]["up"]).shape == (2, 4)
+    assert np.ptp(amps[-1]) > 1e-3 * amps.max()  # mistuned: the blades differ
+    assert out["peak_amplitude_m"] == pytest.approx(amps[np.array(out["settled"]["up"]).all(axis=1)].max(), rel=0)
+    # step T/160 at each speed, in whole ns
+    assert out["step_s"] == [round(60e9 / (3 * s) / 160) / 1e9 for s in (4800.0, 5000.0)]
+    rows = csv.read_text().splitlines()
+    assert rows[0].startswith("ring,direction,speed_rpm,amplitude0_m") and len(rows) == 1 + 2 + 2  # mistuned + tuned
+    assert float(rows[1].split(",")[3]) == amps[0, 0]
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize("args,words", [
+    (["--speeds", "5000", "4000"], ["--speeds 5000 4000", "FROM must be below TO"]),
+    (["--speeds", "4000", "5000", "--points", "1"], ["--points 1", "[2, 1000]"]),
+    (["--speeds", "4000", "5000", "--master", "libcosim"], ["--master libcosim", "C loop"]),
+    (["--csv", "x.csv"], ["--csv and --plot", "--speeds"]),
+])
+def test_bad_sweep_values_are_named(capsys, args, words):
+    assert main(["ring", "--blades", "3", *args]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: ") and len(err.strip().splitlines()) == 1 and all(w in err for w in words), err
+
+
+@pytest.mark.parametrize("option", ["--csv", "--plot", "--write-ssp"])
+def test_output_path_under_a_file_is_named(capsys, tmp_path, option):
+    (tmp_path / "file").write_text("")
+    bad = str(tmp_path / "file" / "out")
+    sweep = [] if option == "--write-ssp" else ["--speeds", "4000", "5000"]
+    assert main(["ring", "--blades", "3", *sweep, option, bad]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: ") and f"{option} {bad}" in err and len(err.strip().splitlines()) == 1, err
+
+
+def test_one_ring_command():
+    import subprocess
+    import sys
+    p = subprocess.run([sys.executable, "-m", "harness.system.ring", "--n", "6"], capture_output=True, text=True,
+                       timeout=120)
+    assert p.returncode == 2 and "python -m harness ring --blades N" in p.stderr and p.stdout == ""

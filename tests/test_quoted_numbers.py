@@ -1,9 +1,10 @@
 """Numbers quoted in README.md and on the documentation's findings pages against the files they
 come from, so a quoted number cannot drift from what the code last measured: the invalid-input
 catalogue (docs/invalid-inputs.md, generated from real runs), the claims table (results/claims.md,
-written by `make run`), the mistuning tables (results/mistuning*/mistuning_amplification.csv,
+written by `make run`), the mistuning table (results/mistuning/mistuning_amplification.csv,
 written by `python -m harness mistuning`) and the performance table (bench/RESULTS.json, written by
-`make bench`). A quoted number is compared as printed (rounded to the digits it shows)."""
+`make bench`) and the mistuning study's dask measurement (bench/mistuning_dask.json, written by
+`python -m harness.studies.mistuning_dask`). A quoted number is compared as printed (rounded to the digits it shows)."""
 from __future__ import annotations
 
 import csv
@@ -97,16 +98,17 @@ def test_rk4_step_cost(bench):
 
 def test_ring_row(bench):
     """The 24-blade ring row: wall / time inside fmi2DoStep (measured in C) for libcosim (whole run
-    and stepping alone), the fmpy master (feedthrough and libcosim's data flow) and the C loop, and
-    the compute per doStep; the same ratios where README and the ring page quote them."""
-    m = _one(PERFORMANCE, r"\| a 24-blade ring[^|]*\| libcosim \*\*([\d.]+)x\*\* \(stepping alone ([\d.]+)x\), "
-                          r"fmpy master ([\d.]+)x \(in libcosim's data flow ([\d.]+)x\), C loop \*\*([\d.]+)x\*\*; "
-                          r"([\d.]+) us per doStep")
-    g = bench["ring"]
+    and stepping alone; and on the former Excitation-fed ring), the fmpy master (feedthrough and
+    libcosim's data flow) and the C loop, and the compute per doStep; the same ratios where README
+    and the ring page quote them."""
+    m = _one(PERFORMANCE, r"\| a 24-blade ring[^|]*\| libcosim \*\*([\d.]+)x\*\* \(stepping alone ([\d.]+)x; "
+                          r"([\d.]+)x on the former ring\), fmpy master ([\d.]+)x \(in libcosim's data flow ([\d.]+)x\), "
+                          r"C loop \*\*([\d.]+)x\*\*; ([\d.]+) us per doStep")
+    g, old = bench["ring"]["builtin"], bench["ring"]["excitation"]
     lc = g["libcosim"]
     c_loop = f"{g['C loop']['ratio_wall']:.2f}"
     assert m.groups() == (f"{lc['ratio_wall']:.2f}", f"{lc['ratio_step_wall']:.2f}",
-                          f"{g['fmpy feedthrough']['ratio_wall']:.2f}",
+                          f"{old['libcosim']['ratio_wall']:.2f}", f"{g['fmpy feedthrough']['ratio_wall']:.2f}",
                           f"{g['fmpy libcosim data flow']['ratio_wall']:.2f}",
                           c_loop, f"{lc['inside_doStep'] / lc['doSteps'] * 1e6:.2f}")
     m = _one(README, r"costs the C loop ([\d.]+)x the FMUs' own compute\s+\(libcosim ([\d.]+)x\)")
@@ -122,23 +124,31 @@ def _amplification(folder: str) -> dict[tuple[str, str], tuple[float, float]]:
                 for r in csv.DictReader(f)}
 
 
-@pytest.mark.parametrize("folder, variants", [("mistuning", ("friction", "frictionless")),
-                                              ("mistuning_cluster", ("friction", "open"))])
-def test_mistuning_tables(folder, variants):
-    """Each mean / max cell of a mistuning table on the mistuning page against the study's CSV."""
-    csv_rows = _amplification(folder)
+def test_mistuning_table():
+    """Each mean / max cell of the mistuning table on the mistuning page against the study's CSV."""
+    csv_rows = _amplification("mistuning")
     text = (REPO / MISTUNING).read_text()
-    header = f"| sigma (EI) | {variants[0]} | {variants[1]}"
+    header = "| sigma (EI) | friction |"
     table = text[text.index(header):].split("\n\n")[0].splitlines()[2:]
-    assert len(table) == 4
+    assert len(table) == len({s for _, s in csv_rows}) >= 2
     for line in table:
-        sigma, *cells = [c.strip() for c in line.strip("|").split("|")]
-        for variant, cell in zip(variants, cells):
-            mean, top = csv_rows[(variant, sigma.rstrip(" %"))]
-            assert cell == f"{mean:.4f} / {top:.4f}", (folder, sigma, variant)
+        sigma, cell = [c.strip() for c in line.strip("|").split("|")]
+        mean, top = csv_rows[("friction", sigma.rstrip(" %"))]
+        assert cell == f"{mean:.4f} / {top:.4f}", sigma
 
 
-def test_readme_mistuning_maxima():
-    m = _one(README, r"\(([\d.]+)x at 5 % scatter on 6 blades, ([\d.]+)x on 24\)")
-    assert m.group(1) == f"{_amplification('mistuning')[('friction', '5')][1]:.2f}"
-    assert m.group(2) == f"{_amplification('mistuning_cluster')[('friction', '5')][1]:.2f}"
+def test_readme_mistuning_maximum():
+    m = _one(README, r"5 % blade stiffness scatter raises the 6-blade ring's largest\s+blade amplitude to at most "
+                     r"([\d.]+)x the tuned ring's peak \(mean ([\d.]+)x")
+    mean, top = _amplification("mistuning")[("friction", "5")]
+    assert m.groups() == (f"{top:.4f}", f"{mean:.4f}")
+
+
+def test_dask_measurement():
+    """The dask page's speed-up and cluster-cost numbers against bench/mistuning_dask.json."""
+    m = json.loads((REPO / "bench" / "mistuning_dask.json").read_text())
+    text = (REPO / "docs" / "guide" / "dask.md").read_text()
+    assert _one("docs/guide/dask.md", r"\*\*speed-up ([\d.]+)\*\*").group(1) == f"{m['speed_up']:.2f}"
+    row = re.search(r"\| wall \[h\] \| (.*) \|", text).group(1).split(" | ")
+    assert row == [f"{c['wall_h']:.2f}" for c in m["cluster_cost"]]
+    assert m["killed_worker"]["completed"] and m["killed_worker"]["lost"] in m["killed_worker"]["started_twice"]

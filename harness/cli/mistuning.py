@@ -1,10 +1,10 @@
-"""Mistuning study of the ring: amplification of the largest blade amplitude against Whitehead's bound.
+"""Mistuning study of the ring over a speed band: amplification of the largest blade amplitude against Whitehead's bound.
 
-`python -m harness mistuning [--size small|cluster] [--blades N] [--levels 0.005 0.01 0.02 0.05]
-[--patterns K] [--parameter EI|m0] [--seed S] [--stop-time S] [--variants friction open]
+`python -m harness mistuning [--size small|cluster] [--blades N] [--levels SIGMA ...] [--patterns K]
+[--parameter EI|m0] [--seed S] [--points K] [--band FROM TO] [--rtol R] [--max-time S] [--variants ...]
 [--workers N | --scheduler ADDRESS] [--cache-dir DIR | --no-cache] [--out DIR] [--json]`. Each
-pattern is one ring run at the tuned ring's resonance (harness/studies/mistuning.py), cached in its
-own file, so an interrupted study resumes; the figures (PNG + CSV) go to --out.
+(variant, pattern) is one sweep of the ring over the band (harness/studies/mistuning.py), cached in
+its own file, so an interrupted study resumes; the figures (PNG + CSV) go to --out.
 """
 from __future__ import annotations
 
@@ -19,21 +19,41 @@ import numpy as np
 from harness.analysis.executor import RESULTS_DIR
 from harness.cli.sweep import add_execution_options, make_runner
 from harness.model.params import ParameterError
+from harness.outputs import check_dir
 from harness.studies import mistuning, mistuning_plots
-from harness.studies.mistuning import PARAMETERS, SIZES, VARIANTS
+from harness.studies.mistuning import CROSSING_BAND, PARAMETERS, SIZES, VARIANTS
+
+_S = SIZES["small"]
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
+    c = SIZES["cluster"]
     p.add_argument("--size", choices=SIZES, default="small",
-                   help="small: 6 blades, 100 patterns per level (in make run); cluster: 24 blades, also the open ring")
-    p.add_argument("--blades", type=int, metavar="N", help="blades in the ring (overrides --size)")
-    p.add_argument("--levels", type=float, nargs="+", metavar="SIGMA", help="relative standard deviations")
-    p.add_argument("--patterns", type=int, metavar="K", help="random patterns per level")
-    p.add_argument("--parameter", choices=PARAMETERS, help="scattered blade parameter (default EI)")
-    p.add_argument("--seed", type=int, help="pattern generator seed (default 1)")
-    p.add_argument("--stop-time", type=float, metavar="S", help="simulated time per ring [s]")
-    p.add_argument("--variants", nargs="+", choices=VARIANTS, help="friction (contacts as given), open (d = 1 m)")
-    p.add_argument("--out", default=str(RESULTS_DIR / "mistuning"), metavar="DIR", help="figures and CSVs")
+                   help=f"small (default; in make run): {_S.n} blades, levels {' '.join(map(str, _S.levels))}, "
+                        f"{_S.patterns} patterns per level, {_S.points} speeds, {' '.join(_S.variants)}; cluster: "
+                        f"{c.n} blades, {len(c.levels)} levels x {c.patterns} patterns, {c.points} speeds, "
+                        f"{' '.join(c.variants)}. The options below override it")
+    p.add_argument("--blades", type=int, metavar="N", help=f"blades in the ring (default {_S.n})")
+    p.add_argument("--levels", type=float, nargs="+", metavar="SIGMA",
+                   help=f"relative standard deviations, in [0, 0.2] (default {' '.join(map(str, _S.levels))})")
+    p.add_argument("--patterns", type=int, metavar="K", help=f"random patterns per level (default {_S.patterns})")
+    p.add_argument("--parameter", choices=PARAMETERS, help=f"scattered blade parameter (default {_S.parameter})")
+    p.add_argument("--seed", type=int, help=f"pattern generator seed (default {_S.seed})")
+    p.add_argument("--points", type=int, metavar="K", help=f"speeds across the band (default {_S.points})")
+    p.add_argument("--band", type=float, nargs=2, metavar=("FROM", "TO"),
+                   help=f"speed band [rpm] (default {CROSSING_BAND[0]:g}x to {CROSSING_BAND[1]:g}x the contact-free "
+                        "crossing: %.0f to %.0f rpm)" % mistuning.band(_S))
+    p.add_argument("--rtol", type=float, metavar="R",
+                   help="settled: every blade's per-period amplitude change / the largest amplitude below this over "
+                        f"5 periods (default {_S.rtol:g})")
+    p.add_argument("--max-time", type=float, metavar="S",
+                   help=f"simulated time at most at one speed [s]; a speed not settled by then is flagged "
+                        f"(default {_S.max_time:g})")
+    p.add_argument("--variants", nargs="+", choices=VARIANTS,
+                   help=f"friction (contacts as given), frictionless (mu = 0), open (d = 1 m) "
+                        f"(default {' '.join(_S.variants)})")
+    p.add_argument("--out", default=str(RESULTS_DIR / "mistuning"), metavar="DIR",
+                   help=f"figures and CSVs (default ./{RESULTS_DIR / 'mistuning'})")
     p.add_argument("--json", action="store_true", help="print the study as JSON on stdout")
     add_execution_options(p)
 
@@ -41,26 +61,36 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 def study_from(args: argparse.Namespace):
     s = SIZES[args.size]
     given = {"n": args.blades, "levels": tuple(args.levels) if args.levels else None, "patterns": args.patterns,
-             "parameter": args.parameter, "seed": args.seed, "stop_time": args.stop_time,
+             "parameter": args.parameter, "seed": args.seed, "rtol": args.rtol, "max_time": args.max_time,
+             "points": args.points,
+             "band": tuple(args.band) if args.band else None,
              "variants": tuple(args.variants) if args.variants else None}
     s = replace(s, **{k: v for k, v in given.items() if v is not None})
     if not 2 <= s.n <= 10000:
         raise ParameterError(f"--blades {s.n} outside [2, 10000]")
     if s.patterns < 1:
         raise ParameterError(f"--patterns {s.patterns} must be >= 1")
+    if s.points < 2:
+        raise ParameterError(f"--points {s.points} must be >= 2")
+    if s.band is not None and not (all(math.isfinite(x) for x in s.band) and 0 < s.band[0] < s.band[1]):
+        raise ParameterError(f"--band {s.band[0]!r} {s.band[1]!r} rpm: need 0 < FROM < TO")
     bad = [x for x in s.levels if not (math.isfinite(x) and 0 <= x <= 0.2)]
     if bad:
         raise ParameterError(f"--levels {bad[0]!r} outside [0, 0.2] (relative standard deviation)")
-    if not (math.isfinite(s.stop_time) and s.stop_time > 0):
-        raise ParameterError(f"--stop-time {s.stop_time!r} s must be > 0")
+    if not (math.isfinite(s.rtol) and 0 < s.rtol < 1):
+        raise ParameterError(f"--rtol {s.rtol!r} outside (0, 1)")
+    if not (math.isfinite(s.max_time) and s.max_time > 0):
+        raise ParameterError(f"--max-time {s.max_time!r} s must be > 0")
     return s
 
 
 def run(args: argparse.Namespace) -> int:
     study = study_from(args)
+    cache = None if args.no_cache else check_dir(args.cache_dir, "--cache-dir")  # before any work
+    out_dir = check_dir(args.out, "--out")
     with make_runner(args) as runner:
-        out = mistuning.run_study(study, runner, None if args.no_cache else Path(args.cache_dir))
-    files = mistuning_plots.write(out, Path(args.out))
+        out = mistuning.run_study(study, runner, cache)
+    files = mistuning_plots.write(out, out_dir)
     out["files"] = [str(f) for f in files]
     if args.json:
         print(json.dumps(out))
@@ -71,18 +101,17 @@ def run(args: argparse.Namespace) -> int:
 
 def report(out: dict) -> None:
     """The study's summary on stdout (also used by `make run`)."""
-    print(f"mistuning: N = {out['n']}, {out['speed_rpm']:.1f} rpm (tuned resonance), {out['patterns']} patterns per level, "
-          f"{out['computed']} rings computed, {out['cached']} from the cache; Whitehead {out['whitehead']:.4f}")
+    sp = out["speeds_rpm"]
+    print(f"mistuning: N = {out['n']}, {len(sp)} speeds {sp[0]:.0f}-{sp[-1]:.0f} rpm (contact-free crossing "
+          f"{out['crossing_rpm']:.0f} rpm), {out['patterns']} patterns per level, {out['computed']} sweeps computed "
+          f"in {out['wall_s']:.1f} s, {out['cached']} from the cache; Whitehead {out['whitehead']:.4f}")
     for v, r in out["variants"].items():
-        if not r["tuned_settled"]:
-            print(f"  {v:12s} the tuned ring does not settle (amplitudes still move by {r['settle_max']:.1e}, "
-                  f"blades {r['tuned_spread']:.0e} apart): not periodic, no amplification")
-            continue
+        edge = " AT THE BAND'S EDGE" if r["tuned_peak_at_edge"] else ""
+        print(f"  {v:12s} tuned peak {r['tuned_peak_m']:.4e} m at {r['tuned_peak_rpm']:.0f} rpm{edge}; "
+              f"{r['unsettled_points']} of {r['points']} points not settled")
         for s, a in zip(out["levels"], np.array(r["amplification"], dtype=float)):
             ok = a[~np.isnan(a)]
-            print(f"  {v:12s} sigma {s:6.3f}: amplification mean {ok.mean():.4f}, max {ok.max():.4f}"
-                  + (f" ({len(a) - len(ok)} patterns did not settle)" if len(ok) < len(a) else ""))
-        print(f"  {v:12s} tuned amplitude {max(r['tuned']):.4e} m (blades within {r['tuned_spread']:.0e}), "
-              f"settled to {r['settle_max']:.1e}, {r['unsettled']} rings not settled")
-    print(f"  ShroudedBlade alone (rigid neighbour behind the gap): {out['single_blade']:.4e} m")
+            text = f"mean {ok.mean():.4f}, max {ok.max():.4f}" if len(ok) else "none settled"
+            print(f"  {v:12s} sigma {s:6.3f}: amplification {text}"
+                  + (f" ({len(a) - len(ok)} patterns without a settled point)" if len(ok) < len(a) else ""))
     print("figures:", ", ".join(out["files"]))

@@ -30,10 +30,11 @@ import numpy as np
 from harness.cli.simulate import parse_start_values
 from harness.fmu.slave import build_ring_fmus
 from harness.model.params import ParameterError
+from harness.outputs import check_dir, check_file
 from harness.studies import mistuning
 from harness.system import ring_c, ring_libcosim, ring_values, ssp
 from harness.system.ring import Ring, RingDiverged, amplitudes, harmonic, run as ring_run
-from harness.system.ring_sweep import DIRECTIONS, per_period_settling, sweep
+from harness.system.ring_sweep import DIRECTIONS, per_period_settling, period_step, sweep
 from harness.system.ring_values import max_blades
 
 MASTERS = ("fmpy", "c", "libcosim", "ecos")
@@ -41,17 +42,28 @@ EXTRAPOLATING = ("fmpy", "c")  # the masters that set input derivatives (ours)
 SETTLE_RTOL, SETTLE_PERIODS = 1e-4, 5  # the settle rule (harness/system/ring_sweep.py)
 
 
+class _Defaults(argparse.HelpFormatter):
+    """Shows an option's default where it has one (not for flags, None or an empty list)."""
+
+    def _get_help_string(self, action: argparse.Action) -> str:
+        text = action.help or ""
+        if action.default not in (None, False, [], argparse.SUPPRESS) and not action.required:
+            text += " (default: %(default)s)"
+        return text
+
+
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.formatter_class = argparse.ArgumentDefaultsHelpFormatter
+    p.formatter_class = _Defaults
     p.add_argument("--blades", type=int, required=True, metavar="N", help="number of blades, >= 2")
     p.add_argument("--speed", type=float, default=5000.0, metavar="RPM", help="rotor speed [rpm]")
     p.add_argument("--stop-time", type=float, default=0.1, metavar="S", help="simulated time [s] (one speed)")
     p.add_argument("--step", type=float, default=None, metavar="H",
-                   help="communication step [s] (None: 2.5e-5 s at one speed; over a band T/160 at each "
-                        "speed, whole ns. At 1e-4 s the friction ring is stable with linear extrapolation but 25 %% off "
-                        "and never settles, docs/model.md s.8)")
+                   help="communication step [s] (default: T/160 at each speed in whole ns, 2.5e-5 at 5000 rpm "
+                        "and EO 3; a step that is not a whole fraction of the period T makes the per-period "
+                        "amplitude jitter with the grid's phase. At 1e-4 s the friction ring is stable with linear "
+                        "extrapolation but 25 %% off and never settles, docs/model.md s.8)")
     p.add_argument("--order", type=int, default=None, choices=range(0, 4), metavar="P",
-                   help="fmpy and c masters: extrapolation order of the input derivatives, 0..3 (None: 2)")
+                   help="fmpy and c masters: extrapolation order of the input derivatives, 0..3 (default: 2)")
     p.add_argument("--master", choices=MASTERS, default="fmpy",
                    help="co-simulation master at one speed: fmpy, c (the same data flow, loop in C), libcosim, "
                         "ecos; a sweep runs on c")
@@ -62,7 +74,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                    help="relative standard deviation of the mistuned parameter, e.g. 0.02 (0: tuned)")
     p.add_argument("--mistuned-parameter", choices=("EI", "m0"), default="EI",
                    help="blade parameter scattered by --mistuning (EI: the bending stiffness)")
-    p.add_argument("--seed", type=int, default=1, help="mistuning pattern seed")
+    p.add_argument("--seed", type=int, default=1, metavar="S", help="mistuning pattern seed")
     g = p.add_argument_group("forced response over a speed band (the C loop, state carried)")
     g.add_argument("--speeds", type=float, nargs=2, default=None, metavar=("FROM", "TO"),
                    help="speed band [rpm]; replaces --speed and --stop-time")
@@ -87,17 +99,6 @@ def _speed_range() -> tuple[float, float]:
     return float(rs.min), float(rs.max)
 
 
-def _writable(option: str, path: str | None) -> None:
-    """A bad output path is a ParameterError naming it (before any work)."""
-    if path is None:
-        return
-    parent = Path(path).expanduser().absolute().parent
-    if not parent.is_dir():
-        raise ParameterError(f"{option} {path}: {parent} is not an existing directory")
-    if Path(path).is_dir():
-        raise ParameterError(f"{option} {path}: is a directory, not a file")
-
-
 def check(args: argparse.Namespace) -> None:
     """Every argument against its range, before any work; ParameterError names value and range."""
     nmax = max_blades()
@@ -120,8 +121,9 @@ def check(args: argparse.Namespace) -> None:
             raise ParameterError(f"--settle-rtol {args.settle_rtol!r} outside (0, 1)")
         if not (math.isfinite(args.max_time) and args.max_time > 0):
             raise ParameterError(f"--max-time {args.max_time!r} s must be > 0")
-        _writable("--csv", args.csv)
-        _writable("--plot", args.plot)
+        for option, path in (("--csv", args.csv), ("--plot", args.plot)):
+            if path is not None:
+                check_file(path, option)
     elif args.csv or args.plot:
         raise ParameterError("--csv and --plot write the curves of a sweep: give --speeds FROM TO")
     if not (math.isfinite(args.stop_time) and args.stop_time > 0):
@@ -130,16 +132,19 @@ def check(args: argparse.Namespace) -> None:
         raise ParameterError(f"--step {args.step!r} s outside (0, --stop-time = {args.stop_time:g}]")
     if not (math.isfinite(args.mistuning) and 0 <= args.mistuning <= 0.2):
         raise ParameterError(f"--mistuning {args.mistuning!r} outside [0, 0.2] (relative standard deviation)")
+    if args.write_ssp:
+        check_dir(args.write_ssp, "--write-ssp")
     if args.master not in EXTRAPOLATING and args.order not in (None, 0):
         raise ParameterError(f"--order {args.order}: only the fmpy and c masters extrapolate; libcosim and Ecos "
                              "hold inputs")
 
 
 def make_ring(args: argparse.Namespace):
-    step = args.step if args.step is not None else 2.5e-5
     order = (2 if args.order is None else args.order) if args.master in EXTRAPOLATING else 0
-    ring = Ring(n=args.blades, speed=args.speed, stop_time=args.stop_time, step=step, order=order)
+    ring = Ring(n=args.blades, speed=args.speed, stop_time=args.stop_time, step=args.step or 2.5e-5, order=order)
     ring = ring_values.apply(ring, parse_start_values(args.start_values))
+    if args.step is None:  # T/160: the grid keeps its phase to the excitation, period after period
+        ring = replace(ring, step=period_step(ring, ring.speed, 160))
     T = 60.0 / (ring.engine_order * ring.speed)
     if args.speeds is None and ring.n_steps * ring.step < T * (1 - 1e-9):
         raise ParameterError(f"--stop-time {args.stop_time:g} s shorter than one excitation period ({T:.6g} s):"
@@ -290,23 +295,33 @@ def plot_curves(path: str, r, tuned, title: str) -> None:
     matplotlib.use("Agg")  # straight to a PNG file
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(8, 5))
+    fig, ax = plt.subplots(figsize=(9, 5.5))
     styles = {"up": "-", "down": "--"}
+    colors = plt.get_cmap("tab10" if next(iter(r.amplitudes_m.values())).shape[1] <= 10 else "viridis")
     for d, a in r.amplitudes_m.items():
-        for i in range(a.shape[1]):
-            ax.plot(r.speeds_rpm, a[:, i] * 1e3, styles[d], marker=".", lw=1,
-                    label=f"blade {i} ({d})" if a.shape[1] <= 8 or i == 0 else None)
+        N = a.shape[1]
+        for i in range(N):
+            ax.plot(r.speeds_rpm, a[:, i] * 1e3, styles[d], marker=".", lw=1, color=colors(i / max(N - 1, 1)),
+                    label=f"blade {i}" if d == next(iter(r.amplitudes_m)) and (N <= 10 or i in (0, N - 1)) else None)
         bad = ~r.settled[d].all(axis=1)
         if bad.any():
             ax.plot(r.speeds_rpm[bad], a[bad].max(axis=1) * 1e3, "x", color="k", ms=7,
-                    label=f"not settled ({d})")
+                    label="not settled" if d == next(iter(r.amplitudes_m)) else None)
+    for d in r.amplitudes_m:
+        pts = [(x["speed_rpm"], max(x["amplitudes_m"])) for x in r.refinement if x["direction"] == d and x["settled"]]
+        if pts:
+            ax.plot(*np.array(pts).T * [[1], [1e3]], "o" if d == "up" else "s", ms=3, mfc="none", color="r",
+                    label=f"peak refinement ({d}), largest blade")
     if tuned is not None:
         for d, a in tuned.amplitudes_m.items():
             ax.plot(tuned.speeds_rpm, a.max(axis=1) * 1e3, styles[d], color="0.4", lw=2.5, alpha=0.6,
                     label=f"tuned ring, largest blade ({d})")
     if r.peak_direction:
         ax.plot([r.peak_speed_rpm], [r.peak_amplitude_m * 1e3], "*", color="red", ms=14,
-                label=f"peak {r.peak_amplitude_m * 1e3:.4f} mm at {r.peak_speed_rpm:.0f} rpm")
+                label=f"peak {r.peak_amplitude_m * 1e3:.4f} mm at {r.peak_speed_rpm:.0f} rpm ({r.peak_direction})")
+    if len(r.amplitudes_m) > 1:
+        ax.plot([], [], "k-", label="sweep up")
+        ax.plot([], [], "k--", label="sweep down")
     ax.set_xlabel("rotor speed [rpm]")
     ax.set_ylabel("blade amplitude max|q| [mm]")
     ax.set_title(title)

@@ -7,8 +7,8 @@ results (`make run` passes --out results); `reproduce` runs a chosen part of the
 extras: Fig. 2, 4/5, 6-9 (the studies as branches of periodic orbits with their stability), the
 section-4 Coulomb comparison and a Campbell diagram as PNG + CSV, summary.json and the claims
 table claims.md; then the bladed disk's mistuning study at size small (
-harness/studies/mistuning.py: <out>/mistuning/, cached per ring under <out>/cache/mistuning, so
-a second run reads it back). About 70 s on 2 cores (12 s with the ring cache warm).
+harness/studies/mistuning.py: <out>/mistuning/, each sweep over speed cached under
+<out>/cache/mistuning, so a second run reads it back; the study alone takes 1.5-4 min on 2 cores).
 """
 from __future__ import annotations
 

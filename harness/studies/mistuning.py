@@ -1,28 +1,27 @@
-"""Mistuning study of the ring: random blade-to-blade scatter of one blade parameter
-(EI, the bending stiffness, or m0, the shroud mass), relative standard deviation per level, patterns
-from a seeded generator; every pattern is one ring run (harness/system/ring_c.py) on the Runner
-(local process pool, or dask with a scheduler address), cached in its own file (PointCache), so a
+"""Mistuning study of the ring over a speed band: random blade-to-blade scatter of one blade
+parameter (EI, the bending stiffness, or m0, the shroud mass), relative standard deviation per
+level, patterns from a seeded generator. Every (variant, pattern) is one task: the ring's forced
+response at `points` speeds across the band (harness/system/ring_sweep.py), run on the Runner (local
+process pool, or dask with a scheduler address) and cached in its own file (PointCache), so a
 killed study resumes where it stopped.
 
-Amplification of a pattern = largest blade amplitude (max |q| over the last excitation period) /
-the tuned ring's blade amplitude at the same speed, the speed being the tuned ring's resonance with
-the contacts open (EO n / 60 = contact-free first bending frequency, Campbell crossing, from the
-Galerkin reduction, harness.model.galerkin). Compared with Whitehead's bound (1 + sqrt(N)) / 2, a
-theorem for linear rings with light damping. Variants: `friction` (the contacts as given),
+Amplification of a pattern = max over the band of the mistuned ring's largest blade amplitude /
+max over the band of the tuned ring's, both from the same sweep. The band, 0.8x to 3x the
+contact-free Campbell crossing (EO n / 60 = first bending frequency, 4966 rpm at EO 3; Galerkin
+reduction, harness.model.galerkin), contains the response the shroud contacts stiffen and move
+upwards: swept up, the tuned 6-blade ring leaves its travelling wave between 5500 and 6000 rpm
+for a localised state that grows to 4.30e-5 m at 13574 rpm and falls back to the wave (3.8e-6 m)
+by 14000 rpm. A point whose ring did not settle is flagged and left out of the maxima. Compared with Whitehead's bound (1 + sqrt(N)) / 2,
+a theorem for linear rings with light damping. Variants: `friction` (the contacts as given),
 `frictionless` (mu = 0: the shrouds impact, no friction) and `open` (d = 1 m: the contacts never
-close, the blades are uncoupled). A ring that does not settle has no amplification (NaN), and a
-variant whose tuned ring does not settle has none at all (its response is not periodic).
+close, the blades are uncoupled).
 
-Numerics (docs/model.md s.8): every ring runs through the C communication loop
-(harness/system/ring_c.py) at h = T / 160 = 2.5e-5 s with quadratic extrapolation (error 1e-3 of
-max |q| against the monolithic reference). At h = 1e-4 s (linear extrapolation, stable but 25 % off) the
-coupling's energy error makes the friction ring wander by 10-30 % from period to period and never
-settle, tuned or not; at 2.5e-5 s it settles to 1e-4 within 0.1 s. Each record keeps `settle`, the
-largest relative change of a blade amplitude between the last period and the period five periods
-(20 ms, about one decay time 2 M / C0) earlier; the study reports the worst. h divides the
-excitation period T, so every period is sampled at the same phases: max |q| over the communication
-points carries the same sampling error (up to ~3e-3 where an impact sharpens the peak) in every
-period, and `settle` sees the motion, not the sampling.
+Numerics: each task is one sweep up the band (harness/system/ring_sweep.py): the C
+communication loop from rest at the lowest speed, the state carried from speed to speed, h = T / 160
+at each speed with quadratic extrapolation (error ~1e-3 of max |q| against the monolithic
+reference), every blade settled when its per-period amplitude changes by less than `rtol` of the
+largest over 5 periods (at most `max_time` s per speed, else flagged), and the peak located by
+refinement to `speed_tol` rpm.
 """
 from __future__ import annotations
 
@@ -38,33 +37,35 @@ from fmpy import read_model_description
 import numpy as np
 
 from harness.analysis.executor import PointCache, point_key
-from harness.fmu.blade import BladeFMU
 from harness.fmu.build import EXCITATION_FMU
 from harness.fmu.slave import build_ring_fmus
-from harness.model.excitation import AeroLoad
 from harness.model.galerkin import galerkin
-from harness.system.ring import Ring, amplitudes
-from harness.system import ring_c
+from harness.system.ring import Ring
+from harness.system import ring_sweep
 from harness.system.ring_values import settable
 
 PARAMETERS = ("EI", "m0")  # the blade parameters a pattern scatters
 # contact parameters on top of the ring's
 VARIANTS = {"friction": {}, "frictionless": {"mu": 0.0}, "open": {"d": 1.0}}
-CACHE_VERSION = 2  # bump when the meaning of a cached record changes
+CACHE_VERSION = 3  # bump when the meaning of a cached record changes (3: a record is a sweep over speed)
+CROSSING_BAND = (0.8, 3.0)  # the band, as multiples of the contact-free crossing (3973-14898 rpm at EO 3)
 
 
 @dataclass(frozen=True)
 class Study:
     n: int = 6
-    levels: tuple[float, ...] = (0.005, 0.01, 0.02, 0.05)  # relative standard deviations
-    patterns: int = 100
+    levels: tuple[float, ...] = (0.02, 0.05)  # relative standard deviations
+    patterns: int = 10
     parameter: str = "EI"
     seed: int = 1
-    variants: tuple[str, ...] = ("friction", "frictionless")
-    stop_time: float = 0.15  # [s] (transient 2 M / C0 = 0.022 s at c = 298 N s/m2)
-    steps_per_period: int = 160  # h = T / 160 (2.5e-5 s at 4966 rpm): every period sampled at the same phases
+    variants: tuple[str, ...] = ("friction",)
+    points: int = 23  # speeds across the band (0.1x the crossing apart: the crossing is one of them)
+    band: tuple[float, float] | None = None  # [rpm]; None: CROSSING_BAND x the contact-free crossing
+    rtol: float = 1e-4  # settled: per-period change of every blade amplitude / the largest, over 5 periods
+    max_time: float = 1.0  # [s] at most at one speed (decay time 2 M / C0 = 0.022 s at c = 298 N s/m2)
+    speed_tol: float = 10.0  # [rpm] the peak's location
+    steps_per_period: int = 160  # h = T / 160 at each speed: every period sampled at the same phases
     order: int = 2  # extrapolation order of the input derivatives
-    speed: float | None = None  # [rpm]; None: the tuned resonance
     engine_order: int = 3
     fw0: float = 300.0
     blade: dict = field(default_factory=lambda: {"c": 298.0})
@@ -72,10 +73,11 @@ class Study:
 
 
 SIZES = {
-    # `make run`: 802 rings of 6 blades, 0.15 s each
+    # `make run`: 6 blades, 2 levels x 10 patterns + the tuned ring: 21 sweeps of 23 speeds
     "small": Study(),
-    # a cluster: 24 blades, the open (uncoupled) rings too
-    "cluster": Study(n=24, variants=("friction", "frictionless", "open")),
+    # a cluster: 24 blades, 4 levels x 100 patterns, the frictionless and open rings too, 45 speeds
+    "cluster": Study(n=24, levels=(0.005, 0.01, 0.02, 0.05), patterns=100, points=45,
+                     variants=("friction", "frictionless", "open")),
 }
 
 
@@ -98,6 +100,19 @@ def resonance_speed(blade: dict, engine_order: int) -> float:
     Omega^2 (EO^2 M - K0omega2) = K0static (Galerkin reduction, harness/model/galerkin.py)."""
     g = galerkin({k: v for k, v in blade.items() if k in ("EI", "rho", "A", "l", "c", "m0", "formulation")})
     return math.sqrt(g.K0static / (engine_order ** 2 * g.M - g.K0omega2)) * 60 / (2 * math.pi)
+
+
+def band(study: Study) -> tuple[float, float]:
+    """The speed band [rpm]: the study's, or CROSSING_BAND times the contact-free crossing."""
+    if study.band is not None:
+        return study.band
+    n0 = resonance_speed(study.blade, study.engine_order)
+    return CROSSING_BAND[0] * n0, CROSSING_BAND[1] * n0
+
+
+def speeds(study: Study) -> np.ndarray:
+    """The `points` speeds [rpm], evenly spaced across the band."""
+    return np.linspace(*band(study), study.points)
 
 
 @functools.lru_cache(maxsize=None)
@@ -124,25 +139,9 @@ def mistuned(ring: Ring, parameter: str, f: Sequence[float]) -> Ring:
 
 
 def tuned_ring(study: Study, variant: str) -> Ring:
-    speed = study.speed or resonance_speed(study.blade, study.engine_order)
-    period = 60 / (study.engine_order * speed)
-    step = round(period / study.steps_per_period * 1e9) * 1e-9  # whole nanoseconds (libcosim's grid)
-    return Ring(n=study.n, engine_order=study.engine_order, speed=speed, fw0=study.fw0, blade=dict(study.blade),
-                contact={**study.contact, **VARIANTS[variant]}, step=step, stop_time=study.stop_time,
-                order=study.order)
-
-
-def single_blade_amplitude(study: Study, stop_time: float = 0.3) -> float:
-    """ShroudedBlade alone (its built-in Jenkins contact: a rigid neighbour behind the gap d) at the
-    study's speed, load and damping, run from rest: max |q| over the last period [m]."""
-    speed = study.speed or resonance_speed(study.blade, study.engine_order)
-    T = 60 / (study.engine_order * speed)
-    p = {**study.blade, "Fw0": study.fw0, "engineOrder": study.engine_order, "frictionModel": 3}
-    with BladeFMU() as f:
-        r = f.run(p, stop_time, T / study.steps_per_period, aero=AeroLoad(study.fw0, study.engine_order, speed),
-                  speed=speed, outputs=["tipDisplacement"])
-    t, q = r["time"], r["tipDisplacement"]
-    return float(np.abs(q[t >= t[-1] - T - 1e-12]).max())
+    """The tuned ring of `variant` (the sweep sets its speed and step at each point)."""
+    return Ring(n=study.n, engine_order=study.engine_order, speed=band(study)[0], fw0=study.fw0,
+                blade=dict(study.blade), contact={**study.contact, **VARIANTS[variant]}, order=study.order)
 
 
 def _fmu_digest() -> str:
@@ -153,85 +152,106 @@ def _fmu_digest() -> str:
     return h.hexdigest()
 
 
-SETTLE_PERIODS = 5  # the amplitude is compared with the one this many periods earlier
-SETTLE_TOL = 1e-3  # a run whose amplitudes still move more than this is run twice as long ...
-SETTLE_DOUBLINGS = 3  # ... at most this many times (then it is reported as it is)
+def sweep(ring: Ring, speeds_rpm: Sequence[float], study: Study) -> dict:
+    """The ring's forced response swept up the speeds (harness/system/ring_sweep.py) as a JSON-able
+    record: speeds_rpm (K), amplitudes_m, settled and movement (K x N), the located peak
+    (peak_amplitude_m, peak_speed_rpm; NaN if no speed settled; peak_blades_m: every blade there),
+    simulated time."""
+    sw = ring_sweep.sweep(ring, speeds_rpm, "up", rtol=study.rtol, max_time=study.max_time,
+                          steps_per_period=study.steps_per_period, speed_tol=study.speed_tol)
+    at_peak = [e["amplitudes_m"] for e in sw.refinement if e["speed_rpm"] == sw.peak_speed_rpm]
+    at_peak += [a.tolist() for s, a in zip(sw.speeds_rpm, sw.amplitudes_m["up"]) if s == sw.peak_speed_rpm]
+    return {"speeds_rpm": sw.speeds_rpm.tolist(), "amplitudes_m": sw.amplitudes_m["up"].tolist(),
+            "settled": sw.settled["up"].tolist(), "movement": sw.movement["up"].tolist(),
+            "peak_amplitude_m": float(sw.peak_amplitude_m), "peak_speed_rpm": float(sw.peak_speed_rpm),
+            "peak_at_band_edge": bool(sw.peak_at_band_edge), "peak_blades_m": at_peak[0] if at_peak else None,
+            "simulated_s": float(sw.time_at_speed_s["up"].sum())}
 
 
-def simulate(ring: Ring) -> dict:
-    """One ring run (C loop): the steady amplitude of every blade [m], `settle`, the largest
-    relative change of a blade amplitude over the last SETTLE_PERIODS periods, and the simulated
-    time it took (doubled from ring.stop_time while settle > SETTLE_TOL)."""
-    for _ in range(SETTLE_DOUBLINGS + 1):
-        res = ring_c.run(ring)
-        t, q = res["time"], res["q"]
-        a = amplitudes(t, q, ring.omega)
-        back = t <= t[-1] - SETTLE_PERIODS * 2 * math.pi / ring.omega + 1e-12
-        settle = float(np.max(np.abs(a - amplitudes(t[back], q[back], ring.omega))) / np.max(a))
-        if settle <= SETTLE_TOL:
-            break
-        ring = replace(ring, stop_time=2 * ring.stop_time)
-    return {"amplitudes": [float(x) for x in a], "settle": settle, "stop_time": ring.stop_time}
-
-
-def _task(job: tuple[Ring, str, str | None]) -> dict:
-    """One pattern on a worker: run, store in the cache at once (atomic file), return the record."""
-    ring, key, cache_dir = job
-    t0 = time.perf_counter()
-    rec = {**simulate(ring), "wall_s": time.perf_counter() - t0}
-    PointCache(Path(cache_dir) if cache_dir else None).put(key, rec)
+def _task(job: tuple[Ring, list[float], Study, str, str | None]) -> dict:
+    """One (variant, pattern) sweep on a worker: run, store in the cache at once (atomic file),
+    return the record. A record already in the cache is returned as it is (dask recomputes a
+    finished task whose result died with its worker: that costs a file read, not a sweep)."""
+    ring, sp, study, key, cache_dir = job
+    cache = PointCache(Path(cache_dir) if cache_dir else None)
+    rec = cache.get(key)
+    if rec is None:
+        t0, c0 = time.perf_counter(), time.process_time()
+        rec = {**sweep(ring, sp, study), "wall_s": time.perf_counter() - t0,
+               "cpu_s": time.process_time() - c0}
+        cache.put(key, rec)
     return rec
 
 
 def _variant(study: Study, recs: list[tuple[int, int, dict]]) -> dict:
-    """One variant's results from its (level index or -1 for tuned, pattern, record) triples. A ring
-    that did not settle (settle > SETTLE_TOL after the doublings) has no steady amplitude: its
-    amplification is NaN, and if the tuned ring did not settle, every amplification of the variant
-    is (the response is not periodic: no amplification factor exists)."""
-    tuned_rec = next(r for li, _, r in recs if li == -1)
-    tuned, ref = tuned_rec["amplitudes"], max(tuned_rec["amplitudes"])
-    amps = np.full((len(study.levels), study.patterns, study.n), np.nan)
-    settled = np.zeros((len(study.levels), study.patterns), dtype=bool)
+    """One variant's results from its (level index or -1 for tuned, pattern, sweep record)
+    triples. A pattern without a settled point has no amplification (NaN); if the tuned ring has
+    none, no pattern has."""
+    tuned = next(r for li, _, r in recs if li == -1)
+    ref = tuned["peak_amplitude_m"]
+    K = len(tuned["speeds_rpm"])
+    curves = np.full((len(study.levels), study.patterns, K, study.n), np.nan)
+    peaks = np.full((len(study.levels), study.patterns), np.nan)
+    peak_speeds = np.full_like(peaks, np.nan)
+    at_peak = np.full((len(study.levels), study.patterns, study.n), np.nan)
     for li, k, r in recs:
         if li >= 0:
-            amps[li, k] = r["amplitudes"]
-            settled[li, k] = r["settle"] <= SETTLE_TOL
-    tuned_settled = tuned_rec["settle"] <= SETTLE_TOL
-    amplification = np.where(settled & tuned_settled, amps.max(axis=2) / ref, np.nan)
-    return {"tuned": tuned, "tuned_spread": (max(tuned) - min(tuned)) / ref, "tuned_settled": tuned_settled,
-            "amplitudes": amps.tolist(), "amplification": amplification.tolist(),
-            "unsettled": int((~settled).sum()) + (0 if tuned_settled else 1),
-            "settle_max": max(r["settle"] for *_, r in recs)}
+            curves[li, k] = r["amplitudes_m"]
+            peaks[li, k], peak_speeds[li, k] = r["peak_amplitude_m"], r["peak_speed_rpm"]
+            if r["peak_blades_m"] is not None:
+                at_peak[li, k] = r["peak_blades_m"]
+    return {"tuned": tuned["amplitudes_m"], "tuned_settled": tuned["settled"],
+            "tuned_peak_m": ref, "tuned_peak_rpm": tuned["peak_speed_rpm"],
+            "tuned_peak_at_edge": bool(tuned["peak_at_band_edge"]), "tuned_peak_blades": tuned["peak_blades_m"],
+            "amplitudes": curves.tolist(), "peak_m": peaks.tolist(), "peak_rpm": peak_speeds.tolist(),
+            "peak_blades": at_peak.tolist(),
+            "amplification": (peaks / ref).tolist(),
+            "unsettled_points": int(sum((~np.array(r["settled"])).any(axis=1).sum() for *_, r in recs)),
+            "points": len(recs) * K,
+            "movement_max": max(float(np.max(r["movement"])) for *_, r in recs)}
 
 
-def run_study(study: Study, runner: Any, cache_dir: Path | None) -> dict:
-    """Every (variant, level, pattern) ring, cached ones read, the rest on `runner`; returns the
-    tuned amplitudes, the amplitudes and amplifications per pattern, and how many were computed."""
-    cache = PointCache(cache_dir)
-    digest = _fmu_digest()
-    jobs: list[tuple[str, int, int, Ring]] = []  # (variant, level index or -1 for tuned, pattern, ring)
+def jobs(study: Study) -> list[tuple[str, int, int, Ring]]:
+    """Every (variant, level index or -1 for tuned, pattern, ring) of the study."""
+    out = []
     for v in study.variants:
         base = tuned_ring(study, v)
-        jobs.append((v, -1, 0, base))
+        out.append((v, -1, 0, base))
         for li, sigma in enumerate(study.levels):
             for k in range(study.patterns):
-                jobs.append((v, li, k, mistuned(base, study.parameter, factors(study.n, sigma, study.seed, k))))
-    keys = [point_key(kind="ring-mistuning", version=CACHE_VERSION, fmus=digest, ring=asdict(r)) for *_, r in jobs]
+                out.append((v, li, k, mistuned(base, study.parameter, factors(study.n, sigma, study.seed, k))))
+    return out
+
+
+def run_study(study: Study, runner: Any, cache_dir: Path | None, task: Any = None) -> dict:
+    """Every (variant, level, pattern) sweep, cached ones read, the rest on `runner` (each a call of
+    `task`, default `_task`); returns the tuned curves, the curves, peaks and amplifications per
+    pattern, and how many were computed."""
+    cache = PointCache(cache_dir)
+    digest = _fmu_digest()
+    sp = [float(s) for s in speeds(study)]
+    todo_jobs = jobs(study)
+    numerics = {k: getattr(study, k) for k in ("rtol", "max_time", "speed_tol", "steps_per_period")}
+    keys = [point_key(kind="ring-mistuning-sweep", version=CACHE_VERSION, fmus=digest, ring=asdict(r), speeds=sp,
+                      **numerics) for *_, r in todo_jobs]
     records: dict[int, dict] = {}
     for i, key in enumerate(keys):
         rec = cache.get(key)
         if rec is not None:
             records[i] = rec
-    todo = [i for i in range(len(jobs)) if i not in records]
+    todo = [i for i in range(len(todo_jobs)) if i not in records]
     cdir = str(cache_dir) if cache_dir else None
-    for i, rec in zip(todo, runner.map(_task, [(jobs[i][3], keys[i], cdir) for i in todo],
-                                       desc="mistuning", unit="ring")):
+    t0 = time.perf_counter()
+    for i, rec in zip(todo, runner.map(task or _task, [(todo_jobs[i][3], sp, study, keys[i], cdir)
+                                               for i in todo], desc="mistuning", unit="sweep")):
         records[i] = rec
     out: dict[str, Any] = {"n": study.n, "levels": list(study.levels), "patterns": study.patterns,
                            "parameter": study.parameter, "seed": study.seed, "whitehead": whitehead(study.n),
-                           "speed_rpm": jobs[0][3].speed, "computed": len(todo), "cached": len(jobs) - len(todo),
-                           "single_blade": single_blade_amplitude(study),
-                           "variants": {}}
+                           "speeds_rpm": sp, "crossing_rpm": resonance_speed(study.blade, study.engine_order),
+                           "computed": len(todo), "cached": len(todo_jobs) - len(todo),
+                           "wall_s": time.perf_counter() - t0,
+                           "task_wall_s": sum(records[i]["wall_s"] for i in todo),
+                           "task_cpu_s": sum(records[i].get("cpu_s", math.nan) for i in todo), "variants": {}}
     for v in study.variants:
-        out["variants"][v] = _variant(study, [(j[1], j[2], records[i]) for i, j in enumerate(jobs) if j[0] == v])
+        out["variants"][v] = _variant(study, [(j[1], j[2], records[i]) for i, j in enumerate(todo_jobs) if j[0] == v])
     return out

@@ -1,8 +1,9 @@
 """Figures of the mistuning study (harness/studies/mistuning.py), each a PNG with its CSV:
-amplitude per blade around the disk (the worst pattern of the largest level against the tuned ring),
-amplification vs mistuning level (mean, max, Whitehead's bound), histogram of the amplification at
-the largest level. Rings that did not settle (amplification NaN) are left out of the curves and
-the histogram, and kept as NaN in the CSVs."""
+amplitude vs speed (the tuned ring's largest blade and the worst pattern's, every blade of the
+worst pattern thin), amplitude per blade around the disk at each ring's peak speed, amplification
+vs mistuning level (mean and max, Whitehead's bound), histogram of the amplification at the
+largest level. Points that did not settle are drawn hollow and left out of the peaks; patterns
+without a settled point (amplification NaN) are left out of the curves and kept as NaN in the CSVs."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -14,44 +15,75 @@ import numpy as np
 from harness.analysis.executor import write_csv
 
 matplotlib.use("Agg")  # figures go straight to PNG files: no display
+COLOURS = ("tab:blue", "tab:orange", "tab:green")  # one per variant, in every figure
+
+
+def _worst(r: dict) -> tuple[int, np.ndarray]:
+    """(pattern index, its K x N curves) of the largest amplification at the largest level."""
+    a = np.array(r["amplification"], dtype=float)[-1]
+    k = int(np.nanargmax(a)) if np.isfinite(a).any() else 0
+    return k, np.array(r["amplitudes"], dtype=float)[-1, k]
 
 
 def write(out: dict, directory: Path) -> list[Path]:
     d = Path(directory)
     d.mkdir(parents=True, exist_ok=True)
-    n, levels, V = out["n"], out["levels"], out["variants"]
+    n, levels, V, sp = out["n"], out["levels"], out["variants"], np.array(out["speeds_rpm"])
+    sigma = f"sigma = {levels[-1]:g} ({out['parameter']})"
     files = []
 
-    # amplitude per blade around the disk
-    fig, ax = plt.subplots(figsize=(6, 4))
+    # amplitude vs speed: tuned against the worst pattern
+    fig, ax = plt.subplots(figsize=(7, 4.5))
     rows = []
-    for v, r in V.items():
-        amp = np.array(r["amplitudes"])[-1]
-        k = int(np.argmax(amp.max(axis=1)))
-        note = "" if r.get("tuned_settled", True) else ", not periodic"
-        ax.plot(range(n), amp[k] * 1e3, "o-", label=f"{v}: worst pattern ({k}{note})")
-        ax.plot(range(n), np.array(r["tuned"]) * 1e3, "k--", lw=0.8)
-        rows += [(v, i, r["tuned"][i], amp[k, i]) for i in range(n)]
-    ax.set(xlabel="blade", ylabel="max |q| [mm]", title=f"sigma = {levels[-1]:g} ({out['parameter']}), dashed: tuned")
-    ax.legend()
-    files += _save(fig, d / "mistuning_blades", rows,
-                   [("variant", "U12"), ("blade", "i4"), ("tuned_m", "f8"), ("mistuned_m", "f8")])
+    for c, (v, r) in zip(COLOURS, V.items()):
+        k, worst = _worst(r)
+        tuned, ok_t = np.array(r["tuned"]), np.array(r["tuned_settled"])
+        ax.plot(sp, worst * 1e3, color=c, lw=0.5, alpha=0.5)
+        _curve(ax, sp, tuned.max(axis=1), ok_t.all(axis=1), c, "--", "s", f"{v}: tuned, largest blade")
+        ok_w = ~np.isnan(worst).any(axis=1)
+        _curve(ax, sp, worst.max(axis=1), ok_w, c, "-", "o", f"{v}: worst pattern ({k}), largest blade")
+        rows += [(v, s, tuned[i].max(), int(ok_t[i].all()), k, worst[i].max()) for i, s in enumerate(sp)]
+    ax.axvline(out["crossing_rpm"], color="grey", lw=0.8, ls=":", label="contact-free crossing")
+    ax.set(xlabel="rotor speed [rpm]", ylabel="max |q| [mm]", title=f"N = {n}, {sigma}; thin: every blade of the worst")
+    ax.legend(fontsize=8)
+    files += _save(fig, d / "mistuning_response", rows,
+                   [("variant", "U12"), ("speed_rpm", "f8"), ("tuned_m", "f8"), ("tuned_settled", "i4"),
+                    ("worst_pattern", "i4"), ("worst_m", "f8")])
 
-    # amplification vs level
+    # amplitude per blade around the disk, each ring at its own (located) peak speed
     fig, ax = plt.subplots(figsize=(6, 4))
     rows = []
-    for v, r in V.items():
-        a = np.array(r["amplification"], dtype=float)  # NaN: a ring that did not settle
+    for c, (v, r) in zip(COLOURS, V.items()):
+        k, _ = _worst(r)
+        worst = np.array(r["peak_blades"], dtype=float)[-1, k]
+        w_rpm = r["peak_rpm"][-1][k]
+        tuned = np.array(r["tuned_peak_blades"] or [np.nan] * n, dtype=float)
+        ax.plot(range(n), worst * 1e3, "o-", color=c, label=f"{v}: worst pattern {k} at {w_rpm:.0f} rpm")
+        ax.plot(range(n), tuned * 1e3, "s--", color=c, mfc="none", lw=1.0,
+                label=f"{v}: tuned at {r['tuned_peak_rpm']:.0f} rpm")
+        rows += [(v, i, r["tuned_peak_rpm"], tuned[i], w_rpm, worst[i]) for i in range(n)]
+    ax.set(xlabel="blade", ylabel="max |q| [mm]", title=f"{sigma}: at each ring's peak speed")
+    ax.legend(fontsize=8)
+    files += _save(fig, d / "mistuning_blades", rows,
+                   [("variant", "U12"), ("blade", "i4"), ("tuned_rpm", "f8"), ("tuned_m", "f8"),
+                    ("mistuned_rpm", "f8"), ("mistuned_m", "f8")])
+
+    # amplification vs level: filled markers the max, hollow the mean, one colour per variant
+    fig, ax = plt.subplots(figsize=(6, 4))
+    rows = []
+    for j, (c, (v, r)) in enumerate(zip(COLOURS, V.items())):
+        a = np.array(r["amplification"], dtype=float)  # NaN: no settled point
         if np.all(np.isnan(a)):
-            ax.plot([], [], " ", label=f"{v}: not periodic (tuned ring does not settle)")
+            ax.plot([], [], " ", label=f"{v}: no settled point")
             continue
         with np.errstate(all="ignore"):
             hi, mean, lo = np.nanmax(a, axis=1), np.nanmean(a, axis=1), np.nanmin(a, axis=1)
-        ax.plot(levels, hi, "o-", label=f"{v}: max")
-        ax.plot(levels, mean, "s:", label=f"{v}: mean")
+        ax.plot(levels, hi, "o-", color=c, label=f"{v}: max")
+        ax.plot(levels, mean, ("s", "D", "^")[j] + ":", color=c, mfc="none", ms=9 - 2 * j, label=f"{v}: mean")
         rows += [(v, s, mean[i], hi[i], lo[i]) for i, s in enumerate(levels)]
     ax.axhline(out["whitehead"], color="r", label=f"Whitehead (1 + sqrt({n})) / 2")
-    ax.set(xlabel="relative standard deviation", ylabel="amplification", title=f"N = {n}, {out['patterns']} patterns")
+    ax.set(xlabel="relative standard deviation", ylabel="amplification (peak over the band / tuned peak)",
+           title=f"N = {n}, {out['patterns']} patterns, {sp[0]:.0f}-{sp[-1]:.0f} rpm")
     ax.legend(fontsize=8)
     files += _save(fig, d / "mistuning_amplification", rows,
                    [("variant", "U12"), ("sigma", "f8"), ("mean", "f8"), ("max", "f8"), ("min", "f8")])
@@ -59,16 +91,24 @@ def write(out: dict, directory: Path) -> list[Path]:
     # histogram at the largest level
     fig, ax = plt.subplots(figsize=(6, 4))
     rows = []
-    for v, r in V.items():
+    for c, (v, r) in zip(COLOURS, V.items()):
         a = np.array(r["amplification"], dtype=float)[-1]
         ok = ~np.isnan(a)
         if ok.any():
-            ax.hist(a[ok], bins=max(5, int(ok.sum()) // 5), alpha=0.6, label=v)
-        rows += [(v, k, x) for k, x in enumerate(a)]
-    ax.set(xlabel="amplification", ylabel="patterns", title=f"sigma = {levels[-1]:g}")
+            ax.hist(a[ok], bins=max(5, int(ok.sum()) // 5), alpha=0.6, color=c, label=v)
+        rows += [(v, k, x, r["peak_rpm"][-1][k]) for k, x in enumerate(a)]
+    ax.set(xlabel="amplification", ylabel="patterns", title=sigma)
     ax.legend()
-    files += _save(fig, d / "mistuning_histogram", rows, [("variant", "U12"), ("pattern", "i4"), ("amplification", "f8")])
+    files += _save(fig, d / "mistuning_histogram", rows,
+                   [("variant", "U12"), ("pattern", "i4"), ("amplification", "f8"), ("peak_rpm", "f8")])
     return files
+
+
+def _curve(ax, x, y, settled, colour, ls, marker, label) -> None:
+    """A curve with its settled points filled and the others hollow."""
+    ax.plot(x, y * 1e3, ls, color=colour, label=label)
+    ax.plot(x[settled], y[settled] * 1e3, marker, color=colour, ms=4, ls="none")
+    ax.plot(x[~settled], y[~settled] * 1e3, marker, color=colour, mfc="none", ms=6, ls="none")
 
 
 def _save(fig, stem: Path, rows: list, dtype: list) -> list[Path]:

@@ -248,4 +248,5 @@ def amplitudes(time: np.ndarray, q: np.ndarray, omega: float) -> np.ndarray:
 
 if __name__ == "__main__":  # the former second entry point: one ring command
     import sys
-    sys.exit("the ring command is `python -m harness ring --blades N ...` (see its --help)")
+    print("error: the ring command is `python -m harness ring --blades N ...` (see its --help)", file=sys.stderr)
+    sys.exit(2)
