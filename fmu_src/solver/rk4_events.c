@@ -287,8 +287,8 @@ SOLVER_INLINE void storeX(DynState *s, const double x[SOLVER_NX], const int ext,
 /* dst = src on the integrated entries (the blade's, W if ext, the modes if multi) */
 SOLVER_INLINE void copyX(double dst[SOLVER_NX], const double src[SOLVER_NX], const int ext, const int multi)
 {
-    const int nx = multi ? DYN_NX_MAX : DYN_NX;
-    for (int i = 0; i < nx; ++i) dst[i] = src[i];
+    if (multi) memcpy(dst, src, DYN_NX_MAX * sizeof(double));
+    else memcpy(dst, src, DYN_NX * sizeof(double));
     if (ext) dst[SOLVER_W] = src[SOLVER_W];
 }
 
