@@ -205,7 +205,7 @@ void dynRhsModes(const DynModel *m, double load, double Omega, double F, const d
 {
     const int n = m->modes, e = DYN_NX - 1, r = DYN_X_RATES - 1; /* y_k = x[e + k], y'_k = x[r + k], k >= 1 */
     const double O2 = Omega * Omega;
-    double y[MODES_MAX], yv[MODES_MAX], a[MODES_MAX], power = 0.0;
+    double y[MODES_MAX] = {0.0}, yv[MODES_MAX] = {0.0}, a[MODES_MAX] = {0.0}, power = 0.0;
     y[0] = x[0];
     yv[0] = x[1];
     for (int k = DYN_NX; k < DYN_NX_MAX; ++k) f[k] = 0.0;
