@@ -534,7 +534,8 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--output-file", default=str(BENCH_DIR / "RESULTS.md"), metavar="MD",
                    help="where to write the results (default bench/RESULTS.md)")
     p.add_argument("--only", choices=("ring",),
-                   help="measure only this section and keep the others from the output file's .json (default: all sections)")
+                   help="measure only this section and keep the others from the output file's .json "
+                        "(default: every section)")
     p.add_argument("--only-modes", action="store_true",
                    help="measure only the cost per RK4 step vs the number of modes and write that section")
 

@@ -27,13 +27,30 @@ def harness(*args: str, cwd: Path = REPO) -> subprocess.CompletedProcess:
     (["simulate", "--fmu", "{fmu}", "--run-up", "4000", "50000", "0", "0.01", "--stop-time", "0.02"],
      "rotorSpeed = 50000 rpm"),
     (["simulate", "--no-such-option"], "unrecognized arguments"),
+    (["simulate", "--fmu", "{real}", "--output-variables", "tipDisp"], "unknown output(s) ['tipDisp']"),
+    (["simulate", "--fmu", "{fmu}", "--derivative-order", "9"], "--derivative-order: invalid choice: 9"),
     (["frobnicate"], "unknown command 'frobnicate'"),
+    # the other commands: every bad value and name is named as the user typed it
+    (["periodic", "--fmu", "{fmu}", "--speed", "0"], "--speed 0.0 rpm"),
+    (["periodic", "--fmu", "{fmu}", "--speed", "7000", "--start-values", "bogus", "1"], "unknown parameter 'bogus' (from --start-values)"),
+    (["periodic", "--fmu", "{fmu}", "--speed", "7000", "--model", "x"], "--model: invalid choice: 'x'"),
+    (["continue", "--fmu", "{fmu}", "--speed-range", "0", "5"], "--speed-range 0.0 5.0 rpm"),
+    (["continue", "--fmu", "{fmu}", "--start-values", "kn", "nan"], "kn = 'nan' (from --start-values)"),
+    (["continue", "--fmu", "{fmu}", "--seed-step", "-5"], "--seed-step -5.0 rpm"),
+    (["sweep", "--fmu", "{fmu}", "--speeds", "3000:1000:100"], "'3000:1000:100'"),
+    (["sweep", "--fmu", "{fmu}", "--max-time", "-1"], "--max-time -1.0 must be > 0"),
+    (["sweep", "--fmu", "{fmu}", "--steps-per-period", "1"], "--steps-per-period 1 must be >= 2"),
+    (["sweep", "--fmu", "{fmu}", "--start-values", "gamma", "2"], "gamma = '2' rad (from --start-values)"),
+    (["reproduce", "--studies", "gapp"], "--studies: invalid choice: 'gapp'"),
+    (["run", "--size", "huge"], "--size: invalid choice: 'huge'"),
+    (["validate", "--max-step", "1"], "maxStep = 1.0 s is out of range"),
 ])
-def test_user_errors_are_one_line(args, expect, tmp_path):
+def test_user_errors_are_one_line(args, expect, tmp_path, fmu_path):
     # an existing file that is never opened as an FMU: every error here must come before that
+    # ({real}: the error is about the FMU's own variables, so the real FMU is needed)
     fake = tmp_path / "never-loaded.fmu"
     fake.write_bytes(b"not an FMU")
-    proc = harness(*[a.replace("{fmu}", str(fake)) for a in args], cwd=tmp_path)
+    proc = harness(*[a.replace("{fmu}", str(fake)).replace("{real}", str(fmu_path)) for a in args], cwd=tmp_path)
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1, proc.stderr

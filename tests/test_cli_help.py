@@ -10,7 +10,7 @@ import pytest
 from harness.cli.main import COMMANDS, _Parser
 from harness.paths import IN_CHECKOUT
 
-OWN = ["simulate", "periodic", "continue", "sweep", "run", "reproduce", "validate", "crosscheck", "bench"]
+OWN = ["simulate", "periodic", "continue", "sweep", "run", "reproduce", "validate", "crosscheck", "bench", "ring"]
 
 
 def _options(command: str) -> list[argparse.Action]:

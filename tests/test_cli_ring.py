@@ -7,7 +7,8 @@
   engineOrder), run here without the ring master, within 1e-12 relative, through the Python loop
   (`--master fmpy`) and the C loop (`--master c`), at h = 1e-4 s, order 1;
 - bad values exit with code 2 and a message naming the value and the range; a diverging ring (held
-  inputs at 4e-4 s) exits 2 with one line naming the step and what to change;
+  inputs at 4e-4 s) exits 2 with one line naming the step and what to change; so does libcosim's
+  ring at 1e-4 s (checked on the run libcosim returns; no --order to raise there);
 - `--speeds FROM TO --points K` prints the sweep's keys (per direction K x N), T/160 steps in whole ns,
   the peak = the largest settled sample with --no-refine; --csv has one row per ring, direction and
   speed (mistuned: the tuned ring's rows too), --plot a PNG; bad sweep values and an output path in a
@@ -64,6 +65,15 @@ def test_diverging_ring_exits_2_naming_the_step(capsys):
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and err.startswith("error: ")
     assert "diverged at step" in err and "reduce --step (now 0.0004 s" in err and "raise --order" in err
+
+
+@pytest.mark.crosscheck
+def test_diverging_libcosim_ring_exits_2(capsys):
+    args = ["ring", "--blades", "4", "--master", "libcosim", "--step", "1e-4", "--stop-time", "0.05",
+            "--start-values", "c", "298", "Fw0", "300"]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "ring (libcosim) diverged at step" in err and "raise --order" not in err
 
 
 def single_blade_amplitude(i: int, n: int, speed: float, h: float, K: int, eo: int = 3) -> float:

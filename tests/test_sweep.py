@@ -54,7 +54,7 @@ def test_bad_configuration_fails_before_any_work(monkeypatch, spec, needle):
 
 def test_cli_bad_configuration_one_line_error(tmp_path):
     cases = [(["--start-values", "gamma", "2"], "gamma = "), (["--speeds", "3000:1000:100"], "3000:1000:100"),
-             (["--rtol", "-1"], "rtol = -1"), (["--workers", "0"], "--workers 0")]
+             (["--rtol", "-1"], "--rtol -1"), (["--workers", "0"], "--workers 0")]
     for extra, needle in cases:
         proc = subprocess.run([sys.executable, "-m", "harness", "sweep", "--cache-dir", str(tmp_path / "c"),
                                "--output-file", str(tmp_path / "o.csv"), *extra], capture_output=True, text=True,

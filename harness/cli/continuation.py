@@ -20,7 +20,7 @@ from harness.analysis.periodic.continuation import write_branches_csv
 from harness.analysis.periodic.period_map import MODELS
 from harness.cli.simulate import check_outputs, parse_start_values
 from harness.fmu.blade import SPEED_RANGE, BladeFMU
-from harness.model.params import ParameterError
+from harness.model.params import ParameterError, validate
 from harness.studies.plots import branches_figure
 
 
@@ -42,6 +42,9 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     overrides = parse_start_values(args.start_values)
+    validate(overrides, source="--start-values")  # named as the user gave them, before any work
+    if not (math.isfinite(args.seed_step) and args.seed_step > 0):
+        raise ParameterError(f"--seed-step {args.seed_step!r} rpm must be > 0")
     lo, hi = args.speed_range
     if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi <= SPEED_RANGE[1]):
         raise ParameterError(f"--speed-range {lo!r} {hi!r} rpm: need 0 < LO < HI <= {SPEED_RANGE[1]:g}")

@@ -41,6 +41,7 @@ COMMANDS: dict[str, str] = {
     "continue": "harness.cli.continuation",
     "ring": "harness.cli.ring",
     "mistuning": "harness.cli.mistuning",
+    "campbell": "harness.cli.campbell",
 }
 
 EXIT_USAGE = 2

@@ -16,7 +16,7 @@ from harness.analysis.periodic.branches import orbits_at
 from harness.analysis.periodic.period_map import MODELS, PeriodMap, STATE_STARTS
 from harness.cli.simulate import parse_start_values
 from harness.fmu.blade import SPEED_RANGE, BladeFMU
-from harness.model.params import ParameterError, input_range
+from harness.model.params import ParameterError, input_range, validate
 from harness.analysis.periodic.shooting import describe
 
 
@@ -35,10 +35,11 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     overrides = parse_start_values(args.start_values)
-    bad = [k for k in overrides if k in STATE_STARTS]
+    bad = [k for k in overrides if k in STATE_STARTS or k.startswith("modal")]
     if bad:
         raise ParameterError(f"--start-values {bad[0]}: the state at the section is what shooting solves for;"
                              " give parameters only")
+    validate(overrides, source="--start-values")  # named as the user gave them, before any work
     if not (math.isfinite(args.speed) and 0.0 < args.speed <= SPEED_RANGE[1]):
         raise ParameterError(f"--speed {args.speed!r} rpm outside (0, {SPEED_RANGE[1]:g}] (the FMU's rotorSpeed range)")
     with BladeFMU(args.fmu or None) as fmu:

@@ -33,7 +33,7 @@ from harness.model.params import ParameterError
 from harness.outputs import check_dir, check_file
 from harness.studies import mistuning
 from harness.system import ring_c, ring_libcosim, ring_values, ssp
-from harness.system.ring import Ring, RingDiverged, amplitudes, harmonic, run as ring_run
+from harness.system.ring import Ring, RingDiverged, amplitudes, diverged_message, harmonic, run as ring_run
 from harness.system.ring_sweep import DIRECTIONS, per_period_settling, period_step, sweep
 from harness.system.ring_values import max_blades
 
@@ -42,21 +42,10 @@ EXTRAPOLATING = ("fmpy", "c")  # the masters that set input derivatives (ours)
 SETTLE_RTOL, SETTLE_PERIODS = 1e-4, 5  # the settle rule (harness/system/ring_sweep.py)
 
 
-class _Defaults(argparse.HelpFormatter):
-    """Shows an option's default where it has one (not for flags, None or an empty list)."""
-
-    def _get_help_string(self, action: argparse.Action) -> str:
-        text = action.help or ""
-        if action.default not in (None, False, [], argparse.SUPPRESS) and not action.required:
-            text += " (default: %(default)s)"
-        return text
-
-
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.formatter_class = _Defaults
     p.add_argument("--blades", type=int, required=True, metavar="N", help="number of blades, >= 2")
-    p.add_argument("--speed", type=float, default=5000.0, metavar="RPM", help="rotor speed [rpm]")
-    p.add_argument("--stop-time", type=float, default=0.1, metavar="S", help="simulated time [s] (one speed)")
+    p.add_argument("--speed", type=float, default=5000.0, metavar="RPM", help="rotor speed [rpm] (default: 5000)")
+    p.add_argument("--stop-time", type=float, default=0.1, metavar="S", help="simulated time [s] at one speed (default: 0.1)")
     p.add_argument("--step", type=float, default=None, metavar="H",
                    help="communication step [s] (default: T/160 at each speed in whole ns, 2.5e-5 at 5000 rpm "
                         "and EO 3; a step that is not a whole fraction of the period T makes the per-period "
@@ -66,31 +55,33 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                    help="fmpy and c masters: extrapolation order of the input derivatives, 0..3 (default: 2)")
     p.add_argument("--master", choices=MASTERS, default="fmpy",
                    help="co-simulation master at one speed: fmpy, c (the same data flow, loop in C), libcosim, "
-                        "ecos; a sweep runs on c")
+                        "ecos; a sweep runs on c (default: fmpy)")
     p.add_argument("--start-values", nargs="+", default=[], metavar="NAME VALUE",
                    help="set on every FMU instance that has it, e.g. `--start-values d 1.0 c 298 Fw0 300` "
-                        "(Fw0 [N/m], the blades' built-in load; the ring's own default 100 N/m)")
+                        "(Fw0 [N/m], the blades' built-in load; default: the FMUs' values, Fw0 100 N/m)")
     p.add_argument("--mistuning", type=float, default=0.0, metavar="SIGMA",
-                   help="relative standard deviation of the mistuned parameter, e.g. 0.02 (0: tuned)")
+                   help="relative standard deviation of the mistuned parameter, e.g. 0.02 (default: 0, tuned)")
     p.add_argument("--mistuned-parameter", choices=("EI", "m0"), default="EI",
-                   help="blade parameter scattered by --mistuning (EI: the bending stiffness)")
-    p.add_argument("--seed", type=int, default=1, metavar="S", help="mistuning pattern seed")
+                   help="blade parameter scattered by --mistuning (default: EI, the bending stiffness)")
+    p.add_argument("--seed", type=int, default=1, metavar="S", help="mistuning pattern seed (default: 1)")
     g = p.add_argument_group("forced response over a speed band (the C loop, state carried)")
     g.add_argument("--speeds", type=float, nargs=2, default=None, metavar=("FROM", "TO"),
-                   help="speed band [rpm]; replaces --speed and --stop-time")
-    g.add_argument("--points", type=int, default=26, metavar="K", help="speeds in the band, evenly spaced")
+                   help="speed band [rpm]; replaces --speed and --stop-time (default: none, one speed)")
+    g.add_argument("--points", type=int, default=26, metavar="K", help="speeds in the band, evenly spaced (default: 26)")
     g.add_argument("--sweep", choices=DIRECTIONS, default="up",
-                   help="up: from rest at FROM; down: from rest at TO; both: up, then down from TO")
+                   help="up: from rest at FROM; down: from rest at TO; both: up, then down from TO (default: up)")
     g.add_argument("--settle-rtol", type=float, default=SETTLE_RTOL, metavar="R",
                    help="settled: per-period amplitude change below R x the largest blade's, over "
-                        f"{SETTLE_PERIODS} consecutive periods")
+                        f"{SETTLE_PERIODS} consecutive periods (default: {SETTLE_RTOL:g})")
     g.add_argument("--max-time", type=float, default=1.0, metavar="S",
-                   help="longest time at one speed [s]; a speed not settled by then is flagged")
+                   help="longest time at one speed [s]; a speed not settled by then is flagged (default: 1)")
     g.add_argument("--no-refine", action="store_true",
                    help="report the largest settled sample as the peak (no extra speeds around it)")
-    g.add_argument("--csv", metavar="PATH", help="write the curves: one row per direction, speed (and ring)")
-    g.add_argument("--plot", metavar="PATH", help="write a PNG: amplitude vs speed per blade")
-    p.add_argument("--write-ssp", metavar="DIR", help="write the ring as an SSP system to DIR and exit")
+    g.add_argument("--csv", metavar="PATH",
+                   help="write the curves: one row per direction, speed (and ring) (default: none)")
+    g.add_argument("--plot", metavar="PATH", help="write a PNG: amplitude vs speed per blade (default: none)")
+    p.add_argument("--write-ssp", metavar="DIR",
+                   help="write the ring as an SSP system to DIR and exit (default: none, run the ring)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
 
 
@@ -191,10 +182,19 @@ def run(args: argparse.Namespace) -> int:
         raise ParameterError(str(e)) from None
 
 
+def _check_diverged(ring, res: dict, master: str) -> None:
+    """libcosim and Ecos run on their own: the same divergence check on the run they return."""
+    bad = ~(np.abs(res["q"]) <= ring.q_limit)
+    if bad.any():
+        k, i = np.argwhere(bad)[0]
+        raise RingDiverged(diverged_message(ring, int(k), float(res["time"][k]), int(i), float(res["q"][k, i]), master))
+
+
 def run_one(ring, args) -> int:
     t0 = time.perf_counter()
     res = simulate(ring, args.master)
     wall = time.perf_counter() - t0
+    _check_diverged(ring, res, args.master)
     amp = amplitudes(res["time"], res["q"], ring.omega)
     c = harmonic(res, ring.omega)
     st = per_period_settling(res["time"], res["q"], ring.omega, SETTLE_RTOL, SETTLE_PERIODS)

@@ -50,6 +50,15 @@ def make_runner(args: argparse.Namespace):
 
 
 _DEFAULTS = SweepSettings()
+# the settings' field names in messages -> the options that set them
+_OPTIONS = {"rtol": "--rtol", "max_time": "--max-time", "refine_levels": "--refine",
+            "steps_per_period": "--steps-per-period"}
+
+
+def option_names(message: str) -> str:
+    """`message` with a leading settings field name (`max_time = -1.0 ...`) as its option (`--max-time`)."""
+    field, sep, rest = message.partition(" = ")
+    return f"{_OPTIONS[field]} {rest}" if sep and field in _OPTIONS else message
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
@@ -71,7 +80,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--refine", type=int, default=4, metavar="LEVELS",
                    help="bisection rounds near peaks and jumps (default 4, 0 = fixed grid)")
     p.add_argument("--steps-per-period", type=int, default=_DEFAULTS.steps_per_period, metavar="N",
-                   help="communication steps per excitation period, >= 4 (default "
+                   help="communication steps per excitation period, >= 2 (default "
                         f"{_DEFAULTS.steps_per_period}, with 8 input derivatives)")
     p.add_argument("--output-file", default="sweep.csv", metavar="CSV", help="result table (default sweep.csv)")
     p.add_argument("--plot", metavar="PNG", help="also plot the curves to this PNG file (default: no plot)")
@@ -96,7 +105,10 @@ def run(args: argparse.Namespace) -> int:
                      methods=args.method,
                      fixed_speeds=parse_speed_range(args.fixed_speeds) if args.fixed_speeds else None,
                      settings=settings)
-    spec = validate_spec(spec)  # before any work
+    try:
+        spec = validate_spec(spec)  # before any work
+    except ConfigError as exc:  # name the option the user typed, not the setting's field
+        raise ConfigError(option_names(str(exc))) from None
     runner = make_runner(args)
     check_outputs(args, ("output_file", "--output-file"), ("plot", "--plot"))  # the configuration is good
     if not args.no_cache:

@@ -76,22 +76,23 @@ def timed(study: Study, workers: int) -> dict:
             "amplification": out["variants"]["friction"]["amplification"]}
 
 
-def point_cpu(study: Study, n: int, points: int = 3) -> float:
-    """CPU seconds per speed of one n-blade ring sweep (friction, the study's middle level)."""
+def sweep_cpu(study: Study, n: int) -> float:
+    """CPU seconds of one n-blade ring's sweep over `study`'s band (friction, the study's largest
+    level, pattern 0, the peak refined as in the study)."""
     ring = mistuning.mistuned(mistuning.tuned_ring(replace(study, n=n), "friction"), study.parameter,
                               mistuning.factors(n, study.levels[-1], study.seed, 0))
     c0 = time.process_time()
-    mistuning.sweep(ring, mistuning.speeds(replace(study, points=points)), replace(study, speed_tol=1e9))
-    return (time.process_time() - c0) / points
+    mistuning.sweep(ring, mistuning.speeds(study), study)
+    return time.process_time() - c0
 
 
 def cost(m: dict, size: Study, workers: int) -> dict:
     """The cluster size's cost on `workers` dedicated single-core workers, from the measurement:
-    CPU per sweep = CPU per speed of a size.n-blade ring x (size.points + the speeds the peak's
-    refinement added per measured sweep); the workers kept busy as measured with 2 workers (task
-    time / (workers x wall)); whole sweeps per worker."""
+    CPU per sweep = the measured size.n-blade sweep's CPU x size.points / its points (the
+    refinement counted as if it grew with the points: an upper estimate); the workers kept busy
+    as measured with 2 workers (task time / (workers x wall)); whole sweeps per worker."""
     sweeps = len(mistuning.jobs(size))
-    per_sweep = m["point_cpu_s"][str(size.n)] * (size.points + m["refined_speeds"])
+    per_sweep = m["sweep_cpu_s"][str(size.n)] * size.points / m["sweep_points"]
     wall = math.ceil(sweeps / workers) * per_sweep / m["two_workers"]["busy"]
     return {"workers": workers, "sweeps": sweeps, "sweep_cpu_s": per_sweep, "wall_h": wall / 3600,
             "worker_hours": workers * wall / 3600}
@@ -139,8 +140,9 @@ def measure(study: Study = MEASURED) -> dict:
     with tempfile.TemporaryDirectory() as d:
         kill = killed(study, Path(d))
     per_sweep = one["task_s"] / one["sweeps"]
-    m = {"point_cpu_s": {str(n): point_cpu(study, n) for n in (study.n, mistuning.SIZES["cluster"].n)}}
-    m["refined_speeds"] = max(0.0, one["task_cpu_s"] / one["sweeps"] / m["point_cpu_s"][str(study.n)] - study.points)
+    small = mistuning.SIZES["small"]  # the band and grid of make run's study
+    m = {"sweep_points": small.points,
+         "sweep_cpu_s": {str(n): sweep_cpu(small, n) for n in (small.n, mistuning.SIZES["cluster"].n)}}
     m["two_workers"] = two
     m["cluster_cost"] = [cost(m, mistuning.SIZES["cluster"], k) for k in (1, 2, 8, 32, 128)]
     return {**m, "study": {"n": study.n, "levels": list(study.levels), "patterns": study.patterns, "points": study.points},
@@ -155,7 +157,7 @@ def main(argv: list[str] | None = None) -> None:
     a = ap.parse_args(argv)
     m = measure()
     atomic_write_text(a.out, json.dumps(m, indent=1))
-    print(json.dumps({k: m[k] for k in ("speed_up", "efficiency", "sweep_s", "point_cpu_s", "cluster_cost")}))
+    print(json.dumps({k: m[k] for k in ("speed_up", "efficiency", "sweep_s", "sweep_cpu_s", "cluster_cost")}))
     print(m["killed_worker"])
 
 

@@ -37,6 +37,9 @@ from harness.fmu.blade import BladeFMU
 from harness.model import params as _params
 from harness.model.excitation import LinearRamp
 from harness.studies import plots
+from harness.studies.campbell_modes import campbell_study
+from harness.studies.mode2_crossing import Mode2Crossing, mode2_crossing
+from harness.studies.modes_convergence import ModesConvergence, modes_convergence, modes_tasks
 from harness.studies.study_branches import curve_tasks, write_coulomb, write_study
 
 if TYPE_CHECKING:  # imported where they are used: they pull in the FMU binding
@@ -87,6 +90,8 @@ class Size:
     iteration_steps: int = 12  # the paper's iteration B <- A_0.2s(B)
     speed_range: tuple[float, float] = (3000.0, 10000.0)  # branches of periodic orbits [rpm]
     seed_step: float = 500.0  # [rpm] between the speeds where every orbit is searched
+    modes: tuple[int, ...] = (1, 2, 3, 4)  # the convergence study in m (empty: not run)
+    campbell_modes: int = 3  # modes of the m-mode Campbell diagram (0: not drawn)
 
 
 def _grid(a: float, b: float, step: float) -> tuple[float, ...]:
@@ -99,7 +104,7 @@ SIZES: dict[str, Size] = {
                   values={"gap": (2e-5, 6e-5), "mass": (0.02, 0.1), "angle": (PI / 3, PI / 7), "kn": (1e5, 1e7)},
                   settings=SweepSettings(refine_levels=3, min_dn=60.0, max_time=0.5, fixed_max_time=0.4,
                                          n_scan=10),
-                  fig45_time=0.6, coulomb=False, iteration_steps=6, seed_step=1000.0),
+                  fig45_time=0.6, coulomb=False, iteration_steps=6, seed_step=1000.0, modes=(), campbell_modes=0),
     # branches to 12000 rpm: with kn = 1e7 the stable contact branches of the fixed point end in
     # their fold above 10000 rpm for d = 0.02 mm and gamma = pi/6..pi/4 (a peak at the range end
     # would be a missed solution); the transient path (bench) keeps its 3000..10000 rpm grid.
@@ -335,6 +340,14 @@ def campbell(fmu: Any, out: Path, params: Mapping[str, Any],
     return CampbellSummary(cross, float(f[0]), eo * cross / 60.0)
 
 
+@dataclass(frozen=True)
+class CampbellModesSummary:
+    """The m-mode Campbell diagram's located crossings (mode, engine order, speed [rpm], frequency [Hz])."""
+
+    modes: int
+    crossings: list[dict]
+
+
 # ---------------------------------------------------------------------------------------------
 # Everything
 # ---------------------------------------------------------------------------------------------
@@ -374,6 +387,9 @@ class Summary:
     hysteresis: dict[str, HysteresisLoop] | None = None  # by panel label
     hb_vs_orbit: dict[str, HarmonicRange] | None = None  # by model
     campbell: CampbellSummary | None = None
+    campbell_modes: CampbellModesSummary | None = None
+    modes: ModesConvergence | None = None  # convergence in the number of modes
+    mode2_crossing: Mode2Crossing | None = None  # the second mode's EO 8 crossing with the contact
     paper_iteration: PaperIteration | None = None
     timing: Timing | None = None
 
@@ -418,7 +434,8 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
               runner: Runner | None = None, fmu_path: Path | str | None = None, extras: bool = True, base: Mapping[str, Any] | None = None,
               hysteresis: Hysteresis | None = None) -> Reproduction:
     """Run the studies as branches of periodic orbits over the harmonic-balance branches (and, with
-    `extras`, the Coulomb comparison, Fig. 2, 4/5, Campbell, the paper's iteration). Nothing is
+    `extras`, the Coulomb comparison, Fig. 2, 4/5, Campbell, the m-mode Campbell diagram and the
+    convergence in the number of modes, the paper's iteration). Nothing is
     cached: a curve takes about a second. Fig. 2 compares the FMU's friction loop with the
     reference's, so its study comes from the validation side (harness.reference.hysteresis, passed
     in by the `reproduce` and `run` commands); without it Fig. 2 is left out."""
@@ -468,6 +485,14 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
                             peaks.append((row.fp_speed, base_p["engineOrder"] * row.fp_speed / 60,
                                           f"fixed-point peak, kn = {row.value:.0e} N/m"))
                 summary.campbell = campbell(fmu, out, base_p, peaks)
+                if size.campbell_modes:
+                    cm = campbell_study(fmu, out, base_p, size.campbell_modes)
+                    summary.campbell_modes = CampbellModesSummary(cm.modes, cm.as_dict()["crossings"])
+                    summary.mode2_crossing = mode2_crossing(fmu, out, base_p)
+                if size.modes:
+                    mc = runner.map(trace_curve, modes_tasks(base_p, size.speed_range, size.seed_step, path, size.modes),
+                                    desc="branches in the number of modes", unit="curve")
+                    summary.modes = modes_convergence(fmu, out, mc)
                 seq = paper_iteration(fmu, base_p, 5000.0, 2 * base_p["d"], size.iteration_steps)
                 summary.paper_iteration = PaperIteration(5000.0, 0.2, seq)
                 it = np.zeros(len(seq), dtype=[("iteration", "i4"), ("B", "f8")])

@@ -196,10 +196,12 @@ def coulomb(path: Path | str, rows: Mapping[str, Any]) -> Path:
 
 
 def campbell(path: Path | str, speed: np.ndarray, fnat: np.ndarray, orders: Sequence[int], eo: int,
-             crossing: float, peaks: Sequence[tuple[float, float, str]] = ()) -> Path:
+             crossing: float, peaks: Sequence[tuple[float, float, str]] = (),
+             crossings: Sequence[tuple[float, float, str]] = (), title: str | None = None) -> Path:
     """Campbell diagram: the contact-free bending frequencies vs speed (`fnat`: one column per mode,
     or a vector for one mode) with the engine-order lines, each labelled at its end, the EO `eo`
-    crossing marked; the legend sits beside the axes so that it covers no crossing."""
+    crossing marked; the legend sits beside the axes so that it covers no crossing. `crossings`
+    (speed, frequency, label): every located crossing of a mode with an engine order, as dots."""
     f = np.asarray(fnat, dtype=float).reshape(len(speed), -1)
     fig, ax = plt.subplots(figsize=(9.5, 5))
     top = max([float(np.max(f)) * 1.6, 1.0] + [1.05 * fr for _, fr, _ in peaks])
@@ -211,12 +213,17 @@ def campbell(path: Path | str, speed: np.ndarray, fnat: np.ndarray, orders: Sequ
         ax.plot([crossing], [eo * crossing / 60.0], "ro", ms=7, label=f"EO {eo} crossing {crossing:.0f} rpm")
     for sp, fr, lab in peaks:
         ax.plot([sp], [fr], "v", ms=6, label=lab)
+    for sp, fr, lab in crossings:
+        ax.plot([sp], [fr], "o", color="red", ms=4)
+        ax.annotate(lab, (sp, fr), xytext=(3, -9), textcoords="offset points", fontsize=6, color="red")
+    if crossings:
+        ax.plot([], [], "o", color="red", ms=4, label="crossing (located): its speed [rpm]")
     ax.set_xlabel("rotor speed n [rpm]")
     ax.set_ylabel("frequency [Hz]")
     ax.set_ylim(0, top)
     ax.set_xlim(float(speed[0]), float(speed[-1]) * 1.04)
     ax.grid(alpha=0.3)
-    ax.set_title(f"Campbell diagram: bending frequency and engine orders 1-{max(orders)}; resonance where "
+    ax.set_title(title or f"Campbell diagram: bending frequency and engine orders 1-{max(orders)}; resonance where "
                  f"EO {eo} crosses it", fontsize=10)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     fig.tight_layout()
@@ -277,3 +284,4 @@ def branches_figure(path: Path | str, models: dict[str, Sequence[Any]], title: s
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, title="bold: stable, faint: unstable", title_fontsize=8)
     return _save(fig, path)
+

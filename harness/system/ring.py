@@ -130,7 +130,7 @@ class _History:
 def diverged_message(ring: Ring, k: int, t: float, blade: int, q: float, master: str) -> str:
     """One line: where the ring blew up and what to change."""
     hint = ("raise --order (the input derivatives' extrapolation, now 0) or " if ring.order == 0 and
-            ring.coupling == "feedthrough" else "")
+            ring.coupling == "feedthrough" and master in ("fmpy", "c") else "")  # libcosim, Ecos hold inputs
     return (f"ring ({master}) diverged at step {k} (t = {t:.6g} s): blade {blade} |q| = {abs(q):.3g} m > "
             f"{ring.q_limit:g} m; {hint}reduce --step (now {ring.step:g} s; the Jacobi coupling of "
             f"stiff contacts is stable only below a step that depends on kn and the extrapolation order)")

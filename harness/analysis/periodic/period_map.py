@@ -22,8 +22,10 @@ Unknowns x per model (MODELS):
 With m = `modes` > 1 bending modes, (q0, q0') becomes the modal start state (q_1..q_m, q_1'..q_m')
 (the FMU's modalDisplacement / modalVelocity start values), so the unknowns are 2m (fixedB) or
 2m + 1; q above is then the tip displacement sum_i q_i (every mode normalised to 1 at the tip, the
-quantity the contact, B and max |q| refer to). DP comes from finite differences for m > 1 (the
-FMU's sensitivities are used for m = 1 only).
+quantity the contact, B and max |q| refer to). For m > 1 DP comes from the FMU's full Jacobian
+`sensitivity[r,c]` (docs/model.md s.2a: rows modalDisplacement[1..6], modalVelocity[1..6],
+jenkinsForce, runningMaximum, amplitude; columns the start values of the modal state, of
+jenkinsForce and B), the sub-matrix of the m modes; an FMU without it: finite differences.
 """
 from __future__ import annotations
 
@@ -48,6 +50,13 @@ def modal_names(m: int) -> tuple[str, ...]:
     """The FMU's modal start values / outputs (q_1..q_m, q_1'..q_m')."""
     return tuple(f"modalDisplacement[{i}]" for i in range(1, m + 1)) + \
         tuple(f"modalVelocity[{i}]" for i in range(1, m + 1))
+
+
+def modal_sensitivities(m: int) -> tuple[str, ...]:
+    """sensitivity[r,c] of the m-mode state, row-major: rows q_1..q_m, q_1'..q_m', jenkinsForce,
+    runningMaximum, amplitude; columns q_1(0)..q_m(0), q_1'(0)..q_m'(0), jenkinsForce(0), B."""
+    idx = list(range(1, m + 1)) + list(range(7, 7 + m))
+    return tuple(f"sensitivity[{r},{c}]" for r in idx + [13, 14, 15] for c in idx + [13, 14])
 
 
 def modes_of(params: Mapping[str, Any]) -> int:
@@ -110,8 +119,8 @@ class PeriodMap:
         self.fmu, self.model, self.s = fmu, model, settings.check()
         self.p = model_params(params, model)
         self.m = modes_of(self.p)
-        if self.m > 1 and settings.sensitivities:  # finite differences for m > 1 (module doc)
-            self.s = settings = replace(settings, sensitivities=False)
+        if self.m > 1 and settings.sensitivities and "sensitivity[1,1]" not in fmu.variables:
+            self.s = settings = replace(settings, sensitivities=False)  # finite differences (module doc)
         self.p["sensitivities"] = settings.sensitivities
         self.DP: np.ndarray | None = None  # DP at the last evaluation (with sensitivities)
         self.dim = 2 * self.m + (0 if model == "fixedB" else 1)
@@ -139,7 +148,7 @@ class PeriodMap:
         self._bval = (ctypes.c_int * len(bools))(*[int(bool(x)) for _, x in bools])
         self._isens = next((i for i, (k, _) in enumerate(bools) if k == "sensitivities"), None)
         out = (_OUT + (_SENS if settings.sensitivities else ())) if self.m == 1 else \
-            _OUT + modal_names(self.m)  # m > 1: the modal state at T after the tip quantities
+            _OUT + modal_names(self.m) + (modal_sensitivities(self.m) if settings.sensitivities else ())
         self._ovr = (ctypes.c_uint * len(out))(*[v[k].valueReference for k in out])
         self._oval = (ctypes.c_double * len(out))()
         K = MAX_ORDER
@@ -262,7 +271,7 @@ class PeriodMap:
             if st > 1:
                 raise self.fmu.failure("fmi2DoStep", st, t)
         o = self._oval
-        st = r.getReal(c, ctypes.addressof(self._ovr), len(o) if want else len(_OUT), ctypes.addressof(o))
+        st = r.getReal(c, ctypes.addressof(self._ovr), len(o) if want or m > 1 else len(_OUT), ctypes.addressof(o))
         acct.fmi_seconds += time.perf_counter() - t_in
         if st > 1:
             raise self.fmu.failure("fmi2GetReal", st, self.T)
@@ -271,9 +280,13 @@ class PeriodMap:
         # `amplitude` holds the new maximum and the running maximum restarted at |q(T)|
         ended = amp != B
         A = amp if ended else max(run_max, abs(q))
-        if want:
-            self.DP = self._dp(o[len(_OUT):len(_OUT) + len(_SENS)], q0, F0, q, F,
-                               4 if ended else (3 if run_max >= abs(q) else -1))
+        arow = 4 if ended else (3 if run_max >= abs(q) else -1)
+        if want and m == 1:
+            self.DP = self._dp(o[len(_OUT):len(_OUT) + len(_SENS)], q0, F0, q, F, arow)
+        elif want:
+            k = len(_OUT) + 2 * m
+            self.DP = self._dp_modal(np.array(o[k:k + (2 * m + 3) * (2 * m + 2)]).reshape(2 * m + 3, 2 * m + 2),
+                                     q0, F0, q, F, arow)
         state = [q, v] if m == 1 else list(o[len(_OUT):len(_OUT) + 2 * m])
         if self.dim == 2 * m:
             return np.array(state), A
@@ -305,6 +318,35 @@ class PeriodMap:
         else:
             rows[2] = [0.0, 0.0, 0.0]
         return np.array(rows)
+
+    def _dp_modal(self, S: np.ndarray, q0: float, F0: float, q: float, F: float, arow: int) -> np.ndarray:
+        """DP in the unknowns for m > 1 from the modal Jacobian S (rows: 2m state, F, running max,
+        amplitude; columns: 2m state, F0, B), as _dp does for one mode; the tip is the sum of the
+        modal displacements, so d|q_tip| and dL/dq0 act on every modal displacement alike."""
+        n = 2 * self.m
+        st = S[:n + 1]  # the state rows and the jenkinsForce row
+        if arow >= 0:
+            a = S[n + arow - 2]  # runningMaximum (arow 3) or amplitude (arow 4)
+        else:
+            a = math.copysign(1.0, q) * S[:self.m].sum(axis=0)
+        if self.model == "fixedB":
+            return st[:n, :n].copy()
+        if self.model != "jenkins":
+            cols = list(range(n)) + [n + 1]  # the state and B
+            return np.vstack([st[:n, cols], a[cols]])
+        L0, L = self.slip_limit(q0), self.slip_limit(q)
+        dL0 = self.muKnCos * math.copysign(1.0, q0) if L0 > 0.0 else 0.0
+        phi0 = F0 / L0 if L0 > 0.0 else 0.0
+        J = np.empty((n + 1, n + 1))
+        J[:, :n] = st[:, :n]
+        J[:, :self.m] += st[:, [n]] * (phi0 * dL0)  # F0 = phi0 L(sum q0_i)
+        J[:, n] = st[:, n] * L0
+        if L > 0.0:
+            dL = F / L * self.muKnCos * math.copysign(1.0, q)
+            J[n] = (J[n] - dL * J[:self.m].sum(axis=0)) / L
+        else:
+            J[n] = 0.0
+        return J
 
     def with_model(self, model: str) -> "PeriodMap":
         """A period map of another model on the same FMU and parameters, whose evaluations count

@@ -60,18 +60,25 @@ def trace_curve(task: CurveTask) -> Curve:
     return Curve(task, branches, replace(stats, wall=time.perf_counter() - t0))
 
 
-def peak(branches: list[Branch], stable_only: bool = True,
-         speed_range: tuple[float, float] = (0.0, math.inf)) -> tuple[float, float]:
-    """(largest max |q| [m], its speed [rpm]) over the (stable) orbits inside speed_range: the
-    located peaks and folds (a fold that bounds a stable part is the limit of its stable orbits)
-    and the sampled points (the largest may sit at a branch end); nan if there is none."""
+def peak_orbit(branches: list[Branch], stable_only: bool = True,
+               speed_range: tuple[float, float] = (0.0, math.inf)) -> Any:
+    """The (stable) orbit of largest max |q| inside speed_range: a located peak or fold (a fold that
+    bounds a stable part is the limit of its stable orbits) or a sampled point (the largest may sit
+    at a branch end), with its unknowns x; None if there is none."""
     lo, hi = speed_range
-    best = (math.nan, math.nan)
+    best = None
     for b in branches:
         for p in [*b.points, *b.extrema]:
-            if (p.stable or not stable_only) and lo <= p.speed <= hi and not p.amplitude <= best[0]:
-                best = (p.amplitude, p.speed)
+            if (p.stable or not stable_only) and lo <= p.speed <= hi and (best is None or p.amplitude > best.amplitude):
+                best = p
     return best
+
+
+def peak(branches: list[Branch], stable_only: bool = True,
+         speed_range: tuple[float, float] = (0.0, math.inf)) -> tuple[float, float]:
+    """(largest max |q| [m], its speed [rpm]) of `peak_orbit`; nan if there is none."""
+    p = peak_orbit(branches, stable_only, speed_range)
+    return (math.nan, math.nan) if p is None else (p.amplitude, p.speed)
 
 
 def jump_speed(branches: list[Branch], a_pk: float, n_pk: float) -> float:
