@@ -228,8 +228,9 @@ FmiStatus fmiSetInputDerivatives(FmiInstance *inst, const char *fn, const FmiVal
                                  const int32_t order[], const double value[])
 {
     const FmiModel *m = inst->model;
+    const VarInfo *v = NULL;
     for (size_t i = 0; i < nvr; ++i) {
-        const VarInfo *v = fmiFindVar(m, vr[i]);
+        if (i == 0 || vr[i] != vr[i - 1]) v = fmiFindVar(m, vr[i]); /* the orders of one input: one lookup */
         if (v == NULL) {
             fmiLogStatus(inst, FmiError, "%s: unknown value reference %u", fn, (unsigned)vr[i]);
             return FmiError;
@@ -252,7 +253,10 @@ FmiStatus fmiSetInputDerivatives(FmiInstance *inst, const char *fn, const FmiVal
             return FmiError;
         }
     }
-    for (size_t i = 0; i < nvr; ++i) realAt(inst->data, fmiFindVar(m, vr[i])->offset)[order[i]] = value[i];
+    for (size_t i = 0; i < nvr; ++i) {
+        if (i == 0 || vr[i] != vr[i - 1]) v = fmiFindVar(m, vr[i]);
+        realAt(inst->data, v->offset)[order[i]] = value[i];
+    }
     return FmiOK;
 }
 

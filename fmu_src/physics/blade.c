@@ -10,12 +10,12 @@
  * Integrals use composite Gauss-Legendre quadrature (the integrands are entire functions of z on
  * a short interval: 2 panels x 16 nodes are exact to rounding). No allocation, no global state. */
 #include "blade.h"
+#include "physics/gauss_legendre.h"
 
 #include <math.h>
 #include <stddef.h>
 
-#define BLADE_PI 3.14159265358979323846
-#define GL_NODES 16   /* Gauss-Legendre nodes per panel */
+#define GL_NODES GAUSS_LEGENDRE_NODES /* Gauss-Legendre nodes per panel */
 #define GL_PANELS 2   /* panels on [0, l] */
 #define SERIES_TERMS 34 /* z^n/n!, n < 34: (1.9)^34/34! < 1e-28 */
 #define ROOT_SCAN_MAX 1.9  /* eq. 21 changes sign in (0, 1.9] for every R >= 0 */
@@ -79,30 +79,6 @@ static double firstRoot(double R) {
     return 0.5 * (lo + hi);
 }
 
-/* Gauss-Legendre nodes/weights on [-1, 1] by Newton on the Legendre recurrence (stack only). */
-static void gaussLegendre(double x[GL_NODES], double w[GL_NODES]) {
-    const int n = GL_NODES;
-    int i, it, j;
-    for (i = 0; i < n; ++i) {
-        double z = cos(BLADE_PI * ((double)i + 0.75) / ((double)n + 0.5));
-        double dp = 1.0;
-        for (it = 0; it < 100; ++it) {
-            double p0 = 1.0, p1 = z, dz;
-            for (j = 2; j <= n; ++j) {
-                double p2 = ((2.0 * j - 1.0) * z * p1 - (j - 1.0) * p0) / (double)j;
-                p0 = p1;
-                p1 = p2;
-            }
-            dp = (double)n * (z * p1 - p0) / (z * z - 1.0);
-            dz = p1 / dp;
-            z -= dz;
-            if (fabs(dz) <= 1e-17) break;
-        }
-        x[i] = z;
-        w[i] = 2.0 / ((1.0 - z * z) * dp * dp);
-    }
-}
-
 static int allFinite(const double *v, size_t n) {
     size_t i;
     for (i = 0; i < n; ++i)
@@ -139,7 +115,7 @@ int bladeReduce(const BladeParams *p, Formulation formulation, BladeReduction *o
     s = tl.shp / tl.chp;        /* eq. 20 coefficient */
     u2 = s * tl.chc - tl.shs;   /* phi(l), eq. 24 */
 
-    gaussLegendre(xs, ws);
+    gaussLegendre16(xs, ws);
     for (panel = 0; panel < GL_PANELS; ++panel) {
         double x0 = l * (double)panel / GL_PANELS, half = 0.5 * l / GL_PANELS;
         for (i = 0; i < GL_NODES; ++i) {

@@ -195,6 +195,48 @@ DynStatus dynInitState(const DynModel *m, DynState *s, double q0, double v0, dou
 }
 
 /* ------------------------------------------------------------------------------------------- */
+/* The m-mode right-hand side (out of line: the one-mode dynRhsExt stays small enough to inline) */
+
+/* m > 1 modes (docs/model.md s.2a): y'' = M_y^-1 (G_y load - C_y y' - (K_y + Omega^2 K_y2) y + e_1 F)
+ * with y = (x[0], q_2..q_m), y' = (x[1], q_2'..q_m') (dynamics.h), F the force on the tip; sets
+ * f[0], f[1], f[3] = y'^T C_y y' (viscous power) and the rates of the extra coordinates (0 above m). */
+void dynRhsModes(const DynModel *m, double load, double Omega, double F, const double x[],
+                               double f[])
+{
+    const int n = m->modes, e = DYN_NX - 1, r = DYN_X_RATES - 1; /* y_k = x[e + k], y'_k = x[r + k], k >= 1 */
+    const double O2 = Omega * Omega;
+    double y[MODES_MAX] = {0.0}, yv[MODES_MAX] = {0.0}, a[MODES_MAX] = {0.0}, power = 0.0;
+    y[0] = x[0];
+    yv[0] = x[1];
+    for (int k = DYN_NX; k < DYN_NX_MAX; ++k) f[k] = 0.0;
+    for (int k = 1; k < n; ++k) {
+        y[k] = x[e + k];
+        yv[k] = x[r + k];
+    }
+    for (int i = 0; i < n; ++i) {
+        double r = m->Gy[i] * load, cv = 0.0;
+        for (int j = 0; j < n; ++j) {
+            cv += m->Cy[i][j] * yv[j];
+            r -= (m->Ky[i][j] + O2 * m->Ky2[i][j]) * y[j];
+        }
+        a[i] = r - cv;
+        power += yv[i] * cv;
+    }
+    a[0] += F;
+    f[0] = yv[0];
+    f[3] = power;
+    for (int i = 0; i < n; ++i) {
+        double acc = 0.0;
+        for (int j = 0; j < n; ++j) acc += m->invMy[i][j] * a[j];
+        if (i == 0) f[1] = acc;
+        else {
+            f[e + i] = yv[i];
+            f[r + i] = acc;
+        }
+    }
+}
+
+/* ------------------------------------------------------------------------------------------- */
 /* Switching functions and events                                                               */
 
 /* ------------------------------------------------------------------------------------------- */
@@ -279,8 +321,8 @@ void dynOutputs(const DynModel *m, const DynState *s, double nRpm, DynOutputs *o
     const double CeqDF = omega > 0.0 && isfinite(s->df.CeqOmega / omega) ? s->df.CeqOmega / omega : 0.0;
     const double fc = omega > 0.0 && isfinite(s->df.fcOmega / omega) ? s->df.fcOmega / omega : 0.0;
     const double sig = (double)s->side;
-    out->naturalFrequency = m->modes > 1 ? dynModeFrequency(m, nRpm, 0)
-                                          : sqrt((K0 > 0.0 ? K0 : 0.0) * m->invM) / DYN_TWO_PI;
+    /* m > 1: an eigenproblem (dynModeFrequencies), left to the caller (once per rotor speed) */
+    out->naturalFrequency = m->modes > 1 ? 0.0 : sqrt((K0 > 0.0 ? K0 : 0.0) * m->invM) / DYN_TWO_PI;
     out->regime = (int)s->df.regime;
     if (m->friction == FrictionMacroslipTD) {
         out->Keq = s->df.Keq; /* information only: the DF at the B in use */
@@ -347,13 +389,6 @@ void dynModeFrequencies(const DynModel *m, double nRpm, double f[MODES_MAX])
         }
         for (int k = 0; k < n; ++k) f[k] = sqrt(w2[k] > 0.0 ? w2[k] : 0.0) / DYN_TWO_PI;
     }
-}
-
-double dynModeFrequency(const DynModel *m, double nRpm, int k)
-{
-    double f[MODES_MAX];
-    dynModeFrequencies(m, nRpm, f);
-    return f[k];
 }
 
 const char *dynNonFiniteOutput(const DynOutputs *o)

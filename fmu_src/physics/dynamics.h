@@ -169,7 +169,7 @@ typedef struct {
     double jenkinsForce;     /* Jenkins spring force kd (sin g q - w) in contact, else 0 [N] */
     double Keq;              /* [N/m] */
     double Ceq;              /* [N s/m] */
-    double naturalFrequency; /* [Hz] */
+    double naturalFrequency; /* [Hz]; m > 1: 0, the caller sets modeFrequency[1] (dynModeFrequencies) */
     int regime;              /* Regime */
     int contactState;        /* ContactState */
 } DynOutputs;
@@ -177,10 +177,15 @@ typedef struct {
 /* Outputs for state s at rotor speed nRpm [rpm]. */
 void dynOutputs(const DynModel *m, const DynState *s, double nRpm, DynOutputs *out);
 
+/* m > 1 modes (docs/model.md s.2a): the linear part of dx/dt, y'' = M_y^-1 (G_y load - C_y y' -
+ * (K_y + Omega^2 K_y2) y + e_1 F) with y = (x[0], q_2..q_m), y' = (x[1], q_2'..q_m') (x as above),
+ * F the force on the tip; sets f[0], f[1], f[3] = y'^T C_y y' (viscous power) and the rates of the
+ * extra coordinates (0 above m). Called by dynRhsExt (dynamics_step.h). */
+void dynRhsModes(const DynModel *m, double load, double Omega, double F, const double x[], double f[]);
+
 /* Contact-free natural frequencies [Hz] of modes 1..m at rotor speed nRpm (the generalized
  * eigenproblem K(Omega) x = w^2 M x; m = 1: naturalFrequency's formula), ascending; 0 above m. */
 void dynModeFrequencies(const DynModel *m, double nRpm, double f[MODES_MAX]);
-double dynModeFrequency(const DynModel *m, double nRpm, int k);
 
 /* Name of the first output of o that is not finite (a force of a huge state times a huge
  * coefficient overflows), or NULL if all are finite. */

@@ -22,55 +22,13 @@ static inline double dynLoad(const DynModel *m, double fw, double psi)
     return m->loadAmplitude != 0.0 ? fw + m->loadAmplitude * sin(psi + m->loadLead) : fw;
 }
 
-/* m > 1 modes (docs/model.md s.2a): y'' = M_y^-1 (G_y load - C_y y' - (K_y + Omega^2 K_y2) y + e_1 F)
- * with y = (x[0], q_2..q_m), y' = (x[1], q_2'..q_m') (dynamics.h), F the force on the tip; sets
- * f[0], f[1], f[3] = y'^T C_y y' (viscous power) and the rates of the extra coordinates (0 above m). */
-static inline void dynRhsModes(const DynModel *m, double load, double Omega, double F, const double x[],
-                               double f[])
-{
-    const int n = m->modes, e = DYN_NX - 1, r = DYN_X_RATES - 1; /* y_k = x[e + k], y'_k = x[r + k], k >= 1 */
-    const double O2 = Omega * Omega;
-    double y[MODES_MAX], yv[MODES_MAX], a[MODES_MAX], power = 0.0;
-    y[0] = x[0];
-    yv[0] = x[1];
-    for (int k = DYN_NX; k < DYN_NX_MAX; ++k) f[k] = 0.0;
-    for (int k = 1; k < n; ++k) {
-        y[k] = x[e + k];
-        yv[k] = x[r + k];
-    }
-    for (int i = 0; i < n; ++i) {
-        double r = m->Gy[i] * load, cv = 0.0;
-        for (int j = 0; j < n; ++j) {
-            cv += m->Cy[i][j] * yv[j];
-            r -= (m->Ky[i][j] + O2 * m->Ky2[i][j]) * y[j];
-        }
-        a[i] = r - cv;
-        power += yv[i] * cv;
-    }
-    a[0] += F;
-    f[0] = yv[0];
-    f[3] = power;
-    for (int i = 0; i < n; ++i) {
-        double acc = 0.0;
-        for (int j = 0; j < n; ++j) acc += m->invMy[i][j] * a[j];
-        if (i == 0) f[1] = acc;
-        else {
-            f[e + i] = yv[i];
-            f[r + i] = acc;
-        }
-    }
-}
-
-/* f = dx/dt at state x for inputs fw [N/m], n [rpm] and an external force fext [N] on q (positive
- * along q; 0 for ShroudedBlade) with the discrete state of s (eq. 27 plus fext on the right).
- * Returns 1 if omega <= 0 while a describing-function force is needed (model-notes s.2). */
-static inline int dynRhsExt(const DynModel *m, const DynState *s, double fw, double n, double fext,
-                            const double x[DYN_NX_MAX], double f[DYN_NX_MAX])
+/* The contact force F_c [N] on the contact coordinate q = x[0] (the tip) in the discrete state of s,
+ * its dissipated power P [W] and the slider rate dw/dt (eq. 3, 12-14, model-notes s.2). Returns 1 if
+ * omega <= 0 while a describing-function force is needed. */
+static inline int dynContactForce(const DynModel *m, const DynState *s, double omega, const double x[],
+                                  double *FcOut, double *POut, double *dwOut)
 {
     const double q = x[0], v = x[1];
-    const double Omega = DYN_RAD_PER_RPM * n;
-    const double omega = m->omegaPerRpm * n;
-    const double K0 = m->K0static + m->K0omega2 * Omega * Omega; /* eq. 26 */
     double Fc = 0.0, P = 0.0, dw = 0.0;
     int bad = 0;
     if (m->friction == FrictionMacroslipTD) {
@@ -103,19 +61,57 @@ static inline int dynRhsExt(const DynModel *m, const DynState *s, double fw, dou
         Fc = s->df.Keq * q + Ceq * v;
         P = Ceq * v * v;
     }
-    if (m->modes > 1) {
-        dynRhsModes(m, dynLoad(m, fw, x[2]), Omega, fext - Fc, x, f);
-        f[3] += P;
-    } else {
+    *FcOut = Fc;
+    *POut = P;
+    *dwOut = dw;
+    return bad;
+}
+
+/* f = dx/dt of the one-mode blade at state x for inputs fw [N/m], n [rpm] and an external force
+ * fext [N] on q (positive along q; 0 for ShroudedBlade) with the discrete state of s (eq. 27 plus
+ * fext on the right). Returns 1 if omega <= 0 while a describing-function force is needed
+ * (model-notes s.2). */
+static inline int dynRhsOne(const DynModel *m, const DynState *s, double fw, double n, double fext,
+                            const double x[DYN_NX_MAX], double f[DYN_NX_MAX])
+{
+    const double q = x[0], v = x[1];
+    const double Omega = DYN_RAD_PER_RPM * n;
+    const double omega = m->omegaPerRpm * n;
+    const double K0 = m->K0static + m->K0omega2 * Omega * Omega; /* eq. 26 */
+    double Fc, P, dw;
+    const int bad = dynContactForce(m, s, omega, x, &Fc, &P, &dw);
+    f[0] = v;
+    {
         double a = m->G * dynLoad(m, fw, x[2]) - m->C0 * v - K0 * q - Fc; /* generalized force [N] */
         if (fext != 0.0) a += fext; /* skipped for 0: bit-identical to the blade without it */
-        f[0] = v;
         f[1] = a * m->invM;
-        f[3] = m->C0 * v * v + P;
     }
     f[2] = omega;
+    f[3] = m->C0 * v * v + P;
     f[4] = dw;
     return bad;
+}
+
+/* dynRhsOne for m > 1 modes (docs/model.md s.2a): the contact acts on the tip u = x[0]. */
+static inline int dynRhsMulti(const DynModel *m, const DynState *s, double fw, double n, double fext,
+                              const double x[DYN_NX_MAX], double f[DYN_NX_MAX])
+{
+    const double Omega = DYN_RAD_PER_RPM * n;
+    const double omega = m->omegaPerRpm * n;
+    double Fc, P, dw;
+    const int bad = dynContactForce(m, s, omega, x, &Fc, &P, &dw);
+    dynRhsModes(m, dynLoad(m, fw, x[2]), Omega, fext - Fc, x, f);
+    f[2] = omega;
+    f[3] += P;
+    f[4] = dw;
+    return bad;
+}
+
+/* dx/dt for any number of modes. */
+static inline int dynRhsExt(const DynModel *m, const DynState *s, double fw, double n, double fext,
+                            const double x[DYN_NX_MAX], double f[DYN_NX_MAX])
+{
+    return m->modes > 1 ? dynRhsMulti(m, s, fw, n, fext, x, f) : dynRhsOne(m, s, fw, n, fext, x, f);
 }
 
 /* dynRhsExt without an external force (ShroudedBlade, model exchange). */

@@ -10,13 +10,14 @@
  * Gauss-Legendre quadrature (8 panels x 16 nodes: mode 6 oscillates ~3 times over l, the products
  * of two modes ~6 times, each panel sees < 1 period). */
 #include "physics/modes.h"
+#include "physics/gauss_legendre.h"
 
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
 
 #define MODES_PI 3.14159265358979323846
-#define GL_NODES 16
+#define GL_NODES GAUSS_LEGENDRE_NODES
 #define GL_PANELS 8
 #define SCAN_STEP 0.01 /* eq. 21's roots are ~pi apart: a scan step far below that misses none */
 
@@ -51,29 +52,6 @@ static int roots(double R, int m, double out[MODES_MAX])
         flo = fhi;
     }
     return found == m ? 0 : 1;
-}
-
-/* Gauss-Legendre nodes/weights on [-1, 1] by Newton on the Legendre recurrence. */
-static void gaussLegendre(double x[GL_NODES], double w[GL_NODES])
-{
-    const int n = GL_NODES;
-    for (int i = 0; i < n; ++i) {
-        double z = cos(MODES_PI * ((double)i + 0.75) / ((double)n + 0.5)), dp = 1.0;
-        for (int it = 0; it < 100; ++it) {
-            double p0 = 1.0, p1 = z, dz;
-            for (int j = 2; j <= n; ++j) {
-                double p2 = ((2.0 * j - 1.0) * z * p1 - (j - 1.0) * p0) / (double)j;
-                p0 = p1;
-                p1 = p2;
-            }
-            dp = (double)n * (z * p1 - p0) / (z * z - 1.0);
-            dz = p1 / dp;
-            z -= dz;
-            if (fabs(dz) <= 1e-17) break;
-        }
-        x[i] = z;
-        w[i] = 2.0 / ((1.0 - z * z) * dp * dp);
-    }
 }
 
 /* One mode: lambda [1/m], s, s - 1 and 1 / phi(l). */
@@ -125,7 +103,7 @@ int modesReduce(const BladeParams *p, int m, ModalReduction *out)
         shape[i] = shapeOf(out->lambdaL[i], l);
         out->curvature0[i] = modesRootCurvature(out->lambdaL[i], l);
     }
-    gaussLegendre(xs, ws);
+    gaussLegendre16(xs, ws);
     for (int panel = 0; panel < GL_PANELS; ++panel) {
         const double x0 = l * (double)panel / GL_PANELS, half = 0.5 * l / GL_PANELS;
         for (int k = 0; k < GL_NODES; ++k) {

@@ -88,9 +88,10 @@ SOLVER_INLINE InputValues inputsAt(const SolverInputs *in, double tau, const int
 
 /* dx/dt of the integrated state (dynRhsExt, plus W' = F q'). */
 SOLVER_INLINE int rhs(const DynModel *m, const DynState *s, const InputValues *u, const double x[SOLVER_NX],
-                      double f[SOLVER_NX], const int ext)
+                      double f[SOLVER_NX], const int ext, const int multi)
 {
-    const int bad = dynRhsExt(m, s, u->fw, u->n, ext ? u->fe : 0.0, x, f);
+    const int bad = multi ? dynRhsMulti(m, s, u->fw, u->n, ext ? u->fe : 0.0, x, f)
+                          : dynRhsOne(m, s, u->fw, u->n, ext ? u->fe : 0.0, x, f);
     if (ext) f[SOLVER_W] = u->fe * x[1];
     return bad;
 }
@@ -113,15 +114,15 @@ SOLVER_INLINE int rk4(const DynModel *m, const DynState *s, const SolverInputs *
     for (i = 0; i < nx; ++i) xt[i] = x0[i] + hh * k1[i];
     if (ext) xt[W] = x0[W] + hh * k1[W];
     if (stages) memcpy(stages[0], xt, sizeof xt);
-    bad |= rhs(m, s, &um, xt, k2, ext);
+    bad |= rhs(m, s, &um, xt, k2, ext, multi);
     for (i = 0; i < nx; ++i) xt[i] = x0[i] + hh * k2[i];
     if (ext) xt[W] = x0[W] + hh * k2[W];
     if (stages) memcpy(stages[1], xt, sizeof xt);
-    bad |= rhs(m, s, &um, xt, k3, ext);
+    bad |= rhs(m, s, &um, xt, k3, ext, multi);
     for (i = 0; i < nx; ++i) xt[i] = x0[i] + h * k3[i];
     if (ext) xt[W] = x0[W] + h * k3[W];
     if (stages) memcpy(stages[2], xt, sizeof xt);
-    bad |= rhs(m, s, &ue, xt, k4, ext);
+    bad |= rhs(m, s, &ue, xt, k4, ext, multi);
     for (i = 0; i < nx; ++i) x1[i] = x0[i] + h6 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
     if (ext) x1[W] = x0[W] + h6 * (k1[W] + 2.0 * (k2[W] + k3[W]) + k4[W]);
     *u1 = ue;
@@ -283,6 +284,14 @@ SOLVER_INLINE void storeX(DynState *s, const double x[SOLVER_NX], const int ext,
     if (multi) storeModes(s, x);
 }
 
+/* dst = src on the integrated entries (the blade's, W if ext, the modes if multi) */
+SOLVER_INLINE void copyX(double dst[SOLVER_NX], const double src[SOLVER_NX], const int ext, const int multi)
+{
+    if (multi) memcpy(dst, src, DYN_NX_MAX * sizeof(double));
+    else memcpy(dst, src, DYN_NX * sizeof(double));
+    if (ext) dst[SOLVER_W] = src[SOLVER_W];
+}
+
 SOLVER_INLINE int allFinite(const double x[SOLVER_NX], const int ext, const int multi)
 {
     return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]) && isfinite(x[3]) && isfinite(x[4]) &&
@@ -298,7 +307,7 @@ SOLVER_INLINE DynStatus sensJump(const DynModel *m, const DynState *before, cons
     double fm[SOLVER_NX], fp[SOLVER_NX], xp[SOLVER_NX];
     const InputValues u = inputsAt(in, te, ext);
     loadX(s, xp, ext, multi);
-    if (rhs(m, before, &u, xe, fm, ext) || rhs(m, s, &u, xp, fp, ext)) return DynOmegaZero;
+    if (rhs(m, before, &u, xe, fm, ext, multi) || rhs(m, s, &u, xp, fp, ext, multi)) return DynOmegaZero;
     return sensEvent(m, before, s, sw, fm, fp, e);
 }
 
@@ -327,13 +336,13 @@ SOLVER_INLINE DynStatus advance(const DynModel *m, DynState *s, const SolverInpu
             if (!f0Valid) {
                 const InputValues u0 = inputsAt(in, tau0, ext);
                 ++nRhs;
-                if (rhs(m, s, &u0, x0, f0, ext)) { status = DynOmegaZero; break; }
+                if (rhs(m, s, &u0, x0, f0, ext, multi)) { status = DynOmegaZero; break; }
                 f0Valid = 1;
             }
             nRhs += 4;
             if (rk4(m, s, in, tau0, tauB, x0, f0, x1, &uB, sens ? stages : NULL, ext, multi)) { status = DynOmegaZero; break; }
             if (!allFinite(x1, ext, multi)) { status = DynNonFinite; break; }
-            if (rhs(m, s, &uB, x1, f1, ext)) { status = DynOmegaZero; break; } /* FSAL: next k1 */
+            if (rhs(m, s, &uB, x1, f1, ext, multi)) { status = DynOmegaZero; break; } /* FSAL: next k1 */
             hs = tauB - tau0;
             tAbs = fabs(tStart + tau0);
             tol = 1e-15 * (tAbs > hs ? tAbs : hs) / hs; /* ~1e-15 relative in time */
@@ -342,8 +351,8 @@ SOLVER_INLINE DynStatus advance(const DynModel *m, DynState *s, const SolverInpu
             if (ev == DynSwitchNone) { /* no switch: accept the whole step */
                 if (sens) rk4Sens(m, s, sens, in, tau0, tauB, x0, (const double(*)[SOLVER_NX])stages);
                 storeX(s, x1, ext, multi);
-                memcpy(x0, x1, sizeof x0);
-                memcpy(f0, f1, sizeof f0);
+                copyX(x0, x1, ext, multi);
+                copyX(f0, f1, ext, multi);
                 ++nAccepted;
                 break;
             }
@@ -388,15 +397,28 @@ SOLVER_INLINE DynStatus advance(const DynModel *m, DynState *s, const SolverInpu
     return status;
 }
 
+#if defined(__GNUC__)
+#define SOLVER_NOINLINE __attribute__((noinline))
+#else
+#define SOLVER_NOINLINE
+#endif
+
+/* m > 1 modes: out of line, so that the one-mode instances below are compiled as before */
+static SOLVER_NOINLINE DynStatus advanceModes(const DynModel *m, DynState *s, const SolverInputs *in, double tStart,
+                                              double h, long nSteps, SolverEventHook hook, void *ctx,
+                                              SolverCounters *counters, double *tFail, DynSens *sens, int ext)
+{
+    return ext ? advance(m, s, in, tStart, h, nSteps, hook, ctx, counters, tFail, sens, 1, 1)
+               : advance(m, s, in, tStart, h, nSteps, hook, ctx, counters, tFail, sens, 0, 1);
+}
+
 DynStatus solverAdvance(const DynModel *m, DynState *s, const SolverInputs *in, double tStart, double h,
                         long nSteps, SolverEventHook hook, void *ctx, SolverCounters *counters, double *tFail,
                         DynSens *sens)
 {
     /* the external force is identically 0 unless its polynomial has a nonzero coefficient */
     const int ext = in->top[SOLVER_INPUT_FORCE] > 0 || in->coef[SOLVER_INPUT_FORCE][0] != 0.0;
-    if (m->modes > 1)
-        return ext ? advance(m, s, in, tStart, h, nSteps, hook, ctx, counters, tFail, sens, 1, 1)
-                   : advance(m, s, in, tStart, h, nSteps, hook, ctx, counters, tFail, sens, 0, 1);
+    if (m->modes > 1) return advanceModes(m, s, in, tStart, h, nSteps, hook, ctx, counters, tFail, sens, ext);
     return ext ? advance(m, s, in, tStart, h, nSteps, hook, ctx, counters, tFail, sens, 1, 0)
                : advance(m, s, in, tStart, h, nSteps, hook, ctx, counters, tFail, sens, 0, 0);
 }

@@ -168,6 +168,7 @@ static void outputs(FmiInstance *inst)
     BxMemory *mem = (BxMemory *)inst->memory;
     dynOutputs(&d->model, &d->state, d->in[SOLVER_INPUT_SPEED][0], &mem->out);
     dynModeFrequencies(&d->model, d->in[SOLVER_INPUT_SPEED][0], mem->frequencies);
+    if (d->model.modes > 1) mem->out.naturalFrequency = mem->frequencies[0];
 }
 
 static double output(const FmiInstance *inst, int id)

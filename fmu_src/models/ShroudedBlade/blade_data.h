@@ -58,6 +58,7 @@ typedef struct {
     double frequencySpeed;       /* [rpm] */
     int32_t frequencyValid;      /* 0: to be computed (after every build) */
     double jacobian[SENS_MODAL_ROWS][SENS_MODAL_COLS]; /* sensitivity[r,c] of the current get call */
+    int32_t jacobianValid;       /* 0: jacobian not yet computed in this get call */
 } BladeMemory;
 
 #define BLADE_DATA(inst) ((BladeData *)(inst)->data)

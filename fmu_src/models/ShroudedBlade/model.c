@@ -567,8 +567,8 @@ static void outputs(FmiInstance *inst)
         mem->frequencySpeed = n;
         mem->frequencyValid = 1;
     }
-    if (d->ipar[IparSensitivities]) sensModalJacobian(&d->model, &d->state, &d->sens, mem->jacobian);
-    else memset(mem->jacobian, 0, sizeof mem->jacobian);
+    if (d->model.modes > 1) mem->out.naturalFrequency = mem->frequencies[0];
+    mem->jacobianValid = 0; /* computed at the first sensitivity[r,c] read of this get call */
 }
 
 /* dx_i/dt, the der(...) variables, evaluated only when asked for (at omega = 0 with a
@@ -599,6 +599,19 @@ static double sensitivity(const FmiInstance *inst, int k)
     case SensRowRunningMaximum: sensPeakGradient(&d->sens, g); return d->ipar[IparSensitivities] ? g[col] : 0.0;
     default: return d->sens.dB[col];
     }
+}
+
+/* sensitivity[r,c], entry k row-major (0 unless sensitivities) */
+static double modalJacobian(const FmiInstance *inst, int k)
+{
+    const BladeData *d = BLADE_DATA(inst);
+    BladeMemory *mem = BLADE_MEMORY(inst);
+    if (!mem->jacobianValid) {
+        if (d->ipar[IparSensitivities]) sensModalJacobian(&d->model, &d->state, &d->sens, mem->jacobian);
+        else memset(mem->jacobian, 0, sizeof mem->jacobian);
+        mem->jacobianValid = 1;
+    }
+    return (&mem->jacobian[0][0])[k];
 }
 
 /* modalDisplacement[i], modalVelocity[i], modeFrequency[i] (0 above m) */
@@ -634,7 +647,7 @@ static double output(const FmiInstance *inst, int id)
     default: break;
     }
     if (id >= OutSensitivity11 && id < OutSensitivity11 + SENS_MODAL_ROWS * SENS_MODAL_COLS)
-        return (&BLADE_MEMORY(inst)->jacobian[0][0])[id - OutSensitivity11];
+        return modalJacobian(inst, id - OutSensitivity11);
     if (id >= OutModalQ1 && id < OutRootMoment) return modeOutput(inst, id);
     if (id == OutRootMoment)
         return bladeRootMoment(&BLADE_DATA(inst)->model, s, BLADE_DATA(inst)->par[ParEI], BLADE_DATA(inst)->curvature);
