@@ -59,7 +59,7 @@ def test_make_run_wall_times(bench):
     assert int(m.group(1)) == round(r["branches_evaluations"] / 1000)
     assert m.group(2) == f"{r['wall']:.1f}" and int(m.group(3)) == r["workers"]
     assert m.group(4) == f"{r['branches_wall']:.1f}"
-    m = _one(README, r"`make run` takes ([\d.]+) s on (\d+) cores")
+    m = _one(README, r"the paper's studies as 50 branch curves with their\s+extras take ([\d.]+) s on (\d+) cores")
     assert m.group(1) == f"{r['wall']:.1f}" and int(m.group(2)) == r["workers"]
 
 
@@ -155,3 +155,37 @@ def test_dask_measurement():
     row = re.search(r"\| wall \[h\] \| (.*) \|", text).group(1).split(" | ")
     assert row == [f"{c['wall_h']:.2f}" for c in m["cluster_cost"]]
     assert m["killed_worker"]["completed"] and m["killed_worker"]["lost"] in m["killed_worker"]["started_twice"]
+
+
+def _modes_rows() -> dict:
+    with open(REPO / "results" / "modes_convergence.csv", newline="") as f:
+        rows = csv.DictReader(line for line in f if not line.startswith("#"))
+        return {(r["model"], int(r["modes"])): r for r in rows}
+
+
+def test_modes_convergence_table():
+    """Every row of the convergence table on docs/modes.md against results/modes_convergence.csv."""
+    rows = _modes_rows()
+    text = (REPO / "docs" / "modes.md").read_text()
+    model, seen = None, 0
+    for m in re.finditer(r"^\|\s*([a-zA-Z =().]*?)\s*\| (\d) \| ([\d.]+) \| (\d+) \| ([\d.]+) \|$", text, re.M):
+        name = {"Jenkins element": "jenkins", "fixed point B = A(B)": "fixedPoint"}.get(m.group(1).strip(), model)
+        model = name
+        r = rows[(name, int(m.group(2)))]
+        assert m.group(3) == f"{float(r['peak_m']) * 1e3:.5f}"
+        assert m.group(4) == f"{float(r['speed_rpm']):.0f}"
+        assert m.group(5) == f"{float(r['root_moment_Nm']):.2f}"
+        seen += 1
+    assert seen == len(rows), f"docs/modes.md quotes {seen} of the {len(rows)} convergence rows"
+
+
+def test_readme_modes():
+    rows = _modes_rows()
+    m = _one(README, r"one mode is ([\d.]+) % low in the base case's\s+peak amplitude \(two modes are within "
+                     r"([\d.]+) % of four\) but gives (\d+) % of the root bending moment\s+\(([\d.]+) N m against "
+                     r"([\d.]+) N m at m = 4\)")
+    j1, j2, j4 = rows[("jenkins", 1)], rows[("jenkins", 2)], rows[("jenkins", 4)]
+    assert m.group(1) == f"{-100 * float(j1['d_peak']):.1f}"
+    assert m.group(2) == f"{-100 * float(j2['d_peak']):.2f}"
+    assert m.group(3) == f"{100 * float(j1['root_moment_Nm']) / float(j4['root_moment_Nm']):.0f}"
+    assert (m.group(4), m.group(5)) == (f"{float(j1['root_moment_Nm']):.2f}", f"{float(j4['root_moment_Nm']):.2f}")
