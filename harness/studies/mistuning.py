@@ -16,8 +16,9 @@ a theorem for linear rings with light damping. Variants: `friction` (the contact
 `frictionless` (mu = 0: the shrouds impact, no friction) and `open` (d = 1 m: the contacts never
 close, the blades are uncoupled).
 
-Numerics: each task is one sweep up the band (harness/system/ring_sweep.py): the C
-communication loop from rest at the lowest speed, the state carried from speed to speed, h = T / 160
+Numerics: each task is one sweep up and then down the band (harness/system/ring_sweep.py): the C
+communication loop from rest at the lowest speed, the state carried from speed to speed (up to the
+highest, then back down: the ring is multistable, and each speed keeps the larger steady state), h = T / 160
 at each speed with quadratic extrapolation (error ~1e-3 of max |q| against the monolithic
 reference), every blade settled when its per-period amplitude changes by less than `rtol` of the
 largest over 5 periods (at most `max_time` s per speed, else flagged), and the peak located by
@@ -47,7 +48,7 @@ from harness.system.ring_values import settable
 PARAMETERS = ("EI", "m0")  # the blade parameters a pattern scatters
 # contact parameters on top of the ring's
 VARIANTS = {"friction": {}, "frictionless": {"mu": 0.0}, "open": {"d": 1.0}}
-CACHE_VERSION = 3  # bump when the meaning of a cached record changes (3: a record is a sweep over speed)
+CACHE_VERSION = 4  # bump when the meaning of a cached record changes (4: a sweep up and down)
 CROSSING_BAND = (0.8, 3.0)  # the band, as multiples of the contact-free crossing (3973-14898 rpm at EO 3)
 
 
@@ -152,20 +153,39 @@ def _fmu_digest() -> str:
     return h.hexdigest()
 
 
+def larger_state(sw: ring_sweep.RingSweep) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
+    """Per speed, the steady state of the direction whose largest blade is larger (settled states
+    before unsettled ones: the ring is multistable, and a sweep up misses what a sweep down finds):
+    amplitudes, settled and movement (K x N) and the direction each speed took."""
+    def score(d: str) -> np.ndarray:
+        a, ok = sw.amplitudes_m[d].max(axis=1), sw.settled[d].all(axis=1)
+        return np.where(ok, a, a - 1.0)  # amplitudes are < 1 m: any settled state ranks above any unsettled one
+    dirs = list(sw.amplitudes_m)
+    pick = np.argmax(np.stack([score(d) for d in dirs]), axis=0)
+    rows = range(len(sw.speeds_rpm))
+    take = lambda field: np.array([field[dirs[p]][j] for j, p in zip(rows, pick)])
+    return take(sw.amplitudes_m), take(sw.settled), take(sw.movement), [dirs[p] for p in pick]
+
+
 def sweep(ring: Ring, speeds_rpm: Sequence[float], study: Study) -> dict:
-    """The ring's forced response swept up the speeds (harness/system/ring_sweep.py) as a JSON-able
-    record: speeds_rpm (K), amplitudes_m, settled and movement (K x N), the located peak
-    (peak_amplitude_m, peak_speed_rpm; NaN if no speed settled; peak_blades_m: every blade there),
-    simulated time."""
-    sw = ring_sweep.sweep(ring, speeds_rpm, "up", rtol=study.rtol, max_time=study.max_time,
+    """The ring's forced response swept up and then down the speeds (harness/system/ring_sweep.py)
+    as a JSON-able record: speeds_rpm (K); amplitudes_m, settled and movement (K x N) of the larger
+    steady state at each speed and its direction; the located peak over both directions
+    (peak_amplitude_m, peak_speed_rpm, peak_direction; NaN if no speed settled; peak_blades_m:
+    every blade there), simulated time."""
+    sw = ring_sweep.sweep(ring, speeds_rpm, "both", rtol=study.rtol, max_time=study.max_time,
                           steps_per_period=study.steps_per_period, speed_tol=study.speed_tol)
-    at_peak = [e["amplitudes_m"] for e in sw.refinement if e["speed_rpm"] == sw.peak_speed_rpm]
-    at_peak += [a.tolist() for s, a in zip(sw.speeds_rpm, sw.amplitudes_m["up"]) if s == sw.peak_speed_rpm]
-    return {"speeds_rpm": sw.speeds_rpm.tolist(), "amplitudes_m": sw.amplitudes_m["up"].tolist(),
-            "settled": sw.settled["up"].tolist(), "movement": sw.movement["up"].tolist(),
+    amps, settled, moved, dirs = larger_state(sw)
+    d = sw.peak_direction
+    at_peak = [e["amplitudes_m"] for e in sw.refinement if e["direction"] == d and e["speed_rpm"] == sw.peak_speed_rpm]
+    if d:
+        at_peak += [a.tolist() for s, a in zip(sw.speeds_rpm, sw.amplitudes_m[d]) if s == sw.peak_speed_rpm]
+    return {"speeds_rpm": sw.speeds_rpm.tolist(), "amplitudes_m": amps.tolist(), "settled": settled.tolist(),
+            "movement": moved.tolist(), "direction": dirs,
             "peak_amplitude_m": float(sw.peak_amplitude_m), "peak_speed_rpm": float(sw.peak_speed_rpm),
-            "peak_at_band_edge": bool(sw.peak_at_band_edge), "peak_blades_m": at_peak[0] if at_peak else None,
-            "simulated_s": float(sw.time_at_speed_s["up"].sum())}
+            "peak_direction": d, "peak_at_band_edge": bool(sw.peak_at_band_edge),
+            "peak_blades_m": at_peak[0] if at_peak else None,
+            "simulated_s": float(sum(t.sum() for t in sw.time_at_speed_s.values()))}
 
 
 def _task(job: tuple[Ring, list[float], Study, str, str | None]) -> dict:
@@ -202,7 +222,7 @@ def _variant(study: Study, recs: list[tuple[int, int, dict]]) -> dict:
                 at_peak[li, k] = r["peak_blades_m"]
     return {"tuned": tuned["amplitudes_m"], "tuned_settled": tuned["settled"],
             "tuned_peak_m": ref, "tuned_peak_rpm": tuned["peak_speed_rpm"],
-            "tuned_peak_at_edge": bool(tuned["peak_at_band_edge"]), "tuned_peak_blades": tuned["peak_blades_m"],
+            "tuned_peak_at_edge": bool(tuned["peak_at_band_edge"]), "tuned_peak_direction": tuned["peak_direction"], "tuned_peak_blades": tuned["peak_blades_m"],
             "amplitudes": curves.tolist(), "peak_m": peaks.tolist(), "peak_rpm": peak_speeds.tolist(),
             "peak_blades": at_peak.tolist(),
             "amplification": (peaks / ref).tolist(),
