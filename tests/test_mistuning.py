@@ -19,6 +19,7 @@ from __future__ import annotations
 import json
 import math
 import re
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -101,10 +102,26 @@ def test_unsettled_patterns_have_no_amplification():
     st = Study(n=2, levels=(0.01,), patterns=2)
     rec = lambda peak, rpm: {"speeds_rpm": [1.0, 2.0], "amplitudes_m": [[1, 1], [1, 1]], "settled": [[1, 1], [1, 1]],  # noqa: E731
                              "movement": [[0, 0], [0, 0]], "peak_amplitude_m": peak, "peak_speed_rpm": rpm,
-                             "peak_at_band_edge": rpm == 1.0, "peak_blades_m": None}
+                             "peak_at_band_edge": rpm == 1.0, "peak_direction": "up", "peak_blades_m": None}
     v = mistuning._variant(st, [(-1, 0, rec(2.0, 1.0)), (0, 0, rec(3.0, 2.0)), (0, 1, rec(math.nan, math.nan))])
     assert v["amplification"][0][0] == pytest.approx(1.5) and np.isnan(v["amplification"][0][1])
     assert v["tuned_peak_at_edge"]
+
+
+def test_each_speed_keeps_the_larger_settled_state_of_both_sweeps():
+    """Speed 0: down larger and settled -> down; speed 1: down larger but unsettled -> up (settled);
+    speed 2: neither settled -> the larger (up)."""
+    up = np.array([[1.0, 2.0], [3.0, 1.0], [5.0, 1.0]])
+    down = np.array([[4.0, 1.0], [9.0, 1.0], [1.0, 2.0]])
+    ok_up = np.array([[True, True], [True, True], [False, True]])
+    ok_down = np.array([[True, True], [True, False], [True, False]])
+    sw = SimpleNamespace(speeds_rpm=np.array([1.0, 2.0, 3.0]), amplitudes_m={"up": up, "down": down},
+                         settled={"up": ok_up, "down": ok_down}, movement={"up": 0 * up, "down": 1 + 0 * down})
+    amps, settled, moved, dirs = mistuning.larger_state(sw)
+    assert dirs == ["down", "up", "up"]
+    assert np.array_equal(amps, np.stack([down[0], up[1], up[2]]))
+    assert np.array_equal(settled, np.stack([ok_down[0], ok_up[1], ok_up[2]]))
+    assert np.array_equal(moved[:, 0], [1.0, 0.0, 0.0])
 
 
 def test_patterns_are_seeded():

@@ -10,9 +10,10 @@ max over the band of the tuned ring's, both from the same sweep. The band, 0.8x 
 contact-free Campbell crossing (EO n / 60 = first bending frequency, 4966 rpm at EO 3; Galerkin
 reduction, harness.model.galerkin), contains the response the shroud contacts stiffen and move
 upwards: swept up, the tuned 6-blade ring leaves its travelling wave between 5500 and 6000 rpm
-for a localised state that grows to 4.30e-5 m at 13574 rpm and falls back to the wave (3.8e-6 m)
-by 14000 rpm. A point whose ring did not settle is flagged and left out of the maxima. Compared with Whitehead's bound (1 + sqrt(N)) / 2,
-a theorem for linear rings with light damping. Variants: `friction` (the contacts as given),
+for a localised state that grows to 4.3e-5 m near 13500 rpm and falls back to the wave (3.8e-6 m)
+by 14000 rpm; swept down it reaches its largest response, 4.67e-5 m, near 6200 rpm. A point
+whose ring did not settle is flagged and left out of the maxima. Compared with Whitehead's bound
+(1 + sqrt(N)) / 2, a theorem for linear rings with light damping. Variants: `friction` (the contacts as given),
 `frictionless` (mu = 0: the shrouds impact, no friction) and `open` (d = 1 m: the contacts never
 close, the blades are uncoupled).
 
@@ -157,13 +158,13 @@ def larger_state(sw: ring_sweep.RingSweep) -> tuple[np.ndarray, np.ndarray, np.n
     """Per speed, the steady state of the direction whose largest blade is larger (settled states
     before unsettled ones: the ring is multistable, and a sweep up misses what a sweep down finds):
     amplitudes, settled and movement (K x N) and the direction each speed took."""
-    def score(d: str) -> np.ndarray:
-        a, ok = sw.amplitudes_m[d].max(axis=1), sw.settled[d].all(axis=1)
-        return np.where(ok, a, a - 1.0)  # amplitudes are < 1 m: any settled state ranks above any unsettled one
     dirs = list(sw.amplitudes_m)
-    pick = np.argmax(np.stack([score(d) for d in dirs]), axis=0)
-    rows = range(len(sw.speeds_rpm))
-    take = lambda field: np.array([field[dirs[p]][j] for j, p in zip(rows, pick)])
+    top = np.stack([sw.amplitudes_m[d].max(axis=1) for d in dirs])  # directions x speeds
+    ok = np.stack([sw.settled[d].all(axis=1) for d in dirs])
+    pick = np.argmax(np.where(ok.any(axis=0), np.where(ok, top, -np.inf), top), axis=0)
+
+    def take(field: dict) -> np.ndarray:
+        return np.array([field[dirs[p]][j] for j, p in enumerate(pick)])
     return take(sw.amplitudes_m), take(sw.settled), take(sw.movement), [dirs[p] for p in pick]
 
 
