@@ -119,12 +119,15 @@ def test_open_contacts_give_the_single_blade_amplitude(capsys):
     (["--blades", "3", "--start-values", "frictionModel", "x"], ["frictionModel", "'x'", "Integer"]),
     (["--blades", "3", "--start-values", "bladeIndex", "1"], ["bladeIndex", "set by the ring"]),
     (["--blades", "3", "--mistuning", "0.5"], ["--mistuning 0.5", "[0, 0.2]"]),
+    # refused by the FMU itself (at initialization): its reason, one line
+    (["--blades", "3", "--start-values", "modes", "3"], ["modes = 3", "formulation = 2", "[1, 1]"]),
     (["--blades", "3", "--master", "libcosim", "--order", "2"], ["--order 2", "hold inputs"]),
 ])
 def test_bad_values_are_named(capsys, args, words):
     assert main(["ring", *args]) == 2
     err = capsys.readouterr().err
     assert err.startswith("error: ") and all(w in err for w in words), err
+    assert err.count("\n") == 1, err
 
 
 @pytest.mark.crosscheck

@@ -19,6 +19,7 @@ import sys
 from typing import Sequence
 
 from harness.api import version
+from harness.fmu.binding.status import FmiError
 from harness.fmu.blade import FMUError, FMUNotFoundError
 from harness.fmu.build import BuildError
 from harness.model.excitation import ExcitationError
@@ -79,7 +80,8 @@ def _summary(module: str) -> str:
 
 
 def _known_errors() -> tuple[type[BaseException], ...]:
-    return (ParameterError, ExcitationError, FMUNotFoundError, FMUError, BuildError, OutputPathError)
+    # FmiError: an FMU refused a call (its message names the variable, value and range)
+    return (ParameterError, ExcitationError, FMUNotFoundError, FMUError, FmiError, BuildError, OutputPathError)
 
 
 def _prog() -> str:
