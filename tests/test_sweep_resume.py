@@ -115,10 +115,13 @@ def _cache_files(d: Path) -> list[Path]:
 def test_sigint_keeps_finished_points_and_rerun_completes(fmu_path, tmp_path):
     cache = tmp_path / "cache"
     out = tmp_path / "sweep.csv"
-    cmd = [sys.executable, "-m", "harness", "sweep", "--fmu", str(fmu_path), "--speeds", "3000:8000:100",
+    cmd = [sys.executable, "-m", "harness", "sweep", "--fmu", str(fmu_path), "--speeds", "3000:8000:250",
            "--method", "time", "--refine", "1", "--max-time", "1.0", "--start-values", "kn", "1e6",
            "--workers", "2", "--quiet", "--cache-dir", str(cache), "--output-file", str(out)]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # SIGINT back to its default in the child: a test run started in the background of a shell
+    # without job control inherits SIGINT ignored, and Python then never raises KeyboardInterrupt
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     t0 = time.time()
     while len(_cache_files(cache)) < 3 and proc.poll() is None and time.time() - t0 < 120:
         time.sleep(0.05)
