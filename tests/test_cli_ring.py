@@ -76,13 +76,15 @@ def test_diverging_libcosim_ring_exits_2(capsys):
     assert len(err.splitlines()) == 1 and "ring (libcosim) diverged at step" in err and "raise --order" not in err
 
 
-def single_blade_amplitude(i: int, n: int, speed: float, h: float, K: int, eo: int = 3) -> float:
-    """ShroudedBlade alone, contact open, with blade i's built-in load (the ring's default Fw0 100 N/m)."""
+def single_blade_amplitude(i: int, n: int, speed: float, h: float, K: int, eo: int = 3, extra: dict | None = None
+                           ) -> float:
+    """ShroudedBlade alone, contact open, with blade i's built-in load (the ring's default Fw0 100 N/m)
+    and the parameters in `extra`."""
     build(("fmu",))
     t = ns_time_grid(0.0, h, K)
     with Unpacked(FMU_PATH) as SB:
         s = SB.instance("alone", {"d": 1.0, "amplitudeMode": 1, "Fw0": 100.0, "bladeIndex": i, "bladeCount": n,
-                                  "engineOrder": eo}, inputs={"rotorSpeed": speed})
+                                  "engineOrder": eo, **(extra or {})}, inputs={"rotorSpeed": speed})
         q = [s.get(["tipDisplacement"])[0]]
         try:
             for k in range(K):
@@ -104,6 +106,19 @@ def test_open_contacts_give_the_single_blade_amplitude(capsys):
         out = ring_json(capsys, "--blades", str(n), "--speed", str(speed), "--stop-time", str(stop), "--step",
                         "1e-4", "--order", "1", "--master", master, "--start-values", "d", "1.0")
         assert np.allclose(out["amplitudes_m"], ref, rtol=1e-12, atol=0), (master, out["amplitudes_m"], ref)
+
+
+def test_open_ring_of_three_mode_blades_gives_the_single_blade_amplitude(capsys):
+    """The ring's BladeExternalContact with modes = 3 (consistent formulation), contacts open, against
+    ShroudedBlade alone with the same modes: the other FMU, the same blade."""
+    n, speed, stop = 3, 7000.0, 0.02
+    K = round(stop / 1e-4)
+    three = {"modes": 3, "formulation": 2}
+    ref = [single_blade_amplitude(i, n, speed, 1e-4, K, extra=three) for i in range(n)]
+    assert min(ref) > 1e-6
+    out = ring_json(capsys, "--blades", str(n), "--speed", str(speed), "--stop-time", str(stop), "--step", "1e-4",
+                    "--order", "1", "--master", "c", "--start-values", "d", "1.0", "modes", "3", "formulation", "2")
+    assert np.allclose(out["amplitudes_m"], ref, rtol=1e-12, atol=0), (out["amplitudes_m"], ref)
 
 
 @pytest.mark.parametrize("args,words", [
