@@ -1,4 +1,4 @@
-"""Issue 11 acceptance in the co-simulation: over a steady excitation period the work of the aero
+"""The energy balance in the co-simulation: over a steady excitation period the work of the aero
 loads equals the viscous plus friction dissipation within 1e-6 relative (harness/system/energy.py;
 the convergence study's ring N = 4, EO = 3, 5000 rpm, F_w0 = 300 N/m, c = 298 N s/m2, whole runs
 from rest at one step h to t = 0.2 s, the window = the last period 4 ms; steady: the per-period
