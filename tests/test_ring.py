@@ -48,6 +48,20 @@ def assert_force_balance(res) -> None:
     assert np.abs(f.sum(axis=1)).max() <= 1e-12 * max(np.abs(f).max(), 1e-300)
 
 
+def _stepped_alone(s, res: dict, n_steps: int, set_inputs) -> np.ndarray:
+    """Blade instance `s` stepped over the ring's communication points (set_inputs(k) before step k),
+    then freed: its (tipDisplacement, tipVelocity) at every point."""
+    try:
+        rows = [s.get(["tipDisplacement", "tipVelocity"])]
+        for k in range(n_steps):
+            set_inputs(k)
+            s.step(float(res["time"][k]), float(res["time"][k + 1] - res["time"][k]))
+            rows.append(s.get(["tipDisplacement", "tipVelocity"]))
+    finally:
+        s.free()
+    return np.array(rows)
+
+
 def test_open_contacts_equal_single_blade_with_its_load_bit_for_bit():
     ring = Ring(n=3, engine_order=3, stop_time=0.03, contact={"d": 1.0}, order=2, speed=5300.0)
     res = run(ring)
@@ -58,15 +72,7 @@ def test_open_contacts_equal_single_blade_with_its_load_bit_for_bit():
             s = sb.instance("alone", {"d": 1.0, "amplitudeMode": 1, "Fw0": ring.fw0, "bladeIndex": i,
                                       "bladeCount": ring.n, "engineOrder": ring.engine_order},
                             inputs={"rotorSpeed": ring.speed})
-            try:
-                rows = [s.get(["tipDisplacement", "tipVelocity"])]
-                for k in range(ring.n_steps):
-                    s.set_inputs({"rotorSpeed": ring.speed})
-                    s.step(float(res["time"][k]), float(res["time"][k + 1] - res["time"][k]))
-                    rows.append(s.get(["tipDisplacement", "tipVelocity"]))
-            finally:
-                s.free()
-            rows = np.array(rows)
+            rows = _stepped_alone(s, res, ring.n_steps, lambda k: s.set_inputs({"rotorSpeed": ring.speed}))
             assert np.abs(rows[:, 0]).max() > 1e-5
             assert np.array_equal(rows[:, 0], res["q"][:, i]) and np.array_equal(rows[:, 1], res["v"][:, i])
 
@@ -79,16 +85,9 @@ def test_open_contacts_equal_single_blade_bit_for_bit_excitation_fed():
     with Unpacked(FMU_PATH) as sb:
         for i in range(ring.n):
             s = sb.instance("alone", {"d": 1.0, "amplitudeMode": 1, "Fw0": 0.0})
-            try:
-                rows = [s.get(["tipDisplacement", "tipVelocity"])]
-                for k in range(ring.n_steps):
-                    a = res["aeroLoad"][k, i]
-                    s.set_inputs({"aeroLoad": a[0], "rotorSpeed": ring.speed}, {"aeroLoad": a[1:]})
-                    s.step(float(res["time"][k]), float(res["time"][k + 1] - res["time"][k]))
-                    rows.append(s.get(["tipDisplacement", "tipVelocity"]))
-            finally:
-                s.free()
-            rows = np.array(rows)
+            load = res["aeroLoad"][:, i]
+            rows = _stepped_alone(s, res, ring.n_steps, lambda k: s.set_inputs(
+                {"aeroLoad": load[k][0], "rotorSpeed": ring.speed}, {"aeroLoad": load[k][1:]}))
             assert np.abs(rows[:, 0]).max() > 1e-5
             assert np.array_equal(rows[:, 0], res["q"][:, i]) and np.array_equal(rows[:, 1], res["v"][:, i])
 
