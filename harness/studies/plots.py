@@ -206,16 +206,19 @@ def campbell(path: Path | str, speed: np.ndarray, fnat: np.ndarray, orders: Sequ
     fig, ax = plt.subplots(figsize=(9.5, 5))
     top = max([float(np.max(f)) * 1.6, 1.0] + [1.05 * fr for _, fr, _ in peaks])
     for m in range(f.shape[1]):
-        ax.plot(speed, f[:, m], "k-", lw=1.6, label=f"bending mode {m + 1} (contact-free), FMU" if f.shape[1] > 1
+        ax.plot(speed, f[:, m], ("-", "--", "-.")[m % 3], color="k", lw=1.6, label=f"bending mode {m + 1} (contact-free), FMU" if f.shape[1] > 1
                 else "first bending (contact-free), FMU naturalFrequency")
     _engine_order_lines(ax, speed, orders, eo, top)
     if np.isfinite(crossing):
         ax.plot([crossing], [eo * crossing / 60.0], "ro", ms=7, label=f"EO {eo} crossing {crossing:.0f} rpm")
     for sp, fr, lab in peaks:
         ax.plot([sp], [fr], "v", ms=6, label=lab)
-    for sp, fr, lab in crossings:
+    last = -np.inf  # crossings closer than 4 % of the speed range share the previous label
+    for sp, fr, lab in sorted(crossings):
         ax.plot([sp], [fr], "o", color="red", ms=4)
-        ax.annotate(lab, (sp, fr), xytext=(3, -9), textcoords="offset points", fontsize=6, color="red")
+        if sp - last > 0.04 * (speed[-1] - speed[0]):
+            ax.annotate(lab, (sp, fr), xytext=(3, -9), textcoords="offset points", fontsize=6, color="red")
+            last = sp
     if crossings:
         ax.plot([], [], "o", color="red", ms=4, label="crossing (located): its speed [rpm]")
     ax.set_xlabel("rotor speed n [rpm]")
