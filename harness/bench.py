@@ -28,6 +28,7 @@ import fmpy
 import numpy as np
 
 from harness import reference as ref
+from harness.reference.hysteresis import hysteresis
 from harness.analysis import curves as sw
 from harness.analysis.curves import SweepSettings, SweepSpec, fmu_identity, hb_curve, run_sweeps
 from harness.analysis.executor import Runner, atomic_write_text

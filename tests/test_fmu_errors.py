@@ -552,7 +552,6 @@ def pointer_cases() -> list[Case]:
     x1 = np.zeros(1)
     i1 = np.zeros(1, dtype=np.int32)
     vp, xp, ip = vr1.ctypes.data, x1.ctypes.data, i1.ctypes.data
-    P = ctypes.c_void_p
     ivr = np.array([60], dtype=np.uint32).ctypes.data
     return [
         _ptr_case("fmi2GetReal vr = NULL, nvr = 1", lambda c: c.lib.fmi2GetReal(c.c, None, 1, xp),

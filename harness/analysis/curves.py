@@ -37,7 +37,6 @@ from harness.analysis.harmonic_balance import harmonic_balance
 from harness.analysis.config import (ALGO_VERSION, DIRECTIONS, MAX_RPM, METHODS, ConfigError,  # noqa: F401
                                      SweepSettings, SweepSpec, parse_speed_range, validate_settings,
                                      validate_spec)
-from harness.analysis.harmonic_balance import harmonic_balance
 from harness.analysis.fixed_point import FixedPointResult, FixedPointTask, fixed_refinement, run_fixed_point
 
 

@@ -12,7 +12,6 @@ import argparse
 import json
 import math
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 

@@ -254,7 +254,7 @@ def case_b(t_end: float = 2.0, rtols: tuple[float, ...] = (1e-9,), wave_periods:
         print(f"  last {half} periods: blade max |q| from {late.min():.3e} to {late.max():.3e}; "
               f"wave defect from {d[-half:].min():.2f} to {d[-half:].max():.2f}; "
               f"|q_(i+4) + q_i| / max |q| = {np.abs(q + np.roll(q, 4, axis=1)).max() / np.abs(q).max():.1e}")
-        print(f"  blade 0 amplitude spectrum: lines at " + ", ".join(f"{x:.4f}" for x in lines)
+        print("  blade 0 amplitude spectrum: lines at " + ", ".join(f"{x:.4f}" for x in lines)
               + f" per period, {share:.2f} of the power within +-1 bin")
     names = list(amps)
     y = names[3]  # the reference at the first rtol
