@@ -19,7 +19,7 @@ from harness.cli.sweep import add_execution_options, make_runner
 from harness.reference.hysteresis import hysteresis
 from harness.outputs import check_dir
 from harness.studies.claims import tally, verdict_counts, write_claims
-from harness.studies.paper import SIZES, STUDIES, reproduce, validate_request
+from harness.studies.paper import SIZES, STUDIES, Reproduction, reproduce, validate_request
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
@@ -34,7 +34,8 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     add_execution_options(p, cache=False)
 
 
-def reproduce_and_report(args: argparse.Namespace, size: str, studies, extras: bool) -> int:
+def reproduce_and_report(args: argparse.Namespace, size: str, studies, extras: bool) -> Reproduction:
+    """Run the studies, print their summary and the claims tally; the reproduction with its claim rows."""
     validate_request(size, studies)
     runner = make_runner(args)
     check_dir(args.output_dir, "--out")  # the configuration is good: can the results be written?
@@ -53,8 +54,10 @@ def reproduce_and_report(args: argparse.Namespace, size: str, studies, extras: b
                   f" {r.jenkins_speed:6.0f} rpm (Jenkins), {r.hb_peak * 1e3:8.5f} mm at {r.hb_speed:6.0f} rpm (HB)")
     print(f"claims: {tally(verdict_counts(rows))} -> {out / 'claims.md'}")
     print(f"wall time {wall:.1f} s; results in {out}/")
-    return 0
+    rep.claims = rows
+    return rep
 
 
 def run(args: argparse.Namespace) -> int:
-    return reproduce_and_report(args, args.size, args.studies, not args.no_extras)
+    reproduce_and_report(args, args.size, args.studies, not args.no_extras)
+    return 0
