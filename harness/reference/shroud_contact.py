@@ -21,8 +21,8 @@ import numpy as np
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from harness.reference.contact import MACROSLIP_TD, STATE_OPEN, STATE_SLIP, STATE_STICK, contact_consts, \
-    describing_function
+from harness.model.contact import MACROSLIP_TD, STATE_OPEN, STATE_SLIP, STATE_STICK
+from harness.reference.contact import contact_consts, describing_function
 
 Fn = Callable[[float], float]
 
