@@ -3,7 +3,7 @@ psi the excitation phase integrated with the state: exact at any communication s
 
 The comparison is the harness's own path with the FMU's Fw0 = 0 and the load fed through the
 aeroLoad input with its exact Taylor derivatives (order 8) at a communication step of 1e-4 s
-(accurate to ~1e-12 of the response at that step). The load fed there is written here (`_Sine`,
+(accurate to ~1e-12 of the response at that step). The load fed there is written here (tests/loads.py,
 Fw0 sin(omega t + lead)), or for the run-up the harness's Python AeroLoad (eq. 17, its phase the
 integral of the speed): never the FMU's C load code. Tolerances are ~10x the measured differences
 (stated per test); a phase error of 1e-4 rad in the built-in load moves the response by 3.7e-9 m
@@ -24,6 +24,7 @@ from fmpy.fmi2 import FMU2Slave
 from harness.fmu import build as _build
 from harness.fmu.blade import BladeFMU
 from harness.model.excitation import AeroLoad, LinearRamp
+from loads import Sine
 
 FW0, EO, SPEED = 100.0, 3, 5000.0
 OMEGA = EO * 2 * math.pi * SPEED / 60  # [rad/s]
@@ -31,22 +32,6 @@ OMEGA = EO * 2 * math.pi * SPEED / 60  # [rad/s]
 # the harness is 2e-10), 6.0e-15 with B fixed, 7.1e-15 with the Jenkins element
 RUN_UP_TOL = 6e-16  # [m]: measured 6.0e-17 (run-up, Jenkins element)
 TOL = {"tracked amplitude": 1e-9, "fixed B": 5e-14, "Jenkins element": 5e-14}
-
-
-class _Sine:
-    """f(t) = amplitude sin(omega t + lead) and its derivatives, for BladeFMU.run's aero input."""
-
-    breakpoints = np.zeros(0)
-
-    def __init__(self, amplitude: float, omega: float, lead: float = 0.0):
-        self.amplitude, self.omega, self.lead = amplitude, omega, lead
-
-    def __call__(self, t):
-        return self.amplitude * np.sin(self.omega * np.asarray(t, dtype=float) + self.lead)
-
-    def derivatives(self, t, order: int) -> np.ndarray:
-        x = self.omega * np.atleast_1d(np.asarray(t, dtype=float)) + self.lead
-        return np.array([self.amplitude * self.omega ** j * np.sin(x + j * math.pi / 2) for j in range(order + 1)])
 
 
 def _harness(fmu: BladeFMU, params: dict, aero, speed, stop: float) -> np.ndarray:
@@ -58,7 +43,7 @@ def _harness(fmu: BladeFMU, params: dict, aero, speed, stop: float) -> np.ndarra
 def test_fmpy_at_1e_3_s_equals_the_harness(fmu_path: Path, fmu: BladeFMU, name: str, model: dict) -> None:
     r = simulate_fmu(fmu_path, stop_time=0.3, output_interval=1e-3, start_values={"Fw0": FW0, **model},
                      output=["tipDisplacement"])
-    q = _harness(fmu, model, _Sine(FW0, OMEGA), SPEED, 0.3)
+    q = _harness(fmu, model, Sine(FW0, OMEGA), SPEED, 0.3)
     assert np.max(np.abs(r["tipDisplacement"] - q)) <= TOL[name]
     assert np.max(np.abs(q)) > 3e-5  # the shrouds are in contact: not a trivial comparison
 
@@ -68,7 +53,7 @@ def test_travelling_wave_lead(fmu_path: Path, fmu: BladeFMU) -> None:
     lead = 2 * math.pi * EO * i / n
     r = simulate_fmu(fmu_path, stop_time=0.2, output_interval=1e-3, output=["tipDisplacement"],
                      start_values={"Fw0": FW0, "bladeIndex": i, "bladeCount": n, "frictionModel": 3})
-    q = _harness(fmu, {"frictionModel": 3}, _Sine(FW0, OMEGA, lead), SPEED, 0.2)
+    q = _harness(fmu, {"frictionModel": 3}, Sine(FW0, OMEGA, lead), SPEED, 0.2)
     assert np.max(np.abs(r["tipDisplacement"] - q)) <= 2e-14  # measured 2.0e-15
 
 
@@ -106,7 +91,7 @@ def test_blade_external_contact_has_the_same_load(fmu: BladeFMU) -> None:
     _build.build(("fmu", "blade_external_fmu"))
     b = simulate_fmu(_build.BUILD_DIR / "BladeExternalContact.fmu", stop_time=0.1, output_interval=1e-3,
                      output=["tipDisplacement"], start_values={"Fw0": FW0, "bladeIndex": 1, "bladeCount": 4})
-    q = _harness(fmu, {"d": 1.0, "amplitudeMode": 1}, _Sine(FW0, OMEGA, 2 * math.pi * EO * 1 / 4), SPEED, 0.1)
+    q = _harness(fmu, {"d": 1.0, "amplitudeMode": 1}, Sine(FW0, OMEGA, 2 * math.pi * EO * 1 / 4), SPEED, 0.1)
     assert np.max(np.abs(b["tipDisplacement"] - q)) <= 5e-14
     assert np.max(np.abs(q)) > 1e-5
 
