@@ -212,3 +212,27 @@ def test_one_ring_command():
     p = subprocess.run([sys.executable, "-m", "harness.system.ring", "--n", "6"], capture_output=True, text=True,
                        timeout=120)
     assert p.returncode == 2 and "python -m harness ring --blades N" in p.stderr and p.stdout == ""
+
+
+def test_sweep_both_takes_the_peak_from_the_larger_direction(capsys):
+    """The tuned 6-blade ring is bistable at 6200 rpm: up from rest at 5600 rpm it settles near 3.1e-5 m,
+    down from rest at 6800 rpm at 3.99e-5 m (measured; a 1.3 s run). The peak of `--sweep both` is
+    the largest settled sample over both directions (--no-refine); taking it from the up sweep only,
+    e.g. in harness/system/ring_sweep.py
+
+        -        for d in dirs:
+        +        for d in dirs[:1]:
+                     ok = np.where(settled[d].all(axis=1), amps[d].max(axis=1), -math.inf)
+
+    reports 3.16e-5 m at 6800 rpm (sweep up) and fails here."""
+    out = ring_json(capsys, "--blades", "6", "--speeds", "5600", "6800", "--points", "3", "--sweep", "both",
+                    "--max-time", "0.3", "--start-values", "c", "298", "Fw0", "300", "--no-refine")
+    assert out["sweep"] == ["up", "down"]
+    best = {}
+    for d in ("up", "down"):
+        amps, ok = np.array(out["amplitudes_m"][d]), np.array(out["settled"][d]).all(axis=1)
+        assert ok.all()
+        best[d] = amps.max()
+    assert best["down"] > 1.2 * best["up"]  # the premise: the directions differ by far more than settling
+    assert out["peak_amplitude_m"] == best["down"] and out["peak_direction"] == "down"
+    assert out["peak_speed_rpm"] == 6200.0

@@ -390,3 +390,13 @@ def verdict_counts(rows: Sequence[ClaimRow]) -> dict[str, int]:
     for r in rows:
         out[r.verdict] = out.get(r.verdict, 0) + 1
     return out
+
+
+def tally(counts: Mapping[str, int]) -> str:
+    """One line for a terminal: the paper's claims by verdict, then the new checks apart (they are
+    not claims of the paper), e.g. "19 claims of the paper: 12 reproduced, 7 trend only; 4 new checks"."""
+    paper = {k: v for k, v in counts.items() if k != "new check"}
+    line = f"{sum(paper.values())} claims of the paper: " + ", ".join(f"{v} {k}" for k, v in paper.items())
+    new = counts.get("new check", 0)
+    return line + (f"; {new} new check{'s' if new != 1 else ''} (not in the paper)" if new else "")
+
