@@ -18,10 +18,10 @@ from pathlib import Path
 import numpy as np
 
 from harness.analysis.executor import RESULTS_DIR
-from harness.cli.mistuning import report
+from harness.cli.mistuning import report, run_and_write
 from harness.cli.reproduce import reproduce_and_report
 from harness.cli.sweep import add_execution_options, make_runner
-from harness.studies import mistuning, mistuning_plots
+from harness.studies import mistuning
 from harness.studies.claims import grouped, verdict_counts
 from harness.studies.paper import SIZES, STUDIES, Reproduction
 
@@ -37,8 +37,7 @@ def run(args: argparse.Namespace) -> int:
     rep = reproduce_and_report(args, args.size, None, True)
     out = Path(args.output_dir)
     with make_runner(args) as runner:
-        study = mistuning.run_study(mistuning.SIZES["small"], runner, out / "cache" / "mistuning")
-    study["files"] = [str(f) for f in mistuning_plots.write(study, out / "mistuning")]
+        study = run_and_write(mistuning.SIZES["small"], runner, out / "cache" / "mistuning", out / "mistuning")
     report(study)
     print(f"\nresults in {out.resolve()}/ (claims.md: the paper's claims against ours; the figures *.png; "
           "mistuning/)")
@@ -67,10 +66,12 @@ def findings(rep: Reproduction, study: dict) -> list[str]:
     elif crossing:
         lines.append(f"base case (paper Table 1): {crossing}")
     variant = "friction" if "friction" in study["variants"] else next(iter(study["variants"]))
-    amp = np.array(study["variants"][variant]["amplification"], dtype=float)
+    states = study.get("states")
+    amp = np.array((states or study["variants"][variant])["amplification"], dtype=float)
+    what = "on stable steady states" if states else "from the sweeps"
     if np.isfinite(amp).any():
         level, _ = np.unravel_index(np.nanargmax(amp), amp.shape)
-        lines.append(f"mistuned ring ({study['n']} blades, {variant}): amplification up to {np.nanmax(amp):.3f}"
+        lines.append(f"mistuned ring ({study['n']} blades, {variant}): amplification {what} up to {np.nanmax(amp):.3f}"
                      f" (sigma = {study['levels'][level]:g}), Whitehead's bound {study['whitehead']:.3f}")
     else:
         lines.append(f"mistuned ring ({study['n']} blades, {variant}): no settled response, no amplification")

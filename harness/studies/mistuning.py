@@ -72,6 +72,9 @@ class Study:
     fw0: float = 300.0
     blade: dict = field(default_factory=lambda: {"c": 298.0})
     contact: dict = field(default_factory=dict)
+    # on stable steady states (harness/studies/mistuning_states.py, the ring's periodic-orbit engine)
+    state_patterns: int = 0  # patterns per level taken to the engine (0: the sweeps only)
+    search_budget: int = 0  # rings of the worst-pattern search at the largest level (0: none)
 
 
 SIZES = {
