@@ -59,7 +59,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--search", type=int, metavar="RINGS",
                    help="search the worst pattern at the largest level on stable steady states (a compass search "
                         "from the worst of --state-patterns), with this budget of rings "
-                        f"(default {_S.search_budget}: no search)")
+                        f"(default {_S.search_budget}, no search)")
     p.add_argument("--out", default=str(RESULTS_DIR / "mistuning"), metavar="DIR",
                    help=f"figures and CSVs (default ./{RESULTS_DIR / 'mistuning'})")
     p.add_argument("--json", action="store_true", help="print the study as JSON on stdout")
