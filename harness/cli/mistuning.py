@@ -119,7 +119,8 @@ def run_and_write(study, runner, cache: Path | None, out_dir: Path) -> dict:
         from harness.studies import mistuning_states, mistuning_states_plots  # the engine: only when asked
         settings = mistuning_states.StatesSettings()
         cdir = cache / "states" if cache else None
-        out["states"] = mistuning_states.run_states(study, settings, runner, cdir)
+        variant = "friction" if "friction" in study.variants else study.variants[0]
+        out["states"] = mistuning_states.run_states(study, settings, runner, cdir, variant)
         if study.search_budget:
             out["search"] = mistuning_states.run_search(study, out["states"], settings, runner, cdir)
         files += mistuning_states_plots.write(out["states"], out, out_dir, out.get("search"))

@@ -78,8 +78,9 @@ class Study:
 
 
 SIZES = {
-    # `make run`: 6 blades, 2 levels x 10 patterns + the tuned ring: 21 sweeps of 23 speeds
-    "small": Study(),
+    # `make run`: 6 blades, 2 levels x 10 patterns + the tuned ring: 21 sweeps of 23 speeds; the tuned
+    # ring and the first pattern of each level also on stable steady states (3 rings of the engine)
+    "small": Study(state_patterns=1),
     # a cluster: 24 blades, 4 levels x 100 patterns, the frictionless and open rings too, 45 speeds
     "cluster": Study(n=24, levels=(0.005, 0.01, 0.02, 0.05), patterns=100, points=45,
                      variants=("friction", "frictionless", "open")),

@@ -33,7 +33,7 @@ CACHE_VERSION = 1  # bump when the meaning of a cached record changes
 class StatesSettings:
     """The engine's settings for every ring of the study."""
 
-    seed_points: int = 11  # speeds across the band where seeds start (rest, sweep, wave)
+    seed_points: int = 6  # speeds across the band where seeds start (rest, sweep, wave): the engine's default
     switch_branches: bool = True
     max_branches: int = 24
     steps_per_period: int = 160  # the sweeps' step h = T / 160
@@ -125,8 +125,9 @@ def run_states(study: Study, settings: StatesSettings, runner: Any, cache_dir: P
 class Search:
     """A compass search (generalized pattern search) over z in [-z_max, z_max]^N, factors 1 + sigma z
     (the study's patterns, truncated at z_max standard deviations): from the start z, poll z +- step
-    e_i (2N rings, run in parallel), move to the best improvement, else halve the step; stop when the
-    budget of rings is spent or the step falls below step_min."""
+    e_i (2N rings, run in parallel, in a seeded random order: a budget smaller than a poll covers
+    random coordinates), move to the best improvement, else halve the step; stop when the budget of
+    rings is spent or the step falls below step_min."""
 
     sigma: float = 0.05
     budget: int = 24  # rings evaluated (the start included)
@@ -151,7 +152,8 @@ def search_worst(study: Study, search: Search, start: Sequence[float], objective
                 c[i] = np.clip(c[i] + s * step, -search.z_max, search.z_max)
                 if not np.array_equal(c, z) and not any(np.array_equal(c, p) for p in polls):
                     polls.append(c)
-        polls = polls[: search.budget - used]
+        order = np.random.default_rng(len(history)).permutation(len(polls))  # a partial poll: random coordinates
+        polls = [polls[i] for i in order][: search.budget - used]
         values = objective(polls)
         used += len(polls)
         history += [(p.tolist(), v) for p, v in zip(polls, values)]
