@@ -5,7 +5,7 @@ each a PNG with its CSV:
 - mistuning_states_amplification: per pattern, the amplification on stable steady states and the
   sweep's, against the level, with Whitehead's bound and the worst pattern found by the search.
 The table mistuning_states.csv has one row per ring: the largest stable state (amplitude, speed),
-the sweep's peak, both amplifications."""
+the sweep's peak, both amplifications; mistuning_search.csv every ring of the worst-pattern search."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -99,4 +99,12 @@ def write(states: dict, sweep: dict, directory: Path, search: dict | None = None
     files.append(d / "mistuning_states_amplification.png")
     fig.savefig(files[-1], dpi=120)
     plt.close(fig)
+
+    if search is not None:  # every ring the search ran: its z (factors 1 + sigma z) and amplification
+        n = len(search["z"])
+        rows = [(i, *z, a) for i, (z, a) in enumerate(search["history"])]
+        table = np.array(rows, dtype=[("ring", "i4"), *[(f"z{j}", "f8") for j in range(n)], ("amplification", "f8")])
+        files.append(d / "mistuning_search.csv")
+        write_csv(files[-1], table, f"worst-pattern search at sigma {search['sigma']:g} from pattern "
+                                    f"{search['start_pattern']}: EI_i = EI (1 + sigma z_i); ring 0 is the start")
     return files
