@@ -58,7 +58,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                         f"(default {_S.state_patterns}; 0: the sweeps only)")
     p.add_argument("--search", type=int, metavar="RINGS",
                    help="search the worst pattern at the largest level on stable steady states (a compass search "
-                        "from the worst of --state-patterns), with this budget of rings "
+                        "from the worst of --state-patterns, or of the sweeps if none), with this budget of rings "
                         f"(default {_S.search_budget}, no search)")
     p.add_argument("--out", default=str(RESULTS_DIR / "mistuning"), metavar="DIR",
                    help=f"figures and CSVs (default ./{RESULTS_DIR / 'mistuning'})")
@@ -82,8 +82,8 @@ def study_from(args: argparse.Namespace):
         raise ParameterError(f"--points {s.points} must be >= 2")
     if not 0 <= s.state_patterns <= s.patterns:
         raise ParameterError(f"--state-patterns {s.state_patterns} outside [0, --patterns = {s.patterns}]")
-    if s.search_budget < 0 or (s.search_budget and not s.state_patterns):
-        raise ParameterError(f"--search {s.search_budget}: a number of rings >= 0, and > 0 needs --state-patterns >= 1")
+    if s.search_budget < 0:
+        raise ParameterError(f"--search {s.search_budget}: a number of rings >= 0")
     if s.band is not None and not (all(math.isfinite(x) for x in s.band) and 0 < s.band[0] < s.band[1]):
         raise ParameterError(f"--band {s.band[0]!r} {s.band[1]!r} rpm: need 0 < FROM < TO")
     bad = [x for x in s.levels if not (math.isfinite(x) and 0 <= x <= 0.2)]
@@ -115,14 +115,15 @@ def run_and_write(study, runner, cache: Path | None, out_dir: Path) -> dict:
     out_dir. The output of run_study with "states" and "search" added."""
     out = mistuning.run_study(study, runner, cache)
     files = mistuning_plots.write(out, out_dir)
-    if study.state_patterns:
+    if study.state_patterns or study.search_budget:
         from harness.studies import mistuning_states, mistuning_states_plots  # the engine: only when asked
         settings = mistuning_states.StatesSettings()
         cdir = cache / "states" if cache else None
         variant = "friction" if "friction" in study.variants else study.variants[0]
         out["states"] = mistuning_states.run_states(study, settings, runner, cdir, variant)
         if study.search_budget:
-            out["search"] = mistuning_states.run_search(study, out["states"], settings, runner, cdir)
+            sweep_amp = out["variants"][variant]["amplification"][-1]
+            out["search"] = mistuning_states.run_search(study, out["states"], settings, runner, cdir, sweep_amp)
         files += mistuning_states_plots.write(out["states"], out, out_dir, out.get("search"))
     out["files"] = [str(f) for f in files]
     return out
@@ -154,6 +155,7 @@ def report(out: dict) -> None:
     se = out.get("search")
     if se:
         print(f"  worst pattern found at sigma {se['sigma']:g}: amplification {se['amplification']:.4f} "
-              f"({se['rings']} rings from pattern {se['start_pattern']}'s {se['start_amplification']:.4f}); "
+              f"({se['rings']} rings from pattern {se['start_pattern']} ({se['start_from']}'s worst): "
+              f"{se['start_amplification']:.4f}); "
               f"Whitehead {se['whitehead']:.4f}")
     print("figures:", ", ".join(out["files"]))

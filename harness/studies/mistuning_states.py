@@ -166,24 +166,34 @@ def search_worst(study: Study, search: Search, start: Sequence[float], objective
             "amplification": best, "rings": used, "budget": search.budget, "final_step": step, "history": history}
 
 
-def run_search(study: Study, states: dict, settings: StatesSettings, runner: Any, cache_dir: Path | None) -> dict:
+def run_search(study: Study, states: dict, settings: StatesSettings, runner: Any, cache_dir: Path | None,
+               sweep_amplification: Sequence[float] | None = None) -> dict:
     """The worst pattern at the study's largest level on stable steady states: a compass search
-    (Search) of `study.search_budget` rings from the worst pattern of `states` at that level."""
+    (Search) of `study.search_budget` rings from the worst pattern at that level on steady states
+    (`states`), or, when no pattern was taken there, from the sweeps' worst (`sweep_amplification`
+    of the level's patterns: the Monte-Carlo worst of what a sweep finds)."""
     sigma = study.levels[-1]
-    amp = np.array(states["amplification"], dtype=float)[-1]
-    k0 = int(np.nanargmax(amp)) if np.isfinite(amp).any() else 0
+    amp = np.array(states["amplification"], dtype=float)[-1] if states["amplification"] else np.array([])
+    if np.isfinite(amp).any():
+        k0, origin = int(np.nanargmax(amp)), "steady states"
+    else:
+        k0, origin = int(np.nanargmax(np.asarray(sweep_amplification, dtype=float))), "sweeps"
     start = (mistuning.factors(study.n, sigma, study.seed, k0) - 1) / sigma
     base = mistuning.tuned_ring(study, states["variant"])
     band = tuple(states["band_rpm"])
     tuned = states["tuned_peak_m"]
 
+    seen: dict[bytes, dict] = {}
+
     def objective(zs: list[np.ndarray]) -> list[float]:
         rings = [mistuning.mistuned(base, study.parameter, 1 + sigma * np.asarray(z)) for z in zs]
         recs = evaluate(rings, band, settings, runner, cache_dir, desc="worst-pattern search")
+        seen.update({np.asarray(z, dtype=float).tobytes(): r for z, r in zip(zs, recs)})
         return [r["peak_stable_amplitude_m"] / tuned if np.isfinite(r["peak_stable_amplitude_m"]) else -np.inf
                 for r in recs]
 
     t0 = time.perf_counter()
     out = search_worst(study, Search(sigma=sigma, budget=study.search_budget), start, objective)
-    return {**out, "start_pattern": k0, "start_amplification": float(amp[k0]), "wall_s": time.perf_counter() - t0,
-            "whitehead": mistuning.whitehead(study.n)}
+    best = seen[np.asarray(out["z"], dtype=float).tobytes()]
+    return {**out, "record": best, "start_pattern": k0, "start_from": origin, "start_amplification": out["history"][0][1],
+            "wall_s": time.perf_counter() - t0, "whitehead": mistuning.whitehead(study.n)}

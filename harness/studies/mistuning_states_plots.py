@@ -51,8 +51,12 @@ def write(states: dict, sweep: dict, directory: Path, search: dict | None = None
 
     fig, ax = plt.subplots(figsize=(7.5, 4.6))
     _branches(ax, states["tuned"], "tab:blue", "tuned ring: branches (stable solid, unstable dashed)")
-    worst = states["patterns"][(len(levels) - 1) * n_pat + k]
-    _branches(ax, worst, "tab:red", f"pattern {k} at sigma {levels[-1]:g}: branches")
+    if n_pat:
+        worst, name = states["patterns"][(len(levels) - 1) * n_pat + k], f"pattern {k} at sigma {levels[-1]:g}"
+    else:  # no pattern on steady states: the search's worst
+        worst, name = search["record"], f"worst found by the search at sigma {search['sigma']:g}"
+        k = search["start_pattern"]
+    _branches(ax, worst, "tab:red", f"{name}: branches")
     sp = np.array(sweep["speeds_rpm"])
     for curves, ok, colour, label in (
             (np.array(sw["tuned"]), np.array(sw["tuned_settled"]), "tab:blue", "tuned: what a sweep finds"),
