@@ -141,9 +141,8 @@ def search_worst(study: Study, search: Search, start: Sequence[float], objective
     """The compass search of `search` from z = `start`; `objective(zs)` returns the amplification of
     every z (one ring each). Returns the best z, its factors and amplification, and the history."""
     z = np.clip(np.asarray(start, dtype=float), -search.z_max, search.z_max)
-    best = objective([z])[0]
-    history = [(z.tolist(), best)]
-    step, used = search.step, 1
+    best, history = -np.inf, []
+    step, used, first = search.step, 0, True
     while used < search.budget and step >= search.step_min:
         polls = []
         for i in range(study.n):
@@ -153,14 +152,19 @@ def search_worst(study: Study, search: Search, start: Sequence[float], objective
                 if not np.array_equal(c, z) and not any(np.array_equal(c, p) for p in polls):
                     polls.append(c)
         order = np.random.default_rng(len(history)).permutation(len(polls))  # a partial poll: random coordinates
-        polls = [polls[i] for i in order][: search.budget - used]
+        polls = [polls[i] for i in order]
+        if first:  # the start goes with the first poll: one batch, run in parallel
+            polls = [z] + polls
+        polls = polls[: search.budget - used]
         values = objective(polls)
         used += len(polls)
         history += [(p.tolist(), v) for p, v in zip(polls, values)]
-        k = int(np.nanargmax(values)) if np.isfinite(values).any() else -1
+        if first:
+            best, polls, values, first = values[0], polls[1:], values[1:], False
+        k = int(np.nanargmax(values)) if len(values) and np.isfinite(values).any() else -1
         if k >= 0 and values[k] > best:
             z, best = polls[k], values[k]
-        else:
+        elif len(values):
             step /= 2
     return {"sigma": search.sigma, "z": z.tolist(), "factors": (1 + search.sigma * z).tolist(),
             "amplification": best, "rings": used, "budget": search.budget, "final_step": step, "history": history}
