@@ -12,6 +12,7 @@ import json
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 REPO = Path(__file__).resolve().parent.parent
@@ -141,10 +142,10 @@ def _amplification(folder: str) -> dict[tuple[str, str], tuple[float, float]]:
                 for r in csv.DictReader(f)}
 
 
-@pytest.mark.parametrize("folder, header", [("mistuning", "| sigma (EI) | friction |"),
-                                            ("mistuning_24", "| sigma (EI), N = 24 | friction |")])
+@pytest.mark.parametrize("folder, header", [("mistuning", "| sigma (EI) | what a sweep finds |"),
+                                            ("mistuning_24", "| sigma (EI), N = 24 | what a sweep finds |")])
 def test_mistuning_table(folder, header):
-    """Each mean / max cell of a mistuning table on the mistuning page against the study's CSV."""
+    """Each mean / max cell of a sweep table on the mistuning page against the study's CSV."""
     csv_rows = _amplification(folder)
     text = (REPO / MISTUNING).read_text()
     table = text[text.index(header):].split("\n\n")[0].splitlines()[2:]
@@ -155,12 +156,45 @@ def test_mistuning_table(folder, header):
         assert cell == f"{mean:.4f} / {top:.4f}", sigma
 
 
-def test_readme_mistuning_maximum():
-    m = _one(README, r"5 % blade stiffness scatter raises\s+the 6-blade ring's largest blade amplitude to at most "
-                     r"([\d.]+)x the tuned ring's peak \(mean\s+([\d.]+)x")
+def _states(folder: str) -> tuple[dict, dict[str, list[float]]]:
+    """The tuned ring's row and the amplifications per sigma (in %) from mistuning_states.csv."""
+    with open(REPO / "results" / folder / "mistuning_states.csv", newline="") as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    per: dict[str, list[float]] = {}
+    for r in rows[1:]:
+        per.setdefault(f"{100 * float(r['sigma']):g}", []).append(float(r["amplification"]))
+    return rows[0], per
+
+
+@pytest.mark.parametrize("folder", ["mistuning", "mistuning_search"])
+def test_mistuning_states_table(folder):
+    """The steady-state tables on the mistuning page: tuned ring's largest stable state and
+    mean / max (patterns) per sigma, against mistuning_states.csv."""
+    tuned, per = _states(folder)
+    text = (REPO / MISTUNING).read_text()
+    header = f"| sigma (EI), {folder} | on stable steady states |"
+    table = text[text.index(header):].split("\n\n")[0].splitlines()[2:]
+    assert len(table) == len(per) + 1
+    cell = [c.strip() for c in table[0].strip("|").split("|")]
+    assert cell == ["tuned", f"{float(tuned['stable_peak_m']):.4e} m at {float(tuned['stable_peak_rpm']):.1f} rpm"]
+    for line in table[1:]:
+        sigma, cell = [c.strip() for c in line.strip("|").split("|")]
+        a = per[sigma.rstrip(" %")]
+        assert cell == f"{np.mean(a):.4f} / {np.max(a):.4f} ({len(a)})", sigma
+
+
+def test_readme_mistuning_numbers():
+    tuned, per = _states("mistuning_search")
+    m = _one(README, r"largest stable response over 3973-14898 rpm is ([\d.e-]+) m")
+    assert m.group(1) == f"{float(tuned['stable_peak_m']):.4e}"
+    with open(REPO / "results" / "mistuning_search" / "mistuning_search.csv", newline="") as f:
+        found = max(float(r["amplification"]) for r in csv.DictReader(line for line in f if not line.startswith("#")))
+    m = _one(README, r"a search of (\d+) rings\s+finds at most ([\d.]+)x")
+    assert m.group(2) == f"{found:.4f}"
     mean, top = _amplification("mistuning")[("friction", "5")]
-    assert m.groups() == (f"{top:.4f}", f"{mean:.4f}")
-    m = _one(README, r"On 24 blades \(4 patterns\) the worst\s+reaches ([\d.]+)x")
+    m = _one(README, r"Sweeps alone say\s+([\d.]+)x")
+    assert m.group(1) == f"{top:.4f}"
+    m = _one(README, r"On 24 blades \(4 patterns, sweeps\) the worst\s+reaches ([\d.]+)x")
     assert m.group(1) == f"{_amplification('mistuning_24')[('friction', '5')][1]:.4f}"
 
 
