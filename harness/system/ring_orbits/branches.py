@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from harness.analysis.periodic.shooting import newton
 from harness.system.ring import Ring
 from harness.system.ring_orbits.continuation import RING_CONTINUATION, RingBranch, switch, trace
 from harness.system.ring_orbits.period_map import RingPeriodMap, RingShootingSettings
@@ -146,3 +147,21 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
         return RingBranches(branches, (lo, hi), amp, speed, blade, len(seeds), pm.evaluations,
                             time.perf_counter() - t0, npts,
                             {"seed_evaluations": e_seeds, "steps_per_period": settings.steps_per_period})
+
+
+def crossings(pm: RingPeriodMap, branches: list[RingBranch], speed: float) -> list[tuple[np.ndarray, float]]:
+    """(per-blade amplitudes [m], largest |multiplier| of the two points around it) of every orbit
+    where a branch crosses `speed`: Newton at that speed from the state interpolated between the two
+    points around it."""
+    out = []
+    for br in branches:
+        S = br.speeds
+        for k in range(len(S) - 1):
+            if (S[k] - speed) * (S[k + 1] - speed) > 0 or S[k] == S[k + 1]:
+                continue
+            a, b = br.orbits[k], br.orbits[k + 1]
+            f = (speed - S[k]) / (S[k + 1] - S[k])
+            sol = newton(pm, a.x + f * (b.x - a.x), speed)
+            if sol is not None:
+                out.append((pm.measures(sol.x, speed)[0].copy(), max(a.max_multiplier, b.max_multiplier)))
+    return out
