@@ -34,6 +34,9 @@ from harness.analysis.executor import Runner, atomic_write_text
 from harness.analysis.periodic.branches import BranchSettings, trace_branches
 from harness.analysis.periodic.period_map import ShootingSettings
 from harness.analysis.plateau import PLATEAU_OUTPUTS
+from harness.bench_ring_orbits import SECTION as RING_ORBITS_SECTION
+from harness.bench_ring_orbits import ring_orbits_cost
+from harness.bench_ring_orbits import section as ring_orbits_section
 from harness.fmu.blade import BladeFMU
 from harness.fmu.build import BUILD_DIR, REPO_ROOT, build
 from harness.model.excitation import AeroLoad, Stepped, fmu_view
@@ -534,7 +537,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--skip-reproduce", action="store_true", help="do not time the whole reproduce")
     p.add_argument("--output-file", default=str(BENCH_DIR / "RESULTS.md"), metavar="MD",
                    help="where to write the results (default bench/RESULTS.md)")
-    p.add_argument("--only", choices=("ring",),
+    p.add_argument("--only", choices=("ring", "ring-orbits"),
                    help="measure only this section and keep the others from the output file's .json "
                         "(default: every section)")
     p.add_argument("--only-modes", action="store_true",
@@ -545,6 +548,19 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.output_file)
     if args.only_modes:
         update_modes_section(out)
+        print(out.read_text())
+        return 0
+    if args.only == "ring-orbits":  # the periodic steady states' section and .json entry replaced
+        old = out.with_suffix(".json")
+        data = json.loads(old.read_text()) if old.is_file() else {"machine": machine(), "date": ""}
+        m = data.get("machine") or machine()
+        mt = f"{m['nproc']} CPU(s), {m['cpu']}, {m['system']}, load average {os.getloadavg()[0]:.1f} at the start"
+        print("the ring's periodic steady states ...", flush=True)
+        data["ring_orbits"] = ring_orbits_cost()
+        text = out.read_text() if out.is_file() else "# Benchmark results\n"
+        sec = "\n".join(ring_orbits_section(data["ring_orbits"], mt, time.strftime("%Y-%m-%d %H:%M")))
+        atomic_write_text(out, replace_section(text, RING_ORBITS_SECTION, sec))
+        atomic_write_text(old, json.dumps(data, indent=1, default=str))
         print(out.read_text())
         return 0
     if args.only == "ring":  # the ring section and the .json's ring entry replaced, the rest kept
@@ -579,12 +595,19 @@ def run(args: argparse.Namespace) -> int:
     data["hb"] = hb_all()
     print("24-blade ring: fmpy master and libcosim ...", flush=True)
     data["ring"] = ring_cost()
+    print("the ring's periodic steady states ...", flush=True)
+    load = os.getloadavg()[0]
+    data["ring_orbits"] = ring_orbits_cost()
     if not args.skip_reproduce:
         print(f"reproduce --size {args.size} (branches) ...", flush=True)
         data["reproduce"] = reproduce_cold(args.size, args.workers)
         print("the same studies by transients from a cold cache (the former path) ...", flush=True)
         data["transient"] = transient_studies(args.size, args.workers)
     write_results(out, data)
+    m = data["machine"]
+    mt = f"{m['nproc']} CPU(s), {m['cpu']}, {m['system']}, load average {load:.1f} at the start"
+    sec = "\n".join(ring_orbits_section(data["ring_orbits"], mt, data["date"]))
+    atomic_write_text(out, replace_section(out.read_text(), RING_ORBITS_SECTION, sec))
     atomic_write_text(out.with_suffix(".json"), json.dumps(data, indent=1, default=str))
     print(out.read_text())
     return 0

@@ -76,6 +76,16 @@ def known(branches: list[RingBranch], speed: float, amps: np.ndarray, maps: list
     return any(on_branch(b, speed, amps, maps, rtol) for b in branches)
 
 
+def merged(branches: list[RingBranch], maps: list[np.ndarray]) -> list[RingBranch]:
+    """The branches without those whose every point lies on another kept branch (up to the ring's
+    symmetries): a branch entered twice, from two seeds or from a branch point."""
+    kept: list[RingBranch] = []
+    for br in sorted(branches, key=lambda b: -len(b.orbits)):
+        if not all(known(kept, o.speed, o.amplitudes, maps, SAME_RTOL) for o in br.orbits):
+            kept.append(br)
+    return kept
+
+
 def peak_stable(branches: list[RingBranch], band: tuple[float, float]) -> tuple[float, float, int]:
     """(amplitude [m], speed [rpm], blade) of the largest stable steady state in the band (see the
     module docstring); nan, nan, -1 if none."""
@@ -142,6 +152,7 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
                             new = shoot(pm, guess.x, guess.speed)
                             if new is not None:
                                 todo.append(new)
+        branches = merged(branches, maps)
         amp, speed, blade = peak_stable(branches, (lo, hi))
         npts = sum(len(b.orbits) for b in branches)
         return RingBranches(branches, (lo, hi), amp, speed, blade, len(seeds), pm.evaluations,
