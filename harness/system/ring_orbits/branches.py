@@ -6,8 +6,9 @@ grid speed and a sweep up and back down the grid. A seed whose state already lie
 symmetry.py, by the per-blade amplitudes) is dropped; otherwise Newton finds its orbit, which is
 dropped if it lies on a traced branch, else continued both ways across the band (continuation.py)
 until it leaves the band or runs onto a branch traced before.
-At every branch point the other branch is entered along the critical eigenvector (continuation.switch)
-and traced too. The largest stable steady state: the largest blade amplitude over the stable points,
+At every branch point next to a stable point (where a stable branch can emanate; at most
+`max_switches` in all) the other branch is entered along the critical eigenvector
+(continuation.switch) and traced too. The largest stable steady state: the largest blade amplitude over the stable points,
 the located peaks that are stable, and the stability boundaries (a fold bounding a stable part, a
 branch point, period doubling or Neimark-Sacker point next to a stable point).
 """
@@ -21,7 +22,7 @@ import numpy as np
 
 from harness.analysis.periodic.shooting import newton
 from harness.system.ring import Ring
-from harness.system.ring_orbits.continuation import RING_CONTINUATION, RingBranch, switch, trace
+from harness.system.ring_orbits.continuation import RingBranch, switch, trace
 from harness.system.ring_orbits.period_map import RingPeriodMap, RingShootingSettings
 from harness.system.ring_orbits.seeds import from_rest, sweep, travelling_wave
 from harness.system.ring_orbits.shooting import shoot
@@ -107,7 +108,8 @@ def peak_stable(branches: list[RingBranch], band: tuple[float, float]) -> tuple[
 
 def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
                   settings: RingShootingSettings = RingShootingSettings(), switch_branches: bool = True,
-                  max_branches: int = 24, settle: float = 1e-3, max_periods: int = 300) -> RingBranches:
+                  max_branches: int = 24, settle: float = 1e-3, max_periods: int = 300,
+                  max_switches: int = 8) -> RingBranches:
     """Every branch found from the seeds at `points` speeds across `band` [rpm] (see the module
     docstring). Raises ValueError on a bad band or count."""
     lo, hi = (float(v) for v in band)
@@ -125,6 +127,7 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
             from_rest(pm, grid, settle, max_periods) + sweep(pm, grid, settle, max_periods)
         e_seeds = pm.evaluations
         todo: list = []  # orbits to continue (from seeds, then from branch points)
+        switches = 0
         for sd in seeds:
             if len(branches) >= max_branches:
                 break
@@ -143,9 +146,13 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
                 br = trace(pm, o, (lo, hi), joined=lambda n, a: known(done, n, a, maps, SAME_RTOL))
                 branches.append(br)
                 if switch_branches:
+                    st = br.stable
                     for b in br.bifurcations:
-                        if b.kind != "branch point":
+                        # the branch points that bound a stable part: where stable branches emanate
+                        if b.kind != "branch point" or switches >= max_switches or \
+                                not (st[b.index - 1] or st[b.index]):
                             continue
+                        switches += 1
                         for guess in switch(pm, br, b):
                             if known(branches, guess.speed, guess.amplitudes, maps, SAME_RTOL):
                                 continue
