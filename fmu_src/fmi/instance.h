@@ -25,7 +25,7 @@ typedef struct {
     const char *typeNames[3];             /* VarReal, VarInteger, VarBoolean: "Real", ... */
     const char *(*stateName)(int32_t state);
     int declaresLocals;                   /* 0: the face's model description has none of the model's
-                                             model-exchange locals (FMI 3.0 CS; FmiModel.modelExchangeOnly):
+                                             model-exchange locals (FMI 3.0 CS; VarInfo.meOnly):
                                              their value references are unknown there */
 } FmiFace;
 

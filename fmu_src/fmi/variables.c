@@ -34,9 +34,7 @@ const VarInfo *fmiFindVar(const FmiModel *model, FmiValueRef vr)
 const VarInfo *fmiFaceVar(const FmiInstance *inst, FmiValueRef vr)
 {
     const VarInfo *v = fmiFindVar(inst->model, vr);
-    if (v != NULL && v->causality == CausLocal && !inst->face->declaresLocals &&
-        (inst->model->modelExchangeOnly == NULL || inst->model->modelExchangeOnly(vr)))
-        return NULL;
+    if (v != NULL && v->meOnly && !inst->face->declaresLocals) return NULL;
     return v;
 }
 
