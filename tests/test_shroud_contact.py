@@ -267,3 +267,43 @@ def test_random_motions_and_parameters(contact, seed):
         assert np.abs(r[:, i] - ref[k]).max() <= 1e-7 * fmax, k
     E = ref["dissipatedEnergy"]
     assert np.abs(r[:, 4] - E).max() <= 1e-7 * max(E[-1], 1e-15)
+
+
+START_MOTION = [(2.2 * D, W, math.pi / 2), (0.4 * D, 3 * W, 0.3)]  # u(0) = 2.3 d + 0.4 d sin 0.3: closed
+
+
+@pytest.mark.parametrize("share", [0.6, -0.95])
+def test_start_friction_force_vs_reference(contact, share):
+    """frictionForce's start value F0 (a fraction of the cone at u(0)): the FMU against the reference
+    started with F_f = F0 in stick (its state is F_f itself, not the slider); same tolerances as the
+    harmonic runs above."""
+    t = np.arange(241) * H
+    f = lambda x: harmonic_derivs(x, START_MOTION, 0.1 * D)  # noqa: E731
+    u0 = f(0.0)[0]
+    F0 = share * 0.33 * 1e7 * math.cos(math.pi / 3) * (abs(u0) - D)
+    r = run_fmu(contact, {"frictionForce": F0}, t, f)
+    assert abs(r[0, 3] - F0) <= 1e-12 * abs(F0)  # the start state holds F0
+    ref = JenkinsPair({}, F0=F0).evaluate(Motion(lambda x: f(x)[0], lambda x: f(x)[1]), t, H / 20)
+    fmax = np.abs(ref["forceB"]).max()
+    for i, k in enumerate(OUT[:4]):
+        assert np.abs(r[:, i] - ref[k]).max() <= 1e-8 * fmax, k
+    assert np.abs(r[:, 4] - ref["dissipatedEnergy"]).max() <= 1e-8 * max(ref["dissipatedEnergy"][-1], 1e-12)
+    # and the unloaded start differs (the start value is used)
+    r0 = run_fmu(contact, {}, t[:2], f)
+    assert abs(r0[0, 3]) == 0.0
+
+
+@pytest.mark.parametrize("params,u0,words", [
+    ({"frictionModel": 1, "frictionForce": 5.0}, 3 * D, ["frictionForce = 5", "frictionModel", "[0, 0]"]),
+    ({"frictionForce": 5.0}, 0.5 * D, ["frictionForce = 5", "open", "[0, 0]"]),
+    ({"frictionForce": -200.0}, 2 * D, ["frictionForce = -200", "cone", "[-49.5", "49.5"]),
+])
+def test_start_friction_force_refused(contact, params, u0, words):
+    """A start value that does not fit the start state is an error at the end of initialization,
+    naming the value and the accepted range (cone: 0.33 * 1e7 * cos(60 deg) * (2 d - d) = 49.5 N)."""
+    with pytest.raises(FmiError) as e:
+        s = contact.instance("bad", params, inputs={"displacementA": u0, "displacementB": 0.0})
+        s.free()
+    text = str(e.value)
+    for w in words:
+        assert w in text, (w, text)

@@ -21,10 +21,12 @@ static int modalReduceCached(BladeModesCache *c, const BladeParams *bp, int mode
 }
 
 /* The stable-step rule: maxStep w_max <= 2 sqrt(2), w_max the highest contact-free mode at the
- * speed of initialization. */
+ * speed of initialization. Co-simulation only: in model exchange the importer's solver takes the
+ * steps and maxStep is not used. */
 static FmiStatus checkMaxStep(FmiInstance *inst, const char *fn, const BladeModesSetup *setup, const DynModel *m)
 {
     double f[MODES_MAX], w, hMax;
+    if (inst->me != NULL) return FmiOK;
     dynModeFrequencies(m, setup->speed, f);
     w = DYN_TWO_PI * f[m->modes - 1];
     hMax = BLADE_RK4_STABLE_HW / w;

@@ -33,8 +33,8 @@ typedef struct {
 } BladeModesCache;
 
 /* After dynBuildModel: for m > 1 the modal reduction, the m-mode constants (the printed
- * formulation is refused) and the maxStep check against the highest contact-free mode at the speed
- * of initialization (m = 1 keeps the one-mode blade's behaviour: no check). *curvature receives phi_i''(0) [1/m^2] of the modes scaled to
+ * formulation is refused) and, in co-simulation, the maxStep check against the highest contact-free
+ * mode at the speed of initialization (m = 1 keeps the one-mode blade's behaviour: no check). *curvature receives phi_i''(0) [1/m^2] of the modes scaled to
  * phi_i(l) = 1 (m = 1: of eq. 20 with r's root). Logs and returns FmiError on failure. */
 FmiStatus bladeModesBuild(FmiInstance *inst, const char *fn, const BladeModesSetup *setup, const BladeParams *bp,
                           const BladeReduction *r, BladeModesCache *cache, DynModel *model,

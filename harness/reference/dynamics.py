@@ -23,7 +23,8 @@ from harness.reference.hybrid import run_segment
 from harness.model.params import ParameterError, start_values, validate
 from harness.model.galerkin import Galerkin
 from harness.reference.blade import galerkin
-from harness.reference.contact import (COULOMB_DF, MACROSLIP_DF, MACROSLIP_TD, ContactConsts, contact_consts,
+from harness.model.contact import MACROSLIP_TD
+from harness.reference.contact import (COULOMB_DF, MACROSLIP_DF, ContactConsts, contact_consts,
                                        describing_function, loop_state)
 from harness.reference.modes import modal_galerkin, split_modes
 

@@ -20,7 +20,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from harness.reference.blade import galerkin
-from harness.reference.contact import STATE_OPEN, STATE_SLIP, STATE_STICK, contact_consts
+from harness.model.contact import STATE_OPEN, STATE_SLIP, STATE_STICK
+from harness.reference.contact import contact_consts
 from harness.model.params import validate
 
 

@@ -21,8 +21,8 @@ import numpy as np
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from harness.reference.contact import MACROSLIP_TD, STATE_OPEN, STATE_SLIP, STATE_STICK, contact_consts, \
-    describing_function
+from harness.model.contact import MACROSLIP_TD, STATE_OPEN, STATE_SLIP, STATE_STICK
+from harness.reference.contact import contact_consts, describing_function
 
 Fn = Callable[[float], float]
 
@@ -65,10 +65,12 @@ def _first_crossing(g: Fn, t0: float, t1: float, dt: float, tiny: float) -> floa
 
 
 class JenkinsPair:
-    """The time-domain element (frictionModel 3) on a motion, from rest with the spring unloaded."""
+    """The time-domain element (frictionModel 3) on a motion, from rest with the spring unloaded, or
+    with the friction force F0 [N] at the start (in contact there; the caller keeps it in the cone)."""
 
-    def __init__(self, params: Mapping[str, Any]):
+    def __init__(self, params: Mapping[str, Any], F0: float = 0.0):
         self.cc = contact_consts(params)
+        self.F_start = F0
         self.sg, self.cg = math.sin(self.cc.gamma), math.cos(self.cc.gamma)
         self.a = self.cc.kd * self.sg  # F_f per unit u in stick [N/m]
         self.b = self.cc.mu * self.cc.kn * self.cg  # friction limit per unit sigma u - d [N/m]
@@ -90,7 +92,10 @@ class JenkinsPair:
         """The mode pieces over [0, t_end]."""
         cc, u0 = self.cc, m.u(0.0)
         side = 1 if u0 >= 0 else -1
-        p = _Piece(0.0, t_end, STATE_STICK if abs(u0) > cc.d else STATE_OPEN, side, side, 0.0, u0, 0.0)
+        closed = abs(u0) > cc.d
+        s0 = (1 if self.F_start > 0 else -1) if closed and self.F_start != 0.0 else side
+        p = _Piece(0.0, t_end, STATE_STICK if closed else STATE_OPEN, side, s0, self.F_start if closed else 0.0,
+                   u0, 0.0)
         out = []
         scale = self.b * cc.d + self.a * cc.d + 1e-300
         for _ in range(100000):

@@ -15,7 +15,7 @@
 #include "models/ShroudContact/config.h"
 #include "physics/contact_element.h"
 
-typedef enum { ParKn = 0, ParKdRatio, ParMu, ParGamma, ParD, ParB, ParE0, PAR_NUM } RealParam;
+typedef enum { ParKn = 0, ParKdRatio, ParMu, ParGamma, ParD, ParB, ParE0, ParF0, PAR_NUM } RealParam;
 typedef enum { IparFriction = 0, IparProjection, IparEngineOrder, IparGating, IPAR_NUM } IntParam;
 enum { InQA = 0, InVA, InQB, InVB, InSpeed, NUM_INPUTS };
 
@@ -64,7 +64,7 @@ static const VarInfo VARS[] = {
     {50, "forceA", VarReal, CausOutput, "N", 0.0, -INF, INF, 0, 0, NONE, OutForceA},
     {51, "forceB", VarReal, CausOutput, "N", 0.0, -INF, INF, 0, 0, NONE, OutForceB},
     {52, "normalForce", VarReal, CausOutput, "N", 0.0, -INF, INF, 0, 0, NONE, OutNormal},
-    {53, "frictionForce", VarReal, CausOutput, "N", 0.0, -INF, INF, 0, 0, NONE, OutFriction},
+    {53, "frictionForce", VarReal, CausOutput, "N", 0.0, -INF, INF, 0, 0, PAR(ParF0), OutFriction},
     {57, "dissipatedEnergy", VarReal, CausOutput, "J", 0.0, -INF, INF, 0, 0, PAR(ParE0), OutEnergy},
     {58, "relativeDisplacement", VarReal, CausOutput, "m", 0.0, -INF, INF, 0, 0, NONE, OutU},
     {61, "contactState", VarInteger, CausOutput, "", 0, -INF, INF, 0, 0, NONE, OutState},
@@ -81,7 +81,8 @@ static const StateField FIELDS[] = {
     {AT(ipar), FieldI32, COUNT(ipar)},
     I32(state.mode), I32(state.side), I32(state.slipDir),
 };
-#define STATE_VERSION 1
+/* Versions: 2 the start value of frictionForce joined the parameters. Older versions are refused. */
+#define STATE_VERSION 2
 
 /* The displacement polynomial of one side (see the head comment). */
 static void sidePoly(const ScData *d, int q, int v, CePoly *p)
@@ -117,6 +118,54 @@ static void stepPolys(const ScData *d, CePoly *u, CePoly *n)
     }
 }
 
+/* The start state at u0: ceInit (the spring unloaded), then, for the Jenkins element in contact,
+ * the slider put where the friction force is the start value of frictionForce:
+ * F_f = kd (sin(g) u - w) in stick, so w = sin(g) u0 - F0 / kd. F0 = 0 leaves ceInit's state. */
+static void startState(const ScData *d, CeState *s, double u0)
+{
+    const double F0 = d->par[ParF0];
+    ceInit(&d->model, s, u0, d->par[ParE0]);
+    if (F0 != 0.0 && d->model.friction == FrictionMacroslipTD && s->mode == ContactStick) {
+        s->w = d->model.sinG * u0 - F0 / d->model.kd;
+        s->slipDir = F0 > 0.0 ? 1 : -1; /* the direction it slips in if it starts on the cone */
+    }
+}
+
+/* The start value of frictionForce must fit the start state: 0 for the describing-function models
+ * and for an open contact (|u0| <= d), inside the friction cone |F0| <= mu kn cos(gamma) (|u0| - d)
+ * (relative 1e-12) otherwise. Cross-field, so checked at the end of initialization. */
+static FmiStatus checkStartForce(FmiInstance *inst, const char *fn, double u0)
+{
+    const ScData *d = DATA(inst);
+    const double F0 = d->par[ParF0], dd = d->model.contact.d;
+    double L;
+    if (F0 == 0.0) return FmiOK;
+    if (d->model.friction != FrictionMacroslipTD) {
+        fmiLogStatus(inst, FmiError,
+                     "%s: frictionForce = %.15g N: its start value applies only to frictionModel 3 (the "
+                     "time-domain Jenkins element), here frictionModel = %d: accepted range [0, 0] N",
+                     fn, F0, (int)d->ipar[IparFriction]);
+        return FmiError;
+    }
+    if (!(fabs(u0) > dd)) {
+        fmiLogStatus(inst, FmiError,
+                     "%s: frictionForce = %.15g N, but the contact is open at the start "
+                     "u = displacementA - displacementB = %.15g m (|u| <= d = %g m), where the spring is "
+                     "unloaded: accepted range [0, 0] N", fn, F0, u0, dd);
+        return FmiError;
+    }
+    L = d->model.muKnCos * (fabs(u0) - dd);
+    if (!(fabs(F0) <= L * (1.0 + 1e-12))) {
+        fmiLogStatus(inst, FmiError,
+                     "%s: frictionForce = %.15g N is outside the friction cone: accepted range "
+                     "[-%.15g, %.15g] N, from u = displacementA - displacementB = %.15g m (L = mu kn "
+                     "cos(gamma) (|u| - d), mu = %g, kn = %g N/m, gamma = %g rad, d = %g m)", fn, F0, L, L,
+                     u0, d->par[ParMu], d->par[ParKn], d->par[ParGamma], dd);
+        return FmiError;
+    }
+    return FmiOK;
+}
+
 static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
 {
     ScData *d = DATA(inst);
@@ -138,7 +187,11 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
                      rc == 2 ? ": the describing function (eq. 7-13) failed at B" : "");
         return FmiError;
     }
-    if (initState) ceInit(&d->model, &d->state, d->in[InQA][0] - d->in[InQB][0], p[ParE0]);
+    if (initState) {
+        const double u0 = d->in[InQA][0] - d->in[InQB][0];
+        if (checkStartForce(inst, fn, u0) != FmiOK) return FmiError;
+        startState(d, &d->state, u0);
+    }
     return FmiOK;
 }
 
@@ -152,7 +205,7 @@ static void outputs(FmiInstance *inst)
     CePoly u, n;
     stepPolys(d, &u, &n);
     if (inst->run.initialized) (void)ceProject(&d->model, &s, u.c[0]);
-    else ceInit(&d->model, &s, u.c[0], d->par[ParE0]);
+    else startState(d, &s, u.c[0]);
     ceOutputs(&d->model, &s, u.c[0], u.c[1], n.c[0], &o->out);
     o->u = u.c[0];
     o->E = s.E;
