@@ -79,10 +79,6 @@ void fmiReset(FmiInstance *inst); /* start values, time 0, state machine instant
 FmiInstance *fmiEnter(void *handle, const char *fn, int mask, int logCall);
 
 
-/* The model's build (FmiModel.build), then for a model-exchange instance its FmiModelExchange.built;
- * sets inst->built. */
-FmiStatus fmiBuild(FmiInstance *inst, const char *fn, int initState);
-
 FmiStatus fmiSetupExperiment(FmiInstance *inst, const char *fn, int toleranceDefined, double tolerance,
                              double startTime, int stopTimeDefined, double stopTime);
 FmiStatus fmiExitInitialization(FmiInstance *inst, const char *fn);

@@ -9,7 +9,7 @@ model-exchange locals (me_only) and names dependencies (inputs) by value referen
 """
 from __future__ import annotations
 
-import math
+import re
 from xml.sax.saxutils import escape
 
 from fmuspec import Model, Var
@@ -30,7 +30,7 @@ def num(x: float | int | bool, typ: str) -> str:
     x = float(x)
     if x.is_integer() and abs(x) < 1e16:
         return str(int(x))
-    return repr(x)
+    return re.sub(r"e([+-])0*(\d)", lambda m: "e" + m.group(1).replace("+", "") + m.group(2), repr(x))  # 1e-5
 
 
 def _bool(x: bool) -> str:
@@ -60,6 +60,17 @@ def _experiment(model: Model) -> list[str]:
     e = model.info.get("default_experiment", {"startTime": 0, "stopTime": 0.3, "stepSize": 1e-4})
     attrs = " ".join(f'{k}="{num(v, "Real")}"' for k, v in e.items())
     return [f"  <DefaultExperiment {attrs}/>", ""]
+
+
+TOOL = "ShroudedBlade"
+
+
+def _open_bounds(model: Model, vars_: list[Var]) -> str:
+    """<OpenBounds lower=".." upper=".."/>: the variables whose bound itself is excluded (min/max
+    cannot say it), or '' if none."""
+    lower = " ".join(v.name for v in vars_ if v.min_open)
+    upper = " ".join(v.name for v in vars_ if v.max_open)
+    return f'<OpenBounds lower="{q(lower)}" upper="{q(upper)}"/>' if lower or upper else ""
 
 
 def _comment(v: Var) -> list[str]:
@@ -119,6 +130,11 @@ def fmi2(model: Model, sources: list[str], spec_rel: str) -> str:
               "  </CoSimulation>", ""]
     lines += _units(model, {v.unit for v in vars_})
     lines += _log(model) + _experiment(model)
+    bounds = _open_bounds(model, vars_)
+    if bounds:
+        lines += ["  <VendorAnnotations>", f'    <Tool name="{TOOL}">',
+                  "      <!-- the bounds a variable's min/max exclude (the value must differ from them) -->",
+                  f"      {bounds}", "    </Tool>", "  </VendorAnnotations>", ""]
     lines.append("  <ModelVariables>")
     for v in vars_:
         lines += _comment(v)
@@ -192,7 +208,13 @@ def fmi3(model: Model, spec_rel: str) -> str:
     for v in vars_:
         if v.causality == "output" and v.initial == "calculated":
             lines.append(f'    <InitialUnknown valueReference="{v.vr}"/>')
-    lines += ["  </ModelStructure>", "</fmiModelDescription>", ""]
+    lines += ["  </ModelStructure>"]
+    bounds = _open_bounds(model, vars_)
+    if bounds:
+        lines += ["", "  <Annotations>", f'    <Annotation type="{TOOL}">',
+                  "      <!-- the bounds a variable's min/max exclude (the value must differ from them) -->",
+                  f"      {bounds}", "    </Annotation>", "  </Annotations>"]
+    lines += ["</fmiModelDescription>", ""]
     return "\n".join(lines)
 
 
@@ -206,6 +228,3 @@ def build_description3(model: Model, sources: list[str], spec_rel: str) -> str:
                       "    </SourceFileSet>", '    <Library name="m"/>', "  </BuildConfiguration>",
                       "</fmiBuildDescription>", ""])
 
-
-def is_finite(x: float) -> bool:
-    return math.isfinite(x)
