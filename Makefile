@@ -8,6 +8,9 @@ JOBS    ?= 2
 
 # System packages (Debian) the default tests and `make crosscheck` need, installed only when missing:
 # libtbb12 for ecospy's libecosc.so; a JDK 17 and Maven for the FMI4j driver (crosscheck/java).
+# no "Entering/Leaving directory" lines from the sub-makes
+MAKEFLAGS += --no-print-directory
+
 APT := $(shell [ "$$(id -u)" = 0 ] && echo apt-get || echo sudo apt-get)
 sysdeps:
 	@{ ldconfig -p 2>/dev/null || /sbin/ldconfig -p; } | grep -q 'libtbb\.so\.12' || { $(APT) update -qq && DEBIAN_FRONTEND=noninteractive $(APT) install -y -qq libtbb12 > /dev/null; }
@@ -21,9 +24,11 @@ $(STAMP): pyproject.toml
 	$(PY) -m pip install --quiet -e '.[test,cluster,crosscheck,docs]'
 	touch $(STAMP)
 
+# the compiler's lines go to build/build.log, shown whole only when the build fails
 fmu: $(STAMP)
-	cmake -S . -B build -DCMAKE_BUILD_TYPE=Release > /dev/null
-	cmake --build build -j $(JOBS)
+	@echo "building the FMUs (cmake; log: build/build.log)"
+	@cmake -S . -B build -DCMAKE_BUILD_TYPE=Release > /dev/null
+	@cmake --build build -j $(JOBS) -- --no-print-directory > build/build.log 2>&1 || { cat build/build.log; exit 1; }
 
 run: fmu
 	$(PY) -m harness run --out results

@@ -28,7 +28,6 @@ import fmpy
 import numpy as np
 
 from harness import reference as ref
-from harness.reference.hysteresis import hysteresis
 from harness.analysis import curves as sw
 from harness.analysis.curves import SweepSettings, SweepSpec, fmu_identity, hb_curve, run_sweeps
 from harness.analysis.executor import Runner, atomic_write_text
@@ -38,9 +37,10 @@ from harness.analysis.plateau import PLATEAU_OUTPUTS
 from harness.fmu.blade import BladeFMU
 from harness.fmu.build import BUILD_DIR, REPO_ROOT, build
 from harness.model.excitation import AeroLoad, Stepped, fmu_view
-from harness.studies.paper import SIZES, STUDIES, base_params, reproduce, study_specs
+from harness.studies.paper import SIZES, STUDIES, base_params, study_specs
 from harness.system import ring_c, ring_libcosim
 from harness.system.ring import Ring, run as ring_run
+from harness.validation.reproduction import reproduce
 
 BENCH_DIR = REPO_ROOT / "bench"
 
@@ -350,7 +350,7 @@ def reproduce_cold(size: str, workers: int | None) -> dict[str, Any]:
     with tempfile.TemporaryDirectory() as tmp:
         t = time.perf_counter()
         with Runner(workers=workers, progress=False) as runner:
-            rep = reproduce(Path(tmp) / "results", size, runner=runner, hysteresis=hysteresis)
+            rep = reproduce(Path(tmp) / "results", size, runner=runner)
         wall = time.perf_counter() - t
     tim = rep.summary.as_dict()["timing"]
     return {"size": size, "wall": wall, "workers": workers or os.cpu_count(), **tim}

@@ -23,6 +23,10 @@ def harness(*args: str, cwd: Path = REPO) -> subprocess.CompletedProcess:
     (["simulate", "--fmu", "{fmu}", "--start-values", "d", "-3e-5"], "d = '-3e-5' m"),
     (["simulate", "--fmu", "{fmu}", "--speed", "nan"], "--speed nan is not a number"),
     (["simulate", "--fmu", "/nonexistent/ShroudedBlade.fmu"], "not found"),
+    # what to do in both settings: leave the path out (installed: the package's FMU; checkout: make fmu)
+    (["simulate", "--fmu", "/nonexistent/ShroudedBlade.fmu"], "`pip install` again if it is missing; checkout: `make fmu`"),
+    (["periodic", "--fmu", "{dir}", "--speed", "7000"], "is a directory, not an FMU file"),
+    (["simulate", "--fmu", "{dir}"], "(did you mean {dir}/never-loaded.fmu?)"),
     (["simulate", "--fmu", "{fmu}", "--start-values", "d"], "NAME VALUE pairs"),
     (["simulate", "--fmu", "{fmu}", "--run-up", "4000", "50000", "0", "0.01", "--stop-time", "0.02"],
      "rotorSpeed = 50000 rpm"),
@@ -50,7 +54,10 @@ def test_user_errors_are_one_line(args, expect, tmp_path, fmu_path):
     # ({real}: the error is about the FMU's own variables, so the real FMU is needed)
     fake = tmp_path / "never-loaded.fmu"
     fake.write_bytes(b"not an FMU")
-    proc = harness(*[a.replace("{fmu}", str(fake)).replace("{real}", str(fmu_path)) for a in args], cwd=tmp_path)
+    fill = {"{fmu}": str(fake), "{real}": str(fmu_path), "{dir}": str(tmp_path)}
+    for key, value in fill.items():
+        args, expect = [a.replace(key, value) for a in args], expect.replace(key, value)
+    proc = harness(*args, cwd=tmp_path)
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1, proc.stderr

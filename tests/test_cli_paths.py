@@ -3,6 +3,7 @@
 current directory by default, never in the checkout's results/."""
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
@@ -66,3 +67,21 @@ def test_results_default_under_the_current_directory(tmp_path):
     assert any((tmp_path / "shroudedblade-results" / "cache").rglob("*.json"))  # the cache, here
     after = {p: p.stat().st_mtime_ns for p in (REPO / "results").rglob("*") if p.is_file()}
     assert after == before
+
+
+def test_continue_json_writes_nothing_unless_asked(tmp_path):
+    """`continue --json` prints the branches on stdout: no branches.csv (nor anything else) in the
+    current directory; with --output-file it writes that file, whose rows are the printed points."""
+    run = ["continue", "--speed-range", "6000", "6100", "--json"]
+    quiet = harness(*run, cwd=tmp_path)
+    assert quiet.returncode == 0, quiet.stderr
+    printed = json.loads(quiet.stdout)
+    assert printed["output_file"] is None and printed["branches"]
+    assert list(tmp_path.iterdir()) == []
+
+    asked = harness(*run, "--output-file", "b.csv", cwd=tmp_path)
+    assert asked.returncode == 0, asked.stderr
+    assert json.loads(asked.stdout)["output_file"] == "b.csv"
+    rows = [ln for ln in (tmp_path / "b.csv").read_text().splitlines() if ln and not ln.startswith("#")]
+    assert len(rows) - 1 == sum(len(b["points"]) for b in printed["branches"])  # header + one row a point
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["b.csv"]

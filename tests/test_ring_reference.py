@@ -1,5 +1,5 @@
 """The ring's monolithic reference (harness/reference/ring.py) and the co-simulation's convergence
-to it (harness/reference/ring_convergence.py).
+to it (harness/validation/ring_convergence.py).
 
 - the reference's energy books close: aero work = blade kinetic + strain energy + contact normal
   and tangential spring energy + viscous + friction dissipation, at every output point (1e-8 of
@@ -21,7 +21,7 @@ import numpy as np
 
 from harness.reference.contact import contact_consts
 from harness.reference.ring import MonolithicRing, RingSpec
-from harness.reference.ring_convergence import Study, errors, measured_order
+from harness.validation.ring_convergence import Study, errors, measured_order
 
 SPEC = RingSpec(n=4, engine_order=3, fw0=300.0, blade={"c": 298.0})
 

@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from harness.reference import ring_states as R
+from harness.validation import ring_states as R
 
 CASE = R.SETTINGS["a6400"]
 T = R.period(CASE["speed"])

@@ -12,15 +12,14 @@ import pytest
 
 from harness.studies.claims import build_claims, write_claims
 from harness.analysis.executor import Runner, read_csv
-from harness.reference.hysteresis import hysteresis
-from harness.studies.paper import reproduce
+from harness.validation.reproduction import reproduce
 
 
 @pytest.fixture(scope="module")
 def quick(fmu_path, tmp_path_factory):
     out = tmp_path_factory.mktemp("results")
     with Runner(workers=2, progress=False) as r:
-        rep = reproduce(out, "quick", runner=r, fmu_path=fmu_path, hysteresis=hysteresis)
+        rep = reproduce(out, "quick", runner=r, fmu_path=fmu_path)
     return out, rep.summary
 
 

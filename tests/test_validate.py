@@ -1,4 +1,4 @@
-"""FMU vs the independent reference (harness.reference.validate) on a reduced matrix, and the input path:
+"""FMU vs the independent reference (harness.validation.validate) on a reduced matrix, and the input path:
 input derivatives bring the FMU closer to the exact-signal reference than held inputs."""
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from harness.model.excitation import AeroLoad, Constant, LinearRamp
 from harness.model.params import validate
 from harness.analysis.harmonic_balance import harmonic_balance
 from harness.reference.tracked import tracked_radii
-from harness.reference.validate import TOL_DF, TOL_HB, TOL_SWITCHING, Case, _steady_fmu, compare_hb, compare_time
+from harness.validation.validate import TOL_DF, TOL_HB, TOL_SWITCHING, Case, _steady_fmu, compare_hb, compare_time
 
 
 BASE = dict(frictionModel=1, formulation=1, projection=1, gating=True, amplitudeMode=2)

@@ -15,7 +15,7 @@ import json
 
 import numpy as np
 
-from harness.cli.simulate import parse_start_values
+from harness.cli.simulate import add_fmu_option, parse_start_values
 from harness.fmu.blade import SPEED_RANGE, BladeFMU
 from harness.model.params import ParameterError
 from harness.studies.campbell_modes import (MAX_MODES, campbell, campbell_params, check_modes, check_speed,
@@ -25,7 +25,7 @@ POINTS_RANGE = (2, 10001)
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: the installed package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
+    add_fmu_option(p)
     p.add_argument("--modes", type=int, required=True, metavar="M", help=f"number of bending modes, 1..{MAX_MODES}")
     g = p.add_mutually_exclusive_group()
     g.add_argument("--speed", type=float, metavar="RPM",

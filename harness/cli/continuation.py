@@ -3,7 +3,7 @@
 `python -m harness continue --speed-range LO HI [--model fixedB|fixedPoint|jenkins|coulomb]
 [--start-values NAME VALUE ...] [--seed-step RPM] [--output-file branches.csv] [--plot branches.png] [--json]`
 traces every branch found from the seed speeds (harness.analysis.periodic.branches) through its folds and
-writes one CSV row per point (branch, speed, amplitude, B, state, stability, label, multipliers);
+writes one CSV row per point (branch, speed, amplitude, B, state, stability, label, multipliers; to branches.csv by default, with --json only where --output-file asks);
 the plot draws stable parts bold and unstable parts faint. Peaks and folds are located by
 refinement (harness.analysis.periodic.extrema), not read off the sampled points. The paper's studies as branches are part
 of `python -m harness run` (harness.studies.paper).
@@ -18,14 +18,16 @@ from pathlib import Path
 from harness.analysis.periodic.branches import BranchSettings, trace_branches
 from harness.analysis.periodic.continuation import write_branches_csv
 from harness.analysis.periodic.period_map import MODELS
-from harness.cli.simulate import check_outputs, parse_start_values
+from harness.cli.simulate import add_fmu_option, check_outputs, parse_start_values
 from harness.fmu.blade import SPEED_RANGE, BladeFMU
 from harness.model.params import ParameterError, validate
 from harness.studies.plots import branches_figure
 
+DEFAULT_CSV = "branches.csv"
+
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: the installed package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
+    add_fmu_option(p)
     p.add_argument("--speed-range", type=float, nargs=2, default=[3000.0, 10000.0], metavar=("LO", "HI"),
                    help="speed range [rpm] (default 3000 10000)")
     p.add_argument("--model", choices=MODELS, default="fixedPoint", help="as for `periodic` (default fixedPoint)")
@@ -34,7 +36,8 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                         " modelDescription.xml; default: none, paper Table 1)")
     p.add_argument("--seed-step", type=float, default=500.0, metavar="RPM",
                    help="search every orbit at seed speeds this far apart (default 500 rpm)")
-    p.add_argument("--output-file", default="branches.csv", metavar="CSV", help="branch CSV (default branches.csv)")
+    p.add_argument("--output-file", metavar="CSV",
+                   help=f"branch CSV (default {DEFAULT_CSV}; with --json: no file unless this is given)")
     p.add_argument("--plot", metavar="PNG", help="also plot the branches to this PNG file (default: no plot)")
     p.add_argument("--json", action="store_true",
                    help="print the branches with their located peaks and folds as JSON on stdout, nothing else")
@@ -48,10 +51,13 @@ def run(args: argparse.Namespace) -> int:
     lo, hi = args.speed_range
     if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi <= SPEED_RANGE[1]):
         raise ParameterError(f"--speed-range {lo!r} {hi!r} rpm: need 0 < LO < HI <= {SPEED_RANGE[1]:g}")
+    if args.output_file is None and not args.json:  # --json prints the branches: a file only when asked
+        args.output_file = DEFAULT_CSV
     check_outputs(args, ("output_file", "--output-file"), ("plot", "--plot"))
     with BladeFMU(args.fmu or None) as fmu:
         branches, stats = trace_branches(fmu, overrides, args.model, (lo, hi), BranchSettings(seed_step=args.seed_step))
-    write_branches_csv(Path(args.output_file), branches)
+    if args.output_file:
+        write_branches_csv(Path(args.output_file), branches)
     if args.plot:
         branches_figure(Path(args.plot), {args.model: branches}, f"{args.model}, {overrides or 'Table 1'}")
     if args.json:

@@ -27,12 +27,10 @@ from harness.model.params import ParameterError
 from harness.outputs import OutputPathError
 from harness.paths import IN_CHECKOUT
 
-# command name -> module (add your command with one line). Imported by name, only when run: the
-# product never imports the validation packages, and `validate`, `crosscheck`, `bench` are the only
-# commands that reach them (docs/layers.md).
+# command name -> module (add your command with one line), imported only when it runs
 COMMANDS: dict[str, str] = {
     "simulate": "harness.cli.simulate",
-    "validate": "harness.reference.validate",
+    "validate": "harness.validation.validate",
     "crosscheck": "harness.crosscheck.run",
     "run": "harness.cli.run",
     "sweep": "harness.cli.sweep",

@@ -14,14 +14,14 @@ import math
 
 from harness.analysis.periodic.branches import orbits_at
 from harness.analysis.periodic.period_map import MODELS, PeriodMap, STATE_STARTS
-from harness.cli.simulate import parse_start_values
+from harness.cli.simulate import add_fmu_option, parse_start_values
 from harness.fmu.blade import SPEED_RANGE, BladeFMU
 from harness.model.params import ParameterError, input_range, validate
 from harness.analysis.periodic.shooting import describe
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: the installed package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
+    add_fmu_option(p)
     p.add_argument("--speed", type=float, required=True, metavar="RPM",
                    help=f"rotor speed [rpm], in (0, {input_range('rotorSpeed')[1]:g}] (required)")
     p.add_argument("--model", choices=MODELS, default="fixedPoint",

@@ -32,7 +32,7 @@ DEFAULT_OUTPUT = "ShroudedBlade_out.csv"
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: the installed package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
+    add_fmu_option(p)
     p.add_argument("--start-time", type=float, default=0.0, metavar="S", help="start time [s] (default 0)")
     p.add_argument("--stop-time", type=float, default=0.3, metavar="S", help="stop time [s] (default 0.3)")
     p.add_argument("--output-interval", type=float, default=1e-4, metavar="S",
@@ -54,6 +54,12 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--plot", metavar="PNG", help="also plot tipDisplacement and amplitude [mm] to this PNG file (default: no plot)")
     p.add_argument("--debug-logging", action="store_true", help="print all of the FMU's log messages (default: warnings and errors only)")
     p.add_argument("--fmi-logging", action="store_true", help="print every FMI call of the step loop (slow)")
+
+
+def add_fmu_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--fmu", metavar="FILE",
+                   help="the FMU file (a .fmu, not a directory; default: the harness's own: the installed"
+                        " package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
 
 
 def check_outputs(args: argparse.Namespace, *options: tuple[str, str]) -> None:

@@ -17,7 +17,7 @@ import numpy as np
 from harness.analysis.config import SweepSettings
 from harness.analysis.curves import ConfigError, SweepSpec, parse_speed_range, sweep, validate_spec
 from harness.analysis.executor import DEFAULT_CACHE_DIR, Runner, write_csv
-from harness.cli.simulate import check_outputs, parse_start_values
+from harness.cli.simulate import add_fmu_option, check_outputs, parse_start_values
 from harness.model.params import validate
 from harness.outputs import check_dir
 from harness.studies import plots
@@ -31,7 +31,7 @@ def add_execution_options(p: argparse.ArgumentParser, cache: bool = True, fmu: b
     """Options shared by sweep / reproduce / run / mistuning: where and how the work runs (with
     `cache`, the per-point result cache of the transient sweeps; with `fmu`, the blade FMU to use)."""
     if fmu:
-        p.add_argument("--fmu", metavar="PATH", help="FMU file (default: the installed package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
+        add_fmu_option(p)
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="local worker processes (default: number of CPUs; 1 = in this process)")
     p.add_argument("--scheduler", metavar="ADDRESS",

@@ -75,6 +75,21 @@ def fmu_path(build: bool = True) -> Path:
     return _build.FMU_PATH
 
 
+# where the harness's own FMU comes from, in both settings
+OWN_FMU = "installed: inside the package, `pip install` again if it is missing; checkout: `make fmu`"
+
+
+def _missing_file_message(path: Path) -> str:
+    """What to do about an FMU path that is not a file: a directory is named as one (with the FMU
+    inside it, if there is one), a missing file as missing."""
+    if path.is_dir():
+        inside = sorted(path.glob("*.fmu"))
+        hint = f"did you mean {inside[0]}?" if inside else "it holds no .fmu file"
+        return f"FMU path {path} is a directory, not an FMU file: pass the .fmu file itself ({hint})"
+    return (f"FMU file {path} not found: check the path, or leave the path out to use the harness's own FMU"
+            f" ({OWN_FMU})")
+
+
 INPUT_FITS = ("taylor", "chebyshev")
 
 
@@ -199,14 +214,15 @@ class BladeFMU:
     def __init__(self, path: str | Path | None = None, log: bool = False, fmi_logging: bool = False):
         self.path = Path(path) if path is not None else fmu_path(build=True)
         if not self.path.is_file():
-            raise FMUNotFoundError(f"FMU file {self.path} not found: check the path or build it with `make fmu`")
+            raise FMUNotFoundError(_missing_file_message(self.path))
         self.log, self.fmi_logging = log, fmi_logging
         self.messages: collections.deque[str] = collections.deque(maxlen=1000)
         self._run_messages: collections.deque[str] = collections.deque(maxlen=200)
         try:
             self.md = read_model_description(str(self.path))
         except Exception as exc:  # not a zip, no or bad modelDescription.xml
-            raise FMUNotFoundError(f"{self.path} is not a readable FMU ({exc}): rebuild it with `make fmu`") from None
+            raise FMUNotFoundError(f"{self.path} is not a readable FMU ({exc}): pass a .fmu file, or leave the path"
+                                   f" out to use the harness's own FMU ({OWN_FMU})") from None
         self.variables = {v.name: v for v in self.md.modelVariables}
         self.output_names = [v.name for v in self.md.modelVariables if v.causality == "output"]
         self._unzip: str | None = extract(str(self.path))

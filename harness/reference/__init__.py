@@ -2,8 +2,9 @@
 
 Written without reading the C sources and by other means than the product (root finding and
 quadrature instead of closed forms where possible, an adaptive DOP853 hybrid simulation instead of
-fixed-step RK4). It imports the product only to drive it (the FMU, parameter validation, the
-model's definitions) and never the product's version of what it checks (docs/layers.md). This
+fixed-step RK4). It imports only the model's definitions (parameter validation, the contact's
+constants, the Galerkin record), never the product's version of what it checks; what drives the
+FMU against it is harness.validation (docs/layers.md). This
 module only re-exports the public API of the parts: `blade` (Galerkin reduction), `contact` (normal
 force, friction loop, describing functions by quadrature), `dynamics` (time simulation with located
 events), `fixedpoint` (the paper's fixed point A(B) = B and the naive iteration's 2-cycle) and

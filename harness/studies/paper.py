@@ -1,18 +1,18 @@
-"""The paper's studies, reproduced with the FMU (and the reference), written to results/.
+"""The paper's studies, reproduced with the FMU, written to results/.
 
 `reproduce()` runs, for a chosen size ("quick" for tests, "default" for `make run`, "full"): the
 four parameter studies of Fig. 6-9 (gap, shroud mass, contact angle, normal stiffness) as branches
 of periodic orbits of the FMU with their stability (the paper's fixed point B = A(B) and the
 time-domain Jenkins element; harness.studies.study_branches) over the harmonic-balance
 branches; the section-4 comparison with the Coulomb model (branches too); Fig. 4/5 (time response
-and spectrum at 5000 rpm), the hysteresis loop of Fig. 2 (eq. 4 closed form against the FMU's
-time-domain macroslip element and the reference Jenkins element driven harmonically), the paper's
-own iteration B <- A(B) at 5000 rpm (it 2-cycles, docs/model.md s.4) and a Campbell diagram. Each
+and spectrum at 5000 rpm), the paper's own iteration B <- A(B) at 5000 rpm (it 2-cycles, docs/model.md s.4) and a Campbell diagram. Each
 figure is a PNG plus CSV files; their numbers are collected in a Summary record (StudySummary and
 StudyRow per study, CoulombComparison, Fig45Summary, HysteresisLoop, HarmonicRange, CampbellSummary,
 PaperIteration, Timing), which `claims.py` turns into the claims table and `Summary.as_dict` writes
-to `summary.json`. `study_specs` gives the former transient path (time-domain up/down sweeps +
-fixed points from transients + HB) that `make bench` times side by side.
+to `summary.json`. The hysteresis loop of Fig. 2 (its HysteresisLoop record is in the Summary)
+compares the FMU with the reference: harness.validation.reproduction runs it with these studies.
+`study_specs` gives the former transient path (time-domain up/down sweeps + fixed points from
+transients + HB) that `make bench` times side by side.
 """
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ import math
 import time as _time
 from dataclasses import dataclass, field, fields, is_dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import numpy as np
 
@@ -303,10 +303,6 @@ class HysteresisLoop:
     E_jenkins_prescribed: float  # [J] reference Jenkins element driven by v = B cos(theta)
 
 
-# Fig. 2's study: (FMU, results directory, base parameters) -> loops by panel label
-Hysteresis = Callable[[Any, Path, Mapping[str, Any]], "dict[str, HysteresisLoop]"]
-
-
 @dataclass(frozen=True)
 class CampbellSummary:
     """Where the first bending frequency of the contact-free blade crosses the engine-order line."""
@@ -416,6 +412,7 @@ def _plain(o: Any) -> Any:
 @dataclass
 class Reproduction:
     summary: Summary
+    claims: list = field(default_factory=list)  # the claim rows (claims.write_claims), once written
 
 
 def validate_request(size: str | Size, studies: Sequence[str] | None) -> tuple[Size, list[str]]:
@@ -431,14 +428,28 @@ def validate_request(size: str | Size, studies: Sequence[str] | None) -> tuple[S
 
 
 def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studies: Sequence[str] | None = None,
-              runner: Runner | None = None, fmu_path: Path | str | None = None, extras: bool = True, base: Mapping[str, Any] | None = None,
-              hysteresis: Hysteresis | None = None) -> Reproduction:
+              runner: Runner | None = None, fmu_path: Path | str | None = None, extras: bool = True,
+              base: Mapping[str, Any] | None = None) -> Reproduction:
+    """`run_studies`, then summary.json into `out`. Without Fig. 2, which compares the FMU's
+    friction loop with the reference's: harness.validation.reproduction adds it."""
+    rep = run_studies(out, size, studies, runner, fmu_path, extras, base)
+    write_summary(Path(out), rep.summary)
+    return rep
+
+
+def write_summary(out: Path, summary: Summary) -> None:
+    """summary.json (the claims table reads it), replaced atomically."""
+    atomic_write_text(out / "summary.json",
+                      json.dumps(summary.as_dict(), indent=1, sort_keys=True, default=_json_default))
+
+
+def run_studies(out: Path | str = RESULTS_DIR, size: str | Size = "default", studies: Sequence[str] | None = None,
+                runner: Runner | None = None, fmu_path: Path | str | None = None, extras: bool = True,
+                base: Mapping[str, Any] | None = None) -> Reproduction:
     """Run the studies as branches of periodic orbits over the harmonic-balance branches (and, with
-    `extras`, the Coulomb comparison, Fig. 2, 4/5, Campbell, the m-mode Campbell diagram and the
-    convergence in the number of modes, the paper's iteration). Nothing is
-    cached: a curve takes about a second. Fig. 2 compares the FMU's friction loop with the
-    reference's, so its study comes from the validation side (harness.reference.hysteresis, passed
-    in by the `reproduce` and `run` commands); without it Fig. 2 is left out."""
+    `extras`, the Coulomb comparison, Fig. 4/5, Campbell, the m-mode Campbell diagram and the
+    convergence in the number of modes, the paper's iteration), writing their files into `out`
+    (all but summary.json). Nothing is cached: a curve takes about a second."""
     size, names = validate_request(size, studies)
     out = Path(out)
     base_p = _params.validate(base or {}, source="reproduce base parameters")
@@ -457,7 +468,11 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
         runner.warm_up("harness.analysis.periodic.studies")  # the workers start while HB runs here
         t0 = _time.perf_counter()
         hb_params = {n: {v: dict(base_p, **{STUDIES[n].param: v}) for v in values[n]} for n in names}
-        hb = {n: {v: hb_curve(p, size.hb_speeds) for v, p in hb_params[n].items()} for n in names}
+        hb = {}
+        with runner.steps("harmonic balance", len(names)) as step:
+            for n in names:
+                step(STUDIES[n].figure)
+                hb[n] = {v: hb_curve(p, size.hb_speeds) for v, p in hb_params[n].items()}
         hb_peaks = {n: {v: hb_stable_peak(hb_params[n][v], hb[n][v]) for v in values[n]} for n in names}
         hb_wall = _time.perf_counter() - t0
         t0 = _time.perf_counter()
@@ -473,10 +488,10 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
         extras_wall = None
         if extras:
             t0 = _time.perf_counter()
-            with BladeFMU(path) as fmu:
+            with BladeFMU(path) as fmu, runner.steps("extras", 6) as step:
+                step("Fig. 4/5 time response")
                 summary.fig45 = fig45(fmu, out, base_p, 5000.0, size.fig45_time, _root_at(base_p, 5000.0, fmu))
-                if hysteresis is not None:
-                    summary.hysteresis = hysteresis(fmu, out, base_p)
+                step("harmonic balance vs the exact orbit")
                 summary.hb_vs_orbit = hb_vs_orbit(fmu, out, base_p, done)
                 peaks = []
                 if "kn" in summary.studies:
@@ -484,15 +499,19 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
                         if math.isfinite(row.fp_speed):
                             peaks.append((row.fp_speed, base_p["engineOrder"] * row.fp_speed / 60,
                                           f"fixed-point peak, kn = {row.value:.0e} N/m"))
+                step("Campbell diagram")
                 summary.campbell = campbell(fmu, out, base_p, peaks)
+                step("Campbell diagram with more modes")
                 if size.campbell_modes:
                     cm = campbell_study(fmu, out, base_p, size.campbell_modes)
                     summary.campbell_modes = CampbellModesSummary(cm.modes, cm.as_dict()["crossings"])
                     summary.mode2_crossing = mode2_crossing(fmu, out, base_p)
+                step("convergence in the number of modes")
                 if size.modes:
                     mc = runner.map(trace_curve, modes_tasks(base_p, size.speed_range, size.seed_step, path, size.modes),
                                     desc="branches in the number of modes", unit="curve")
                     summary.modes = modes_convergence(fmu, out, mc)
+                step("the paper's iteration")
                 seq = paper_iteration(fmu, base_p, 5000.0, 2 * base_p["d"], size.iteration_steps)
                 summary.paper_iteration = PaperIteration(5000.0, 0.2, seq)
                 it = np.zeros(len(seq), dtype=[("iteration", "i4"), ("B", "f8")])
@@ -507,8 +526,6 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
     summary.timing = Timing(hb_wall, branches_wall, float(len(done)), float(sum(s.evaluations for s in stats)),
                             float(sum(s.simulated_s for s in stats)), float(sum(s.fmi_s for s in stats)),
                             float(sum(s.wall for s in stats)), extras_wall)
-    atomic_write_text(out / "summary.json",
-                      json.dumps(summary.as_dict(), indent=1, sort_keys=True, default=_json_default))
     return rep
 
 
@@ -520,5 +537,6 @@ def _json_default(o: Any) -> Any:
     raise TypeError(type(o).__name__)
 
 
-__all__ = ["STUDIES", "SIZES", "Size", "Study", "Summary", "Reproduction", "reproduce", "study_specs",
+__all__ = ["STUDIES", "SIZES", "Size", "Study", "Summary", "Reproduction", "reproduce", "run_studies", "write_summary",
+           "study_specs",
            "settling_time", "paper_iteration"]

@@ -35,7 +35,7 @@ from harness.system import ring_conserving
 from harness.system.contact_energy import require_jenkins, spring_energy
 from harness.system.ring import Ring, run
 
-# the convergence study's ring (harness/reference/ring_convergence.py): tuned, N = 4, EO = 3, 5000 rpm
+# the convergence study's ring (harness/validation/ring_convergence.py): tuned, N = 4, EO = 3, 5000 rpm
 STUDY_RING = Ring(n=4, engine_order=3, fw0=300.0, blade={"c": 298.0})
 
 

@@ -2,8 +2,8 @@
 
 The loop of eq. 4 at the FMU's steady amplitude B (harness.reference.contact) against (a) the
 reference Jenkins element driven by v = B cos(theta) (harness.reference.dynamics) and (b) the FMU's
-time-domain element (frictionModel 3) in a steady run. A validation study: the `reproduce` and
-`run` commands pass `hysteresis` to harness.studies.paper.reproduce, which writes it with the others.
+time-domain element (frictionModel 3) in a steady run. harness.validation.reproduction runs it
+with the paper's other studies.
 """
 from __future__ import annotations
 

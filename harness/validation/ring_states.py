@@ -14,7 +14,7 @@ exponential phase estimates the largest transverse Floquet multiplier |mu| of th
 itself comes from the symmetric computation `on_wave` (the full ring, made an exact TW after
 every period).
 
-`python -m harness.reference.ring_states CASE` prints the numbers of one case of the findings page.
+`python -m harness.validation.ring_states CASE` prints the numbers of one case of the findings page.
 """
 from __future__ import annotations
 

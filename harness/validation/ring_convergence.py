@@ -4,7 +4,7 @@ shrinks, per extrapolation order of the input derivatives, with the measured ord
 slope of log error over log h on the finest points), and the largest stable h.
 
 Error: max over blades and over the reference's output grid (every 1e-4 s up to stop_time) of
-|q_cosim - q_ref|, relative to max |q_ref|. `python -m harness.reference.ring_convergence` writes
+|q_cosim - q_ref|, relative to max |q_ref|. `python -m harness.validation.ring_convergence` writes
 results/ring_convergence.csv and .png (log-log; also libcosim) and prints the table.
 """
 from __future__ import annotations
