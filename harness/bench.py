@@ -30,7 +30,8 @@ import numpy as np
 from harness import reference as ref
 from harness.analysis import curves as sw
 from harness.analysis.curves import SweepSettings, SweepSpec, fmu_identity, hb_curve, run_sweeps
-from harness.analysis.executor import Runner, atomic_write_text
+from harness.analysis.executor import Runner
+from harness.outputs.files import atomic_write_text
 from harness.analysis.periodic.branches import BranchSettings, trace_branches
 from harness.analysis.periodic.period_map import ShootingSettings
 from harness.analysis.plateau import PLATEAU_OUTPUTS

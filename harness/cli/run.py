@@ -16,9 +16,8 @@ import argparse
 from pathlib import Path
 
 from harness.analysis.executor import RESULTS_DIR
-from harness.cli.mistuning import report
-from harness.cli.reproduce import reproduce_and_report
-from harness.cli.sweep import add_execution_options, make_runner
+from harness.cli.options import add_execution_options, make_runner
+from harness.cli.reports import mistuning_report, reproduce_and_report
 from harness.studies import mistuning, mistuning_plots
 from harness.studies.paper import SIZES
 
@@ -36,5 +35,5 @@ def run(args: argparse.Namespace) -> int:
     with make_runner(args) as runner:
         study = mistuning.run_study(mistuning.SIZES["small"], runner, out / "cache" / "mistuning")
     study["files"] = [str(f) for f in mistuning_plots.write(study, out / "mistuning")]
-    report(study)
+    mistuning_report(study)
     return rc

@@ -26,7 +26,8 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from harness.analysis.executor import PointCache, Runner, atomic_write_text
+from harness.analysis.executor import PointCache, Runner
+from harness.outputs.files import atomic_write_text
 from harness.studies import mistuning
 from harness.studies.mistuning import Study
 

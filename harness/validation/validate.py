@@ -28,7 +28,7 @@ from typing import Any, Callable, Iterable
 import numpy as np
 
 from harness.outputs import check_file
-from harness.analysis.executor import atomic_write_text
+from harness.outputs.files import atomic_write_text
 from harness.analysis.harmonic_balance import harmonic_balance
 from harness.analysis.steady_state import analyze
 from harness.fmu.blade import BladeFMU, FMUError
