@@ -6,9 +6,6 @@ same. Above the system layer: it imports model, fmu, analysis and system (docs/l
 from __future__ import annotations
 
 import math
-import tomllib
-from functools import lru_cache
-from importlib import metadata
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -26,22 +23,12 @@ from harness.model.params import ParameterError, input_range, validate
 from harness.system import ring_c, ring_values
 from harness.system.ring import Ring
 from harness.system.ring import run as ring_run
+from harness.version import version
 
 __all__ = ["version", "fmu_path", "simulate", "periodic_orbits", "branch", "Ring", "run_ring",
            "ParameterError", "RING_MASTERS"]
 
 RING_MASTERS = ("fmpy", "c")  # the ring's loop in Python (the readable reference) or in C
-
-
-@lru_cache(maxsize=1)
-def version() -> str:
-    """The installed distribution's version; in a bare checkout (not installed) pyproject.toml's,
-    the one source of both."""
-    try:
-        return metadata.version("shroudedblade-harness")
-    except metadata.PackageNotFoundError:
-        with open(Path(__file__).resolve().parents[1] / "pyproject.toml", "rb") as fh:
-            return str(tomllib.load(fh)["project"]["version"])
 
 
 def fmu_path(name: str = "ShroudedBlade") -> Path:

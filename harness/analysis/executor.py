@@ -29,7 +29,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from harness.optional import require
-from harness.outputs.files import atomic_write_text
+from harness.files.atomic import atomic_write_text
 
 # relative: under the current directory, never inside the installed package (`make run` passes
 # --out results, the committed results of the checkout)

@@ -36,7 +36,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                    help=f"relative standard deviations, in [0, 0.2] (default {' '.join(map(str, _S.levels))})")
     p.add_argument("--patterns", type=int, metavar="K", help=f"random patterns per level (default {_S.patterns})")
     p.add_argument("--parameter", choices=PARAMETERS, help=f"scattered blade parameter (default {_S.parameter})")
-    p.add_argument("--seed", type=int, help=f"pattern generator seed (default {_S.seed})")
+    p.add_argument("--seed", type=int, metavar="S", help=f"pattern generator seed (default {_S.seed})")
     p.add_argument("--points", type=int, metavar="K", help=f"speeds across the band (default {_S.points})")
     p.add_argument("--band", type=float, nargs=2, metavar=("FROM", "TO"),
                    help=f"speed band [rpm] (default {CROSSING_BAND[0]:g}x to {CROSSING_BAND[1]:g}x the contact-free "

@@ -19,7 +19,7 @@ from harness.cli.options import add_fmu_option, add_start_values, check_outputs,
 from harness.fmu.blade import SPEED_RANGE, BladeFMU, fmu_path
 from harness.model.excitation import Constant, ExcitationError, LinearRamp
 from harness.model.params import validate
-from harness.outputs.tables import write_result_csv
+from harness.files.tables import write_result_csv
 from harness.studies import run_plots
 
 DEFAULT_OUTPUT = "ShroudedBlade_out.csv"

@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from harness.outputs.figures import plt, save_png
+from harness.files.figures import plt, save_png
 
 
 def simulation(path: str | Path, result: np.ndarray, title: str) -> Path:

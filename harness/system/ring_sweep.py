@@ -33,7 +33,7 @@ from typing import Sequence
 
 import numpy as np
 
-from harness.outputs.files import atomic_write_text
+from harness.files.atomic import atomic_write_text
 from harness.system.ring import Ring
 from harness.system.ring_c import CRing
 

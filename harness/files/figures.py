@@ -13,7 +13,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (after the backend is chosen)
 
-from harness.outputs.files import atomic_write_bytes  # noqa: E402
+from harness.files.atomic import atomic_write_bytes  # noqa: E402
 
 
 def save_png(fig: Any, path: str | os.PathLike[str], dpi: int = 110, tight: bool = True) -> Path:
