@@ -204,11 +204,3 @@ def test_output_path_under_a_file_is_named(capsys, tmp_path, option):
     assert main(["ring", "--blades", "3", *sweep, option, bad]) == 2
     err = capsys.readouterr().err
     assert err.startswith("error: ") and f"{option} {bad}" in err and len(err.strip().splitlines()) == 1, err
-
-
-def test_one_ring_command():
-    import subprocess
-    import sys
-    p = subprocess.run([sys.executable, "-m", "harness.system.ring", "--n", "6"], capture_output=True, text=True,
-                       timeout=120)
-    assert p.returncode == 2 and "python -m harness ring --blades N" in p.stderr and p.stdout == ""
