@@ -29,13 +29,23 @@ def test_peaks_located_and_root_moment(fmu, curves, tmp_path):
     for r, c in zip(conv.rows, curves):
         o = peak_orbit(c.branches, speed_range=WINDOW)
         assert any(e.kind == "peak" and e is o for b in c.branches for e in b.extrema), "the peak is located"
-        assert WINDOW[0] < r.speed < WINDOW[1] and r.peak == o.amplitude
-        # the root moment at the start of the peak orbit: EI sum psi_i''(0) q_i of the reference
+        assert WINDOW[0] < r.speed < WINDOW[1]
+        # the peak is at least every stable orbit the tracing found in the window (a located maximum
+        # lies above its sampled neighbours; the sampled points are the tracing's, not the row's)
+        stable = [pt.amplitude for b in c.branches for pt in b.points
+                  if pt.stable and WINDOW[0] <= pt.speed <= WINDOW[1]]
+        assert stable and r.peak >= max(stable) * (1 - 1e-12), (r.peak, max(stable))
+        # the root moment: the reference's EI sum psi_i''(0) q_i(t) on the FMU's modal coordinates over
+        # the peak orbit's period (1024 samples, as the study): measured 1.0e-12 (m = 1) and 1.4e-12
+        # (m = 2), the two reductions' psi_i''(0); tolerance 1e-11
         pm = PeriodMap(fmu, c.task.params, "jenkins")
-        res = fmu.run(dict(pm.p, **pm.start_values(o.x)), 1e-5, 1e-5, speed=o.speed, outputs=["rootMoment"])
-        ref = float(modal_galerkin(c.task.params).root_moment(o.x[:r.modes]))
-        assert res["rootMoment"][0] == pytest.approx(ref, rel=1e-12)
-        assert r.root_moment >= abs(ref)
+        T = 60.0 / (int(pm.p["engineOrder"]) * o.speed)
+        names = [f"modalDisplacement[{i + 1}]" for i in range(r.modes)]
+        res = fmu.run(dict(pm.p, **pm.start_values(o.x)), T, T / 1024, speed=o.speed, outputs=names,
+                      input_fit="chebyshev", carry_values=True)
+        q = np.array([res[n] for n in names])
+        ref = float(np.abs(modal_galerkin(c.task.params).root_moment(q)).max())
+        assert r.root_moment == pytest.approx(ref, rel=1e-11)
     assert (tmp_path / "modes_convergence.csv").is_file() and (tmp_path / "modes_convergence_jenkins.png").is_file()
     d = conv.differences(conv.rows[0])
     assert d[0] == pytest.approx(conv.rows[0].peak / conv.rows[1].peak - 1.0)

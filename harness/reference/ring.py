@@ -158,29 +158,45 @@ class MonolithicRing:
         else:
             c.F0, c.u0, c.mode = self._friction(c, u), u, STATE_STICK
 
-    def _simultaneous(self, cs: list[_Contact], t: float, y: np.ndarray, switched: set[int]) -> int:
-        """Events of other contacts at the same instant (a symmetric ring switches mirrored contacts
-        together): a switching function of a contact not switched yet that is decreasing and reaches
-        0 within 1e-12 s (or is already below) crossed with the one located; a terminal event with
-        direction -1 would never see it once it is below 0. Returns the number applied."""
-        n, dt = 0, 1e-10
+    @staticmethod
+    def _due(ev: Any, t: float, y: np.ndarray, f: np.ndarray, dt: float = 1e-10) -> bool:
+        """The switching function `ev` is decreasing and reaches 0 within 1e-12 s (or is below)."""
+        g0 = ev(t, y)
+        slope = (ev(t + dt, y + dt * f) - g0) / dt
+        return slope < 0.0 and g0 <= -slope * 1e-12
+
+    def _leaving(self, cs: list[_Contact], j: int, t: float, y: np.ndarray) -> bool:
+        """Contact j's normal load vanishes at this instant (its "leave" function is due)."""
+        f = self.rhs(t, y, cs)
+        return any(ev.tag == (j, "leave") and self._due(ev, t, y, f) for ev in self._events(cs))
+
+    def _simultaneous(self, cs: list[_Contact], t: float, y: np.ndarray, switched: dict[int, str]) -> int:
+        """Events at the same instant as the one located, applied here: a terminal event with
+        direction -1 never sees a switching function that is already below 0. Two kinds:
+        - other contacts (a symmetric ring switches mirrored contacts together): a switching function
+          of a contact not switched yet that is decreasing and reaches 0 within 1e-12 s (or is already
+          below) crossed with the one located;
+        - the contact that just left, when the gap is zero: u passes through +d and -d at once, so it
+          leaves one side and enters the other at the same instant (the located point may lie a
+          rounding past u = 0, where the other side's function d + sigma u is already below 0).
+        `switched` maps each contact switched at this instant to its last event. Returns the number
+        applied."""
+        n = 0
         while True:
             hit = None
             f = self.rhs(t, y, cs)
             for ev in self._events(cs):
                 j, kind = ev.tag
-                if j in switched:
+                if j in switched and not (switched[j] == "leave" and kind.startswith("enter")):
                     continue
-                g0 = ev(t, y)
-                slope = (ev(t + dt, y + dt * f) - g0) / dt
-                if slope < 0.0 and g0 <= -slope * 1e-12:
+                if self._due(ev, t, y, f):
                     hit = (j, kind)
                     break
             if hit is None:
                 return n
             u, du = self._u(y)
             self._apply(cs[hit[0]], hit[1], u[hit[0]], du[hit[0]])
-            switched.add(hit[0])
+            switched[hit[0]] = hit[1]
             n += 1
 
     def solve(self, t_eval: np.ndarray, start: RingState | None = None) -> dict[str, np.ndarray]:
@@ -213,10 +229,14 @@ class MonolithicRing:
                 _, i = min(hits)
                 j, kind = evs[i].tag
                 y = sol.y_events[i][0].copy()
+                if kind.startswith("slip") and self._leaving(cs, j, t1, y):
+                    # the slip limit mu |F_n| and the normal load reach 0 together: the contact
+                    # separates (at d = 0 both functions vanish at u = 0 and rounding picks either)
+                    kind = "leave"
                 u, du = self._u(y)
                 self._apply(cs[j], kind, u[j], du[j])
                 n_events += 1
-                n_events += self._simultaneous(cs, t1, y, {j})
+                n_events += self._simultaneous(cs, t1, y, {j: kind})
                 switches.append((t1, [replace(c) for c in cs]))
             else:
                 y = sol.y[:, -1]
