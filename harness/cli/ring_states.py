@@ -15,7 +15,7 @@ from harness.validation.ring_states import SETTINGS, case_a, case_b
 def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("case", choices=[*SETTINGS], help="the case of the findings page")
     p.add_argument("--stop", type=float, default=None, metavar="S",
-                   help="horizon [s] (default: 0.3 for the a cases, 2 for b)")
+                   help="horizon [s] (default: none, the case's own: 0.3 for the a cases, 2 for b)")
     p.add_argument("--rtol", type=float, nargs="+", default=[1e-9], metavar="R",
                    help="the reference's tolerances, case b (default 1e-9)")
 
