@@ -234,6 +234,10 @@ class Runner:
             self._client.close()
         self._client = None
 
+    def steps(self, desc: str, total: int) -> "StepBar":
+        """A progress bar over `total` named steps done in this process (see StepBar)."""
+        return StepBar(desc, total, self.progress)
+
     def map(self, func: Callable[[Any], Any], tasks: Sequence[Any], desc: str = "",
             unit: str = "task") -> list[Any]:
         """`[func(t) for t in tasks]`, in parallel, with a progress bar; order preserved."""
@@ -298,3 +302,30 @@ class Runner:
             results[index[f.key]] = f.result()
             bar.update(1)
         return [results[i] for i in range(len(tasks))]
+
+
+class StepBar:
+    """A progress bar over a sequence of named steps: `bar("Fig. 4/5")` closes the step before and
+    names the one starting; `bar.close()` closes the last. A context manager."""
+
+    def __init__(self, desc: str, total: int, enabled: bool = True):
+        self.desc, self._started = desc, False
+        self.bar = tqdm(total=total, desc=desc, unit="step", disable=not enabled, dynamic_ncols=True, leave=False)
+
+    def __call__(self, name: str) -> None:
+        if self._started:
+            self.bar.update(1)
+        self._started = True
+        self.bar.set_description(f"{self.desc}: {name}")
+
+    def close(self) -> None:
+        if self._started:
+            self.bar.update(1)
+        self.bar.close()
+
+    def __enter__(self) -> "StepBar":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+

@@ -3,7 +3,7 @@
 `python -m harness continue --speed-range LO HI [--model fixedB|fixedPoint|jenkins|coulomb]
 [--start-values NAME VALUE ...] [--seed-step RPM] [--output-file branches.csv] [--plot branches.png] [--json]`
 traces every branch found from the seed speeds (harness.analysis.periodic.branches) through its folds and
-writes one CSV row per point (to branches.csv by default; with --json only where --output-file asks) (branch, speed, amplitude, B, state, stability, label, multipliers);
+writes one CSV row per point (branch, speed, amplitude, B, state, stability, label, multipliers; to branches.csv by default, with --json only where --output-file asks);
 the plot draws stable parts bold and unstable parts faint. Peaks and folds are located by
 refinement (harness.analysis.periodic.extrema), not read off the sampled points. The paper's studies as branches are part
 of `python -m harness run` (harness.studies.paper).

@@ -13,13 +13,14 @@ import numpy as np
 from harness.cli.options import make_runner
 from harness.outputs import check_dir
 from harness.studies.claims import tally, verdict_counts, write_claims
-from harness.studies.paper import STUDIES, validate_request
+from harness.studies.paper import STUDIES, Reproduction, validate_request
 from harness.validation.reproduction import reproduce
 
 
-def reproduce_and_report(args: argparse.Namespace, size: str, studies: Sequence[str] | None, extras: bool) -> int:
-    """The paper's studies into --out (harness.validation.reproduction: with Fig. 2), the claims
-    table, and their peaks on stdout."""
+def reproduce_and_report(args: argparse.Namespace, size: str, studies: Sequence[str] | None,
+                         extras: bool) -> Reproduction:
+    """The paper's studies into --out (harness.validation.reproduction: with Fig. 2), their peaks and
+    the claims tally on stdout; the reproduction with its claim rows."""
     validate_request(size, studies)
     runner = make_runner(args)
     check_dir(args.output_dir, "--out")  # the configuration is good: can the results be written?
@@ -38,8 +39,8 @@ def reproduce_and_report(args: argparse.Namespace, size: str, studies: Sequence[
                   f" {r.jenkins_speed:6.0f} rpm (Jenkins), {r.hb_peak * 1e3:8.5f} mm at {r.hb_speed:6.0f} rpm (HB)")
     print(f"claims: {tally(verdict_counts(rows))} -> {out / 'claims.md'}")
     print(f"wall time {wall:.1f} s; results in {out}/")
-    return 0
-
+    rep.claims = rows
+    return rep
 
 
 def mistuning_report(out: dict[str, Any]) -> None:
