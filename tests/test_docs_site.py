@@ -49,6 +49,11 @@ def _check_math_and_no_network(site: Path) -> None:
     spans = re.findall(r'class="arithmatex"', model)
     assert len(spans) >= 100, f"the model page has {len(spans)} math spans"
     assert all(f"\\tag{{{n}}}" in model for n in MODEL_TAGS), [n for n in MODEL_TAGS if f"\\tag{{{n}}}" not in model]
+    # a control character in TeX is a lost backslash (\b, \f, \v, \t written through an escape):
+    # MathJax shows "Math input error" there
+    bad = [m for m in re.findall(r'class="arithmatex">(.*?)</(?:span|div)>', model, re.S)
+           if re.search(r"[\x00-\x08\x0b\x0c\x0e-\x1f]", m)]
+    assert not bad, bad[:3]
     for page in ("reference/numerics", "periodic"):
         assert 'class="arithmatex"' in (site / page / "index.html").read_text(), page
     scripts = re.findall(r'<script src="([^"]+)"', model)
@@ -56,6 +61,11 @@ def _check_math_and_no_network(site: Path) -> None:
     assert mathjax, scripts
     served = (site / "model" / mathjax[0]).resolve()
     assert served.is_file() and b"MathJax" in served.read_bytes()[:200000], served
+    # every figure of the findings opens at full resolution: its image is the target of a lightbox link
+    findings = (site / "findings" / "results" / "index.html").read_text()
+    images = re.findall(r'<img[^>]*src="([^"]+\.png)"', findings)
+    linked = re.findall(r'<a class="glightbox"[^>]*href="([^"]+\.png)"', findings)
+    assert len(images) >= 8 and sorted(images) == sorted(linked), (images, linked)
     remote = {str(p.relative_to(site)): m.group(0) for p in site.rglob("*.html")
               for m in [REMOTE.search(p.read_text())] if m}
     assert not remote, remote

@@ -9,6 +9,7 @@ Over speed: `--speeds FROM TO --points K [--sweep up|down|both]` sweeps the C lo
 carried from speed to speed (harness/system/ring_sweep.py) and prints `speeds_rpm`, `amplitudes_m`
 (per direction, K x N), `settled`, `movement`, and the located `peak_amplitude_m` at
 `peak_speed_rpm`; `--csv` and `--plot` write the curves (mistuned: the tuned ring's overlaid).
+`--speeds FROM TO --branches` prints the periodic steady states instead (harness/cli/ring_branches.py).
 --start-values sets the variable on every FMU instance that has it (`d 1.0` opens every contact).
 `--write-ssp DIR` writes the system instead (DIR/SystemStructure.ssd, the FMUs in DIR/resources/,
 and DIR.ssp).
@@ -28,6 +29,7 @@ from fmpy import read_model_description
 import numpy as np
 
 from harness.cli.options import add_start_values, parse_start_values
+from harness.cli.ring_branches import run_branches
 from harness.fmu.slave import build_ring_fmus
 from harness.model.params import ParameterError
 from harness.outputs import check_dir, check_file
@@ -76,6 +78,15 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                    help="longest time at one speed [s]; a speed not settled by then is flagged (default: 1)")
     g.add_argument("--no-refine", action="store_true",
                    help="report the largest settled sample as the peak (no extra speeds around it)")
+    g.add_argument("--branches", action="store_true",
+                   help="the periodic steady states instead of a sweep: every branch of periodic orbits from "
+                        "every seed (travelling wave, runs from rest, a sweep up and down at --seed-points "
+                        "speeds), each point's stability and the bifurcations, and the largest stable steady "
+                        "state (harness/system/ring_orbits)")
+    g.add_argument("--seed-points", type=int, default=6, metavar="K",
+                   help="with --branches: speeds of the seeds across the band (default: 6)")
+    g.add_argument("--steps-per-period", type=int, default=160, metavar="K",
+                   help="with --branches: communication steps per excitation period (default: 160, as the sweeps)")
     g.add_argument("--csv", metavar="PATH",
                    help="write the curves: one row per direction, speed (and ring) (default: none)")
     g.add_argument("--plot", metavar="PATH", help="write a PNG: amplitude vs speed per blade (default: none)")
@@ -111,11 +122,19 @@ def check(args: argparse.Namespace) -> None:
             raise ParameterError(f"--settle-rtol {args.settle_rtol!r} outside (0, 1)")
         if not (math.isfinite(args.max_time) and args.max_time > 0):
             raise ParameterError(f"--max-time {args.max_time!r} s must be > 0")
+        if not 2 <= args.seed_points <= 200:
+            raise ParameterError(f"--seed-points {args.seed_points} outside [2, 200]")
+        if not 8 <= args.steps_per_period <= 100000:
+            raise ParameterError(f"--steps-per-period {args.steps_per_period} outside [8, 100000]")
+        if args.branches and args.master != "fmpy" and args.master != "c":
+            raise ParameterError(f"--master {args.master}: --branches runs on the C loop (c)")
         for option, path in (("--csv", args.csv), ("--plot", args.plot)):
             if path is not None:
                 check_file(path, option)
     elif args.csv or args.plot:
         raise ParameterError("--csv and --plot write the curves of a sweep: give --speeds FROM TO")
+    elif args.branches:
+        raise ParameterError("--branches traces the periodic orbits over a band: give --speeds FROM TO")
     if not (math.isfinite(args.stop_time) and args.stop_time > 0):
         raise ParameterError(f"--stop-time {args.stop_time!r} s must be > 0")
     if args.step is not None and not (math.isfinite(args.step) and 0 < args.step <= args.stop_time):
@@ -176,6 +195,8 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps({"ssp": str(out), "archive": str(out.with_suffix(".ssp"))}) if args.json else out)
         return 0
     try:
+        if args.branches:
+            return run_branches(ring, args, _common(ring, args))
         return run_sweep(ring, args) if args.speeds is not None else run_one(ring, args)
     except RingDiverged as e:  # one line, exit 2 (the CLI's known errors)
         raise ParameterError(str(e)) from None
