@@ -23,13 +23,10 @@ from harness.model.params import ParameterError, input_range, validate
 from harness.system import ring_c, ring_values
 from harness.system.ring import Ring
 from harness.system.ring import run as ring_run
-<<<<<<< HEAD
-from harness.version import version
-=======
 from harness.system.ring_orbits.branches import RingBranches
 from harness.system.ring_orbits.branches import ring_branches as trace_ring_branches
 from harness.system.ring_orbits.period_map import RingShootingSettings
->>>>>>> main
+from harness.version import version
 
 __all__ = ["version", "fmu_path", "simulate", "periodic_orbits", "branch", "Ring", "run_ring", "ring_branches",
            "ParameterError", "RING_MASTERS"]
