@@ -36,7 +36,8 @@ from harness.outputs import check_dir, check_file
 from harness.studies import mistuning, run_plots
 from harness.system import ring_c, ring_libcosim, ring_values, ssp
 from harness.system.ring import Ring, RingDiverged, amplitudes, diverged_message, harmonic, run as ring_run
-from harness.system.ring_sweep import DIRECTIONS, per_period_settling, period_step, sweep, write_curves_csv
+from harness.system.ring_sweep import DIRECTIONS, per_period_settling, period_step, sweep
+from harness.system.ring_tables import write_curves_csv
 from harness.system.ring_values import max_blades
 
 MASTERS = ("fmpy", "c", "libcosim", "ecos")

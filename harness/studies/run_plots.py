@@ -1,8 +1,9 @@
 """Figures of one command's run, each written atomically to a PNG: a simulation's tip response
-over time (`simulate --plot`) and a ring's blade amplitudes over a speed band (`ring --speeds
-... --plot`)."""
+over time (`simulate --plot`), a ring's blade amplitudes over a speed band (`ring --speeds ...
+--plot`) and its branches of periodic steady states (`ring --speeds ... --branches --plot`)."""
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any
 
@@ -64,5 +65,38 @@ def ring_sweep(path: str | Path, r: Any, tuned: Any, title: str) -> Path:
     ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    return save_png(fig, path, dpi=120, tight=False)
+
+
+def ring_branches(path: str | Path, r: Any, sw: Any, title: str) -> Path:
+    """`ring --speeds ... --branches --plot`: the branches of periodic steady states (largest blade;
+    stable solid, unstable dashed, bifurcations marked) with a sweep's settled points over them."""
+    fig, ax = plt.subplots(figsize=(9, 5.5))
+    colors = plt.get_cmap("tab10")
+    for k, b in enumerate(r.branches):
+        S, A, st = b.speeds, b.amplitudes.max(axis=1) * 1e3, b.stable
+        c = colors(k % 10)
+        for i in range(len(S) - 1):
+            ax.plot(S[i:i + 2], A[i:i + 2], "-" if st[i] and st[i + 1] else "--", color=c, lw=1.6 if st[i] else 1.0)
+        for x in b.bifurcations:
+            ax.plot([x.speed], [x.amplitude * 1e3], "o" if x.kind == "fold" else "d", ms=4, mfc="none", color=c)
+    if sw is not None:
+        for d, a in sw.amplitudes_m.items():
+            ok = sw.settled[d].all(axis=1)
+            ax.plot(sw.speeds_rpm[ok], a[ok].max(axis=1) * 1e3, "^" if d == "up" else "v", ms=6, color="k",
+                    mfc="none", label=f"sweep {d}: settled, largest blade")
+    if not math.isnan(r.peak_stable_amplitude):
+        ax.plot([r.peak_stable_speed], [r.peak_stable_amplitude * 1e3], "*", color="red", ms=14,
+                label=f"largest stable: {r.peak_stable_amplitude * 1e3:.4f} mm at {r.peak_stable_speed:.0f} rpm")
+    ax.plot([], [], "k-", label="stable (largest blade)")
+    ax.plot([], [], "k--", label="unstable")
+    ax.plot([], [], "ko", mfc="none", ms=4, label="fold")
+    ax.plot([], [], "kd", mfc="none", ms=4, label="branch point / NS / PD")
+    ax.set_xlabel("rotor speed [rpm]")
+    ax.set_ylabel("largest blade amplitude max|q| [mm]")
+    ax.set_title(title, fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
     fig.tight_layout()
     return save_png(fig, path, dpi=120, tight=False)

@@ -28,12 +28,10 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field, replace
-from pathlib import Path
 from typing import Sequence
 
 import numpy as np
 
-from harness.files.atomic import atomic_write_text
 from harness.system.ring import Ring
 from harness.system.ring_c import CRing
 
@@ -232,20 +230,3 @@ def _locate(sw: _Sweeper, speeds: np.ndarray, d: str, ok: np.ndarray, blades: np
     speed = max(known, key=lambda s: known[s][0])
     amp, blade = known[speed]
     return (amp, speed, d, blade) if np.isfinite(amp) else None
-
-
-def write_curves_csv(path: str | Path, r: RingSweep, tuned: RingSweep | None = None) -> None:
-    """The curves of a sweep (and of the tuned ring beside a mistuned one) as CSV, atomically: one
-    row per ring, direction and speed; every blade's amplitude [m], settled flag and movement."""
-    N = next(iter(r.amplitudes_m.values())).shape[1]
-    head = (["ring", "direction", "speed_rpm"] + [f"amplitude{i}_m" for i in range(N)] +
-            [f"settled{i}" for i in range(N)] + [f"movement{i}" for i in range(N)])
-    rows = []
-    for name, sw in (("mistuned" if tuned else "tuned", r), ("tuned", tuned)):
-        if sw is None:
-            continue
-        for d in sw.amplitudes_m:
-            for j, s in enumerate(sw.speeds_rpm):
-                rows.append([name, d, repr(float(s))] + [repr(float(x)) for x in sw.amplitudes_m[d][j]] +
-                            [str(int(x)) for x in sw.settled[d][j]] + [repr(float(x)) for x in sw.movement[d][j]])
-    atomic_write_text(path, "\n".join(",".join(x) for x in [head, *rows]) + "\n")
