@@ -6,9 +6,6 @@ same. Above the system layer: it imports model, fmu, analysis and system (docs/l
 from __future__ import annotations
 
 import math
-import tomllib
-from functools import lru_cache
-from importlib import metadata
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -29,22 +26,12 @@ from harness.system.ring import run as ring_run
 from harness.system.ring_orbits.branches import RingBranches
 from harness.system.ring_orbits.branches import ring_branches as trace_ring_branches
 from harness.system.ring_orbits.period_map import RingShootingSettings
+from harness.version import version
 
 __all__ = ["version", "fmu_path", "simulate", "periodic_orbits", "branch", "Ring", "run_ring", "ring_branches",
            "ParameterError", "RING_MASTERS"]
 
 RING_MASTERS = ("fmpy", "c")  # the ring's loop in Python (the readable reference) or in C
-
-
-@lru_cache(maxsize=1)
-def version() -> str:
-    """The installed distribution's version; in a bare checkout (not installed) pyproject.toml's,
-    the one source of both."""
-    try:
-        return metadata.version("shroudedblade-harness")
-    except metadata.PackageNotFoundError:
-        with open(Path(__file__).resolve().parents[1] / "pyproject.toml", "rb") as fh:
-            return str(tomllib.load(fh)["project"]["version"])
 
 
 def fmu_path(name: str = "ShroudedBlade") -> Path:
