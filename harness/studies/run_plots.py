@@ -3,7 +3,6 @@ over time (`simulate --plot`), a ring's blade amplitudes over a speed band (`rin
 --plot`) and its branches of periodic steady states (`ring --speeds ... --branches --plot`)."""
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import Any
 
