@@ -52,6 +52,7 @@ class RingBranches:
                 "peak_stable_amplitude_m": None if nan else self.peak_stable_amplitude,
                 "peak_stable_speed_rpm": None if nan else self.peak_stable_speed,
                 "peak_stable_blade": None if nan else self.peak_stable_blade,
+                "peak_stable_at_band_edge": (not nan) and self.peak_stable_speed in self.band,
                 "seeds": self.seeds, "evaluations": self.evaluations, "continuation_points": self.points,
                 "periods_per_point": self.evaluations / max(self.points, 1), "wall_time_s": self.wall_time,
                 **self.stats}
