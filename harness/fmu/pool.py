@@ -19,9 +19,10 @@ _LOCAL = threading.local()
 def _per_worker(key: str, make: Callable[[], T], close: Callable[[T], Any]) -> T:
     objects: dict[str, Any] = _LOCAL.__dict__.setdefault("objects", {})
     if key not in objects:
-        obj = objects[key] = make()
-        atexit.register(close, obj)
-    return objects[key]
+        objects[key] = make()
+        atexit.register(close, objects[key])
+    obj: T = objects[key]
+    return obj
 
 
 def worker_fmu(path: str | Path) -> BladeFMU:
@@ -33,4 +34,4 @@ def worker_unpacked(path: str | Path) -> Unpacked:
     """This worker's extraction of the FMU file `path` (the ring's FMUs: instances are made per
     ring from it); extracted again if the file changed."""
     key = f"unpacked:{path}:{Path(path).stat().st_mtime_ns}"
-    return _per_worker(key, lambda: Unpacked(path), Unpacked.close)
+    return _per_worker(key, lambda: Unpacked(Path(path)), Unpacked.close)

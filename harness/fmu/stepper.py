@@ -122,14 +122,14 @@ class Stepper:
 
     def read(self, reals: Values, n: int | None = None) -> int:
         """fmi2GetReal of the first `n` (default all) of `reals` into reals.value."""
-        return self.getReal(self.c, reals.a_vr, reals.n if n is None else n, reals.a_value)
+        return int(self.getReal(self.c, reals.a_vr, reals.n if n is None else n, reals.a_value))
 
 
 def _traced(name: str, f: Callable[..., int]) -> Callable[..., int]:
     """`f` printing each call with its values to stderr (value references, orders, values)."""
     label = "fmi2" + {"setDer": "SetRealInputDerivatives"}.get(name, name[0].upper() + name[1:])
 
-    def arr(ctype: Any, addr: int, n: int) -> list:
+    def arr(ctype: Any, addr: int, n: int) -> list[Any]:
         return list((ctype * n).from_address(addr)) if n and addr else []
 
     def call(*args: Any) -> int:
