@@ -35,8 +35,12 @@ from harness.files.atomic import atomic_write_text
 from harness.analysis.periodic.branches import BranchSettings, trace_branches
 from harness.analysis.periodic.period_map import ShootingSettings
 from harness.analysis.plateau import PLATEAU_OUTPUTS
+from harness.bench_ring_orbits import SECTION as RING_ORBITS_SECTION
+from harness.bench_ring_orbits import ring_orbits_cost
+from harness.bench_ring_orbits import section as ring_orbits_section
 from harness.fmu.blade import BladeFMU
 from harness.fmu.build import BUILD_DIR, REPO_ROOT, build
+from harness.fmu.pool import worker_fmu
 from harness.model.excitation import AeroLoad, Stepped, fmu_view
 from harness.studies.paper import SIZES, STUDIES, base_params, study_specs
 from harness.system import ring_c, ring_libcosim
@@ -163,12 +167,12 @@ def _inside(fmu: Any, fn, repeats: int) -> tuple[float, int]:
     """min time spent inside fmi2DoStep over `repeats` calls of fn, and the number of doSteps."""
     best, calls = math.inf, 0
     for _ in range(repeats):
-        timed = _Timed(fmu._doStep)
-        fmu._doStep = timed
+        timed = _Timed(fmu.stepper.doStep)
+        fmu.stepper.doStep = timed
         try:
             fn()
         finally:
-            fmu._doStep = timed.fn
+            fmu.stepper.doStep = timed.fn
         best, calls = min(best, timed.total), timed.calls
     return best, calls
 
@@ -209,7 +213,7 @@ def sweep_overhead(fmu_path: str, repeats: int = 3) -> dict[str, Any]:
         s = sw.SweepSettings(refine_levels=0, steps_per_period=spp)
         task = sw.ChainTask(base_params(), tuple(np.arange(3000.0, 10001.0, 500.0)), "up", s,
                             *sw.fmu_identity(fmu_path), None)
-        fmu = sw.worker_fmu(task.fmu_path)
+        fmu = worker_fmu(task.fmu_path)
         sw.run_chain(task)  # warm-up
         wall, cpu, recs = _best(lambda: sw.run_chain(task), repeats)
         inside, n = _inside(fmu, lambda: sw.run_chain(task), repeats)
@@ -566,7 +570,7 @@ def _ring_section(g: dict[str, Any], run_date: str) -> list[str]:
 
 def run_bench(output_file: Path | str = BENCH_DIR / "RESULTS.md", size: str = "default", workers: int | None = None,
               skip_reproduce: bool = False, only: str | None = None, only_modes: bool = False) -> int:
-    """Measure every section (or `only` one: "ring" or "cli"; or `only_modes`: the cost per RK4 step vs the
+    """Measure every section (or `only` one: "ring", "ring-orbits" or "cli"; or `only_modes`: the cost per RK4 step vs the
     number of modes) and write `output_file` (Markdown) and its .json beside it."""
     out = Path(output_file)
     if only_modes:
@@ -580,6 +584,13 @@ def run_bench(output_file: Path | str = BENCH_DIR / "RESULTS.md", size: str = "d
             print("24-blade ring: built-in load and the former ring ...", flush=True)
             data["ring"] = ring_cost()
             heading, section = RING_SECTION, _ring_section(data["ring"], data["date"])
+        elif only == "ring-orbits":
+            load = os.getloadavg()[0]
+            print("the ring's periodic steady states ...", flush=True)
+            data["ring_orbits"] = ring_orbits_cost()
+            heading = RING_ORBITS_SECTION
+            section = ring_orbits_section(data["ring_orbits"], _machine_text(data.get("machine") or machine(), load),
+                                          time.strftime("%Y-%m-%d %H:%M"))
         else:
             print("command line start-up ...", flush=True)
             data["cli"] = cli_start()
@@ -613,12 +624,21 @@ def run_bench(output_file: Path | str = BENCH_DIR / "RESULTS.md", size: str = "d
     data["ring"] = ring_cost()
     print("command line start-up ...", flush=True)
     data["cli"] = cli_start()
+    print("the ring's periodic steady states ...", flush=True)
+    load = os.getloadavg()[0]
+    data["ring_orbits"] = ring_orbits_cost()
     if not skip_reproduce:
         print(f"reproduce --size {size} (branches) ...", flush=True)
         data["reproduce"] = reproduce_cold(size, workers)
         print("the same studies by transients from a cold cache (the former path) ...", flush=True)
         data["transient"] = transient_studies(size, workers)
     write_results(out, data)
+    sec = "\n".join(ring_orbits_section(data["ring_orbits"], _machine_text(data["machine"], load), data["date"]))
+    atomic_write_text(out, replace_section(out.read_text(), RING_ORBITS_SECTION, sec))
     atomic_write_text(out.with_suffix(".json"), json.dumps(data, indent=1, default=str))
     print(out.read_text())
     return 0
+
+
+def _machine_text(m: dict[str, Any], load: float) -> str:
+    return f"{m['nproc']} CPU(s), {m['cpu']}, {m['system']}, load average {load:.1f} at the start"
