@@ -40,6 +40,7 @@ from harness.bench_ring_orbits import ring_orbits_cost
 from harness.bench_ring_orbits import section as ring_orbits_section
 from harness.fmu.blade import BladeFMU
 from harness.fmu.build import BUILD_DIR, REPO_ROOT, build
+from harness.fmu.pool import worker_fmu
 from harness.model.excitation import AeroLoad, Stepped, fmu_view
 from harness.studies.paper import SIZES, STUDIES, base_params, study_specs
 from harness.system import ring_c, ring_libcosim
@@ -166,12 +167,12 @@ def _inside(fmu: Any, fn, repeats: int) -> tuple[float, int]:
     """min time spent inside fmi2DoStep over `repeats` calls of fn, and the number of doSteps."""
     best, calls = math.inf, 0
     for _ in range(repeats):
-        timed = _Timed(fmu._doStep)
-        fmu._doStep = timed
+        timed = _Timed(fmu.stepper.doStep)
+        fmu.stepper.doStep = timed
         try:
             fn()
         finally:
-            fmu._doStep = timed.fn
+            fmu.stepper.doStep = timed.fn
         best, calls = min(best, timed.total), timed.calls
     return best, calls
 
@@ -212,7 +213,7 @@ def sweep_overhead(fmu_path: str, repeats: int = 3) -> dict[str, Any]:
         s = sw.SweepSettings(refine_levels=0, steps_per_period=spp)
         task = sw.ChainTask(base_params(), tuple(np.arange(3000.0, 10001.0, 500.0)), "up", s,
                             *sw.fmu_identity(fmu_path), None)
-        fmu = sw.worker_fmu(task.fmu_path)
+        fmu = worker_fmu(task.fmu_path)
         sw.run_chain(task)  # warm-up
         wall, cpu, recs = _best(lambda: sw.run_chain(task), repeats)
         inside, n = _inside(fmu, lambda: sw.run_chain(task), repeats)
