@@ -11,13 +11,13 @@ the fmpy master and in libcosim against the FMUs' own compute.
 """
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import os
 import platform
 import re
 import subprocess
+import sys
 import tempfile
 import time
 from dataclasses import asdict
@@ -30,12 +30,17 @@ import numpy as np
 from harness import reference as ref
 from harness.analysis import curves as sw
 from harness.analysis.curves import SweepSettings, SweepSpec, fmu_identity, hb_curve, run_sweeps
-from harness.analysis.executor import Runner, atomic_write_text
+from harness.analysis.executor import Runner
+from harness.files.atomic import atomic_write_text
 from harness.analysis.periodic.branches import BranchSettings, trace_branches
 from harness.analysis.periodic.period_map import ShootingSettings
 from harness.analysis.plateau import PLATEAU_OUTPUTS
+from harness.bench_ring_orbits import SECTION as RING_ORBITS_SECTION
+from harness.bench_ring_orbits import ring_orbits_cost
+from harness.bench_ring_orbits import section as ring_orbits_section
 from harness.fmu.blade import BladeFMU
 from harness.fmu.build import BUILD_DIR, REPO_ROOT, build
+from harness.fmu.pool import worker_fmu
 from harness.model.excitation import AeroLoad, Stepped, fmu_view
 from harness.studies.paper import SIZES, STUDIES, base_params, study_specs
 from harness.system import ring_c, ring_libcosim
@@ -162,12 +167,12 @@ def _inside(fmu: Any, fn, repeats: int) -> tuple[float, int]:
     """min time spent inside fmi2DoStep over `repeats` calls of fn, and the number of doSteps."""
     best, calls = math.inf, 0
     for _ in range(repeats):
-        timed = _Timed(fmu._doStep)
-        fmu._doStep = timed
+        timed = _Timed(fmu.stepper.doStep)
+        fmu.stepper.doStep = timed
         try:
             fn()
         finally:
-            fmu._doStep = timed.fn
+            fmu.stepper.doStep = timed.fn
         best, calls = min(best, timed.total), timed.calls
     return best, calls
 
@@ -208,7 +213,7 @@ def sweep_overhead(fmu_path: str, repeats: int = 3) -> dict[str, Any]:
         s = sw.SweepSettings(refine_levels=0, steps_per_period=spp)
         task = sw.ChainTask(base_params(), tuple(np.arange(3000.0, 10001.0, 500.0)), "up", s,
                             *sw.fmu_identity(fmu_path), None)
-        fmu = sw.worker_fmu(task.fmu_path)
+        fmu = worker_fmu(task.fmu_path)
         sw.run_chain(task)  # warm-up
         wall, cpu, recs = _best(lambda: sw.run_chain(task), repeats)
         inside, n = _inside(fmu, lambda: sw.run_chain(task), repeats)
@@ -223,6 +228,39 @@ def sweep_overhead(fmu_path: str, repeats: int = 3) -> dict[str, Any]:
 # at 5e-5 s its 24-blade ring stays bounded but loses the travelling wave's symmetry (30 % spread)
 RING_BENCH = dict(n=24, engine_order=3, fw0=300.0, blade={"c": 298.0}, step=2.5e-5, stop_time=0.5)
 RING_LOADS = {"builtin": "built-in load", "excitation": "former ring, Excitation FMUs"}
+CLI_SECTION = "## Command line start-up"
+# (row, command): ours through the installed console script, fmpy's CLI as its user runs it
+CLI_COMMANDS = (("harness --help", [str(Path(sys.executable).with_name("harness")), "--help"]),
+                ("harness --version", [str(Path(sys.executable).with_name("harness")), "--version"]),
+                ("python -m fmpy --help", [sys.executable, "-m", "fmpy", "--help"]))
+
+
+def cli_start(repeats: int = 15) -> dict[str, Any]:
+    """Wall time of each CLI_COMMANDS row, the rows run in turn `repeats` times (so a busy moment
+    hits all of them): per row the best and the median [s], and the ratio to fmpy's --help."""
+    times: dict[str, list[float]] = {name: [] for name, _ in CLI_COMMANDS}
+    for _ in range(repeats):
+        for name, cmd in CLI_COMMANDS:
+            t = time.perf_counter()
+            subprocess.run(cmd, capture_output=True, check=True, timeout=60)
+            times[name].append(time.perf_counter() - t)
+    fmpy_best = min(times["python -m fmpy --help"])
+    return {"repeats": repeats, "load_average": os.getloadavg()[0],
+            "rows": {k: {"best": min(v), "median": float(np.median(v)), "ratio_best": min(v) / fmpy_best}
+                     for k, v in times.items()}}
+
+
+def _cli_section(c: dict[str, Any], date: str) -> list[str]:
+    L = [CLI_SECTION, "",
+         f"Wall time of the command, started as a new process (`python -m harness bench --only cli`, {date}, load "
+         f"average {c['load_average']:.1f}): the rows run in turn, {c['repeats']} times; target <= 0.3 s. "
+         "The top-level parser imports no command module (so none of numpy, scipy, fmpy).", "",
+         "| command | best | median | best / fmpy's best |", "|---|---|---|---|"]
+    for k, v in c["rows"].items():
+        L.append(f"| `{k}` | {v['best']:.3f} s | {v['median']:.3f} s | {v['ratio_best']:.2f} |")
+    return L + [""]
+
+
 RING_SECTION = "## The bladed-disk ring"
 
 
@@ -445,6 +483,8 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
                       f"{b['periods'] / a['periods']:.2f}x fewer periods.", ""]
     if "ring" in data:
         L += _ring_section(data["ring"], data.get("date", ""))
+    if "cli" in data:
+        L += _cli_section(data["cli"], data.get("date", ""))
     if "reproduce" in data:
         r = data["reproduce"]
         nan = math.nan
@@ -528,32 +568,35 @@ def _ring_section(g: dict[str, Any], run_date: str) -> list[str]:
     return L
 
 
-def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--size", default="default", metavar="SIZE", help="reproduce size to time: quick, default or full (default: default)")
-    p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes for reproduce (default: number of CPUs)")
-    p.add_argument("--skip-reproduce", action="store_true", help="do not time the whole reproduce")
-    p.add_argument("--output-file", default=str(BENCH_DIR / "RESULTS.md"), metavar="MD",
-                   help="where to write the results (default bench/RESULTS.md)")
-    p.add_argument("--only", choices=("ring",),
-                   help="measure only this section and keep the others from the output file's .json "
-                        "(default: every section)")
-    p.add_argument("--only-modes", action="store_true",
-                   help="measure only the cost per RK4 step vs the number of modes and write that section")
-
-
-def run(args: argparse.Namespace) -> int:
-    out = Path(args.output_file)
-    if args.only_modes:
+def run_bench(output_file: Path | str = BENCH_DIR / "RESULTS.md", size: str = "default", workers: int | None = None,
+              skip_reproduce: bool = False, only: str | None = None, only_modes: bool = False) -> int:
+    """Measure every section (or `only` one: "ring", "ring-orbits" or "cli"; or `only_modes`: the cost per RK4 step vs the
+    number of modes) and write `output_file` (Markdown) and its .json beside it."""
+    out = Path(output_file)
+    if only_modes:
         update_modes_section(out)
         print(out.read_text())
         return 0
-    if args.only == "ring":  # the ring section and the .json's ring entry replaced, the rest kept
+    if only is not None:  # that section and its .json entry replaced, the rest kept
         old = out.with_suffix(".json")
         data = json.loads(old.read_text()) if old.is_file() else {"machine": machine(), "date": ""}
-        print("24-blade ring: built-in load and the former ring ...", flush=True)
-        data["ring"] = ring_cost()
+        if only == "ring":
+            print("24-blade ring: built-in load and the former ring ...", flush=True)
+            data["ring"] = ring_cost()
+            heading, section = RING_SECTION, _ring_section(data["ring"], data["date"])
+        elif only == "ring-orbits":
+            load = os.getloadavg()[0]
+            print("the ring's periodic steady states ...", flush=True)
+            data["ring_orbits"] = ring_orbits_cost()
+            heading = RING_ORBITS_SECTION
+            section = ring_orbits_section(data["ring_orbits"], _machine_text(data.get("machine") or machine(), load),
+                                          time.strftime("%Y-%m-%d %H:%M"))
+        else:
+            print("command line start-up ...", flush=True)
+            data["cli"] = cli_start()
+            heading, section = CLI_SECTION, _cli_section(data["cli"], time.strftime("%Y-%m-%d %H:%M"))
         text = out.read_text() if out.is_file() else "# Benchmark results\n"
-        atomic_write_text(out, replace_section(text, RING_SECTION, "\n".join(_ring_section(data["ring"], data["date"]))))
+        atomic_write_text(out, replace_section(text, heading, "\n".join(section)))
         atomic_write_text(old, json.dumps(data, indent=1, default=str))
         print(out.read_text())
         return 0
@@ -579,12 +622,23 @@ def run(args: argparse.Namespace) -> int:
     data["hb"] = hb_all()
     print("24-blade ring: fmpy master and libcosim ...", flush=True)
     data["ring"] = ring_cost()
-    if not args.skip_reproduce:
-        print(f"reproduce --size {args.size} (branches) ...", flush=True)
-        data["reproduce"] = reproduce_cold(args.size, args.workers)
+    print("command line start-up ...", flush=True)
+    data["cli"] = cli_start()
+    print("the ring's periodic steady states ...", flush=True)
+    load = os.getloadavg()[0]
+    data["ring_orbits"] = ring_orbits_cost()
+    if not skip_reproduce:
+        print(f"reproduce --size {size} (branches) ...", flush=True)
+        data["reproduce"] = reproduce_cold(size, workers)
         print("the same studies by transients from a cold cache (the former path) ...", flush=True)
-        data["transient"] = transient_studies(args.size, args.workers)
+        data["transient"] = transient_studies(size, workers)
     write_results(out, data)
+    sec = "\n".join(ring_orbits_section(data["ring_orbits"], _machine_text(data["machine"], load), data["date"]))
+    atomic_write_text(out, replace_section(out.read_text(), RING_ORBITS_SECTION, sec))
     atomic_write_text(out.with_suffix(".json"), json.dumps(data, indent=1, default=str))
     print(out.read_text())
     return 0
+
+
+def _machine_text(m: dict[str, Any], load: float) -> str:
+    return f"{m['nproc']} CPU(s), {m['cpu']}, {m['system']}, load average {load:.1f} at the start"

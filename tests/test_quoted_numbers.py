@@ -4,7 +4,7 @@ catalogue (docs/invalid-inputs.md, generated from real runs), the claims table (
 written by `make run`), the mistuning table (results/mistuning/mistuning_amplification.csv,
 written by `python -m harness mistuning`) and the performance table (bench/RESULTS.json, written by
 `make bench`) and the mistuning study's dask measurement (bench/mistuning_dask.json, written by
-`python -m harness.studies.mistuning_dask`). A quoted number is compared as printed (rounded to the digits it shows)."""
+`python -m harness mistuning-dask`). A quoted number is compared as printed (rounded to the digits it shows)."""
 from __future__ import annotations
 
 import csv

@@ -17,7 +17,6 @@ import json
 import multiprocessing as mp
 import os
 import sys
-import tempfile
 import time
 import warnings
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -30,42 +29,12 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from harness.optional import require
-from harness.outputs import write_error
+from harness.files.atomic import atomic_write_text
 
 # relative: under the current directory, never inside the installed package (`make run` passes
 # --out results, the committed results of the checkout)
 RESULTS_DIR = Path("shroudedblade-results")
 DEFAULT_CACHE_DIR = RESULTS_DIR / "cache"
-
-
-# ---------------------------------------------------------------------------------------------
-# Atomic files
-# ---------------------------------------------------------------------------------------------
-def atomic_write_bytes(path: Path | str, data: bytes) -> None:
-    """Write `data` to `path` so that readers see either the old file or the complete new one."""
-    path = Path(path)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    except OSError as exc:  # name the user's path, not a temporary one
-        raise write_error(path, exc) from None
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.chmod(tmp, 0o644)  # mkstemp creates 0600; results are meant to be read by others
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
-
-
-def atomic_write_text(path: Path | str, text: str) -> None:
-    atomic_write_bytes(path, text.encode("utf-8"))
 
 
 def write_csv(path: Path | str, table: np.ndarray, header_comment: str = "") -> None:

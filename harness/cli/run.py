@@ -18,9 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from harness.analysis.executor import RESULTS_DIR
-from harness.cli.mistuning import report
-from harness.cli.reproduce import reproduce_and_report
-from harness.cli.sweep import add_execution_options, make_runner
+from harness.cli.options import add_execution_options, make_runner
+from harness.cli.reports import mistuning_report, reproduce_and_report
 from harness.studies import mistuning, mistuning_plots
 from harness.studies.claims import grouped, verdict_counts
 from harness.studies.paper import SIZES, STUDIES, Reproduction
@@ -39,7 +38,7 @@ def run(args: argparse.Namespace) -> int:
     with make_runner(args) as runner:
         study = mistuning.run_study(mistuning.SIZES["small"], runner, out / "cache" / "mistuning")
     study["files"] = [str(f) for f in mistuning_plots.write(study, out / "mistuning")]
-    report(study)
+    mistuning_report(study)
     print(f"\nresults in {out.resolve()}/ (claims.md: the paper's claims against ours; the figures *.png; "
           "mistuning/)")
     print("what it found:")

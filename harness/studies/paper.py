@@ -27,7 +27,8 @@ import numpy as np
 
 from harness.analysis.curves import (ConfigError, SweepSettings, SweepSpec, fmu_identity, hb_curve, hb_stable_peak,
                                      omega_of)
-from harness.analysis.executor import RESULTS_DIR, Runner, atomic_write_text, write_csv
+from harness.analysis.executor import RESULTS_DIR, Runner, write_csv
+from harness.files.atomic import atomic_write_text
 from harness.analysis.periodic.branches import orbits_at
 from harness.analysis.periodic.harmonics import branch_harmonics, summarize
 from harness.analysis.periodic.period_map import PeriodMap

@@ -17,7 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from harness.analysis.executor import atomic_write_bytes  # noqa: E402
+from harness.files.atomic import atomic_write_bytes  # noqa: E402
 
 MM = 1e3  # m -> mm
 

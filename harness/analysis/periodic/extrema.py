@@ -142,12 +142,15 @@ class _Section:
         return Extremum(kind, n, amp, x, multipliers(DP), sides)
 
 
-def locate(pm: PeriodMap, branch: Branch, settings: ContinuationSettings = ContinuationSettings()
-           ) -> list[Extremum]:
+def locate(pm: PeriodMap, branch: Branch, settings: ContinuationSettings = ContinuationSettings(),
+           keep: Callable[[int, str], bool] | None = None) -> list[Extremum]:
     """The located peaks and folds of `branch` (in arc order); an extremum whose refinement fails
-    is left out (its sampled point stays on the branch)."""
+    is left out (its sampled point stays on the branch). keep(index, kind): locate only the
+    candidates it accepts (default: all)."""
     out = []
     for i, kind in candidates(branch):
+        if keep is not None and not keep(i, kind):
+            continue
         p = branch.points
         sides = (p[i - 1].label, p[i + 1].label)
         sec = _Section(pm, branch, i, settings)
