@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import numpy as np
 
+from harness import digits
 from harness.analysis.curves import (ConfigError, SweepSettings, SweepSpec, fmu_identity, hb_curve, hb_stable_peak,
                                      omega_of)
 from harness.analysis.executor import RESULTS_DIR, Runner, atomic_write_text, write_csv
@@ -439,7 +440,7 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
 def write_summary(out: Path, summary: Summary) -> None:
     """summary.json (the claims table reads it), replaced atomically."""
     atomic_write_text(out / "summary.json",
-                      json.dumps(summary.as_dict(), indent=1, sort_keys=True, default=_json_default))
+                      json.dumps(digits.rounded(summary.as_dict()), indent=1, sort_keys=True, default=_json_default))
 
 
 def run_studies(out: Path | str = RESULTS_DIR, size: str | Size = "default", studies: Sequence[str] | None = None,
