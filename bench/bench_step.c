@@ -19,7 +19,7 @@
 #include "fmi/instance.h"
 #include "fmi2Functions.h"
 #include "models/ShroudedBlade/blade_data.h"
-#include "models/ShroudedBlade/config.h"
+#include "models/ShroudedBlade/variables.h"
 
 static void quietLogger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status, fmi2String category,
                         fmi2String message, ...)

@@ -9,6 +9,7 @@ command line over the same):
     res = harness.simulate(0.2, speed=7000, d=4e-5)     # one run: numpy record array
     branches = harness.branch((6000, 8000))             # orbit branches over a speed range
     ring = harness.run_ring(harness.Ring(n=6, stop_time=0.05))
+    states = harness.ring_branches(harness.Ring(n=4), (5500, 7000))  # the ring's periodic steady states
     harness.fmu_path("ShroudedBlade")                   # the FMU file itself
 
 Parameters are the FMU's (names, units, defaults and ranges of its modelDescription.xml) plus Fw0
@@ -23,22 +24,23 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from harness.api import (RING_MASTERS, ParameterError, Ring, branch, fmu_path, periodic_orbits,  # noqa: F401
-                             run_ring, simulate)
+                             ring_branches, run_ring, simulate)
 
     __version__: str
 
-__all__ = ["__version__", "fmu_path", "simulate", "periodic_orbits", "branch", "Ring", "run_ring",
+__all__ = ["__version__", "fmu_path", "simulate", "periodic_orbits", "branch", "Ring", "run_ring", "ring_branches",
            "ParameterError", "RING_MASTERS"]
 
 
 def __getattr__(name: str) -> Any:
     """PEP 562: the public names come from harness.api when first asked for, so that `import harness`
-    (which every `import harness.<module>` runs first) stays cheap; __version__ is harness.api.version()
-    (its metadata lookup alone costs 0.2 s)."""
+    (which every `import harness.<module>` runs first) stays cheap; __version__ is harness.version's
+    (a metadata lookup, without the API's imports)."""
     if name not in __all__:
         raise AttributeError(f"module 'harness' has no attribute {name!r}")
-    api = importlib.import_module("harness.api")
-    return api.version() if name == "__version__" else getattr(api, name)
+    if name == "__version__":
+        return importlib.import_module("harness.version").version()
+    return getattr(importlib.import_module("harness.api"), name)
 
 
 def __dir__() -> list[str]:

@@ -6,9 +6,6 @@ same. Above the system layer: it imports model, fmu, analysis and system (docs/l
 from __future__ import annotations
 
 import math
-import tomllib
-from functools import lru_cache
-from importlib import metadata
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -26,22 +23,15 @@ from harness.model.params import ParameterError, input_range, validate
 from harness.system import ring_c, ring_values
 from harness.system.ring import Ring
 from harness.system.ring import run as ring_run
+from harness.system.ring_orbits.branches import RingBranches
+from harness.system.ring_orbits.branches import ring_branches as trace_ring_branches
+from harness.system.ring_orbits.period_map import RingShootingSettings
+from harness.version import version
 
-__all__ = ["version", "fmu_path", "simulate", "periodic_orbits", "branch", "Ring", "run_ring",
+__all__ = ["version", "fmu_path", "simulate", "periodic_orbits", "branch", "Ring", "run_ring", "ring_branches",
            "ParameterError", "RING_MASTERS"]
 
 RING_MASTERS = ("fmpy", "c")  # the ring's loop in Python (the readable reference) or in C
-
-
-@lru_cache(maxsize=1)
-def version() -> str:
-    """The installed distribution's version; in a bare checkout (not installed) pyproject.toml's,
-    the one source of both."""
-    try:
-        return metadata.version("shroudedblade-harness")
-    except metadata.PackageNotFoundError:
-        with open(Path(__file__).resolve().parents[1] / "pyproject.toml", "rb") as fh:
-            return str(tomllib.load(fh)["project"]["version"])
 
 
 def fmu_path(name: str = "ShroudedBlade") -> Path:
@@ -185,3 +175,73 @@ def run_ring(ring: Ring, master: str = "c") -> dict[str, np.ndarray]:
     if master == "c":
         return ring_c.run(ring)
     return ring_run(ring)
+
+
+def _check_ring(ring: Ring, where: str) -> None:
+    """n and the FMU parameters of `ring` (as run_ring)."""
+    nmax = ring_values.max_blades()
+    if not (isinstance(ring.n, int) and not isinstance(ring.n, bool) and 2 <= ring.n <= nmax):
+        raise _error(f"n = {ring.n!r} (from {where}(ring=Ring(n=...))) is out of range; accepted: [2, {nmax}] blades"
+                     " (the blade FMU's bladeCount)")
+    var = ring_values.settable()
+    for kind, values in (("blade", ring.blade), ("contact", ring.contact)):
+        for name, value in values.items():
+            if name not in var[kind]:
+                raise _error(f"{name} (from {where}(ring=Ring({kind}=...))) is not a parameter of the {kind} FMU;"
+                             f" known: {', '.join(sorted(var[kind]))}")
+            ring_values.typed(name, value, *var[kind][name], origin=f"{where}(ring=Ring({kind}=...))")
+
+
+def ring_branches(ring: Ring, speeds: tuple[float, float], seed_points: int = 6,
+                  steps_per_period: int = 160) -> RingBranches:
+    """The periodic steady states of the bladed-disk ring over a speed band.
+
+    Every branch of periodic orbits of the co-simulation the sweeps run (the C loop, h = T /
+    steps_per_period), traced by shooting and pseudo-arclength continuation in speed from every seed
+    (the travelling wave of a tuned ring, runs from rest and a sweep up and down at `seed_points`
+    speeds), with branch switching at branch points and branches merged up to the ring's symmetries.
+
+    Parameters
+    ----------
+    ring : harness.Ring
+        The ring (its blades, contacts, load Fw0, engine order, extrapolation order); its speed,
+        step and stop time are not used. Built-in load and the Jenkins contact (frictionModel 3).
+    speeds : (float, float)
+        The band [rpm], FROM < TO inside BladeExternalContact's rotorSpeed range.
+    seed_points : int, optional
+        Speeds of the seeds across the band, 2..200 (default 6).
+    steps_per_period : int, optional
+        Communication steps per excitation period, 8..100000 (default 160, as the sweeps).
+
+    Returns
+    -------
+    RingBranches
+        `.branches` (each with per-point `speeds`, per-blade `amplitudes` [m], `stable`, the
+        multipliers and period residuals of its orbits, `bifurcations`), the largest stable steady
+        state `.peak_stable_amplitude` [m] at `.peak_stable_speed` [rpm] on blade
+        `.peak_stable_blade`, and `.as_dict()` (what `harness ring --branches --json` prints).
+
+    Raises
+    ------
+    ParameterError
+        A bad ring, band, seed count or step count, naming the value and the accepted range.
+    """
+    where = "harness.ring_branches"
+    _check_ring(ring, where)
+    if ring.load != "builtin":
+        raise _error(f"load = {ring.load!r} (from {where}(ring=Ring(load=...))): the periodic orbits need the "
+                     "blades' built-in load ('builtin')")
+    try:
+        lo, hi = (float(v) for v in speeds)
+    except (TypeError, ValueError):
+        raise _error(f"speeds = {speeds!r} (from {where}(speeds=...)): need two speeds FROM, TO [rpm]") from None
+    _ring_speed(lo, f"{where}(speeds=...)")
+    _ring_speed(hi, f"{where}(speeds=...)")
+    if not lo < hi:
+        raise _error(f"speeds = {speeds!r} (from {where}(speeds=...)): FROM must be below TO")
+    for name, v, a, b in (("seed_points", seed_points, 2, 200), ("steps_per_period", steps_per_period, 8, 100000)):
+        if not (isinstance(v, int) and not isinstance(v, bool) and a <= v <= b):
+            raise _error(f"{name} = {v!r} (from {where}({name}=...)) is out of range; accepted: whole numbers in "
+                         f"[{a}, {b}]")
+    return trace_ring_branches(ring, (lo, hi), points=seed_points,
+                               settings=RingShootingSettings(steps_per_period=steps_per_period))

@@ -11,13 +11,13 @@ the fmpy master and in libcosim against the FMUs' own compute.
 """
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import os
 import platform
 import re
 import subprocess
+import sys
 import tempfile
 import time
 from dataclasses import asdict, dataclass, field
@@ -30,7 +30,8 @@ import numpy as np
 from harness import reference as ref
 from harness.analysis import curves as sw
 from harness.analysis.curves import SweepSettings, SweepSpec, fmu_identity, hb_curve, run_sweeps
-from harness.analysis.executor import Runner, atomic_write_text
+from harness.analysis.executor import Runner
+from harness.files.atomic import atomic_write_text
 from harness.analysis.periodic.branches import BranchSettings, trace_branches
 from harness.analysis.periodic.period_map import ShootingSettings
 from harness.analysis.plateau import PLATEAU_OUTPUTS
@@ -65,6 +66,7 @@ class BenchSize:
     hb_speeds: int | None = None  # of the default size's (None: all)
     jacobian_curves: int | None = None  # of JACOBIAN_CURVES (None: all)
     jacobian_range: tuple[float, float] = (3000.0, 12000.0)
+    cli_repeats: int = 15
     reproduce: str | Size = "default"  # the reproduce / transient rows' size (`--size`)
     extras: bool = True  # reproduce's Fig. 2, 4/5, Campbell, iteration (fixed sizes: tens of seconds)
     step_args: tuple[str, ...] = ()  # for build/bench_step
@@ -247,6 +249,39 @@ def sweep_overhead(fmu_path: str, repeats: int = 3,
 
 
 RING_LOADS = {"builtin": "built-in load", "excitation": "former ring, Excitation FMUs"}
+CLI_SECTION = "## Command line start-up"
+# (row, command): ours through the installed console script, fmpy's CLI as its user runs it
+CLI_COMMANDS = (("harness --help", [str(Path(sys.executable).with_name("harness")), "--help"]),
+                ("harness --version", [str(Path(sys.executable).with_name("harness")), "--version"]),
+                ("python -m fmpy --help", [sys.executable, "-m", "fmpy", "--help"]))
+
+
+def cli_start(repeats: int = 15) -> dict[str, Any]:
+    """Wall time of each CLI_COMMANDS row, the rows run in turn `repeats` times (so a busy moment
+    hits all of them): per row the best and the median [s], and the ratio to fmpy's --help."""
+    times: dict[str, list[float]] = {name: [] for name, _ in CLI_COMMANDS}
+    for _ in range(repeats):
+        for name, cmd in CLI_COMMANDS:
+            t = time.perf_counter()
+            subprocess.run(cmd, capture_output=True, check=True, timeout=60)
+            times[name].append(time.perf_counter() - t)
+    fmpy_best = min(times["python -m fmpy --help"])
+    return {"repeats": repeats, "load_average": os.getloadavg()[0],
+            "rows": {k: {"best": min(v), "median": float(np.median(v)), "ratio_best": min(v) / fmpy_best}
+                     for k, v in times.items()}}
+
+
+def _cli_section(c: dict[str, Any], date: str) -> list[str]:
+    L = [CLI_SECTION, "",
+         f"Wall time of the command, started as a new process (`python -m harness bench --only cli`, {date}, load "
+         f"average {c['load_average']:.1f}): the rows run in turn, {c['repeats']} times; target <= 0.3 s. "
+         "The top-level parser imports no command module (so none of numpy, scipy, fmpy).", "",
+         "| command | best | median | best / fmpy's best |", "|---|---|---|---|"]
+    for k, v in c["rows"].items():
+        L.append(f"| `{k}` | {v['best']:.3f} s | {v['median']:.3f} s | {v['ratio_best']:.2f} |")
+    return L + [""]
+
+
 RING_SECTION = "## The bladed-disk ring"
 
 
@@ -475,6 +510,8 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
                       f"{b['periods'] / a['periods']:.2f}x fewer periods.", ""]
     if "ring" in data:
         L += _ring_section(data["ring"], data.get("date", ""))
+    if "cli" in data:
+        L += _cli_section(data["cli"], data.get("date", ""))
     if "reproduce" in data:
         r = data["reproduce"]
         nan = math.nan
@@ -569,58 +606,48 @@ TINY_REPRODUCE = Size("tiny", speeds=(3000.0, 4000.0), fixed_speeds=(4000.0,), h
                       seed_step=1000.0, modes=(), campbell_modes=0)
 QUICK = BenchSize("quick", repeats=1, sim_scale=0.02, sweep_speeds=(3000.0, 3500.0),
                   ring={**RING_BENCH, "n": 4, "stop_time": 0.005}, ring_repeats=1, hb_values=1, hb_speeds=3,
-                  jacobian_curves=2, jacobian_range=(8000.0, 9000.0), reproduce=TINY_REPRODUCE, extras=False,
-                  step_args=("quick",))
+                  jacobian_curves=2, jacobian_range=(8000.0, 9000.0), cli_repeats=1, reproduce=TINY_REPRODUCE,
+                  extras=False, step_args=("quick",))
 
 
-def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--size", default="default", metavar="SIZE", help="reproduce size to time: quick, default or full (default: default)")
-    p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes for reproduce (default: number of CPUs)")
-    p.add_argument("--skip-reproduce", action="store_true", help="do not time the whole reproduce")
-    p.add_argument("--output-file", default=str(BENCH_DIR / "RESULTS.md"), metavar="MD",
-                   help="where to write the results (default bench/RESULTS.md)")
-    p.add_argument("--only", choices=("ring",),
-                   help="measure only this section and keep the others from the output file's .json "
-                        "(default: every section)")
-    p.add_argument("--only-modes", action="store_true",
-                   help="measure only the cost per RK4 step vs the number of modes and write that section")
-    p.add_argument("--quick", action="store_true",
-                   help="every row once at tiny sizes, in seconds (a check that each row runs; the numbers mean "
-                        "nothing): written to --output-file only when one is given, else printed")
-
-
-def run(args: argparse.Namespace) -> int:
-    if args.quick:
-        if args.only or args.only_modes:
+def run_bench(output_file: Path | str = BENCH_DIR / "RESULTS.md", size: str = "default", workers: int | None = None,
+              skip_reproduce: bool = False, only: str | None = None, only_modes: bool = False,
+              quick: bool = False) -> int:
+    """Measure every section (or `only` one: "ring" or "cli"; or `only_modes`: the cost per RK4 step vs the
+    number of modes) and write `output_file` (Markdown) and its .json beside it. `quick`: every row
+    at the QUICK size, never written over bench/RESULTS.md (into a temporary directory instead)."""
+    out = Path(output_file)
+    if quick:
+        if only or only_modes:
             raise ValueError("--quick runs every row: not with --only or --only-modes")
-        if Path(args.output_file) == BENCH_DIR / "RESULTS.md":  # never over the measured results
+        if out.resolve() == (BENCH_DIR / "RESULTS.md").resolve():  # never over the measured results
             with tempfile.TemporaryDirectory() as tmp:
-                return measure(Path(tmp) / "RESULTS.md", QUICK, args)
-        return measure(Path(args.output_file), QUICK, args)
-    return measure_or_update(args)
-
-
-def measure_or_update(args: argparse.Namespace) -> int:
-    """`make bench`, or with --only / --only-modes one section of it."""
-    out = Path(args.output_file)
-    if args.only_modes:
+                return measure(Path(tmp) / "RESULTS.md", QUICK, workers, skip_reproduce)
+        return measure(out, QUICK, workers, skip_reproduce)
+    if only_modes:
         update_modes_section(out)
         print(out.read_text())
         return 0
-    if args.only == "ring":  # the ring section and the .json's ring entry replaced, the rest kept
+    if only is not None:  # that section and its .json entry replaced, the rest kept
         old = out.with_suffix(".json")
         data = json.loads(old.read_text()) if old.is_file() else {"machine": machine(), "date": ""}
-        print("24-blade ring: built-in load and the former ring ...", flush=True)
-        data["ring"] = ring_cost()
+        if only == "ring":
+            print("24-blade ring: built-in load and the former ring ...", flush=True)
+            data["ring"] = ring_cost()
+            heading, section = RING_SECTION, _ring_section(data["ring"], data["date"])
+        else:
+            print("command line start-up ...", flush=True)
+            data["cli"] = cli_start()
+            heading, section = CLI_SECTION, _cli_section(data["cli"], time.strftime("%Y-%m-%d %H:%M"))
         text = out.read_text() if out.is_file() else "# Benchmark results\n"
-        atomic_write_text(out, replace_section(text, RING_SECTION, "\n".join(_ring_section(data["ring"], data["date"]))))
+        atomic_write_text(out, replace_section(text, heading, "\n".join(section)))
         atomic_write_text(old, json.dumps(data, indent=1, default=str))
         print(out.read_text())
         return 0
-    return measure(out, BenchSize("full", reproduce=args.size), args)
+    return measure(out, BenchSize("full", reproduce=size), workers, skip_reproduce)
 
 
-def measure(out: Path, size: BenchSize, args: argparse.Namespace) -> int:
+def measure(out: Path, size: BenchSize, workers: int | None, skip_reproduce: bool) -> int:
     """Every row at `size`, written to `out` (.md and .json) and printed."""
     path, _ = fmu_identity(None)
     data: dict[str, Any] = {"machine": machine(), "date": time.strftime("%Y-%m-%d %H:%M")}
@@ -644,12 +671,14 @@ def measure(out: Path, size: BenchSize, args: argparse.Namespace) -> int:
     data["hb"] = hb_all(size.hb_values, size.hb_speeds)
     print(f"{size.ring['n']}-blade ring: fmpy master and libcosim ...", flush=True)
     data["ring"] = ring_cost(size.ring_repeats, size.ring)
-    if not args.skip_reproduce:
+    print("command line start-up ...", flush=True)
+    data["cli"] = cli_start(size.cli_repeats)
+    if not skip_reproduce:
         name = size.reproduce if isinstance(size.reproduce, str) else size.reproduce.name
         print(f"reproduce --size {name} (branches) ...", flush=True)
-        data["reproduce"] = reproduce_cold(size.reproduce, args.workers, size.extras)
+        data["reproduce"] = reproduce_cold(size.reproduce, workers, size.extras)
         print("the same studies by transients from a cold cache (the former path) ...", flush=True)
-        data["transient"] = transient_studies(size.reproduce, args.workers)
+        data["transient"] = transient_studies(size.reproduce, workers)
     write_results(out, data)
     atomic_write_text(out.with_suffix(".json"), json.dumps(data, indent=1, default=str))
     print(out.read_text())

@@ -4,10 +4,13 @@ Written pages live in docs/. Generated ones are never copied there by hand: the 
 `make run`, `make bench` and `make crosscheck` write (results/claims.md, bench/RESULTS.md,
 crosscheck/agreement.md) become pages under generated/, the figures and CSVs of results/ are
 served under results/, and a page holding the VARIABLE_TABLES marker gets the variable tables of
-every model description (variable_tables.py).
+every model description (variable_tables.py). MathJax (the file mkdocs.yml's extra_javascript
+names) is copied from the installed package django-static-mathjax, so the site typesets its
+equations without the network.
 """
 from __future__ import annotations
 
+import importlib.util
 from pathlib import Path
 
 from mkdocs.structure.files import File
@@ -23,6 +26,18 @@ REPORTS = {
 }
 RESULT_FILES = ("results/**/*.png", "results/**/*.csv", "results/**/*.json")
 VARIABLE_TABLES = "<!-- variable tables -->"
+MATHJAX_SITE = "javascripts/mathjax/tex-svg.js"  # SVG output: one file, its fonts inside
+
+
+def mathjax_script() -> Path:
+    """MathJax's combined TeX-to-SVG script in the installed package (the docs extra)."""
+    spec = importlib.util.find_spec("mathjax")
+    script = (Path(next(iter(spec.submodule_search_locations))) / "static" / "mathjax" / "es5" / "tex-svg.js"
+              if spec and spec.submodule_search_locations else None)
+    if script is None or not script.is_file():
+        raise FileNotFoundError("MathJax not installed: pip install django-static-mathjax (in the docs extra:"
+                                " pip install -e '.[docs]')")
+    return script
 
 
 def _report_page(source: str, command: str) -> str:
@@ -34,6 +49,7 @@ def _report_page(source: str, command: str) -> str:
 
 
 def on_files(files, config):
+    files.append(File.generated(config, MATHJAX_SITE, abs_src_path=str(mathjax_script())))
     for uri, (source, command) in REPORTS.items():
         files.append(File.generated(config, uri, content=_report_page(source, command)))
     for pattern in RESULT_FILES:

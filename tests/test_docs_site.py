@@ -33,6 +33,42 @@ def test_mkdocs_build_strict(tmp_path):
     variables = (site / "reference" / "variables" / "index.html").read_text()
     assert "dTipDisplacement_dQ0" in variables and "contactForce2" in variables
     assert (site / "results" / "ring_convergence.png").is_file()
+    _check_math_and_no_network(site)
+
+
+# the paper's equation numbers the model page must carry on its typeset equations
+MODEL_TAGS = (1, 2, 3, 4, 5, 6, 7, 8, 10, 17, 20, 21, 24, 26, 27)
+REMOTE = re.compile(r"""<(?:script|link|img)\b[^>]*\b(?:src|href)\s*=\s*["']?(?:https?:)?//""", re.I)
+
+
+def _check_math_and_no_network(site: Path) -> None:
+    """The equations are math markup for MathJax (arithmatex spans, \\tag{N} with the paper's
+    numbers), the MathJax script is the site's own file, and no page loads a script, style sheet or
+    image from the network (no CDN, no web fonts)."""
+    model = (site / "model" / "index.html").read_text()
+    spans = re.findall(r'class="arithmatex"', model)
+    assert len(spans) >= 100, f"the model page has {len(spans)} math spans"
+    assert all(f"\\tag{{{n}}}" in model for n in MODEL_TAGS), [n for n in MODEL_TAGS if f"\\tag{{{n}}}" not in model]
+    # a control character in TeX is a lost backslash (\b, \f, \v, \t written through an escape):
+    # MathJax shows "Math input error" there
+    bad = [m for m in re.findall(r'class="arithmatex">(.*?)</(?:span|div)>', model, re.S)
+           if re.search(r"[\x00-\x08\x0b\x0c\x0e-\x1f]", m)]
+    assert not bad, bad[:3]
+    for page in ("reference/numerics", "periodic"):
+        assert 'class="arithmatex"' in (site / page / "index.html").read_text(), page
+    scripts = re.findall(r'<script src="([^"]+)"', model)
+    mathjax = [src for src in scripts if "mathjax" in src.lower() and "config" not in src]
+    assert mathjax, scripts
+    served = (site / "model" / mathjax[0]).resolve()
+    assert served.is_file() and b"MathJax" in served.read_bytes()[:200000], served
+    # every figure of the findings opens at full resolution: its image is the target of a lightbox link
+    findings = (site / "findings" / "results" / "index.html").read_text()
+    images = re.findall(r'<img[^>]*src="([^"]+\.png)"', findings)
+    linked = re.findall(r'<a class="glightbox"[^>]*href="([^"]+\.png)"', findings)
+    assert len(images) >= 8 and sorted(images) == sorted(linked), (images, linked)
+    remote = {str(p.relative_to(site)): m.group(0) for p in site.rglob("*.html")
+              for m in [REMOTE.search(p.read_text())] if m}
+    assert not remote, remote
 
 
 @pytest.fixture(scope="module")

@@ -17,7 +17,6 @@ import json
 import multiprocessing as mp
 import os
 import sys
-import tempfile
 import time
 import warnings
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -31,42 +30,12 @@ from tqdm.auto import tqdm
 
 from harness import digits
 from harness.optional import require
-from harness.outputs import write_error
+from harness.files.atomic import atomic_write_text
 
 # relative: under the current directory, never inside the installed package (`make run` passes
 # --out results, the committed results of the checkout)
 RESULTS_DIR = Path("shroudedblade-results")
 DEFAULT_CACHE_DIR = RESULTS_DIR / "cache"
-
-
-# ---------------------------------------------------------------------------------------------
-# Atomic files
-# ---------------------------------------------------------------------------------------------
-def atomic_write_bytes(path: Path | str, data: bytes) -> None:
-    """Write `data` to `path` so that readers see either the old file or the complete new one."""
-    path = Path(path)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    except OSError as exc:  # name the user's path, not a temporary one
-        raise write_error(path, exc) from None
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.chmod(tmp, 0o644)  # mkstemp creates 0600; results are meant to be read by others
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
-
-
-def atomic_write_text(path: Path | str, text: str) -> None:
-    atomic_write_bytes(path, text.encode("utf-8"))
 
 
 def write_csv(path: Path | str, table: np.ndarray, header_comment: str = "") -> None:
@@ -268,6 +237,10 @@ class Runner:
             self._client.close()
         self._client = None
 
+    def steps(self, desc: str, total: int) -> "StepBar":
+        """A progress bar over `total` named steps done in this process (see StepBar)."""
+        return StepBar(desc, total, self.progress)
+
     def map(self, func: Callable[[Any], Any], tasks: Sequence[Any], desc: str = "",
             unit: str = "task") -> list[Any]:
         """`[func(t) for t in tasks]`, in parallel, with a progress bar; order preserved."""
@@ -332,3 +305,30 @@ class Runner:
             results[index[f.key]] = f.result()
             bar.update(1)
         return [results[i] for i in range(len(tasks))]
+
+
+class StepBar:
+    """A progress bar over a sequence of named steps: `bar("Fig. 4/5")` closes the step before and
+    names the one starting; `bar.close()` closes the last. A context manager."""
+
+    def __init__(self, desc: str, total: int, enabled: bool = True):
+        self.desc, self._started = desc, False
+        self.bar = tqdm(total=total, desc=desc, unit="step", disable=not enabled, dynamic_ncols=True, leave=False)
+
+    def __call__(self, name: str) -> None:
+        if self._started:
+            self.bar.update(1)
+        self._started = True
+        self.bar.set_description(f"{self.desc}: {name}")
+
+    def close(self) -> None:
+        if self._started:
+            self.bar.update(1)
+        self.bar.close()
+
+    def __enter__(self) -> "StepBar":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+

@@ -28,9 +28,9 @@ from fmpy import extract, read_model_description
 from harness.fmu import build as _build
 from harness.fmu.binding import FmiError, LogRecord, fmi2
 from harness.model.excitation import MAX_ORDER, AeroLoad, ExcitationError, Signal, as_speed
-from harness.model.params import ParameterError, fmu_parameters, input_range, validate
+from harness.model.params import ParameterError, fmu_parameters, input_range, validate, value_reference
 
-VR_AERO, VR_SPEED = 40, 41  # modelDescription.xml: aeroLoad, rotorSpeed
+VR_AERO, VR_SPEED = value_reference("aeroLoad"), value_reference("rotorSpeed")  # modelDescription.xml
 SPEED_RANGE = input_range("rotorSpeed")  # rotorSpeed min/max [rpm], from modelDescription.xml
 STATUS = ("OK", "Warning", "Discard", "Error", "Fatal", "Pending")
 _ERROR_CATEGORIES = ["logStatusWarning", "logStatusDiscard", "logStatusError", "logStatusFatal"]

@@ -4,7 +4,8 @@
  * The instances are made, parameterised and initialised by the harness through fmpy; this loop
  * gets their fmi2Component handles and the binaries' function pointers, and per communication
  * point t_k = (baseNs + (k - baseK) stepNs) / 1e9 (libcosim's integer-nanosecond grid; a sweep
- * changes the step with the speed and starts a new base there):
+ * changes the step with the speed and starts a new base there), or t_k = (k - baseK) exactStep when
+ * exactStep > 0 (the ring's period map: K steps make exactly one load period T, from t = 0):
  *   1. reads every blade's q, v, E, W (and, with Excitation FMUs, every excitation's aeroLoad and
  *      rotorSpeed; without, the blades make their load and the speed is the setup's rpm);
  *   2. sets each contact j's inputs (blade j side A, blade j+1 side B) with the velocities'
@@ -59,6 +60,7 @@ typedef struct {
     unsigned int contactOut[3];   /* forceA, forceB, dissipatedEnergy */
     unsigned int contactState;
     unsigned int bladeIn[3];      /* aeroLoad, rotorSpeed, contactForce */
+    double exactStep;             /* > 0: t_k = (k - baseK) exactStep [s] (an exact period T = K exactStep), not the ns grid */
 } RingSetup;
 
 typedef struct {
@@ -200,8 +202,10 @@ int ringRun(const RingSetup *s, RingRecord *rec, double *work, int *filled, int 
                                         ex ? dBlade : dBlade + 1, cols))
                 FAIL(RING_DERIVATIVES, i);
         }
-        const double t = (double)(s->baseNs + (long long)(k - s->baseK) * s->stepNs) / 1e9;
-        const double h = (double)(s->baseNs + (long long)(k + 1 - s->baseK) * s->stepNs) / 1e9 - t;
+        const double t = s->exactStep > 0.0 ? (double)(k - s->baseK) * s->exactStep
+                                            : (double)(s->baseNs + (long long)(k - s->baseK) * s->stepNs) / 1e9;
+        const double h = s->exactStep > 0.0 ? (double)(k + 1 - s->baseK) * s->exactStep - t
+                                            : (double)(s->baseNs + (long long)(k + 1 - s->baseK) * s->stepNs) / 1e9 - t;
         for (int i = 0; i < n; i++)
             if (doStep(s->blade.doStep, s->blades[i], t, h, timed, inside)) FAIL(RING_STEP, i);
         for (int j = 0; j < n; j++)

@@ -21,9 +21,7 @@ from typing import Any, Mapping
 import numpy as np
 from scipy.optimize import brentq
 
-# MACROSLIP_TD and the STATE_* codes are re-exported: the reference's dynamics and ShroudContact import them here
-from harness.model.contact import (COULOMB_DF, DF, FULL_STICK, MACROSLIP_DF, MACROSLIP_TD, OPEN, STATE_OPEN,  # noqa: F401
-                                   STATE_SLIP, STATE_STICK, STICK_SLIP, ContactConsts, contact_consts, df_model, pack_df)
+from harness.model.contact import (COULOMB_DF, DF, FULL_STICK, MACROSLIP_DF, OPEN, STICK_SLIP, ContactConsts, contact_consts, df_model, pack_df)
 
 def normal_force(params: Mapping[str, Any] | ContactConsts, v: Any) -> Any:
     """F_n(v) [N], eq. 3 (vectorised)."""

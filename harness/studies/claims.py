@@ -19,7 +19,7 @@ from pathlib import Path
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
-from harness.analysis.executor import atomic_write_text
+from harness.files.atomic import atomic_write_text
 
 if TYPE_CHECKING:
     from harness.studies.paper import Fig45Summary, PaperIteration, Summary
@@ -392,11 +392,32 @@ def verdict_counts(rows: Sequence[ClaimRow]) -> dict[str, int]:
     return out
 
 
+
+# the verdicts a one-line tally names; a verdict with a qualification after "reproduced" counts as
+# one, any other (a finding stated in words) as "other"
+TALLY_ORDER = ("reproduced", "reproduced with a qualification", "trend only", "not reproduced", "not computed",
+               "other (see claims.md)")
+
+
+def tally_group(verdict: str) -> str:
+    if verdict in TALLY_ORDER:
+        return verdict
+    return "reproduced with a qualification" if verdict.startswith("reproduced") else "other (see claims.md)"
+
+
+def grouped(counts: Mapping[str, int]) -> dict[str, int]:
+    """The paper's claims (not the new checks) counted by tally group, in TALLY_ORDER."""
+    groups: dict[str, int] = {}
+    for verdict, n in counts.items():
+        if verdict != "new check":
+            groups[tally_group(verdict)] = groups.get(tally_group(verdict), 0) + n
+    return {k: groups[k] for k in TALLY_ORDER if k in groups}
+
+
 def tally(counts: Mapping[str, int]) -> str:
     """One line for a terminal: the paper's claims by verdict, then the new checks apart (they are
-    not claims of the paper), e.g. "19 claims of the paper: 12 reproduced, 7 trend only; 4 new checks"."""
-    paper = {k: v for k, v in counts.items() if k != "new check"}
-    line = f"{sum(paper.values())} claims of the paper: " + ", ".join(f"{v} {k}" for k, v in paper.items())
+    not claims of the paper), e.g. "40 claims of the paper: 23 reproduced, 7 trend only, ...; 4 new checks"."""
+    groups = grouped(counts)
+    line = f"{sum(groups.values())} claims of the paper: " + ", ".join(f"{n} {k}" for k, n in groups.items())
     new = counts.get("new check", 0)
     return line + (f"; {new} new check{'s' if new != 1 else ''} (not in the paper)" if new else "")
-

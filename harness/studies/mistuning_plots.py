@@ -11,6 +11,7 @@ from pathlib import Path
 import matplotlib
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.ticker import MaxNLocator
 
 from harness.analysis.executor import write_csv
 
@@ -82,9 +83,14 @@ def write(out: dict, directory: Path) -> list[Path]:
         ax.plot(levels, mean, ("s", "D", "^")[j] + ":", color=c, mfc="none", ms=9 - 2 * j, label=f"{v}: mean")
         rows += [(v, s, mean[i], hi[i], lo[i]) for i, s in enumerate(levels)]
     ax.axhline(out["whitehead"], color="r", label=f"Whitehead (1 + sqrt({n})) / 2")
-    ax.set(xlabel="relative standard deviation", ylabel="amplification (peak over the band / tuned peak)",
+    ax.plot([0.0], [1.0], "k+", ms=10, label="tuned ring (1 by definition)")
+    # the axes from the tuned ring (0, 1) to the largest level and the bound, with room for the markers
+    ax.set_xlim(-0.08 * max(levels), 1.12 * max(levels))
+    top = max([out["whitehead"]] + [r[3] for r in rows if np.isfinite(r[3])])
+    ax.set_ylim(0.95, 1.06 * top)
+    ax.set(xlabel="relative standard deviation sigma", ylabel="amplification (band peak / tuned peak)",
            title=f"N = {n}, {out['patterns']} patterns, {sp[0]:.0f}-{sp[-1]:.0f} rpm")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="center right")
     files += _save(fig, d / "mistuning_amplification", rows,
                    [("variant", "U12"), ("sigma", "f8"), ("mean", "f8"), ("max", "f8"), ("min", "f8")])
 
@@ -94,9 +100,11 @@ def write(out: dict, directory: Path) -> list[Path]:
     for c, (v, r) in zip(COLOURS, V.items()):
         a = np.array(r["amplification"], dtype=float)[-1]
         ok = ~np.isnan(a)
-        if ok.any():
-            ax.hist(a[ok], bins=max(5, int(ok.sum()) // 5), alpha=0.6, color=c, label=v)
+        if ok.any():  # edged bars, so that equal neighbours stay apart
+            ax.hist(a[ok], bins=max(5, int(ok.sum()) // 5), alpha=0.6, color=c, label=v, edgecolor="black",
+                    linewidth=0.8)
         rows += [(v, k, x, r["peak_rpm"][-1][k]) for k, x in enumerate(a)]
+    ax.yaxis.set_major_locator(MaxNLocator(integer=True))  # whole numbers of patterns
     ax.set(xlabel="amplification", ylabel="patterns", title=sigma)
     ax.legend()
     files += _save(fig, d / "mistuning_histogram", rows,

@@ -28,7 +28,8 @@ import numpy as np
 from harness import digits
 from harness.analysis.curves import (ConfigError, SweepSettings, SweepSpec, fmu_identity, hb_curve, hb_stable_peak,
                                      omega_of)
-from harness.analysis.executor import RESULTS_DIR, Runner, atomic_write_text, write_csv
+from harness.analysis.executor import RESULTS_DIR, Runner, write_csv
+from harness.files.atomic import atomic_write_text
 from harness.analysis.periodic.branches import orbits_at
 from harness.analysis.periodic.harmonics import branch_harmonics, summarize
 from harness.analysis.periodic.period_map import PeriodMap
@@ -413,6 +414,7 @@ def _plain(o: Any) -> Any:
 @dataclass
 class Reproduction:
     summary: Summary
+    claims: list = field(default_factory=list)  # the claim rows (claims.write_claims), once written
 
 
 def validate_request(size: str | Size, studies: Sequence[str] | None) -> tuple[Size, list[str]]:
@@ -471,7 +473,11 @@ def run_studies(out: Path | str = RESULTS_DIR, size: str | Size = "default", stu
         runner.warm_up("harness.analysis.periodic.studies")  # the workers start while HB runs here
         t0 = _time.perf_counter()
         hb_params = {n: {v: dict(base_p, **{STUDIES[n].param: v}) for v in values[n]} for n in names}
-        hb = {n: {v: hb_curve(p, size.hb_speeds) for v, p in hb_params[n].items()} for n in names}
+        hb = {}
+        with runner.steps("harmonic balance", len(names)) as step:
+            for n in names:
+                step(STUDIES[n].figure)
+                hb[n] = {v: hb_curve(p, size.hb_speeds) for v, p in hb_params[n].items()}
         hb_peaks = {n: {v: hb_stable_peak(hb_params[n][v], hb[n][v]) for v in values[n]} for n in names}
         hb_wall = _time.perf_counter() - t0
         t0 = _time.perf_counter()
@@ -487,8 +493,10 @@ def run_studies(out: Path | str = RESULTS_DIR, size: str | Size = "default", stu
         extras_wall = None
         if extras:
             t0 = _time.perf_counter()
-            with BladeFMU(path) as fmu:
+            with BladeFMU(path) as fmu, runner.steps("extras", 6) as step:
+                step("Fig. 4/5 time response")
                 summary.fig45 = fig45(fmu, out, base_p, 5000.0, size.fig45_time, _root_at(base_p, 5000.0, fmu))
+                step("harmonic balance vs the exact orbit")
                 summary.hb_vs_orbit = hb_vs_orbit(fmu, out, base_p, done)
                 peaks = []
                 if "kn" in summary.studies:
@@ -496,15 +504,19 @@ def run_studies(out: Path | str = RESULTS_DIR, size: str | Size = "default", stu
                         if math.isfinite(row.fp_speed):
                             peaks.append((row.fp_speed, base_p["engineOrder"] * row.fp_speed / 60,
                                           f"fixed-point peak, kn = {row.value:.0e} N/m"))
+                step("Campbell diagram")
                 summary.campbell = campbell(fmu, out, base_p, peaks)
+                step("Campbell diagram with more modes")
                 if size.campbell_modes:
                     cm = campbell_study(fmu, out, base_p, size.campbell_modes)
                     summary.campbell_modes = CampbellModesSummary(cm.modes, cm.as_dict()["crossings"])
                     summary.mode2_crossing = mode2_crossing(fmu, out, base_p)
+                step("convergence in the number of modes")
                 if size.modes:
                     mc = runner.map(trace_curve, modes_tasks(base_p, size.speed_range, size.seed_step, path, size.modes),
                                     desc="branches in the number of modes", unit="curve")
                     summary.modes = modes_convergence(fmu, out, mc)
+                step("the paper's iteration")
                 seq = paper_iteration(fmu, base_p, 5000.0, 2 * base_p["d"], size.iteration_steps)
                 summary.paper_iteration = PaperIteration(5000.0, 0.2, seq)
                 it = np.zeros(len(seq), dtype=[("iteration", "i4"), ("B", "f8")])

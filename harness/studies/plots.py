@@ -17,7 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from harness.analysis.executor import atomic_write_bytes  # noqa: E402
+from harness.files.atomic import atomic_write_bytes  # noqa: E402
 
 MM = 1e3  # m -> mm
 
@@ -57,6 +57,7 @@ def study_branches(path: Path | str, title: str, curves: Sequence[dict]) -> Path
     for ax in axes:
         ax.set_xlabel("rotor speed n [rpm]")
         ax.grid(alpha=0.3)
+        _extrema_legend(ax)
         ax.legend(fontsize=7, loc="upper left")
     axes[0].set_ylabel("max |q| over a period [mm]")
     fig.suptitle(title)
@@ -155,14 +156,14 @@ def hysteresis(path: Path | str, panels: Sequence[dict]) -> Path:
     for ax, p in zip(axes, panels):
         E = p.get("energy", {})
         du, F = p["eq4"]
-        ax.plot(du * 1e6, F, "-", lw=1.6, label=f"eq. 4 closed form, v = B cos(theta); loop {E.get('eq4', np.nan) * 1e6:.1f} uJ")
+        ax.plot(du * 1e6, F, "-", lw=1.6, label=f"eq. 4 closed form, v = B cos(theta); loop {E.get('eq4', np.nan) * 1e6:.1f} µJ")
         if p.get("jenkins") is not None:
             du3, F3 = p["jenkins"]
-            ax.plot(du3 * 1e6, F3, ":", lw=1.8, label=f"reference Jenkins element, v = B cos(theta); {E.get('jenkins', np.nan) * 1e6:.1f} uJ")
+            ax.plot(du3 * 1e6, F3, ":", lw=1.8, label=f"reference Jenkins element, v = B cos(theta); {E.get('jenkins', np.nan) * 1e6:.1f} µJ")
         if p.get("fmu") is not None:
             du2, F2 = p["fmu"]
-            ax.plot(du2 * 1e6, F2, "--", lw=1.1, label=f"FMU element (frictionModel 3) in a steady run; {E.get('fmu', np.nan) * 1e6:.1f} uJ")
-        ax.set_xlabel("tangential displacement du [um]")
+            ax.plot(du2 * 1e6, F2, "--", lw=1.1, label=f"FMU element (frictionModel 3) in a steady run; {E.get('fmu', np.nan) * 1e6:.1f} µJ")
+        ax.set_xlabel("tangential displacement Δu [µm]")
         ax.set_ylabel("friction force F_f [N]")
         ax.set_title(p["title"], fontsize=9)
         ax.grid(alpha=0.3)
@@ -234,14 +235,16 @@ def campbell(path: Path | str, speed: np.ndarray, fnat: np.ndarray, orders: Sequ
 
 
 def _engine_order_lines(ax: Any, speed: np.ndarray, orders: Sequence[int], eo: int, top: float) -> None:
-    """Lines f = k n / 60 [Hz], the excitation order `eo` solid, each labelled where it leaves the plot."""
+    """Lines f = k n / 60 [Hz], the excitation order `eo` solid, each labelled inside the frame
+    where it leaves the plot (right-aligned above its end, or below the top edge)."""
     for k in orders:
         line = k * speed / 60.0
         (h,) = ax.plot(speed, line, "-" if k == eo else ":", lw=1.2 if k == eo else 0.8)
         inside = np.nonzero(line <= top)[0]
         j = int(inside[-1]) if len(inside) else 0
-        ax.annotate(f"EO {k}", (speed[j], line[j]), xytext=(3, -2 if line[j] < 0.97 * top else -10),
-                    textcoords="offset points", fontsize=7, color=h.get_color())
+        at_top = line[j] >= 0.97 * top
+        ax.annotate(f"EO {k}", (speed[j], line[j]), xytext=(-3, -10 if at_top else 2), textcoords="offset points",
+                    ha="right", va="bottom", fontsize=7, color=h.get_color())
 
 
 def _stable_runs(stable: np.ndarray) -> list[tuple[int, int, bool]]:
@@ -271,6 +274,12 @@ def _draw_branches(ax: Any, branches: Sequence[Any], color: Any, label: str, ls:
             ax.plot(e.speed, e.amplitude * MM, marker="^" if e.kind == "peak" else "x", color=color, ms=5, ls="none")
 
 
+def _extrema_legend(ax: Any) -> None:
+    """Legend entries for the markers _draw_branches puts on every branch (grey: any colour)."""
+    ax.plot([], [], marker="^", color="0.35", ms=5, ls="none", label="peak (located)")
+    ax.plot([], [], marker="x", color="0.35", ms=5, ls="none", label="fold (located)")
+
+
 def branches_figure(path: Path | str, models: dict[str, Sequence[Any]], title: str,
                     hb: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None) -> Path:
     """Periodic-orbit branches (harness.analysis.periodic.continuation.Branch) per model: max |q| [mm] over
@@ -285,6 +294,7 @@ def branches_figure(path: Path | str, models: dict[str, Sequence[Any]], title: s
     ax.set_ylabel("max |q| [mm]")
     ax.set_title(title, fontsize=9)
     ax.grid(alpha=0.3)
+    _extrema_legend(ax)
     ax.legend(fontsize=8, title="bold: stable, faint: unstable", title_fontsize=8)
     return _save(fig, path)
 

@@ -11,6 +11,7 @@ master's histories).
 from __future__ import annotations
 
 import ctypes as C
+import math
 from contextlib import ExitStack
 from dataclasses import replace
 
@@ -43,7 +44,7 @@ class _Setup(C.Structure):
                 ("blades", C.POINTER(C.c_void_p)), ("contacts", C.POINTER(C.c_void_p)),
                 ("excitations", C.POINTER(C.c_void_p)), ("bladeOut", C.c_uint * 4), ("excitationOut", C.c_uint * 2),
                 ("contactIn", C.c_uint * 5), ("contactOut", C.c_uint * 3), ("contactState", C.c_uint),
-                ("bladeIn", C.c_uint * 3)]
+                ("bladeIn", C.c_uint * 3), ("exactStep", C.c_double)]
 
 
 class _Record(C.Structure):
@@ -120,15 +121,33 @@ class CRing:
         self._stack.close()
 
     def time(self, k: int) -> float:
-        """t_k [s], as the C loop computes it (libcosim's integer nanoseconds)."""
+        """t_k [s], as the C loop computes it (libcosim's integer nanoseconds, or the exact grid)."""
         s = self.setup
+        if s.exactStep > 0.0:
+            return float(k - s.baseK) * s.exactStep
         return float(s.baseNs + (k - s.baseK) * s.stepNs) / 1e9
+
+    def restart_exact(self, h: float) -> None:
+        """Point k = 0 at t = 0 on the exact grid t_k = k h (h [s] any positive double: K steps make
+        exactly K h), the extrapolation history restarted. The FMUs are the caller's: it resets and
+        initialises them at t = 0 first (harness/system/ring_orbits/period_map.py)."""
+        if not (math.isfinite(h) and h > 0.0):
+            raise ValueError(f"exact step {h!r} s: must be a positive finite number")
+        s = self.setup
+        self.k, s.baseK, s.baseNs, s.exactStep = 0, 0, 0, float(h)
+        if self.ring.step != h:
+            self.ring = replace(self.ring, step=h)
+            self._W[:] = weights(self.ring.order, h)
+        self._work[:] = 0.0
+        self._filled[:] = (0, 0, 0)
 
     def set_step(self, h: float) -> None:
         """Communication step h [s, whole ns] from the current point on; the input derivatives'
         history restarts (lower orders for the next p steps, as at the start of a run)."""
         ns = to_ns(h)
         s = self.setup
+        if s.exactStep > 0.0:
+            raise ValueError("set_step: this ring runs on the exact grid (restart_exact); restart it there instead")
         if ns == s.stepNs:
             return
         s.baseNs, s.baseK, s.stepNs = s.baseNs + (self.k - s.baseK) * s.stepNs, self.k, ns

@@ -4,12 +4,11 @@ shrinks, per extrapolation order of the input derivatives, with the measured ord
 slope of log error over log h on the finest points), and the largest stable h.
 
 Error: max over blades and over the reference's output grid (every 1e-4 s up to stop_time) of
-|q_cosim - q_ref|, relative to max |q_ref|. `python -m harness.validation.ring_convergence` writes
+|q_cosim - q_ref|, relative to max |q_ref|. `python -m harness ring-convergence` writes
 results/ring_convergence.csv and .png (log-log; also libcosim) and prints the table.
 """
 from __future__ import annotations
 
-import argparse
 import csv
 import math
 from dataclasses import dataclass
@@ -95,19 +94,3 @@ def write(rows: list[tuple[int | str, float, float]], out: Path) -> None:
     fig.tight_layout()
     fig.savefig(out.with_suffix(".png"), dpi=120)
     plt.close(fig)
-
-
-def main(argv: list[str] | None = None) -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", type=Path, default=Path("results/ring_convergence"))
-    a = ap.parse_args(argv)
-    rows = errors(Study(), libcosim=True)
-    write(rows, a.out)
-    for r in rows:
-        print(*r)
-    for p in dict.fromkeys(r[0] for r in rows):
-        print(f"{p}: measured convergence order {measured_order(rows, p):.2f}")
-
-
-if __name__ == "__main__":
-    main()

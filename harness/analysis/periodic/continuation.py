@@ -22,6 +22,7 @@ from __future__ import annotations
 import csv
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
@@ -183,6 +184,9 @@ class BranchProblem:
         self.pm, self.sc = pm, sc
         self.m = pm.dim
         self.sens = pm.s.sensitivities
+        # a period map without B in its unknowns may take forward differences (`central_differences`
+        # False: the ring's, whose DP from forward and central differences agree to 1e-4)
+        self.central = getattr(pm, "central_differences", True)
         self._last: tuple[np.ndarray, np.ndarray] | None = None  # (z, DP) of the last evaluation
 
     def to_z(self, x: np.ndarray, n: float) -> np.ndarray:
@@ -240,7 +244,7 @@ class BranchProblem:
             zp = z.copy()
             zp[j] += h
             Hp = self.H(zp)[0]
-            if j < self.m and not at_bound(self.pm, x, j):
+            if j < self.m and self.central and not at_bound(self.pm, x, j):
                 zm = z.copy()
                 zm[j] -= h
                 Jz[:, j] = (Hp - self.H(zm)[0]) / (2.0 * h)
@@ -259,11 +263,12 @@ def _tangent(Jz: np.ndarray, prev: np.ndarray | None) -> np.ndarray:
 
 
 def continue_branch(pm: PeriodMap, x: np.ndarray, speed: float, speed_range: tuple[float, float],
-                    settings: ContinuationSettings = ContinuationSettings(), directions: tuple[int, ...] = (-1, 1)
-                    ) -> Branch:
+                    settings: ContinuationSettings = ContinuationSettings(), directions: tuple[int, ...] = (-1, 1),
+                    stop: Callable[[BranchPoint], str | None] | None = None) -> Branch:
     """Trace the branch through the periodic orbit x at `speed` (a converged root of the period
     map) in both speed directions (or those in `directions`: -1 down, +1 up at the start) until it
-    leaves speed_range; returns the points ordered along the arc."""
+    leaves speed_range (or stop(point) gives a reason to end there, e.g. it joined a branch traced
+    before); returns the points ordered along the arc."""
     lo, hi = speed_range
     prob = BranchProblem(pm, pm.scales(x, speed))
     z0 = prob.to_z(x, speed)
@@ -278,7 +283,7 @@ def continue_branch(pm: PeriodMap, x: np.ndarray, speed: float, speed_range: tup
     reasons: list[str] = []
     closed = False
     for sgn in directions:
-        pts, reason, closed = _march(prob, z0, sgn * t0, Jz0, (lo, hi), settings, z_first=z0)
+        pts, reason, closed = _march(prob, z0, sgn * t0, Jz0, (lo, hi), settings, z_first=z0, stop=stop)
         if sgn < 0:
             down = pts[::-1]
         else:
@@ -290,7 +295,8 @@ def continue_branch(pm: PeriodMap, x: np.ndarray, speed: float, speed_range: tup
 
 
 def _march(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, rng: tuple[float, float],
-           s: ContinuationSettings, z_first: np.ndarray) -> tuple[list[BranchPoint], str, bool]:
+           s: ContinuationSettings, z_first: np.ndarray, stop: Callable[[BranchPoint], str | None] | None = None
+           ) -> tuple[list[BranchPoint], str, bool]:
     pts: list[BranchPoint] = []
     ds = s.ds
     lo, hi = rng
@@ -308,6 +314,9 @@ def _march(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, rn
             return pts, f"left the speed range at {point.speed:.1f} rpm", False
         if len(pts) > 5 and np.linalg.norm(z_new - z_first) < 0.75 * ds:
             return pts, "closed on itself (isola)", True
+        why = stop(point) if stop is not None else None
+        if why:
+            return pts, why, False
         z, t, Jz = z_new, t_new, Jz_new
         if point.iterations <= EASY_CORRECTOR:
             ds = min(ds * 1.4, s.ds_max)

@@ -13,7 +13,6 @@ for a unit secant along the speed). The multipliers are those of the located orb
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Callable
 
@@ -86,6 +85,7 @@ class _Section:
         pts = branch.points[i - 1: i + 2]
         self.prob = BranchProblem(pm, pm.scales(pts[1].x, pts[1].speed))
         self.z = [self.prob.to_z(p.x, p.speed) for p in pts]
+        self.amplitudes = [p.amplitude for p in pts]
         a = self.z[2] - self.z[0]
         self.a = a / np.linalg.norm(a)
         self.sigma = [float(self.a @ z) for z in self.z]
@@ -117,9 +117,15 @@ class _Section:
     def located(self, kind: str, objective: Callable[[np.ndarray, float], float], sides: tuple[str, str]
                 ) -> Extremum | None:
         """The minimum of objective(z, amplitude) over sigma between the neighbours."""
+        # where the corrector finds no branch point the objective is undefined: a finite value above
+        # the three sampled points' keeps Brent away from it (an infinite one turns its parabola
+        # step into inf - inf = nan)
+        sampled = [objective(z, amp) for z, amp in zip(self.z, self.amplitudes)]
+        worse = max(sampled) + (max(sampled) - min(sampled)) + abs(max(sampled)) + 1.0
+
         def f(sigma: float) -> float:
             sol = self.solve(sigma)
-            return math.inf if sol is None else objective(*sol)
+            return worse if sol is None else objective(*sol)
 
         lo, hi = sorted((self.sigma[0], self.sigma[2]))
         res = minimize_scalar(f, bounds=(lo, hi), method="bounded", options={"xatol": SIGMA_TOL})
@@ -136,12 +142,15 @@ class _Section:
         return Extremum(kind, n, amp, x, multipliers(DP), sides)
 
 
-def locate(pm: PeriodMap, branch: Branch, settings: ContinuationSettings = ContinuationSettings()
-           ) -> list[Extremum]:
+def locate(pm: PeriodMap, branch: Branch, settings: ContinuationSettings = ContinuationSettings(),
+           keep: Callable[[int, str], bool] | None = None) -> list[Extremum]:
     """The located peaks and folds of `branch` (in arc order); an extremum whose refinement fails
-    is left out (its sampled point stays on the branch)."""
+    is left out (its sampled point stays on the branch). keep(index, kind): locate only the
+    candidates it accepts (default: all)."""
     out = []
     for i, kind in candidates(branch):
+        if keep is not None and not keep(i, kind):
+            continue
         p = branch.points
         sides = (p[i - 1].label, p[i + 1].label)
         sec = _Section(pm, branch, i, settings)

@@ -97,7 +97,10 @@ def describe(mu: np.ndarray) -> str:
 
 
 def bounded(pm: PeriodMap, x: np.ndarray) -> np.ndarray:
-    """x moved into the unknowns' domain: B > 0, |phi| <= 1 (and phi = 0 while open)."""
+    """x moved into the unknowns' domain: B > 0, |phi| <= 1 (and phi = 0 while open). A period map
+    with its own domain (a method `bounded`, e.g. the ring's) moves x itself."""
+    if hasattr(pm, "bounded"):
+        return pm.bounded(x)
     x = x.copy()
     if pm.model == "jenkins":
         x[-1] = 0.0 if abs(pm.tip(x)[0]) <= pm.d else min(max(float(x[-1]), -1.0), 1.0)
@@ -107,7 +110,10 @@ def bounded(pm: PeriodMap, x: np.ndarray) -> np.ndarray:
 
 
 def fd_direction(pm: PeriodMap, x: np.ndarray, j: int) -> float:
-    """+1, or -1 where a forward step would leave the domain (phi at +1, B near 0)."""
+    """+1, or -1 where a forward step would leave the domain (phi at +1, B near 0); the period
+    map's own rule if it has one (`fd_direction`)."""
+    if hasattr(pm, "fd_direction"):
+        return pm.fd_direction(x, j)
     if pm.model == "jenkins" and j == pm.dim - 1 and x[j] > 0.0:
         return -1.0
     return 1.0
@@ -115,7 +121,9 @@ def fd_direction(pm: PeriodMap, x: np.ndarray, j: int) -> float:
 
 def at_bound(pm: PeriodMap, x: np.ndarray, j: int) -> bool:
     """True if unknown j sits on its bound (the Jenkins element's slip limit |phi| = 1), where only
-    a one-sided difference stays in the domain."""
+    a one-sided difference stays in the domain; the period map's own rule if it has one."""
+    if hasattr(pm, "at_bound"):
+        return pm.at_bound(x, j)
     return pm.model == "jenkins" and j == pm.dim - 1 and abs(x[j]) >= 1.0
 
 

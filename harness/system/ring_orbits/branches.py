@@ -1,0 +1,148 @@
+"""All the branches of the ring's periodic orbits over a speed band, from every seed, and the largest
+stable steady state among them.
+
+Seeds (harness/system/ring_orbits/seeds.py): the travelling wave (tuned ring), a run from rest at each
+grid speed and a sweep up and back down the grid. A seed whose state already lies on a traced branch (up to the ring's symmetries,
+symmetry.py, by the per-blade amplitudes) is dropped; otherwise Newton finds its orbit, which is
+dropped if it lies on a traced branch, else continued both ways across the band (continuation.py)
+until it leaves the band or runs onto a branch traced before.
+At every branch point the other branch is entered along the critical eigenvector (continuation.switch)
+and traced too. The largest stable steady state: the largest blade amplitude over the stable points,
+the located peaks that are stable, and the stability boundaries (a fold bounding a stable part, a
+branch point, period doubling or Neimark-Sacker point next to a stable point).
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from harness.system.ring import Ring
+from harness.system.ring_orbits.continuation import RING_CONTINUATION, RingBranch, switch, trace
+from harness.system.ring_orbits.period_map import RingPeriodMap, RingShootingSettings
+from harness.system.ring_orbits.seeds import from_rest, sweep, travelling_wave
+from harness.system.ring_orbits.shooting import shoot
+from harness.system.ring_orbits.symmetry import distance, index_maps, tuned
+
+SAME_RTOL = 1e-3  # two orbits are the same (up to symmetry): per-blade amplitudes within this of the largest
+
+
+@dataclass
+class RingBranches:
+    """What ring_branches found."""
+
+    branches: list[RingBranch]
+    band: tuple[float, float]
+    peak_stable_amplitude: float  # [m] (nan if no stable orbit)
+    peak_stable_speed: float  # [rpm]
+    peak_stable_blade: int
+    seeds: int  # seeds tried
+    evaluations: int  # period-map evaluations (periods of the ring simulated)
+    wall_time: float  # [s]
+    points: int = 0  # continuation points over all branches
+    stats: dict = field(default_factory=dict)
+
+    def as_dict(self) -> dict:
+        nan = math.isnan(self.peak_stable_amplitude)
+        return {"band_rpm": list(self.band), "branches": [b.as_dict() for b in self.branches],
+                "peak_stable_amplitude_m": None if nan else self.peak_stable_amplitude,
+                "peak_stable_speed_rpm": None if nan else self.peak_stable_speed,
+                "peak_stable_blade": None if nan else self.peak_stable_blade,
+                "seeds": self.seeds, "evaluations": self.evaluations, "continuation_points": self.points,
+                "periods_per_point": self.evaluations / max(self.points, 1), "wall_time_s": self.wall_time,
+                **self.stats}
+
+
+def on_branch(br: RingBranch, speed: float, amps: np.ndarray, maps: list[np.ndarray], rtol: float) -> bool:
+    """True if (speed, per-blade amplitudes) lies on br up to a symmetry: between two neighbouring
+    points in speed, within rtol of the interpolated amplitudes (plus half their difference)."""
+    S, A = br.speeds, br.amplitudes
+    for k in range(len(S) - 1):
+        lo, hi = min(S[k], S[k + 1]), max(S[k], S[k + 1])
+        if not lo - 1e-9 <= speed <= hi + 1e-9:
+            continue
+        f = 0.0 if hi == lo else (speed - S[k]) / (S[k + 1] - S[k])
+        a = A[k] + f * (A[k + 1] - A[k])
+        slack = 0.5 * float(np.max(np.abs(A[k + 1] - A[k]))) / max(float(np.max(a)), 1e-300)
+        if distance(a, amps, maps) <= rtol + slack:
+            return True
+    return any(abs(s - speed) <= 1e-6 * speed and distance(a, amps, maps) <= rtol for s, a in zip(S, A))
+
+
+def known(branches: list[RingBranch], speed: float, amps: np.ndarray, maps: list[np.ndarray], rtol: float) -> bool:
+    return any(on_branch(b, speed, amps, maps, rtol) for b in branches)
+
+
+def peak_stable(branches: list[RingBranch], band: tuple[float, float]) -> tuple[float, float, int]:
+    """(amplitude [m], speed [rpm], blade) of the largest stable steady state in the band (see the
+    module docstring); nan, nan, -1 if none."""
+    cands: list[tuple[float, float, np.ndarray]] = []
+    for br in branches:
+        cands += [(o.amplitude, o.speed, o.amplitudes) for o in br.orbits if o.stable]
+        cands += [(o.amplitude, o.speed, o.amplitudes) for o in br.peaks if o.stable]
+        cands += [(o.amplitude, o.speed, o.amplitudes) for o, ok in zip(br.folds, br.fold_sides) if ok]
+        st = br.stable
+        for b in br.bifurcations:
+            if b.kind != "fold" and 0 < b.index < len(st) and (st[b.index - 1] or st[b.index]):
+                cands.append((b.amplitude, b.speed, b.amplitudes))
+    cands = [c for c in cands if band[0] <= c[1] <= band[1]]
+    if not cands:
+        return math.nan, math.nan, -1
+    a, s, amps = max(cands, key=lambda c: c[0])
+    return float(a), float(s), int(np.argmax(amps))
+
+
+def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
+                  settings: RingShootingSettings = RingShootingSettings(), switch_branches: bool = True,
+                  max_branches: int = 24, settle: float = 1e-3, max_periods: int = 300) -> RingBranches:
+    """Every branch found from the seeds at `points` speeds across `band` [rpm] (see the module
+    docstring). Raises ValueError on a bad band or count."""
+    lo, hi = (float(v) for v in band)
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi):
+        raise ValueError(f"band {band!r} rpm: need 0 < FROM < TO")
+    if not (isinstance(points, int) and 2 <= points <= 1000):
+        raise ValueError(f"points = {points!r}: need a whole number in [2, 1000]")
+    t0 = time.perf_counter()
+    grid = np.linspace(lo, hi, points)
+    branches: list[RingBranch] = []
+    maps = index_maps(ring)
+    symmetric = tuned(ring)
+    with RingPeriodMap(ring, settings) as pm:
+        seeds = (travelling_wave(pm, grid, settle, max_periods) if symmetric else []) + \
+            from_rest(pm, grid, settle, max_periods) + sweep(pm, grid, settle, max_periods)
+        e_seeds = pm.evaluations
+        todo: list = []  # orbits to continue (from seeds, then from branch points)
+        for sd in seeds:
+            if len(branches) >= max_branches:
+                break
+            amps = pm.measures(sd.x, sd.speed)[0]
+            if known(branches, sd.speed, amps, maps, min(max(SAME_RTOL, 10 * sd.change), 2e-2)):
+                continue
+            orb = shoot(pm, sd.x, sd.speed)
+            if orb is None or known(branches, orb.speed, orb.amplitudes, maps, SAME_RTOL):
+                continue
+            todo.append(orb)
+            while todo and len(branches) < max_branches:
+                o = todo.pop(0)
+                if branches and known(branches, o.speed, o.amplitudes, maps, SAME_RTOL):
+                    continue
+                done = list(branches)
+                br = trace(pm, o, (lo, hi), joined=lambda n, a: known(done, n, a, maps, SAME_RTOL))
+                branches.append(br)
+                if switch_branches:
+                    for b in br.bifurcations:
+                        if b.kind != "branch point":
+                            continue
+                        for guess in switch(pm, br, b):
+                            if known(branches, guess.speed, guess.amplitudes, maps, SAME_RTOL):
+                                continue
+                            new = shoot(pm, guess.x, guess.speed)
+                            if new is not None:
+                                todo.append(new)
+        amp, speed, blade = peak_stable(branches, (lo, hi))
+        npts = sum(len(b.orbits) for b in branches)
+        return RingBranches(branches, (lo, hi), amp, speed, blade, len(seeds), pm.evaluations,
+                            time.perf_counter() - t0, npts,
+                            {"seed_evaluations": e_seeds, "steps_per_period": settings.steps_per_period})

@@ -1,0 +1,203 @@
+"""Branches of the ring's periodic orbits in rotor speed, their stability and bifurcations.
+
+The continuation is the single blade's (harness.analysis.periodic.continuation: pseudo-arclength in
+(x / scale, rpm / 1000), quasi-Newton corrector, step control through folds) on the ring's period
+map, with forward differences for DP (the map's `central_differences`); peaks (of the largest
+blade's max |q|) and folds (speed turning points) are located by the single blade's
+harness.analysis.periodic.extrema where a neighbour is stable (the others stay sampled). Bifurcations
+between neighbouring points, from the multipliers (a multiplier counts as outside beyond 1 + 1e-3):
+- fold: the speed turns (located by extrema);
+- branch point: the number of real multipliers above +1 changes where the speed does not turn (a
+  symmetry-breaking pitchfork of the tuned ring passes +1 with a double multiplier: the sign of
+  det(DP - I) alone would miss it);
+- period doubling: the number of real multipliers below -1 changes;
+- Neimark-Sacker: the number of complex multipliers outside the unit circle changes.
+A branch point, period doubling or Neimark-Sacker point is located on the segment between the two
+points by the zero of |mu| - 1 of the critical multiplier, linear in the arc between them.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from harness.analysis.periodic.continuation import (Branch, BranchProblem, ContinuationSettings, continue_branch,
+                                                    correct)
+from harness.analysis.periodic.extrema import locate
+from harness.analysis.periodic.shooting import UNIT_CIRCLE_TOL
+from harness.fmu.blade import FMUError
+from harness.system.ring_orbits.period_map import RingPeriodMap
+from harness.system.ring_orbits.shooting import RingOrbit, monodromy
+
+RING_CONTINUATION = ContinuationSettings(ds=0.05, ds_min=2e-4, ds_max=0.3, max_points=300, max_corrector=8,
+                                         ds_fold=0.02)
+
+
+CROSSING_TOL = 1e-3  # a multiplier counts as outside the unit circle beyond 1 + this (a multiplier
+# hovering at 1 within the finite-difference DP's error would flip the counts from point to point)
+
+
+def counts(mu: np.ndarray) -> tuple[int, int, int]:
+    """(real multipliers > 1, real ones < -1, complex ones outside the unit circle), each beyond
+    1 + CROSSING_TOL in modulus."""
+    real = np.abs(mu.imag) <= UNIT_CIRCLE_TOL * np.maximum(np.abs(mu), 1e-300)
+    out = np.abs(mu) > 1.0 + CROSSING_TOL
+    return (int(np.sum(real & out & (mu.real > 0))), int(np.sum(real & out & (mu.real < 0))),
+            int(np.sum(~real & out)))
+
+
+@dataclass
+class Bifurcation:
+    kind: str  # "fold", "branch point", "period doubling", "Neimark-Sacker"
+    speed: float  # [rpm]
+    amplitude: float  # largest blade's max |q| [m]
+    amplitudes: np.ndarray  # per blade [m]
+    index: int  # the first branch point after it
+    x: np.ndarray | None = None  # state (interpolated for all but folds)
+    vector: np.ndarray | None = None  # critical eigenvector of DP (branch points: the switching direction)
+
+    def as_dict(self) -> dict:
+        return {"kind": self.kind, "speed_rpm": self.speed, "amplitude_m": self.amplitude,
+                "amplitudes_m": self.amplitudes.tolist()}
+
+
+@dataclass
+class RingBranch:
+    """A branch of periodic orbits of the ring, points in arc order."""
+
+    orbits: list[RingOrbit]
+    end_reasons: list[str]
+    bifurcations: list[Bifurcation] = field(default_factory=list)
+    peaks: list[RingOrbit] = field(default_factory=list)  # located peaks of the largest blade's max |q|
+    folds: list[RingOrbit] = field(default_factory=list)  # located folds (largest multiplier ~ 1)
+    fold_sides: list[bool] = field(default_factory=list)  # per fold: it bounds a stable part
+    closed: bool = False
+
+    @property
+    def speeds(self) -> np.ndarray:
+        return np.array([o.speed for o in self.orbits])
+
+    @property
+    def amplitudes(self) -> np.ndarray:
+        """(points, N) per-blade max |q| [m]."""
+        return np.array([o.amplitudes for o in self.orbits])
+
+    @property
+    def stable(self) -> np.ndarray:
+        return np.array([o.stable for o in self.orbits])
+
+    def as_dict(self) -> dict:
+        return {"speeds_rpm": self.speeds.tolist(), "amplitudes_m": self.amplitudes.tolist(),
+                "stable": self.stable.tolist(), "max_multiplier": [o.max_multiplier for o in self.orbits],
+                "period_residual": [o.residual for o in self.orbits],
+                "bifurcations": [b.as_dict() for b in self.bifurcations],
+                "peaks": [{"speed_rpm": p.speed, "amplitude_m": p.amplitude, "amplitudes_m": p.amplitudes.tolist(),
+                           "stable": p.stable, "max_multiplier": p.max_multiplier} for p in self.peaks],
+                "end_reasons": self.end_reasons, "closed": self.closed}
+
+
+def _orbit(pm: RingPeriodMap, x: np.ndarray, speed: float, mu: np.ndarray, it: int = 0) -> RingOrbit:
+    amp, res = pm.measures(x, speed)
+    return RingOrbit(float(speed), np.array(x, dtype=float), amp.copy(), mu, res, it)
+
+
+def _critical(mu_a: np.ndarray, mu_b: np.ndarray, kind: str) -> float:
+    """Where between a (0) and b (1) the critical multiplier's |mu| - 1 changes sign (linear)."""
+    def pick(mu: np.ndarray) -> float:
+        real = np.abs(mu.imag) <= UNIT_CIRCLE_TOL * np.maximum(np.abs(mu), 1e-300)
+        sel = {"branch point": real & (mu.real > 0), "period doubling": real & (mu.real < 0)}.get(kind, ~real)
+        vals = np.abs(mu[sel]) - 1.0
+        return float(vals[np.argmin(np.abs(vals))]) if len(vals) else 0.0
+    fa, fb = pick(mu_a), pick(mu_b)
+    return 0.5 if fa == fb else min(1.0, max(0.0, fa / (fa - fb)))
+
+
+def bifurcations(pm: RingPeriodMap, br: Branch, folds: list) -> list[Bifurcation]:
+    """The bifurcations between neighbouring points of br (see the module docstring)."""
+    out: list[Bifurcation] = []
+    pts = br.points
+    n = br.speeds
+    for i in range(1, len(pts)):
+        a, b = pts[i - 1], pts[i]
+        ca, cb = counts(a.multipliers), counts(b.multipliers)
+        turned = any((n[k] - n[k - 1]) * (n[k + 1] - n[k]) < 0 for k in (i - 1, i) if 0 < k < len(pts) - 1)
+        kinds = []
+        if ca[0] != cb[0] and not turned:
+            kinds.append("branch point")
+        if ca[1] != cb[1]:
+            kinds.append("period doubling")
+        if ca[2] != cb[2]:
+            kinds.append("Neimark-Sacker")
+        for kind in kinds:
+            f = _critical(a.multipliers, b.multipliers, kind)
+            x = a.x + f * (b.x - a.x)
+            amp = (1 - f) * pm.measures(a.x, a.speed)[0] + f * pm.measures(b.x, b.speed)[0]
+            vec = None
+            if kind == "branch point":
+                J = monodromy(pm, b.x if f > 0.5 else a.x, b.speed if f > 0.5 else a.speed)
+                w, V = np.linalg.eig(J)
+                real = np.abs(w.imag) <= UNIT_CIRCLE_TOL * np.maximum(np.abs(w), 1e-300)
+                k = int(np.argmin(np.where(real, np.abs(w.real - 1.0), np.inf)))
+                vec = np.real(V[:, k])
+            out.append(Bifurcation(kind, float(a.speed + f * (b.speed - a.speed)), float(amp.max()), amp, i, x, vec))
+    for e in folds:
+        amp = pm.measures(e.x, e.speed)[0]
+        i = int(np.argmin(np.abs(n - e.speed)))
+        out.append(Bifurcation("fold", float(e.speed), float(amp.max()), amp, i, e.x))
+    return sorted(out, key=lambda b: b.index)
+
+
+def trace(pm: RingPeriodMap, orbit: RingOrbit, band: tuple[float, float],
+          settings: ContinuationSettings = RING_CONTINUATION, directions: tuple[int, ...] = (-1, 1),
+          joined: Callable[[float, np.ndarray], bool] | None = None) -> RingBranch:
+    """The branch through `orbit` across `band` [rpm] (both directions), with its located peaks,
+    folds and bifurcations; a direction ends where joined(speed, per-blade amplitudes) says the
+    branch ran onto one traced before."""
+    stop = None
+    if joined is not None:
+        def stop(p) -> str | None:
+            return (f"joined a branch traced before at {p.speed:.1f} rpm"
+                    if joined(p.speed, pm.measures(p.x, p.speed)[0]) else None)
+    br = continue_branch(pm, orbit.x, orbit.speed, band, settings, directions, stop)
+    st = [p.stable for p in br.points]  # (the last point of a direction may lie just outside the band)
+    try:  # only the peaks and folds next to a stable point: those bound the stable steady states
+        br.extrema = locate(pm, br, settings, keep=lambda i, kind: st[i - 1] or st[i] or st[i + 1])
+    except FMUError:
+        br.extrema = []
+    orbits = [_orbit(pm, p.x, p.speed, p.multipliers, p.iterations) for p in br.points]
+    folds = [e for e in br.extrema if e.kind == "fold"]
+    peaks = [_orbit(pm, e.x, e.speed, e.multipliers) for e in br.extrema if e.kind == "peak"]
+    return RingBranch(orbits, br.end_reasons, bifurcations(pm, br, folds), peaks,
+                      [_orbit(pm, e.x, e.speed, e.multipliers) for e in folds], [e.stable for e in folds], br.closed)
+
+
+def switch(pm: RingPeriodMap, br: RingBranch, bif: Bifurcation, eps: float = 0.05,
+           settings: ContinuationSettings = RING_CONTINUATION) -> list[RingOrbit]:
+    """Orbits of the other branch through a branch point: from the point moved by +-eps (scaled
+    arc) along the critical eigenvector, the corrector on the plane normal to it (so it cannot fall
+    back onto this branch). Multipliers are filled in by the caller's continuation."""
+    if bif.vector is None or bif.x is None:
+        return []
+    sc = pm.scales(bif.x, bif.speed)
+    prob = BranchProblem(pm, sc)
+    z0 = prob.to_z(bif.x, bif.speed)
+    v = np.append(bif.vector / sc, 0.0)
+    v /= np.linalg.norm(v)
+    found = []
+    try:
+        Hz, Px, _ = prob.H(z0)
+        Jz = prob.jac(z0, Hz, Px)[0]
+    except FMUError:
+        return []
+    for sgn in (1.0, -1.0):
+        zp = z0 + sgn * eps * v
+        try:
+            done = correct(prob, zp, v, Jz, settings, quasi=False)
+        except FMUError:
+            done = None
+        if done is None:
+            continue
+        x, n = prob.from_z(done[0])
+        found.append(_orbit(pm, x, n, np.array([np.nan + 0j])))
+    return found

@@ -1,0 +1,273 @@
+"""The ring's period map: its state at load phase 0 -> its state one excitation period later.
+
+The state x (unknowns, `RingPeriodMap.dim` of them): per blade i its modal start state
+(BladeExternalContact's modalDisplacement[1..m], modalVelocity[1..m] start values, m = `modes`), then
+per contact j its Jenkins element as phi_j = F_j / L(u_j), the friction force over its slip limit
+L = mu kn cos(gamma) (|u_j| - d) at u_j = q_j - q_{j+1} (tips), so the cone |phi| <= 1 does not move
+when q is perturbed. While contact j is open its phi_j does not act (the start force is 0) and is set
+to the value it takes on touching: closing (sigma u' > 0, sigma = sign u) the element arrives
+sticking with F = kd sin(gamma) (u - sigma d), phi = sigma r, r = kd sin(gamma) / (mu kn cos(gamma)),
+or sliding (r > 1) with phi = sigma; opening it slides away, phi = -sigma. So phi is continuous where
+a contact opens or closes at the period's end (with phi = 0 while open the image would jump by up to
+1 there and Newton and continuation stall at every speed where a gap crosses d at phase 0).
+
+One evaluation is one period T = 60 / (EO rpm) of the same co-simulation the sweeps run (the C loop,
+harness/system/ring_c.py): every FMU reset and initialised at t = 0 (load phase 0) with the ring's
+parameters and the start state x (the contacts' frictionForce start value F_j = phi_j L(u_j)), the
+master's extrapolation history restarted (as at the start of any run), K = steps_per_period steps on
+the exact grid t_k = k T / K (not the nanosecond grid: the load's phase advances exactly 2 pi), then
+the state at T read back (the contacts' at the inputs of point K, after their direct feedthrough).
+Nothing else carries over between evaluations, so the image is a function of x alone
+(tests/test_ring_orbits.py: bit-identical images whatever ran before).
+
+The amplitude of blade i is max |q_i| over the period, the largest of the K sampled points refined by
+the parabola through it and its neighbours (the sweeps' measure, ring_sweep.window_amplitude, with
+the period's points wrapped round).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from harness.fmu.binding import FmiError
+from harness.fmu.blade import FMUError
+from harness.system.ring import Ring, RingDiverged
+from harness.system.ring_c import CRing
+from harness.system.ring_sweep import window_amplitude
+
+
+class RingMapFailed(FMUError):
+    """An evaluation of the period map failed: an FMU refused the start state or the period
+    (the Jacobi coupling diverged, a contact chattered)."""
+
+
+@dataclass(frozen=True)
+class RingShootingSettings:
+    """Numerical settings of the ring's period map, Newton and the multipliers (the fields the
+    single blade's Newton and continuation read: harness.analysis.periodic)."""
+
+    steps_per_period: int = 160  # communication steps per period (as the sweeps)
+    fd_rel: float = 1e-6  # finite-difference step relative to each unknown's scale
+    tol: float = 1e-10  # Newton converged: max scaled residual |P(x) - x| / scale
+    max_iter: int = 30
+    sensitivities: bool = False  # DP by finite differences over the state (the FMUs' are not chained)
+
+    def check(self) -> "RingShootingSettings":
+        if not (isinstance(self.steps_per_period, int) and 4 <= self.steps_per_period <= 100000):
+            raise ValueError(f"steps_per_period = {self.steps_per_period!r}: need a whole number in [4, 100000]")
+        for name, lo, hi in (("fd_rel", 1e-12, 1e-2), ("tol", 1e-15, 1e-3)):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and lo <= v <= hi):
+                raise ValueError(f"{name} = {v!r}: need a number in [{lo:g}, {hi:g}]")
+        return self
+
+
+def _typed(slave, params: dict) -> list[tuple[str, list[int], list]]:
+    """The parameters grouped by type for one set call each: [(kind, vrs, values)]."""
+    out: dict[str, tuple[list[int], list]] = {}
+    for k, v in params.items():
+        var = slave.u.vars[k]
+        kind = {"Real": "real", "Integer": "integer"}.get(var.type, "boolean")
+        vrs, vals = out.setdefault(kind, ([], []))
+        vrs.append(var.valueReference)
+        vals.append(float(v) if kind == "real" else (int(v) if kind == "integer" else bool(v)))
+    return [(k, vrs, vals) for k, (vrs, vals) in out.items()]
+
+
+class RingPeriodMap:
+    """P(x; rpm) of a ring (harness.system.ring.Ring with the built-in load); use as a context
+    manager (it keeps the ring's FMU instances open). Duck-types the single blade's PeriodMap for
+    harness.analysis.periodic's Newton and continuation: dim, model, s, scales, bounded,
+    fd_direction, at_bound, __call__."""
+
+    model = "ring"
+    DP = None  # no sensitivities: Newton and continuation take finite differences
+    # forward differences suffice: no B among the unknowns (the single blade's max |q| kink); DP of
+    # the 6-blade study ring at 5800 rpm from forward and central differences, fd_rel 1e-8..1e-4:
+    # the same multipliers to 1e-4
+    central_differences = False
+    CACHE = 4096  # images kept (x, rpm) -> P(x): a repeated x (a clamped phi, an open contact's
+    # phi column) costs no period
+
+    def __init__(self, ring: Ring, settings: RingShootingSettings = RingShootingSettings()):
+        if ring.load != "builtin":
+            raise ValueError("the period map needs the blades' built-in load (load 'builtin'): its phase "
+                             "restarts at 0 with every evaluation")
+        if ring.coupling != "feedthrough":
+            raise ValueError(f"coupling {ring.coupling!r}: the period map runs the Jacobi master's 'feedthrough'")
+        self.s = settings.check()
+        self.ring, self.n = ring, ring.n
+        modes = {int(ring.blade_params(i).get("modes", 1)) for i in range(ring.n)}
+        if len(modes) != 1:
+            raise ValueError(f"modes {sorted(modes)}: every blade of the ring needs the same number of modes")
+        self.m = modes.pop()
+        self.dim = 2 * self.m * self.n + self.n
+        self.evaluations = 0
+        self._cr = CRing(ring)
+        self.blades, self.contacts = self._cr.blades, self._cr.contacts
+        c0 = self.contacts[0]
+        kn, kd_ratio, mu, gamma, d = c0.get(["kn", "kdRatio", "mu", "gamma", "d"])
+        if int(c0.get(["frictionModel"])[0]) != 3:
+            raise ValueError("the period map's contact state is the Jenkins element's: frictionModel must be 3")
+        self.d, self.muKnCos = float(d), float(mu * kn * math.cos(gamma))
+        # phi of a contact arriving in stick (model-notes s.2: it sticks iff kd tan(gamma) <= mu kn)
+        self.arrival = min(1.0, kd_ratio * kn * math.sin(gamma) / self.muKnCos) if self.muKnCos > 0 else 1.0
+        self._bpar = [_typed(b, ring.blade_instance_params(i)) for i, b in enumerate(self.blades)]
+        self._cpar = [_typed(c, {**dict(ring.contact), "engineOrder": ring.engine_order}) for c in self.contacts]
+        names = [f"modalDisplacement[{k}]" for k in range(1, self.m + 1)] + \
+            [f"modalVelocity[{k}]" for k in range(1, self.m + 1)]
+        b0 = self.blades[0]
+        self._vr_modal = [b0.vr(n) for n in names]
+        self._vr_bspeed = b0.vr("rotorSpeed")
+        self._vr_cstart = [c0.vr(n) for n in ("frictionForce", "displacementA", "displacementB", "rotorSpeed")]
+        self._vr_cout = [c0.vr(n) for n in ("frictionForce", "relativeDisplacement")]
+        # (x bytes, rpm) -> (P(x), per-blade max |q| [m], period residual max |P(x) - x| / scales)
+        self.seen: dict[tuple[bytes, float], tuple[np.ndarray, np.ndarray, float]] = {}
+        self.last: dict[str, np.ndarray] | None = None  # the last evaluation's record (q per point)
+
+    def __enter__(self) -> "RingPeriodMap":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        self._cr.__exit__(None, None, None)
+
+    # --- the unknowns -------------------------------------------------------------------------
+    def modal(self, x: np.ndarray) -> np.ndarray:
+        """(N, 2m): blade i's q_1..q_m, q_1'..q_m'."""
+        return np.asarray(x[: 2 * self.m * self.n]).reshape(self.n, 2 * self.m)
+
+    def phi(self, x: np.ndarray) -> np.ndarray:
+        return np.asarray(x[2 * self.m * self.n:])
+
+    def tips(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(q, q') at every blade's tip (the modal coordinates summed: every mode is 1 at the tip)."""
+        y = self.modal(x)
+        return y[:, : self.m].sum(axis=1), y[:, self.m:].sum(axis=1)
+
+    def gaps(self, x: np.ndarray) -> np.ndarray:
+        """u_j = q_j - q_{j+1} at the tips."""
+        q = self.tips(x)[0]
+        return q - np.roll(q, -1)
+
+    def touching(self, x: np.ndarray) -> np.ndarray:
+        """phi_j of every contact as it would touch (see the module docstring): sigma r closing,
+        -sigma opening (only used while the contact is open)."""
+        q, v = self.tips(x)
+        u, du = q - np.roll(q, -1), v - np.roll(v, -1)
+        sigma = np.where(u >= 0.0, 1.0, -1.0)
+        return np.where(sigma * du > 0.0, sigma * self.arrival, -sigma)
+
+    def limits(self, u: np.ndarray) -> np.ndarray:
+        """L(u_j) = mu kn cos(gamma) (|u_j| - d) [N]; <= 0 where the contact is open."""
+        return self.muKnCos * (np.abs(u) - self.d)
+
+    def state(self, q_modal: np.ndarray, v_modal: np.ndarray, friction: np.ndarray) -> np.ndarray:
+        """x from the blades' modal states (N, m) each and the contacts' friction forces [N]."""
+        y = np.hstack([np.asarray(q_modal, float).reshape(self.n, self.m),
+                       np.asarray(v_modal, float).reshape(self.n, self.m)])
+        x = np.append(y.ravel(), np.zeros(self.n))
+        u = self.gaps(x)
+        L = self.limits(u)
+        x[2 * self.m * self.n:] = np.where(np.abs(u) > self.d, np.asarray(friction, float) / np.where(L > 0, L, 1.0),
+                                           self.touching(x))
+        return x
+
+    def bounded(self, x: np.ndarray) -> np.ndarray:
+        """x moved into the domain: |phi_j| <= 1, phi_j its touching value while contact j is open."""
+        x = np.array(x, dtype=float)
+        open_ = np.abs(self.gaps(x)) <= self.d
+        k = 2 * self.m * self.n
+        x[k:] = np.where(open_, self.touching(x), np.clip(x[k:], -1.0, 1.0))
+        return x
+
+    def fd_direction(self, x: np.ndarray, j: int) -> float:
+        """+1, or -1 for a phi at its upper half (a forward step could leave the cone)."""
+        return -1.0 if j >= 2 * self.m * self.n and x[j] > 0.0 else 1.0
+
+    def at_bound(self, x: np.ndarray, j: int) -> bool:
+        return j >= 2 * self.m * self.n and abs(x[j]) >= 1.0
+
+    def omega(self, rpm: float) -> float:
+        return self.ring.engine_order * 2.0 * math.pi * rpm / 60.0
+
+    def scales(self, x: np.ndarray, speed: float) -> np.ndarray:
+        """S for every displacement, S omega for every rate, 1 for every phi; S the largest tip or
+        modal displacement (or rate / omega), at least the gap d."""
+        w = self.omega(speed)
+        y = self.modal(x)
+        q, v = self.tips(x)
+        S = max(float(np.max(np.abs(q))), float(np.max(np.abs(v))) / w, float(np.max(np.abs(y[:, : self.m]))),
+                float(np.max(np.abs(y[:, self.m:]))) / w, self.d, 1e-9)
+        per_blade = [S] * self.m + [S * w] * self.m
+        return np.array(per_blade * self.n + [1.0] * self.n)
+
+    # --- one period ---------------------------------------------------------------------------
+    def _start(self, x: np.ndarray, rpm: float) -> None:
+        y = self.modal(x)
+        q = self.tips(x)[0]
+        u = q - np.roll(q, -1)
+        F = np.where(np.abs(u) > self.d, np.clip(self.phi(x), -1.0, 1.0) * self.limits(u), 0.0)  # in the cone
+        for i, b in enumerate(self.blades):
+            s = b.s
+            s.reset()
+            s.setup_experiment(0.0)
+            for kind, vrs, vals in self._bpar[i]:
+                getattr(s, f"set_{kind}")(vrs, vals)
+            s.set_real(self._vr_modal + [self._vr_bspeed], [*map(float, y[i]), float(rpm)])
+            s.enter_initialization_mode()
+            s.exit_initialization_mode()
+        for j, c in enumerate(self.contacts):
+            s = c.s
+            s.reset()
+            s.setup_experiment(0.0)
+            for kind, vrs, vals in self._cpar[j]:
+                getattr(s, f"set_{kind}")(vrs, vals)
+            s.set_real(self._vr_cstart, [float(F[j]), float(q[j]), float(q[(j + 1) % self.n]), float(rpm)])
+            s.enter_initialization_mode()
+            s.exit_initialization_mode()
+
+    def __call__(self, x: np.ndarray, speed: float, jacobian: bool = True) -> tuple[np.ndarray, float]:
+        """(P(x), the largest blade's max |q| over the period [m]); the per-blade amplitudes and the
+        scaled residual are kept in `seen` under (x bytes, speed). Raises RingMapFailed if an FMU refuses the start
+        state or the period. `jacobian` is accepted for the single blade's interface (unused)."""
+        x = np.asarray(x, dtype=float)
+        rpm = float(speed)
+        if not (math.isfinite(rpm) and rpm > 0.0) or not np.all(np.isfinite(x)) or len(x) != self.dim:
+            raise RingMapFailed(f"period map at {rpm!r} rpm: need a positive speed and {self.dim} finite unknowns")
+        key = (x.tobytes(), rpm)
+        if key in self.seen:
+            Px, amp, _ = self.seen[key]
+            return Px.copy(), float(amp.max())
+        K = self.s.steps_per_period
+        T = 60.0 / (self.ring.engine_order * rpm)
+        self.evaluations += 1
+        try:
+            self._start(x, rpm)
+            self._cr.rpm = rpm
+            self._cr.restart_exact(T / K)
+            rec = self._cr.advance(K, rpm, finish=True)
+        except (FmiError, RingDiverged, RuntimeError) as e:
+            raise RingMapFailed(f"period map at {rpm:.6g} rpm: {e}") from e
+        ym = np.array([b.s.get_real(self._vr_modal) for b in self.blades])
+        out = np.array([c.s.get_real(self._vr_cout) for c in self.contacts])
+        Px = self.state(ym[:, : self.m], ym[:, self.m:], out[:, 0])
+        q = rec["q"]
+        amp = window_amplitude(np.vstack([q[K - 1], q[:K], q[0]]))
+        if len(self.seen) >= self.CACHE:
+            self.seen.pop(next(iter(self.seen)))
+        self.seen[key] = (Px.copy(), amp, float(np.max(np.abs(Px - x) / self.scales(x, rpm))))
+        self.last = rec
+        return Px, float(amp.max())
+
+    def measures(self, x: np.ndarray, speed: float) -> tuple[np.ndarray, float]:
+        """(per-blade max |q| over the period [m], scaled period residual) of x at speed (one
+        evaluation unless known)."""
+        key = (np.asarray(x, dtype=float).tobytes(), float(speed))
+        if key not in self.seen:
+            self(x, speed)
+        return self.seen[key][1:]

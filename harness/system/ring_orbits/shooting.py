@@ -1,0 +1,71 @@
+"""Periodic orbits of the ring: Newton shooting on its period map, Floquet multipliers.
+
+Newton on R(x) = P(x) - x is the single blade's (harness.analysis.periodic.shooting.newton: damped,
+quasi-Newton with a forward-difference DP updated by Broyden, scaled by the map's `scales`). The
+monodromy matrix at a converged orbit is DP by central differences over the state (one-sided where a
+phi sits on the slip limit), its eigenvalues the Floquet multipliers. The period residual reported
+is max |P(x) - x| / scale (scales: the largest displacement for every displacement, times omega for
+every rate, 1 for every phi).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from harness.analysis.periodic.shooting import UNIT_CIRCLE_TOL, classify, jacobian, multipliers, newton
+from harness.system.ring_orbits.period_map import RingMapFailed, RingPeriodMap
+
+
+@dataclass
+class RingOrbit:
+    """One periodic orbit of the ring at one speed."""
+
+    speed: float  # [rpm]
+    x: np.ndarray  # the state at load phase 0 (period_map)
+    amplitudes: np.ndarray  # per blade max |q| over the period [m]
+    multipliers: np.ndarray  # Floquet multipliers, largest modulus first
+    residual: float  # scaled period residual max |P(x) - x| / scale
+    iterations: int = 0
+
+    @property
+    def amplitude(self) -> float:
+        return float(np.max(self.amplitudes))
+
+    @property
+    def max_multiplier(self) -> float:
+        return float(np.max(np.abs(self.multipliers)))
+
+    @property
+    def stable(self) -> bool:
+        return self.max_multiplier < 1.0 - UNIT_CIRCLE_TOL
+
+    @property
+    def label(self) -> str:
+        return classify(self.multipliers)
+
+    def as_dict(self) -> dict:
+        return {"speed_rpm": self.speed, "amplitudes_m": self.amplitudes.tolist(), "stable": self.stable,
+                "label": self.label, "max_multiplier": self.max_multiplier, "period_residual": self.residual,
+                "multipliers": [{"re": float(m.real), "im": float(m.imag)} for m in self.multipliers]}
+
+
+def monodromy(pm: RingPeriodMap, x: np.ndarray, speed: float, Px: np.ndarray | None = None) -> np.ndarray:
+    """DP at x by central differences (one-sided at a bound), in physical units."""
+    if Px is None:
+        Px = pm(x, speed)[0]
+    return jacobian(pm, x, speed, Px, central=True)
+
+
+def shoot(pm: RingPeriodMap, x0: np.ndarray, speed: float, tol: float | None = None) -> RingOrbit | None:
+    """The periodic orbit Newton reaches from x0 at speed, with its multipliers; None if Newton
+    does not converge or the map fails."""
+    sol = newton(pm, x0, speed, tol=tol)
+    if sol is None:
+        return None
+    try:
+        J = monodromy(pm, sol.x, speed, sol.Px)
+    except RingMapFailed:
+        return None
+    amp, res = pm.measures(sol.x, speed)
+    return RingOrbit(float(speed), sol.x.copy(), amp.copy(), multipliers(J), res, sol.iterations)

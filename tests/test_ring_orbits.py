@@ -1,0 +1,125 @@
+"""The ring's periodic orbits (harness/system/ring_orbits): the mistuning study's tuned ring (6
+blades, EO 3, c = 298 N s/m2, Fw0 = 300 N/m, extrapolation order 2; its travelling wave is unstable
+at 5800 rpm, the state reached from rest stable) and a 4-blade ring of the same blades.
+
+Checks and tolerances:
+- the period map is a function of its state: the same x gives a bit-identical image whatever ran
+  before (another speed, another state); nothing else carries over;
+- every orbit Newton returns has a period residual max |P(x) - x| / scale <= 1e-8 (the shooting's
+  own tolerance is 1e-10);
+- the multipliers against the time domain (the co-simulation iterated period by period from the
+  orbit moved by 1e-6 of its scale along a random direction, up to 60 periods or until the deviation
+  passes 1e-3 of the scale, still linear): the per-period growth of the deviation over the second
+  half of the run (the dominant multiplier has taken over) equals the largest |multiplier| within
+  5 % (measured: 2e-5..4e-5 on the unstable orbits, 9e-4 and 8e-3 on the stable ones, whose
+  deviation decays more slowly through complex pairs); a stable orbit's deviation shrinks, an
+  unstable one's grows;
+- the same check with a deliberately broken DP (one column doubled) or a broken stability test
+  (stable read as the largest |multiplier| above 1) fails.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from harness.system.ring import Ring
+from harness.system.ring_orbits.period_map import RingPeriodMap
+from harness.system.ring_orbits.seeds import from_rest, travelling_wave
+from harness.analysis.periodic.shooting import multipliers
+from harness.system.ring_orbits.shooting import monodromy, shoot
+
+RATE_RTOL = 0.05  # measured: 2e-5..4e-5 (unstable orbits), 9e-4 and 7.9e-3 (stable: slower, complex pairs)
+STUDY = Ring(n=6, engine_order=3, fw0=300.0, blade={"c": 298.0}, order=2)
+SMALL = Ring(n=4, engine_order=3, fw0=300.0, blade={"c": 298.0}, order=2)
+
+
+@pytest.fixture(scope="module")
+def pm():
+    with RingPeriodMap(STUDY) as m:
+        yield m
+
+
+def test_map_is_a_function_of_the_state():
+    with RingPeriodMap(SMALL) as pm:
+        _function_of_state(pm)
+
+
+def _function_of_state(pm: RingPeriodMap) -> None:
+    x = from_rest(pm, [6000.0], max_periods=40, min_periods=40)[0].x
+    pm.seen.clear()
+    P1, A1 = pm(x, 6000.0)
+    pm(np.zeros(pm.dim), 6500.0)  # something else in between: another speed, another state
+    pm(P1 * 1.1, 5000.0)
+    pm.seen.clear()  # no cached image: the period is run again
+    e = pm.evaluations
+    P2, A2 = pm(x, 6000.0)
+    assert pm.evaluations == e + 1
+    assert np.array_equal(P1, P2) and A1 == A2
+
+
+def growth(pm: RingPeriodMap, x: np.ndarray, speed: float, seed: int = 0) -> tuple[float, float, float]:
+    """(per-period growth of the scaled deviation over the second half of the run, first and last
+    deviation): from x moved by 1e-6 of its scale along a random direction, the map iterated until
+    the deviation passes 1e-3 (still linear) or 60 periods."""
+    sc = pm.scales(x, speed)
+    d = np.random.default_rng(seed).standard_normal(pm.dim)
+    y = pm.bounded(x + 1e-6 * sc * d / np.max(np.abs(d)))
+    dev = []
+    for _ in range(60):
+        y = pm(y, speed)[0]
+        dev.append(float(np.linalg.norm((y - x) / sc)))
+        if dev[-1] > 1e-3:
+            break
+    end = len(dev) - 1
+    start = max(3, end // 2)
+    return (dev[end] / dev[start]) ** (1 / (end - start)), dev[0], dev[end]
+
+
+@pytest.fixture(scope="module")
+def orbits(pm):
+    """Stable and unstable orbits of the study's ring: the travelling wave and the states reached
+    from rest (kicked) at three speeds."""
+    out = []
+    for sd in travelling_wave(pm, [5800.0, 6600.0]) + from_rest(pm, [5800.0, 6200.0, 6600.0]):
+        o = shoot(pm, sd.x, sd.speed)
+        if o is not None:
+            out.append(o)
+    return out
+
+
+def test_period_residuals(orbits):
+    assert len(orbits) >= 5
+    for o in orbits:
+        assert o.residual <= 1e-8, (o.speed, o.residual)
+
+
+def agrees(rate: float, first: float, last: float, mu_max: float, stable: bool) -> bool:
+    """The time domain's growth agrees with the largest multiplier (10 %) and with the stability."""
+    return abs(rate - mu_max) <= RATE_RTOL * mu_max and (last < first) == stable
+
+
+@pytest.fixture(scope="module")
+def measured(pm, orbits):
+    return [growth(pm, o.x, o.speed) for o in orbits]
+
+
+def test_multipliers_against_the_time_domain(orbits, measured):
+    assert {o.stable for o in orbits} == {True, False}, "need stable and unstable orbits"
+    for o, (rate, first, last) in zip(orbits, measured):
+        assert agrees(rate, first, last, o.max_multiplier, o.stable), (o.speed, rate, o.max_multiplier, o.stable)
+
+
+def test_broken_jacobian_fails(pm, orbits, measured):
+    """DP with one column doubled: its largest multiplier disagrees with the time domain."""
+    bad = 0
+    for o, (rate, first, last) in zip(orbits, measured):
+        J = monodromy(pm, o.x, o.speed)
+        J[:, 0] *= 2.0
+        mu = float(np.max(np.abs(multipliers(J))))
+        bad += not agrees(rate, first, last, mu, mu < 1.0)
+    assert bad > 0
+
+
+def test_broken_stability_test_fails(orbits, measured):
+    """Stability read as the largest |multiplier| above 1 (inverted): the check fails."""
+    assert not all(agrees(r, f, la, o.max_multiplier, o.max_multiplier > 1.0) for o, (r, f, la) in zip(orbits, measured))
