@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from harness.system.ring import Ring
-from harness.system.ring_orbits.continuation import RING_CONTINUATION, RingBranch, switch, trace
+from harness.system.ring_orbits.continuation import RingBranch, switch, trace
 from harness.system.ring_orbits.period_map import RingPeriodMap, RingShootingSettings
 from harness.system.ring_orbits.seeds import from_rest, sweep, travelling_wave
 from harness.system.ring_orbits.shooting import shoot
