@@ -35,8 +35,12 @@ from harness.files.atomic import atomic_write_text
 from harness.analysis.periodic.branches import BranchSettings, trace_branches
 from harness.analysis.periodic.period_map import ShootingSettings
 from harness.analysis.plateau import PLATEAU_OUTPUTS
+from harness.bench_ring_orbits import SECTION as RING_ORBITS_SECTION
+from harness.bench_ring_orbits import ring_orbits_cost
+from harness.bench_ring_orbits import section as ring_orbits_section
 from harness.fmu.blade import BladeFMU
 from harness.fmu.build import BUILD_DIR, REPO_ROOT, build
+from harness.fmu.pool import worker_fmu
 from harness.model.excitation import AeroLoad, Stepped, fmu_view
 from harness.studies.paper import SIZES, STUDIES, Size, base_params, study_specs
 from harness.system import ring_c, ring_libcosim
@@ -67,6 +71,7 @@ class BenchSize:
     jacobian_curves: int | None = None  # of JACOBIAN_CURVES (None: all)
     jacobian_range: tuple[float, float] = (3000.0, 12000.0)
     cli_repeats: int = 15
+    ring_orbits: Mapping[str, Any] = field(default_factory=dict)  # ring_orbits_cost's sizes ({}: its defaults)
     reproduce: str | Size = "default"  # the reproduce / transient rows' size (`--size`)
     extras: bool = True  # reproduce's Fig. 2, 4/5, Campbell, iteration (fixed sizes: tens of seconds)
     step_args: tuple[str, ...] = ()  # for build/bench_step
@@ -191,12 +196,12 @@ def _inside(fmu: Any, fn, repeats: int) -> tuple[float, int]:
     """min time spent inside fmi2DoStep over `repeats` calls of fn, and the number of doSteps."""
     best, calls = math.inf, 0
     for _ in range(repeats):
-        timed = _Timed(fmu._doStep)
-        fmu._doStep = timed
+        timed = _Timed(fmu.stepper.doStep)
+        fmu.stepper.doStep = timed
         try:
             fn()
         finally:
-            fmu._doStep = timed.fn
+            fmu.stepper.doStep = timed.fn
         best, calls = min(best, timed.total), timed.calls
     return best, calls
 
@@ -238,7 +243,7 @@ def sweep_overhead(fmu_path: str, repeats: int = 3,
         s = sw.SweepSettings(refine_levels=0, steps_per_period=spp)
         task = sw.ChainTask(base_params(), tuple(speeds), "up", s,
                             *sw.fmu_identity(fmu_path), None)
-        fmu = sw.worker_fmu(task.fmu_path)
+        fmu = worker_fmu(task.fmu_path)
         sw.run_chain(task)  # warm-up
         wall, cpu, recs = _best(lambda: sw.run_chain(task), repeats)
         inside, n = _inside(fmu, lambda: sw.run_chain(task), repeats)
@@ -606,14 +611,15 @@ TINY_REPRODUCE = Size("tiny", speeds=(3000.0, 4000.0), fixed_speeds=(4000.0,), h
                       seed_step=1000.0, modes=(), campbell_modes=0)
 QUICK = BenchSize("quick", repeats=1, sim_scale=0.02, sweep_speeds=(3000.0, 3500.0),
                   ring={**RING_BENCH, "n": 4, "stop_time": 0.005}, ring_repeats=1, hb_values=1, hb_speeds=3,
-                  jacobian_curves=2, jacobian_range=(8000.0, 9000.0), cli_repeats=1, reproduce=TINY_REPRODUCE,
-                  extras=False, step_args=("quick",))
+                  jacobian_curves=2, jacobian_range=(8000.0, 9000.0), cli_repeats=1,
+                  ring_orbits=dict(repeats=1, band=(5800.0, 6400.0), seed_points=2, points=1),
+                  reproduce=TINY_REPRODUCE, extras=False, step_args=("quick",))
 
 
 def run_bench(output_file: Path | str = BENCH_DIR / "RESULTS.md", size: str = "default", workers: int | None = None,
               skip_reproduce: bool = False, only: str | None = None, only_modes: bool = False,
               quick: bool = False) -> int:
-    """Measure every section (or `only` one: "ring" or "cli"; or `only_modes`: the cost per RK4 step vs the
+    """Measure every section (or `only` one: "ring", "ring-orbits" or "cli"; or `only_modes`: the cost per RK4 step vs the
     number of modes) and write `output_file` (Markdown) and its .json beside it. `quick`: every row
     at the QUICK size, never written over bench/RESULTS.md (into a temporary directory instead)."""
     out = Path(output_file)
@@ -635,6 +641,13 @@ def run_bench(output_file: Path | str = BENCH_DIR / "RESULTS.md", size: str = "d
             print("24-blade ring: built-in load and the former ring ...", flush=True)
             data["ring"] = ring_cost()
             heading, section = RING_SECTION, _ring_section(data["ring"], data["date"])
+        elif only == "ring-orbits":
+            load = os.getloadavg()[0]
+            print("the ring's periodic steady states ...", flush=True)
+            data["ring_orbits"] = ring_orbits_cost()
+            heading = RING_ORBITS_SECTION
+            section = ring_orbits_section(data["ring_orbits"], _machine_text(data.get("machine") or machine(), load),
+                                          time.strftime("%Y-%m-%d %H:%M"))
         else:
             print("command line start-up ...", flush=True)
             data["cli"] = cli_start()
@@ -673,6 +686,9 @@ def measure(out: Path, size: BenchSize, workers: int | None, skip_reproduce: boo
     data["ring"] = ring_cost(size.ring_repeats, size.ring)
     print("command line start-up ...", flush=True)
     data["cli"] = cli_start(size.cli_repeats)
+    print("the ring's periodic steady states ...", flush=True)
+    load = os.getloadavg()[0]
+    data["ring_orbits"] = ring_orbits_cost(**size.ring_orbits)
     if not skip_reproduce:
         name = size.reproduce if isinstance(size.reproduce, str) else size.reproduce.name
         print(f"reproduce --size {name} (branches) ...", flush=True)
@@ -680,6 +696,12 @@ def measure(out: Path, size: BenchSize, workers: int | None, skip_reproduce: boo
         print("the same studies by transients from a cold cache (the former path) ...", flush=True)
         data["transient"] = transient_studies(size.reproduce, workers)
     write_results(out, data)
+    sec = "\n".join(ring_orbits_section(data["ring_orbits"], _machine_text(data["machine"], load), data["date"]))
+    atomic_write_text(out, replace_section(out.read_text(), RING_ORBITS_SECTION, sec))
     atomic_write_text(out.with_suffix(".json"), json.dumps(data, indent=1, default=str))
     print(out.read_text())
     return 0
+
+
+def _machine_text(m: dict[str, Any], load: float) -> str:
+    return f"{m['nproc']} CPU(s), {m['cpu']}, {m['system']}, load average {load:.1f} at the start"

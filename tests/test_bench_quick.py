@@ -12,7 +12,8 @@ SECTIONS = ("## FMU internal step cost", "## Cost per RK4 step vs the number of 
             "## Cost of one fmi2DoStep through the harness loop", "## A time-domain sweep driven from Python",
             "## The same run through the Python reference", "## Harmonic balance for all studies",
             "## Branches: the Jacobian from the FMU's sensitivities", "## The bladed-disk ring",
-            "## `make run` (`reproduce`)", "### Side by side: the same studies by transients")
+            "## `make run` (`reproduce`)", "### Side by side: the same studies by transients",
+            "## The ring's periodic steady states", "## Command line start-up")
 
 
 def test_every_bench_row_runs_at_the_quick_size(tmp_path, capsys):

@@ -81,6 +81,32 @@ def test_shared_blade_variables_identical_in_both_blades():
         assert [(t.tag, t.attrib) for t in a] == [(t.tag, t.attrib) for t in b], name
 
 
+def test_shared_contact_parameters_identical_in_blade_and_contact():
+    # the facts of ../contact.toml (value reference, type, unit, bounds); ShroudContact keeps its own
+    # descriptions and frictionModel's start value
+    sb = _variables(MODELS / "ShroudedBlade" / "modelDescription.xml")
+    sc = _variables(MODELS / "ShroudContact" / "modelDescription.xml")
+    for name in ("kn", "kdRatio", "mu", "gamma", "d", "B", "frictionModel", "projection", "engineOrder", "gating"):
+        a, b = sb[name], sc[name]
+        assert {k: v for k, v in a.attrib.items() if k != "description"} == \
+               {k: v for k, v in b.attrib.items() if k != "description"}, name
+        ta, tb = dict(a[0].attrib), dict(b[0].attrib)
+        if name == "frictionModel":
+            assert (ta.pop("start"), tb.pop("start")) == ("1", "3")
+        assert (a[0].tag, ta) == (b[0].tag, tb), name
+
+
+def test_a_bad_spec_is_refused_with_its_place(tmp_path):
+    spec = tmp_path / "models" / "M" / "model.toml"
+    spec.parent.mkdir(parents=True)
+    shutil.copy(MODELS / "common.toml", tmp_path / "models" / "common.toml")
+    var = 'type = "Real"\ncausality = "parameter"\nstart = 1.0\nstore = "par"\n'
+    spec.write_text('[model]\nname = "M"\nguid = "{g}"\ndescription = "d"\n[model.fmi2]\nsources = []\n'
+                    f'[[var]]\nname = "a"\nvr = 1\n{var}[[var]]\nname = "b"\nvr = 1\n{var}')
+    proc = _gen(str(spec), "--out", str(tmp_path / "gen"))
+    assert proc.returncode == 2 and "value reference 1 of 'b' is taken by 'a'" in proc.stderr
+
+
 def _stage(root: Path) -> Path:
     stage = root / "stage"
     for rel, data in [("modelDescription.xml", b"<x/>"), ("binaries/linux64/M.so", b"\x7fELF"),

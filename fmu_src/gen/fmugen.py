@@ -42,7 +42,8 @@ def expand_sources(items: list[str], groups: dict[str, list[str]], where: str) -
 def generate(spec: Path) -> dict[str, str]:
     """File name -> text of everything generated from `spec`."""
     model = fmuspec.load(spec)
-    rel = spec.resolve().relative_to(FMU_SRC.parent).as_posix()
+    spec = spec.resolve()
+    rel = spec.relative_to(FMU_SRC.parent).as_posix() if spec.is_relative_to(FMU_SRC.parent) else spec.as_posix()
     with open(FMU_SRC / "sources.toml", "rb") as f:
         groups = tomllib.load(f)
     generated = [f"models/{model.name}/variables.h", f"models/{model.name}/variables.inc"]

@@ -206,10 +206,11 @@ def load(path: Path) -> Model:
         where = f"{path} [[var]] #{n + 1}"
         if "use" in e:
             names = e["use"] if isinstance(e["use"], list) else [e["use"]]
-            for name in names:
+            for j, name in enumerate(names):
                 if name not in shared:
                     raise SpecError(f"{where}: use = {name!r} is not defined in {info.get('include', [])}")
-                over = {k: v for k, v in e.items() if k != "use"}
+                # the entry's keys override the included ones; its comment goes before the first only
+                over = {k: v for k, v in e.items() if k != "use" and (k != "comment" or j == 0)}
                 entries += [(x, where) for x in _expand(dict(shared[name], **over), lists, where)]
         else:
             entries += [(x, where) for x in _expand(e, lists, where)]

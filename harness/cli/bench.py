@@ -1,6 +1,6 @@
 """Benchmark the FMU and the harness and write bench/RESULTS.md (make bench; a checkout only).
 
-`python -m harness bench [--size SIZE] [--workers N] [--skip-reproduce] [--only ring|cli | --only-modes]
+`python -m harness bench [--size SIZE] [--workers N] [--skip-reproduce] [--only ring|ring-orbits|cli | --only-modes]
 [--quick] [--output-file MD]`: the measurements of harness.bench, written to MD and its .json beside it.
 """
 from __future__ import annotations
@@ -18,7 +18,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--skip-reproduce", action="store_true", help="do not time the whole reproduce")
     p.add_argument("--output-file", default=str(BENCH_DIR / "RESULTS.md"), metavar="MD",
                    help="where to write the results (default bench/RESULTS.md)")
-    p.add_argument("--only", choices=("ring", "cli"),
+    p.add_argument("--only", choices=("ring", "ring-orbits", "cli"),
                    help="measure only this section and keep the others from the output file's .json "
                         "(default: every section)")
     p.add_argument("--only-modes", action="store_true",

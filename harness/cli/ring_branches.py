@@ -24,15 +24,14 @@ def run_branches(ring: Ring, args: argparse.Namespace, common: dict) -> int:
     r = ring_branches(ring, (lo, hi), points=args.seed_points,
                       settings=RingShootingSettings(steps_per_period=args.steps_per_period))
     out = {**common, **r.as_dict()}
-    sw = None
     if args.plot:
         sw = sweep(ring, np.linspace(lo, hi, args.points), "both", rtol=args.settle_rtol, max_time=args.max_time,
                    steps_per_period=args.steps_per_period)
         out["sweep"] = {"speeds_rpm": sw.speeds_rpm.tolist(),
                         "amplitudes_m": {d: a.tolist() for d, a in sw.amplitudes_m.items()},
                         "settled": {d: a.tolist() for d, a in sw.settled.items()}}
-        run_plots.ring_branches(args.plot, r, sw, f"{ring.n}-blade ring, EO {ring.engine_order}, Fw0 = {ring.fw0:g} N/m: "
-                      "periodic steady states")
+        run_plots.ring_branches(args.plot, out, f"{ring.n}-blade ring, EO {ring.engine_order}, Fw0 = {ring.fw0:g} "
+                                "N/m: periodic steady states")
     if args.csv:
         write_branches_csv(args.csv, r)
     if args.json:

@@ -23,7 +23,7 @@ def save_png(fig: Any, path: str | os.PathLike[str], dpi: int = 110, tight: bool
         fig.savefig(buf, format="png", dpi=dpi, **({"bbox_inches": "tight"} if tight else {}))
     finally:
         plt.close(fig)
-    atomic_write_bytes(path, buf.getvalue())
+    atomic_write_bytes(Path(path), buf.getvalue())
     return Path(path)
 
 

@@ -24,11 +24,13 @@ def with_units(result: np.ndarray, variables: Mapping[str, Any]) -> np.ndarray:
         v = variables.get(name)
         return None if v is None else (v.unit or (v.declaredType.unit if v.declaredType else None))
     names = result.dtype.names or ()
-    named = np.dtype({"names": [with_unit(n, unit(n)) for n in names],
-                      "formats": [result.dtype.fields[n][0] for n in names],
-                      "offsets": [result.dtype.fields[n][1] for n in names],
-                      "itemsize": result.dtype.itemsize})
-    return result.view(named).copy()  # a new dtype: the caller's array keeps its names
+    fields: Mapping[str, Any] = result.dtype.fields or {}
+    named: np.dtype[Any] = np.dtype({"names": [with_unit(n, unit(n)) for n in names],
+                                     "formats": [fields[n][0] for n in names],
+                                     "offsets": [fields[n][1] for n in names],
+                                     "itemsize": result.dtype.itemsize})
+    out: np.ndarray = result.view(named).copy()  # a new dtype: the caller's array keeps its names
+    return out
 
 
 def _temporary_beside(target: Path, suffix: str) -> Path:

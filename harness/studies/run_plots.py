@@ -3,7 +3,6 @@ over time (`simulate --plot`), a ring's blade amplitudes over a speed band (`rin
 --plot`) and its branches of periodic steady states (`ring --speeds ... --branches --plot`)."""
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import Any
 
@@ -69,30 +68,38 @@ def ring_sweep(path: str | Path, r: Any, tuned: Any, title: str) -> Path:
     return save_png(fig, path, dpi=120, tight=False)
 
 
-def ring_branches(path: str | Path, r: Any, sw: Any, title: str) -> Path:
-    """`ring --speeds ... --branches --plot`: the branches of periodic steady states (largest blade;
-    stable solid, unstable dashed, bifurcations marked) with a sweep's settled points over them."""
+def ring_branches(path: str | Path, out: dict, title: str) -> Path:
+    """`ring --speeds ... --branches --plot`: the branches of periodic steady states of `out`
+    (RingBranches.as_dict(), with a sweep's "sweep" entry if any): the largest blade, stable solid,
+    unstable dashed, bifurcations marked, the sweep's settled points over them."""
     fig, ax = plt.subplots(figsize=(9, 5.5))
     colors = plt.get_cmap("tab10")
-    for k, b in enumerate(r.branches):
-        S, A, st = b.speeds, b.amplitudes.max(axis=1) * 1e3, b.stable
+    for k, b in enumerate(out["branches"]):
+        S, st = np.array(b["speeds_rpm"]), np.array(b["stable"])
+        A = np.array(b["amplitudes_m"]).max(axis=1) * 1e3
         c = colors(k % 10)
         for i in range(len(S) - 1):
-            ax.plot(S[i:i + 2], A[i:i + 2], "-" if st[i] and st[i + 1] else "--", color=c, lw=1.6 if st[i] else 1.0)
-        for x in b.bifurcations:
-            ax.plot([x.speed], [x.amplitude * 1e3], "o" if x.kind == "fold" else "d", ms=4, mfc="none", color=c)
-    if sw is not None:
-        for d, a in sw.amplitudes_m.items():
-            ok = sw.settled[d].all(axis=1)
-            ax.plot(sw.speeds_rpm[ok], a[ok].max(axis=1) * 1e3, "^" if d == "up" else "v", ms=6, color="k",
-                    mfc="none", label=f"sweep {d}: settled, largest blade")
-    if not math.isnan(r.peak_stable_amplitude):
-        ax.plot([r.peak_stable_speed], [r.peak_stable_amplitude * 1e3], "*", color="red", ms=14,
-                label=f"largest stable: {r.peak_stable_amplitude * 1e3:.4f} mm at {r.peak_stable_speed:.0f} rpm")
-    ax.plot([], [], "k-", label="stable (largest blade)")
-    ax.plot([], [], "k--", label="unstable")
+            both = bool(st[i] and st[i + 1])
+            ax.plot(S[i:i + 2], A[i:i + 2], "-" if both else "--", color=c, lw=1.8 if both else 0.9)
+        for x in b["bifurcations"]:
+            ax.plot([x["speed_rpm"]], [x["amplitude_m"] * 1e3], "o" if x["kind"] == "fold" else "d", ms=4,
+                    mfc="none", color=c)
+    sw = out.get("sweep")
+    if sw:
+        S = np.array(sw["speeds_rpm"])
+        for d, a in sw["amplitudes_m"].items():
+            a, ok = np.array(a), np.array(sw["settled"][d]).all(axis=1)
+            ax.plot(S[ok], a[ok].max(axis=1) * 1e3, "^" if d == "up" else "v", ms=6, color="k", mfc="none",
+                    label=f"sweep {d}: settled, largest blade")
+    if out.get("peak_stable_amplitude_m") is not None:
+        a, s = out["peak_stable_amplitude_m"], out["peak_stable_speed_rpm"]
+        ax.plot([s], [a * 1e3], "*", color="red", ms=14, label=f"largest stable: {a * 1e3:.4f} mm at {s:.0f} rpm")
+    ax.plot([], [], "k-", lw=1.8, label="stable (largest blade)")
+    ax.plot([], [], "k--", lw=0.9, label="unstable")
     ax.plot([], [], "ko", mfc="none", ms=4, label="fold")
-    ax.plot([], [], "kd", mfc="none", ms=4, label="branch point / NS / PD")
+    ax.plot([], [], "kd", mfc="none", ms=4, label="branch point, Neimark-Sacker, period doubling")
+    lo, hi = out["band_rpm"]
+    ax.set_xlim(lo - 0.02 * (hi - lo), hi + 0.02 * (hi - lo))
     ax.set_xlabel("rotor speed [rpm]")
     ax.set_ylabel("largest blade amplitude max|q| [mm]")
     ax.set_title(title, fontsize=10)

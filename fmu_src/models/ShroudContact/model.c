@@ -123,7 +123,7 @@ static FmiStatus checkStartForce(FmiInstance *inst, const char *fn, double u0)
         fmiLogStatus(inst, FmiError,
                      "%s: frictionForce = %.15g N: its start value applies only to frictionModel 3 (the "
                      "time-domain Jenkins element), here frictionModel = %d: accepted range [0, 0] N",
-                     fn, F0, (int)d->ipar[IparFriction]);
+                     fn, F0, (int)d->ipar[IparFrictionModel]);
         return FmiError;
     }
     if (!(fabs(u0) > dd)) {
@@ -156,13 +156,13 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
     cp.mu = p[ParMu];
     cp.gamma = p[ParGamma];
     cp.d = p[ParD];
-    rc = ceBuild(&d->model, &cp, (FrictionModel)d->ipar[IparFriction], (Projection)d->ipar[IparProjection],
+    rc = ceBuild(&d->model, &cp, (FrictionModel)d->ipar[IparFrictionModel], (Projection)d->ipar[IparProjection],
                  d->ipar[IparGating] != 0, p[ParB], d->ipar[IparEngineOrder]);
     if (rc != 0) {
         fmiLogStatus(inst, FmiError,
                      "%s: the contact parameters kn = %g N/m, kdRatio = %g, mu = %g, gamma = %g rad, d = %g m, "
                      "B = %g m (frictionModel %d) are not usable together%s", fn, cp.kn, cp.kdRatio, cp.mu,
-                     cp.gamma, cp.d, p[ParB], (int)d->ipar[IparFriction],
+                     cp.gamma, cp.d, p[ParB], (int)d->ipar[IparFrictionModel],
                      rc == 2 ? ": the describing function (eq. 7-13) failed at B" : "");
         return FmiError;
     }

@@ -6,8 +6,9 @@ grid speed and a sweep up and back down the grid. A seed whose state already lie
 symmetry.py, by the per-blade amplitudes) is dropped; otherwise Newton finds its orbit, which is
 dropped if it lies on a traced branch, else continued both ways across the band (continuation.py)
 until it leaves the band or runs onto a branch traced before.
-At every branch point the other branch is entered along the critical eigenvector (continuation.switch)
-and traced too. The largest stable steady state: the largest blade amplitude over the stable points,
+At every branch point next to a stable point (where a stable branch can emanate; at most
+`max_switches` in all) the other branch is entered along the critical eigenvector
+(continuation.switch) and traced too. The largest stable steady state: the largest blade amplitude over the stable points,
 the located peaks that are stable, and the stability boundaries (a fold bounding a stable part, a
 branch point, period doubling or Neimark-Sacker point next to a stable point).
 """
@@ -19,6 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from harness.analysis.periodic.shooting import newton
 from harness.system.ring import Ring
 from harness.system.ring_orbits.continuation import RingBranch, switch, trace
 from harness.system.ring_orbits.period_map import RingPeriodMap, RingShootingSettings
@@ -75,6 +77,16 @@ def known(branches: list[RingBranch], speed: float, amps: np.ndarray, maps: list
     return any(on_branch(b, speed, amps, maps, rtol) for b in branches)
 
 
+def merged(branches: list[RingBranch], maps: list[np.ndarray]) -> list[RingBranch]:
+    """The branches without those whose every point lies on another kept branch (up to the ring's
+    symmetries): a branch entered twice, from two seeds or from a branch point."""
+    kept: list[RingBranch] = []
+    for br in sorted(branches, key=lambda b: -len(b.orbits)):
+        if not all(known(kept, o.speed, o.amplitudes, maps, SAME_RTOL) for o in br.orbits):
+            kept.append(br)
+    return kept
+
+
 def peak_stable(branches: list[RingBranch], band: tuple[float, float]) -> tuple[float, float, int]:
     """(amplitude [m], speed [rpm], blade) of the largest stable steady state in the band (see the
     module docstring); nan, nan, -1 if none."""
@@ -96,7 +108,8 @@ def peak_stable(branches: list[RingBranch], band: tuple[float, float]) -> tuple[
 
 def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
                   settings: RingShootingSettings = RingShootingSettings(), switch_branches: bool = True,
-                  max_branches: int = 24, settle: float = 1e-3, max_periods: int = 300) -> RingBranches:
+                  max_branches: int = 24, settle: float = 1e-3, max_periods: int = 300,
+                  max_switches: int = 8) -> RingBranches:
     """Every branch found from the seeds at `points` speeds across `band` [rpm] (see the module
     docstring). Raises ValueError on a bad band or count."""
     lo, hi = (float(v) for v in band)
@@ -114,6 +127,7 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
             from_rest(pm, grid, settle, max_periods) + sweep(pm, grid, settle, max_periods)
         e_seeds = pm.evaluations
         todo: list = []  # orbits to continue (from seeds, then from branch points)
+        switches = 0
         for sd in seeds:
             if len(branches) >= max_branches:
                 break
@@ -132,17 +146,40 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
                 br = trace(pm, o, (lo, hi), joined=lambda n, a: known(done, n, a, maps, SAME_RTOL))
                 branches.append(br)
                 if switch_branches:
+                    st = br.stable
                     for b in br.bifurcations:
-                        if b.kind != "branch point":
+                        # the branch points that bound a stable part: where stable branches emanate
+                        if b.kind != "branch point" or switches >= max_switches or \
+                                not (st[b.index - 1] or st[b.index]):
                             continue
+                        switches += 1
                         for guess in switch(pm, br, b):
                             if known(branches, guess.speed, guess.amplitudes, maps, SAME_RTOL):
                                 continue
                             new = shoot(pm, guess.x, guess.speed)
                             if new is not None:
                                 todo.append(new)
+        branches = merged(branches, maps)
         amp, speed, blade = peak_stable(branches, (lo, hi))
         npts = sum(len(b.orbits) for b in branches)
         return RingBranches(branches, (lo, hi), amp, speed, blade, len(seeds), pm.evaluations,
                             time.perf_counter() - t0, npts,
                             {"seed_evaluations": e_seeds, "steps_per_period": settings.steps_per_period})
+
+
+def crossings(pm: RingPeriodMap, branches: list[RingBranch], speed: float) -> list[tuple[np.ndarray, float]]:
+    """(per-blade amplitudes [m], largest |multiplier| of the two points around it) of every orbit
+    where a branch crosses `speed`: Newton at that speed from the state interpolated between the two
+    points around it."""
+    out = []
+    for br in branches:
+        S = br.speeds
+        for k in range(len(S) - 1):
+            if (S[k] - speed) * (S[k + 1] - speed) > 0 or S[k] == S[k + 1]:
+                continue
+            a, b = br.orbits[k], br.orbits[k + 1]
+            f = (speed - S[k]) / (S[k + 1] - S[k])
+            sol = newton(pm, a.x + f * (b.x - a.x), speed)
+            if sol is not None:
+                out.append((pm.measures(sol.x, speed)[0].copy(), max(a.max_multiplier, b.max_multiplier)))
+    return out

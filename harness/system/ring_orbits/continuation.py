@@ -134,7 +134,7 @@ def bifurcations(pm: RingPeriodMap, br: Branch, folds: list) -> list[Bifurcation
             x = a.x + f * (b.x - a.x)
             amp = (1 - f) * pm.measures(a.x, a.speed)[0] + f * pm.measures(b.x, b.speed)[0]
             vec = None
-            if kind == "branch point":
+            if kind == "branch point" and (a.stable or b.stable):  # the switching direction (branches.py)
                 J = monodromy(pm, b.x if f > 0.5 else a.x, b.speed if f > 0.5 else a.speed)
                 w, V = np.linalg.eig(J)
                 real = np.abs(w.imag) <= UNIT_CIRCLE_TOL * np.maximum(np.abs(w), 1e-300)
@@ -192,10 +192,14 @@ def switch(pm: RingPeriodMap, br: RingBranch, bif: Bifurcation, eps: float = 0.0
         return []
     for sgn in (1.0, -1.0):
         zp = z0 + sgn * eps * v
-        try:
-            done = correct(prob, zp, v, Jz, settings, quasi=False)
-        except FMUError:
-            done = None
+        done = None
+        for quasi in (True, False):  # Broyden from the point's Jacobian first (one period per iteration)
+            try:
+                done = correct(prob, zp, v, Jz, settings, quasi=quasi)
+            except FMUError:
+                done = None
+            if done is not None:
+                break
         if done is None:
             continue
         x, n = prob.from_z(done[0])
