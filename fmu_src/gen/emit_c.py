@@ -1,6 +1,7 @@
 """The C side of a model spec: the value-reference header and the variable table.
 
-variables.h: identity (MODEL_IDENTIFIER, MODEL_NAME, MODEL_GUID), a value reference per variable
+variables.h: identity (MODEL_IDENTIFIER, MODEL_NAME, MODEL_GUID), with model exchange the numbers
+of event indicators and states the description declares, a value reference per variable
 (vr_<name>, and vr_<array> for the first element of a pattern), the bounds of the scalar variables
 that have them (min_<name>, max_<name>), and the slot enums of the model data (RealParam: par[],
 IntParam: ipar[]). variables.inc: the rows of the model's VarInfo table sorted by value reference,
@@ -63,7 +64,14 @@ def header(model: Model, spec_rel: str) -> str:
     lines = [f"/* Generated from {spec_rel} by fmu_src/gen: edit the spec, not this file. */",
              f"#ifndef {guard}", f"#define {guard}", "",
              f"#define MODEL_IDENTIFIER {model.name}", f'#define MODEL_NAME "{model.name}"',
-             f'#define MODEL_GUID "{model.guid}"', "", "/* value references */"]
+             f'#define MODEL_GUID "{model.guid}"', ""]
+    f2 = model.info.get("fmi2", {})
+    if f2.get("model_exchange"):
+        lines += ["/* model exchange: the FMI 2.0 description's numberOfEventIndicators and its states (the",
+                  " * variables with a der(...)) */",
+                  f"#define MODEL_EVENT_INDICATORS {f2.get('event_indicators', 0)}",
+                  f"#define MODEL_CONTINUOUS_STATES {sum(1 for v in model.vars if v.derivative_of)}", ""]
+    lines.append("/* value references */")
     for v in model.vars:
         if v.count > 1 and v.elem == 0:
             lines.append(f"#define vr_{c_ident(v.array)} {v.vr} /* first of {v.count} */")
