@@ -22,7 +22,7 @@ import numpy as np
 from harness.analysis.executor import write_csv
 from harness.analysis.periodic.branches import BranchSettings
 from harness.analysis.periodic.period_map import PeriodMap
-from harness.analysis.periodic.studies import Curve, CurveTask, peak_orbit
+from harness.analysis.periodic.curve import Curve, CurveTask, peak_orbit
 from harness.studies import plots
 
 MODELS = ("jenkins", "fixedPoint")
