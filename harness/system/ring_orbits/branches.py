@@ -144,13 +144,14 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
             orb = shoot(pm, sd.x, sd.speed)
             if orb is None or known(branches, orb.speed, orb.amplitudes, maps, SAME_RTOL):
                 continue
-            todo.append(orb)
+            todo.append((orb, f"{sd.origin} at {sd.speed:.1f} rpm"))
             while todo and len(branches) < max_branches:
-                o = todo.pop(0)
+                o, origin = todo.pop(0)
                 if branches and known(branches, o.speed, o.amplitudes, maps, SAME_RTOL):
                     continue
                 done = list(branches)
                 br = trace(pm, o, (lo, hi), joined=lambda n, a: known(done, n, a, maps, SAME_RTOL))
+                br.origin = origin
                 for k, v in br.cost.items():
                     stage[k] = stage.get(k, 0) + v
                 branches.append(br)
@@ -170,7 +171,7 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
                                 continue
                             new = shoot(pm, guess.x, guess.speed)
                             if new is not None:
-                                todo.append(new)
+                                todo.append((new, f"branch point at {b.speed:.1f} rpm"))
         branches = merged(in_band(branches, (lo, hi)), maps)
         amp, speed, blade = peak_stable(branches, (lo, hi))
         npts = sum(len(b.orbits) for b in branches)
