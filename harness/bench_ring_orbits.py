@@ -63,10 +63,12 @@ def twenty_four_part(points: int = 6, rpm: float = 6000.0) -> dict[str, Any]:
                 "periods_per_point": (pm.evaluations - e0) / max(len(br.orbits) - 1, 1)}
 
 
-def ring_orbits_cost() -> dict[str, Any]:
-    out: dict[str, Any] = {"period_6_s": period_cost(6), "period_24_s": period_cost(24)}
-    out["six"] = six_blades()
-    out["twenty_four"] = twenty_four_part()
+def ring_orbits_cost(repeats: int = 20, band: tuple[float, float] = (4000.0, 9000.0), seed_points: int = 6,
+                     points: int = 6) -> dict[str, Any]:
+    """The section's rows (the defaults: `make bench`; smaller ones: `bench --quick`)."""
+    out: dict[str, Any] = {"period_6_s": period_cost(6, repeats=repeats), "period_24_s": period_cost(24, repeats=repeats)}
+    out["six"] = six_blades(band, seed_points)
+    out["twenty_four"] = twenty_four_part(points)
     s = out["six"]
     # extrapolation: the 6-blade run's points per rpm of band, times the study's band, at the 24-blade
     # cost per point (the number of branches of the 24-blade ring is not known: taken as the 6-blade ring's)

@@ -28,6 +28,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 from tqdm.auto import tqdm
 
+from harness import digits
 from harness.optional import require
 from harness.files.atomic import atomic_write_text
 
@@ -38,20 +39,22 @@ DEFAULT_CACHE_DIR = RESULTS_DIR / "cache"
 
 
 def write_csv(path: Path | str, table: np.ndarray, header_comment: str = "") -> None:
-    """Write a structured array as CSV (quoted header, `repr`-exact floats), atomically."""
+    """Write a structured array as CSV (quoted header; floats with harness.digits.SIGNIFICANT
+    significant digits of their column's largest magnitude), atomically."""
     names = table.dtype.names or ()
     lines = []
     if header_comment:
         lines += [f"# {ln}" for ln in header_comment.splitlines()]
     lines.append(",".join(f'"{n}"' for n in names))
-    for row in table:
+    floats = {n: digits.column(table[n]) for n in names if np.issubdtype(table.dtype[n], np.floating)}
+    for i, row in enumerate(table):
         cells = []
         for n in names:
             v = row[n]
             if isinstance(v, (bytes, np.bytes_)):
                 v = v.decode()
-            if isinstance(v, (float, np.floating)):
-                cells.append(repr(float(v)))
+            if n in floats:
+                cells.append(floats[n][i])
             elif isinstance(v, (bool, np.bool_)):
                 cells.append("1" if v else "0")
             else:

@@ -1,7 +1,7 @@
 """Benchmark the FMU and the harness and write bench/RESULTS.md (make bench; a checkout only).
 
 `python -m harness bench [--size SIZE] [--workers N] [--skip-reproduce] [--only ring|ring-orbits|cli | --only-modes]
-[--output-file MD]`: the measurements of harness.bench, written to MD and its .json beside it.
+[--quick] [--output-file MD]`: the measurements of harness.bench, written to MD and its .json beside it.
 """
 from __future__ import annotations
 
@@ -23,7 +23,11 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                         "(default: every section)")
     p.add_argument("--only-modes", action="store_true",
                    help="measure only the cost per RK4 step vs the number of modes and write that section")
+    p.add_argument("--quick", action="store_true",
+                   help="every row once at tiny sizes, in seconds (a check that each row runs; the numbers mean "
+                        "nothing): written to --output-file only when one is given, else printed")
 
 
 def run(args: argparse.Namespace) -> int:
-    return run_bench(args.output_file, args.size, args.workers, args.skip_reproduce, args.only, args.only_modes)
+    return run_bench(args.output_file, args.size, args.workers, args.skip_reproduce, args.only, args.only_modes,
+                     args.quick)

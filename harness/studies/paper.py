@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import numpy as np
 
+from harness import digits
 from harness.analysis.curves import (ConfigError, SweepSettings, SweepSpec, fmu_identity, hb_curve, hb_stable_peak,
                                      omega_of)
 from harness.analysis.executor import RESULTS_DIR, Runner, write_csv
@@ -439,9 +440,12 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studi
 
 
 def write_summary(out: Path, summary: Summary) -> None:
-    """summary.json (the claims table reads it), replaced atomically."""
-    atomic_write_text(out / "summary.json",
-                      json.dumps(summary.as_dict(), indent=1, sort_keys=True, default=_json_default))
+    """summary.json (the claims table reads it), replaced atomically; numbers with 6 significant
+    digits (harness/digits.py), without the wall times (`timing`: they differ from run to run; `make
+    bench` measures them), so that a rerun writes the same file."""
+    d = {k: v for k, v in summary.as_dict().items() if k != "timing"}
+    atomic_write_text(out / "summary.json", json.dumps(digits.rounded(d), indent=1, sort_keys=True,
+                                                       default=_json_default))
 
 
 def run_studies(out: Path | str = RESULTS_DIR, size: str | Size = "default", studies: Sequence[str] | None = None,

@@ -18,6 +18,7 @@ import matplotlib
 import matplotlib.pyplot as plt
 import numpy as np
 
+from harness import digits
 from harness.reference.ring import MonolithicRing, RingSpec
 from harness.system import ring_libcosim
 from harness.system.ring import Ring, run
@@ -79,7 +80,8 @@ def write(rows: list[tuple[int | str, float, float]], out: Path) -> None:
     with open(out.with_suffix(".csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["order", "h", "relative_error"])
-        w.writerows(rows)
+        texts = [digits.column(r[k] for r in rows) for k in (1, 2)]
+        w.writerows([r[0], h, e] for r, h, e in zip(rows, *texts))
     fig, ax = plt.subplots(figsize=(5, 4))
     for p in dict.fromkeys(r[0] for r in rows):
         pts = [(h, e) for q, h, e in rows if q == p and math.isfinite(e)]

@@ -52,6 +52,7 @@ class RingBranches:
                 "peak_stable_amplitude_m": None if nan else self.peak_stable_amplitude,
                 "peak_stable_speed_rpm": None if nan else self.peak_stable_speed,
                 "peak_stable_blade": None if nan else self.peak_stable_blade,
+                "peak_stable_at_band_edge": (not nan) and self.peak_stable_speed in self.band,
                 "seeds": self.seeds, "evaluations": self.evaluations, "continuation_points": self.points,
                 "periods_per_point": self.evaluations / max(self.points, 1), "wall_time_s": self.wall_time,
                 **self.stats}
@@ -127,7 +128,8 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
             from_rest(pm, grid, settle, max_periods) + sweep(pm, grid, settle, max_periods)
         e_seeds = pm.evaluations
         todo: list = []  # orbits to continue (from seeds, then from branch points)
-        switches = 0
+        switches, switch_cost = 0, 0
+        stage: dict[str, int] = {}  # periods per stage of tracing (every branch traced, kept or merged away)
         for sd in seeds:
             if len(branches) >= max_branches:
                 break
@@ -144,6 +146,8 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
                     continue
                 done = list(branches)
                 br = trace(pm, o, (lo, hi), joined=lambda n, a: known(done, n, a, maps, SAME_RTOL))
+                for k, v in br.cost.items():
+                    stage[k] = stage.get(k, 0) + v
                 branches.append(br)
                 if switch_branches:
                     st = br.stable
@@ -153,7 +157,10 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
                                 not (st[b.index - 1] or st[b.index]):
                             continue
                         switches += 1
-                        for guess in switch(pm, br, b):
+                        e_sw = pm.evaluations
+                        guesses = switch(pm, br, b)
+                        switch_cost += pm.evaluations - e_sw
+                        for guess in guesses:
                             if known(branches, guess.speed, guess.amplitudes, maps, SAME_RTOL):
                                 continue
                             new = shoot(pm, guess.x, guess.speed)
@@ -164,7 +171,8 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
         npts = sum(len(b.orbits) for b in branches)
         return RingBranches(branches, (lo, hi), amp, speed, blade, len(seeds), pm.evaluations,
                             time.perf_counter() - t0, npts,
-                            {"seed_evaluations": e_seeds, "steps_per_period": settings.steps_per_period})
+                            {"seed_evaluations": e_seeds, "steps_per_period": settings.steps_per_period,
+                             "evaluations_by_stage": {"seeds": e_seeds, **stage, "switching": switch_cost}})
 
 
 def crossings(pm: RingPeriodMap, branches: list[RingBranch], speed: float) -> list[tuple[np.ndarray, float]]:

@@ -28,7 +28,7 @@ from harness.analysis.periodic.extrema import locate
 from harness.analysis.periodic.shooting import UNIT_CIRCLE_TOL
 from harness.fmu.blade import FMUError
 from harness.system.ring_orbits.period_map import RingPeriodMap
-from harness.system.ring_orbits.shooting import RingOrbit, monodromy
+from harness.system.ring_orbits.shooting import RingOrbit, monodromy, shoot
 
 RING_CONTINUATION = ContinuationSettings(ds=0.05, ds_min=2e-4, ds_max=0.3, max_points=300, max_corrector=8,
                                          ds_fold=0.02)
@@ -73,6 +73,7 @@ class RingBranch:
     folds: list[RingOrbit] = field(default_factory=list)  # located folds (largest multiplier ~ 1)
     fold_sides: list[bool] = field(default_factory=list)  # per fold: it bounds a stable part
     closed: bool = False
+    cost: dict = field(default_factory=dict)  # periods simulated per stage of its tracing
 
     @property
     def speeds(self) -> np.ndarray:
@@ -151,25 +152,39 @@ def bifurcations(pm: RingPeriodMap, br: Branch, folds: list) -> list[Bifurcation
 def trace(pm: RingPeriodMap, orbit: RingOrbit, band: tuple[float, float],
           settings: ContinuationSettings = RING_CONTINUATION, directions: tuple[int, ...] = (-1, 1),
           joined: Callable[[float, np.ndarray], bool] | None = None) -> RingBranch:
-    """The branch through `orbit` across `band` [rpm] (both directions), with its located peaks,
-    folds and bifurcations; a direction ends where joined(speed, per-blade amplitudes) says the
+    """The branch through `orbit` across `band` [rpm] (both directions; an end that left the band
+    replaced by the orbit at the band's edge), with its located peaks, folds and bifurcations; a direction ends where joined(speed, per-blade amplitudes) says the
     branch ran onto one traced before."""
     stop = None
     if joined is not None:
         def stop(p) -> str | None:
             return (f"joined a branch traced before at {p.speed:.1f} rpm"
                     if joined(p.speed, pm.measures(p.x, p.speed)[0]) else None)
+    e0 = pm.evaluations
     br = continue_branch(pm, orbit.x, orbit.speed, band, settings, directions, stop)
+    e1 = pm.evaluations
     st = [p.stable for p in br.points]  # (the last point of a direction may lie just outside the band)
     try:  # only the peaks and folds next to a stable point: those bound the stable steady states
         br.extrema = locate(pm, br, settings, keep=lambda i, kind: st[i - 1] or st[i] or st[i + 1])
     except FMUError:
         br.extrema = []
+    e2 = pm.evaluations
     orbits = [_orbit(pm, p.x, p.speed, p.multipliers, p.iterations) for p in br.points]
+    for end, nxt in ((0, 1), (-1, -2)):  # a direction that left the band: its last point at the band's edge
+        if len(orbits) > 1 and not band[0] <= orbits[end].speed <= band[1] and band[0] <= orbits[nxt].speed <= band[1]:
+            edge = band[0] if orbits[end].speed < band[0] else band[1]
+            a, b = orbits[nxt], orbits[end]
+            f = (edge - a.speed) / (b.speed - a.speed)
+            o = shoot(pm, a.x + f * (b.x - a.x), edge)
+            if o is not None:
+                orbits[end] = o
     folds = [e for e in br.extrema if e.kind == "fold"]
     peaks = [_orbit(pm, e.x, e.speed, e.multipliers) for e in br.extrema if e.kind == "peak"]
-    return RingBranch(orbits, br.end_reasons, bifurcations(pm, br, folds), peaks,
-                      [_orbit(pm, e.x, e.speed, e.multipliers) for e in folds], [e.stable for e in folds], br.closed)
+    e3 = pm.evaluations
+    out = RingBranch(orbits, br.end_reasons, bifurcations(pm, br, folds), peaks,
+                     [_orbit(pm, e.x, e.speed, e.multipliers) for e in folds], [e.stable for e in folds], br.closed)
+    out.cost = {"continuation": e1 - e0, "extrema": e2 - e1, "band_edges": e3 - e2, "bifurcations": pm.evaluations - e3}
+    return out
 
 
 def switch(pm: RingPeriodMap, br: RingBranch, bif: Bifurcation, eps: float = 0.05,
