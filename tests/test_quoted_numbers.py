@@ -236,3 +236,20 @@ def test_readme_modes():
     assert m.group(3) in _printed(ratio, ".0f", ratio * 2 * h["root_moment_Nm"] / float(j1["root_moment_Nm"]))
     assert m.group(4) in _printed(float(j1["root_moment_Nm"]), ".2f", h["root_moment_Nm"])
     assert m.group(5) in _printed(float(j4["root_moment_Nm"]), ".2f", h["root_moment_Nm"])
+
+
+@pytest.mark.parametrize("page", [RESULTS, "docs/guide/install.md"])
+def test_base_case_peak_and_crossing(page):
+    """The base case's peak (fixed point) and the contact-free EO 3 crossing where the results page
+    and the install guide's `make run` output quote them, against results/summary.json."""
+    s = json.loads((REPO / "results" / "summary.json").read_text())
+    row = next(r for r in s["studies"]["gap"]["rows"] if abs(r["value"] - s["base"]["d"]) < 1e-15)
+    text = (REPO / page).read_text()
+    peak_mm, speed, crossing = row["fp_peak"] * 1e3, row["fp_speed"], s["campbell"]["eo_crossing_rpm"]
+    if page == RESULTS:
+        m = _one(page, r"\*\*(\d+) rpm\*\* \(fixed point, ([\d.]+) mm\)")
+        assert (int(m.group(1)), m.group(2)) == (round(speed), f"{peak_mm:.4f}")
+    else:
+        m = _one(page, r"max\|q\| = ([\d.]+) mm at (\d+) rpm")
+        assert (m.group(1), int(m.group(2))) == (f"{peak_mm:.4f}", round(speed))
+    assert f"{crossing:.0f} rpm (one mode, printed formulation)" in text

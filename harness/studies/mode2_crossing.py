@@ -15,7 +15,7 @@ from typing import Any, Mapping
 
 from harness.analysis.periodic.branches import BranchSettings, trace_branches
 from harness.analysis.periodic.continuation import write_branches_csv
-from harness.analysis.periodic.studies import jump_speed, peak_orbit
+from harness.analysis.periodic.curve import jump_speed, peak_orbit
 from harness.studies import plots
 from harness.studies.campbell_modes import campbell, campbell_params
 
