@@ -247,3 +247,13 @@ def test_the_fmu_accepts_exactly_the_declared_ranges(name, tmp_path):
     finally:
         slave.freeInstance()
     assert checked >= 4
+
+
+# ShroudedBlade's two FMUs: tests/test_fmu_basics.py and tests/test_fmi3.py
+@pytest.mark.parametrize("name", ["BladeExternalContact", "ShroudContact", "Excitation"])
+def test_generated_descriptions_pass_fmpy_validation(name):
+    from fmpy.validation import validate_fmu
+
+    from harness.fmu.build import fmu_file
+
+    assert validate_fmu(str(fmu_file(name))) == []
