@@ -1,6 +1,7 @@
 """`ruff check` over harness/, tests/, bench/, the FMU generator fmu_src/gen/ and sitegen/ with the
-rules of pyproject.toml ([tool.ruff.lint]: pyflakes F, syntax errors E9): an undefined name (the kind that broke `make bench` unseen), an unused
-import or variable, an f-string without fields fails the default tests."""
+rules of pyproject.toml ([tool.ruff.lint]: pyflakes F, syntax errors E9): an undefined name (the
+kind that broke `make bench` unseen), an unused import or variable, an f-string without fields
+fails the default tests."""
 from __future__ import annotations
 
 import subprocess
