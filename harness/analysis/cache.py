@@ -61,20 +61,20 @@ class PointCache:
         assert self.directory is not None
         return Path(self.directory) / key[:2] / f"{key}.json"
 
-    def get(self, key: str) -> dict | None:
+    def get(self, key: str) -> dict[str, Any] | None:
         if self.directory is None:
             self.misses += 1
             return None
         try:
             with open(self._path(key)) as fh:
-                rec = json.load(fh)
+                rec: dict[str, Any] = json.load(fh)
         except (FileNotFoundError, json.JSONDecodeError, UnicodeDecodeError):
             self.misses += 1
             return None
         self.hits += 1
         return rec
 
-    def put(self, key: str, record: dict) -> None:
+    def put(self, key: str, record: dict[str, Any]) -> None:
         if self.directory is None:
             return
         atomic_write_text(self._path(key), json.dumps(record, sort_keys=True))
