@@ -80,12 +80,17 @@ def known(branches: list[RingBranch], speed: float, amps: np.ndarray, maps: list
 
 def merged(branches: list[RingBranch], maps: list[np.ndarray]) -> list[RingBranch]:
     """The branches without those whose every point lies on another kept branch (up to the ring's
-    symmetries): a branch entered twice, from two seeds or from a branch point."""
+    symmetries): a branch entered twice, from two seeds or from a branch point. Longest first."""
     kept: list[RingBranch] = []
     for br in sorted(branches, key=lambda b: -len(b.orbits)):
         if not all(known(kept, o.speed, o.amplitudes, maps, SAME_RTOL) for o in br.orbits):
             kept.append(br)
     return kept
+
+
+def in_band(branches: list[RingBranch], band: tuple[float, float]) -> list[RingBranch]:
+    """The branches with a point inside the band (a corrector from a branch point may land outside)."""
+    return [b for b in branches if any(band[0] <= o.speed <= band[1] for o in b.orbits)]
 
 
 def peak_stable(branches: list[RingBranch], band: tuple[float, float]) -> tuple[float, float, int]:
@@ -166,7 +171,7 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
                             new = shoot(pm, guess.x, guess.speed)
                             if new is not None:
                                 todo.append(new)
-        branches = merged(branches, maps)
+        branches = merged(in_band(branches, (lo, hi)), maps)
         amp, speed, blade = peak_stable(branches, (lo, hi))
         npts = sum(len(b.orbits) for b in branches)
         return RingBranches(branches, (lo, hi), amp, speed, blade, len(seeds), pm.evaluations,
