@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from harness.system.ring import Ring
-from harness.system.ring_orbits.branches import ring_branches
+from harness.system.ring_orbits.branches import default_seed_points, ring_branches
 from harness.system.ring_orbits.continuation import RING_CONTINUATION, trace
 from harness.system.ring_orbits.period_map import RingPeriodMap
 from harness.system.ring_orbits.seeds import travelling_wave
@@ -38,9 +38,10 @@ def period_cost(n: int, rpm: float = 6000.0, repeats: int = 20) -> float:
     return float(best)
 
 
-def six_blades(band: tuple[float, float] = (4000.0, 9000.0), seed_points: int = 6) -> dict[str, Any]:
+def six_blades(band: tuple[float, float] = (4000.0, 9000.0), seed_points: int | None = None) -> dict[str, Any]:
     load = os.getloadavg()[0]
     cpu = time.process_time()
+    seed_points = seed_points or default_seed_points(band)
     r = ring_branches(Ring(n=6, **STUDY_RING), band, points=seed_points)
     cpu = time.process_time() - cpu
     return {"band_rpm": list(band), "seed_points": seed_points, "wall_s": r.wall_time, "cpu_s": cpu,
@@ -66,7 +67,7 @@ def twenty_four_part(points: int = 6, rpm: float = 6000.0) -> dict[str, Any]:
                 "periods_per_point": (pm.evaluations - e0) / max(len(br.orbits) - 1, 1)}
 
 
-def ring_orbits_cost(repeats: int = 20, band: tuple[float, float] = (4000.0, 9000.0), seed_points: int = 6,
+def ring_orbits_cost(repeats: int = 20, band: tuple[float, float] = (4000.0, 9000.0), seed_points: int | None = None,
                      points: int = 6) -> dict[str, Any]:
     """The section's rows (the defaults: `make bench`; smaller ones: `bench --quick`)."""
     out: dict[str, Any] = {"period_6_s": period_cost(6, repeats=repeats), "period_24_s": period_cost(24, repeats=repeats)}

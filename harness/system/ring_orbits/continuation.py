@@ -77,6 +77,7 @@ class RingBranch:
     fold_sides: list[bool] = field(default_factory=list)  # per fold: it bounds a stable part
     closed: bool = False
     cost: dict = field(default_factory=dict)  # periods simulated per stage of its tracing
+    origin: str = ""  # the seed or branch point it was entered from
 
     @property
     def speeds(self) -> np.ndarray:
@@ -98,7 +99,7 @@ class RingBranch:
                 "bifurcations": [b.as_dict() for b in self.bifurcations],
                 "peaks": [{"speed_rpm": p.speed, "amplitude_m": p.amplitude, "amplitudes_m": p.amplitudes.tolist(),
                            "stable": p.stable, "max_multiplier": p.max_multiplier} for p in self.peaks],
-                "end_reasons": self.end_reasons, "closed": self.closed}
+                "end_reasons": self.end_reasons, "closed": self.closed, "origin": self.origin}
 
 
 def _orbit(pm: RingPeriodMap, x: np.ndarray, speed: float, mu: np.ndarray, it: int = 0) -> RingOrbit:
