@@ -13,7 +13,7 @@ import json
 import math
 from dataclasses import replace
 
-from harness.analysis.executor import RESULTS_DIR
+from harness.paths import RESULTS_DIR
 from harness.cli.options import add_execution_options, make_runner
 from harness.cli.reports import mistuning_report
 from harness.model.params import ParameterError

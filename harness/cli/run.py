@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from harness.analysis.executor import RESULTS_DIR
+from harness.paths import RESULTS_DIR
 from harness.cli.options import add_execution_options, make_runner
 from harness.cli.reports import mistuning_report, reproduce_and_report
 from harness.studies import mistuning, mistuning_plots

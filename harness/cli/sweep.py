@@ -16,7 +16,7 @@ import numpy as np
 
 from harness.analysis.config import SweepSettings
 from harness.analysis.curves import ConfigError, SweepSpec, parse_speed_range, sweep, validate_spec
-from harness.analysis.executor import write_csv
+from harness.files.tables import write_csv
 from harness.cli.options import add_execution_options, add_start_values, check_outputs, make_runner, parse_start_values
 from harness.model.params import validate
 from harness.outputs import check_dir
