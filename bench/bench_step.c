@@ -19,7 +19,7 @@
 #include "fmi/instance.h"
 #include "fmi2Functions.h"
 #include "models/ShroudedBlade/blade_data.h"
-#include "models/ShroudedBlade/config.h"
+#include "models/ShroudedBlade/variables.h"
 
 static void quietLogger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status, fmi2String category,
                         fmi2String message, ...)
@@ -138,7 +138,7 @@ static void table(const Config *configs, size_t nConfigs, double duration, doubl
 
 /* `bench_step modes`: the Jenkins element (tracked B, consistent formulation) with m = 1..6 modes
  * (docs/model.md s.2a), and the one-mode default (printed) as the first row */
-static int modesTable(void)
+static int modesTable(double duration)
 {
     static const Config configs[] = {
         {"m = 1, printed (default)", 3, 2, 1, 3e-5, 1, 1},
@@ -150,7 +150,7 @@ static int modesTable(void)
         {"m = 6, consistent", 3, 2, 1, 3e-5, 6, 2},
     };
     printf("bench_step modes: ns per internal RK4 step through the FMI API (best of 3), Jenkins element\n");
-    table(configs, sizeof configs / sizeof configs[0], 1.0, 1e-3, 1e-5);
+    table(configs, sizeof configs / sizeof configs[0], duration, 1e-3, 1e-5);
     return 0;
 }
 
@@ -165,12 +165,14 @@ int main(int argc, char **argv)
         {"Jenkins element, tracked B", 3, 2, 1, 3e-5, 1, 1},
     };
     const size_t n = sizeof configs / sizeof configs[0];
-    if (argc > 1 && strcmp(argv[1], "modes") == 0) return modesTable();
+    /* a last argument "quick": 10 ms simulated per row instead of 1 s (a check that every row runs) */
+    const double duration = argc > 1 && strcmp(argv[argc - 1], "quick") == 0 ? 0.01 : 1.0;
+    if (argc > 1 && strcmp(argv[1], "modes") == 0) return modesTable(duration);
     printf("bench_step: ns per internal RK4 step through the FMI API (best of 3)\n");
     /* the master loop of a sweep: the FMI calls of every communication step are included */
-    table(configs, n, 1.0, 1e-4, 1e-5);
+    table(configs, n, duration, 1e-4, 1e-5);
     /* long communication steps: the integrator itself (the 8th-order Taylor load is then only
      * approximately a sine, which does not matter for the cost) */
-    table(configs, n, 1.0, 1e-3, 1e-5);
+    table(configs, n, duration, 1e-3, 1e-5);
     return 0;
 }

@@ -34,12 +34,13 @@ __all__ = ["__version__", "fmu_path", "simulate", "periodic_orbits", "branch", "
 
 def __getattr__(name: str) -> Any:
     """PEP 562: the public names come from harness.api when first asked for, so that `import harness`
-    (which every `import harness.<module>` runs first) stays cheap; __version__ is harness.api.version()
-    (its metadata lookup alone costs 0.2 s)."""
+    (which every `import harness.<module>` runs first) stays cheap; __version__ is harness.version's
+    (a metadata lookup, without the API's imports)."""
     if name not in __all__:
         raise AttributeError(f"module 'harness' has no attribute {name!r}")
-    api = importlib.import_module("harness.api")
-    return api.version() if name == "__version__" else getattr(api, name)
+    if name == "__version__":
+        return importlib.import_module("harness.version").version()
+    return getattr(importlib.import_module("harness.api"), name)
 
 
 def __dir__() -> list[str]:

@@ -6,9 +6,6 @@ same. Above the system layer: it imports model, fmu, analysis and system (docs/l
 from __future__ import annotations
 
 import math
-import tomllib
-from functools import lru_cache
-from importlib import metadata
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -29,22 +26,12 @@ from harness.system.ring import run as ring_run
 from harness.system.ring_orbits.branches import RingBranches
 from harness.system.ring_orbits.branches import ring_branches as trace_ring_branches
 from harness.system.ring_orbits.period_map import RingShootingSettings
+from harness.version import version
 
 __all__ = ["version", "fmu_path", "simulate", "periodic_orbits", "branch", "Ring", "run_ring", "ring_branches",
            "ParameterError", "RING_MASTERS"]
 
 RING_MASTERS = ("fmpy", "c")  # the ring's loop in Python (the readable reference) or in C
-
-
-@lru_cache(maxsize=1)
-def version() -> str:
-    """The installed distribution's version; in a bare checkout (not installed) pyproject.toml's,
-    the one source of both."""
-    try:
-        return metadata.version("shroudedblade-harness")
-    except metadata.PackageNotFoundError:
-        with open(Path(__file__).resolve().parents[1] / "pyproject.toml", "rb") as fh:
-            return str(tomllib.load(fh)["project"]["version"])
 
 
 def fmu_path(name: str = "ShroudedBlade") -> Path:
@@ -205,7 +192,7 @@ def _check_ring(ring: Ring, where: str) -> None:
             ring_values.typed(name, value, *var[kind][name], origin=f"{where}(ring=Ring({kind}=...))")
 
 
-def ring_branches(ring: Ring, speeds: tuple[float, float], seed_points: int = 6,
+def ring_branches(ring: Ring, speeds: tuple[float, float], seed_points: int | None = None,
                   steps_per_period: int = 160) -> RingBranches:
     """The periodic steady states of the bladed-disk ring over a speed band.
 
@@ -222,7 +209,7 @@ def ring_branches(ring: Ring, speeds: tuple[float, float], seed_points: int = 6,
     speeds : (float, float)
         The band [rpm], FROM < TO inside BladeExternalContact's rotorSpeed range.
     seed_points : int, optional
-        Speeds of the seeds across the band, 2..200 (default 6).
+        Speeds of the seeds across the band, 2..200 (default: at most 300 rpm apart, at least 4).
     steps_per_period : int, optional
         Communication steps per excitation period, 8..100000 (default 160, as the sweeps).
 
@@ -253,6 +240,8 @@ def ring_branches(ring: Ring, speeds: tuple[float, float], seed_points: int = 6,
     if not lo < hi:
         raise _error(f"speeds = {speeds!r} (from {where}(speeds=...)): FROM must be below TO")
     for name, v, a, b in (("seed_points", seed_points, 2, 200), ("steps_per_period", steps_per_period, 8, 100000)):
+        if v is None and name == "seed_points":
+            continue
         if not (isinstance(v, int) and not isinstance(v, bool) and a <= v <= b):
             raise _error(f"{name} = {v!r} (from {where}({name}=...)) is out of range; accepted: whole numbers in "
                          f"[{a}, {b}]")

@@ -11,18 +11,18 @@ the fmpy master and in libcosim against the FMUs' own compute.
 """
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import os
 import platform
 import re
 import subprocess
+import sys
 import tempfile
 import time
-from dataclasses import asdict
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Mapping
 
 import fmpy
 import numpy as np
@@ -30,19 +30,53 @@ import numpy as np
 from harness import reference as ref
 from harness.analysis import curves as sw
 from harness.analysis.curves import SweepSettings, SweepSpec, fmu_identity, hb_curve, run_sweeps
-from harness.analysis.executor import Runner, atomic_write_text
+from harness.analysis.executor import Runner
+from harness.files.atomic import atomic_write_text
 from harness.analysis.periodic.branches import BranchSettings, trace_branches
 from harness.analysis.periodic.period_map import ShootingSettings
 from harness.analysis.plateau import PLATEAU_OUTPUTS
+from harness.bench_ring_orbits import SECTION as RING_ORBITS_SECTION
+from harness.bench_ring_orbits import ring_orbits_cost
+from harness.bench_ring_orbits import section as ring_orbits_section
 from harness.fmu.blade import BladeFMU
 from harness.fmu.build import BUILD_DIR, REPO_ROOT, build
+from harness.fmu.pool import worker_fmu
 from harness.model.excitation import AeroLoad, Stepped, fmu_view
-from harness.studies.paper import SIZES, STUDIES, base_params, study_specs
+from harness.studies.paper import SIZES, STUDIES, Size, base_params, study_specs
 from harness.system import ring_c, ring_libcosim
 from harness.system.ring import Ring, run as ring_run
 from harness.validation.reproduction import reproduce
 
 BENCH_DIR = REPO_ROOT / "bench"
+
+# the bench ring: 24 blades, EO 3, 5000 rpm, c = 298, F_w0 = 300, default contacts, 0.5 s.
+# h = 2.5e-5 s for both masters: libcosim's held inputs need h <= 5e-5 s (docs/model.md s.8), and
+# at 5e-5 s its 24-blade ring stays bounded but loses the travelling wave's symmetry (30 % spread)
+RING_BENCH = dict(n=24, engine_order=3, fw0=300.0, blade={"c": 298.0}, step=2.5e-5, stop_time=0.5)
+
+
+@dataclass(frozen=True)
+class BenchSize:
+    """How much each row of `make bench` measures. FULL is the benchmark; QUICK runs every row at
+    tiny sizes (seconds, one repeat): a test that no row can break unseen, its numbers meaningless."""
+
+    name: str
+    repeats: int = 5  # best of, for the doStep and RK4 step costs
+    sim_scale: float = 1.0  # on the simulated times of the doStep and reference rows
+    sweep_speeds: tuple[float, ...] = tuple(float(n) for n in np.arange(3000.0, 10001.0, 500.0))
+    ring: Mapping[str, Any] = field(default_factory=lambda: dict(RING_BENCH))
+    ring_repeats: int = 3
+    hb_values: int | None = None  # per study (None: all)
+    hb_speeds: int | None = None  # of the default size's (None: all)
+    jacobian_curves: int | None = None  # of JACOBIAN_CURVES (None: all)
+    jacobian_range: tuple[float, float] = (3000.0, 12000.0)
+    cli_repeats: int = 15
+    ring_orbits: Mapping[str, Any] = field(default_factory=dict)  # ring_orbits_cost's sizes ({}: its defaults)
+    reproduce: str | Size = "default"  # the reproduce / transient rows' size (`--size`)
+    extras: bool = True  # reproduce's Fig. 2, 4/5, Campbell, iteration (fixed sizes: tens of seconds)
+    step_args: tuple[str, ...] = ()  # for build/bench_step
+
+
 
 
 def machine() -> dict[str, Any]:
@@ -60,7 +94,7 @@ def machine() -> dict[str, Any]:
             "system": f"{platform.system()} {platform.release()}"}
 
 
-def c_step_cost() -> dict[str, Any]:
+def c_step_cost(args: tuple[str, ...] = ()) -> dict[str, Any]:
     """Run build/bench_step (the core engineer's C benchmark) if present; its output verbatim."""
     exe = BUILD_DIR / "bench_step"
     if not exe.is_file():
@@ -70,7 +104,7 @@ def c_step_cost() -> dict[str, Any]:
             pass
     if not exe.is_file():
         return {"available": False, "text": "build/bench_step not built (no such CMake target yet)"}
-    proc = subprocess.run([str(exe)], capture_output=True, text=True, timeout=600)
+    proc = subprocess.run([str(exe), *args], capture_output=True, text=True, timeout=600)
     text = (proc.stdout + proc.stderr).strip()
     ns = [float(x) for x in re.findall(r"([0-9.]+(?:[eE][-+]?\d+)?)\s*ns", text)]
     return {"available": True, "text": text, "ns_values": ns}
@@ -79,7 +113,7 @@ def c_step_cost() -> dict[str, Any]:
 MODES_SECTION = "## Cost per RK4 step vs the number of modes"
 
 
-def modes_step_cost(repeats: int = 5) -> dict[str, Any]:
+def modes_step_cost(repeats: int = 5, args: tuple[str, ...] = ()) -> dict[str, Any]:
     """`build/bench_step modes`: ns per internal RK4 step of the Jenkins element with m = 1..6 modes
     (docs/model.md s.2a), all configurations measured one after the other in one process."""
     exe = BUILD_DIR / "bench_step"
@@ -87,7 +121,7 @@ def modes_step_cost(repeats: int = 5) -> dict[str, Any]:
         build(("bench_step",))
     rows: dict[str, dict[str, Any]] = {}
     for _ in range(repeats):  # the best of `repeats` runs per row (a shared machine)
-        proc = subprocess.run([str(exe), "modes"], capture_output=True, text=True, timeout=600, check=True)
+        proc = subprocess.run([str(exe), "modes", *args], capture_output=True, text=True, timeout=600, check=True)
         for line in proc.stdout.splitlines():
             mm = re.match(r"(m = \d, \w+(?: \(default\))?)\s+([0-9.]+)\s+([0-9.]+)\s+([0-9.]+)$", line.strip())
             if mm and (mm.group(1) not in rows or float(mm.group(2)) < rows[mm.group(1)]["ns_per_step"]):
@@ -162,17 +196,17 @@ def _inside(fmu: Any, fn, repeats: int) -> tuple[float, int]:
     """min time spent inside fmi2DoStep over `repeats` calls of fn, and the number of doSteps."""
     best, calls = math.inf, 0
     for _ in range(repeats):
-        timed = _Timed(fmu._doStep)
-        fmu._doStep = timed
+        timed = _Timed(fmu.stepper.doStep)
+        fmu.stepper.doStep = timed
         try:
             fn()
         finally:
-            fmu._doStep = timed.fn
+            fmu.stepper.doStep = timed.fn
         best, calls = min(best, timed.total), timed.calls
     return best, calls
 
 
-def dostep_cost(fmu: Any, params: dict, repeats: int = 5) -> dict[str, Any]:
+def dostep_cost(fmu: Any, params: dict, repeats: int = 5, sim_scale: float = 1.0) -> dict[str, Any]:
     """Cost of one doStep of BladeFMU.run at 5000 rpm for four communication steps; the last one
     as the sweeps step (Chebyshev-fitted load, values carried by the FMU, one sample per period)."""
     out = {}
@@ -190,25 +224,26 @@ def dostep_cost(fmu: Any, params: dict, repeats: int = 5) -> dict[str, Any]:
         fmu.run(params, 10 * h, h)  # warm-up
 
         def go():
-            return fmu.run(params, t_stop, h, **kw)
+            return fmu.run(params, t_stop * sim_scale, h, **kw)
 
         wall, cpu, r = _best(go, repeats)
         inside, n = _inside(fmu, go, repeats)
         out[label] = {"steps": n, "us_per_doStep": wall / n * 1e6, "cpu_us_per_doStep": cpu / n * 1e6,
                       "us_inside_doStep": inside / n * 1e6, "ratio_wall": wall / inside, "ratio_cpu": cpu / inside,
-                      "sim_time": t_stop, "us_per_simulated_ms": wall / t_stop * 1e3}
+                      "sim_time": t_stop * sim_scale, "us_per_simulated_ms": wall / (t_stop * sim_scale) * 1e3}
     return out
 
 
-def sweep_overhead(fmu_path: str, repeats: int = 3) -> dict[str, Any]:
+def sweep_overhead(fmu_path: str, repeats: int = 3,
+                   speeds: tuple[float, ...] = BenchSize("full").sweep_speeds) -> dict[str, Any]:
     """One up sweep (base case, 3000..10000 rpm every 500, no refinement, no cache): the wall and
     CPU time of the Python-driven sweep against the time spent inside fmi2DoStep for the same work."""
     out = {}
     for spp in (sw.SweepSettings().steps_per_period, 8):
         s = sw.SweepSettings(refine_levels=0, steps_per_period=spp)
-        task = sw.ChainTask(base_params(), tuple(np.arange(3000.0, 10001.0, 500.0)), "up", s,
+        task = sw.ChainTask(base_params(), tuple(speeds), "up", s,
                             *sw.fmu_identity(fmu_path), None)
-        fmu = sw.worker_fmu(task.fmu_path)
+        fmu = worker_fmu(task.fmu_path)
         sw.run_chain(task)  # warm-up
         wall, cpu, recs = _best(lambda: sw.run_chain(task), repeats)
         inside, n = _inside(fmu, lambda: sw.run_chain(task), repeats)
@@ -218,11 +253,40 @@ def sweep_overhead(fmu_path: str, repeats: int = 3) -> dict[str, Any]:
     return out
 
 
-# the bench ring: 24 blades, EO 3, 5000 rpm, c = 298, F_w0 = 300, default contacts, 0.5 s.
-# h = 2.5e-5 s for both masters: libcosim's held inputs need h <= 5e-5 s (docs/model.md s.8), and
-# at 5e-5 s its 24-blade ring stays bounded but loses the travelling wave's symmetry (30 % spread)
-RING_BENCH = dict(n=24, engine_order=3, fw0=300.0, blade={"c": 298.0}, step=2.5e-5, stop_time=0.5)
 RING_LOADS = {"builtin": "built-in load", "excitation": "former ring, Excitation FMUs"}
+CLI_SECTION = "## Command line start-up"
+# (row, command): ours through the installed console script, fmpy's CLI as its user runs it
+CLI_COMMANDS = (("harness --help", [str(Path(sys.executable).with_name("harness")), "--help"]),
+                ("harness --version", [str(Path(sys.executable).with_name("harness")), "--version"]),
+                ("python -m fmpy --help", [sys.executable, "-m", "fmpy", "--help"]))
+
+
+def cli_start(repeats: int = 15) -> dict[str, Any]:
+    """Wall time of each CLI_COMMANDS row, the rows run in turn `repeats` times (so a busy moment
+    hits all of them): per row the best and the median [s], and the ratio to fmpy's --help."""
+    times: dict[str, list[float]] = {name: [] for name, _ in CLI_COMMANDS}
+    for _ in range(repeats):
+        for name, cmd in CLI_COMMANDS:
+            t = time.perf_counter()
+            subprocess.run(cmd, capture_output=True, check=True, timeout=60)
+            times[name].append(time.perf_counter() - t)
+    fmpy_best = min(times["python -m fmpy --help"])
+    return {"repeats": repeats, "load_average": os.getloadavg()[0],
+            "rows": {k: {"best": min(v), "median": float(np.median(v)), "ratio_best": min(v) / fmpy_best}
+                     for k, v in times.items()}}
+
+
+def _cli_section(c: dict[str, Any], date: str) -> list[str]:
+    L = [CLI_SECTION, "",
+         f"Wall time of the command, started as a new process (`python -m harness bench --only cli`, {date}, load "
+         f"average {c['load_average']:.1f}): the rows run in turn, {c['repeats']} times; target <= 0.3 s. "
+         "The top-level parser imports no command module (so none of numpy, scipy, fmpy).", "",
+         "| command | best | median | best / fmpy's best |", "|---|---|---|---|"]
+    for k, v in c["rows"].items():
+        L.append(f"| `{k}` | {v['best']:.3f} s | {v['median']:.3f} s | {v['ratio_best']:.2f} |")
+    return L + [""]
+
+
 RING_SECTION = "## The bladed-disk ring"
 
 
@@ -243,7 +307,7 @@ def _fastest(repeats: int, f, *a, **kw) -> tuple[Any, float, float]:
     return runs[0][0], min(r[1] for r in runs), min(r[2] for r in runs)
 
 
-def ring_cost(repeats: int = 3) -> dict[str, Any]:
+def ring_cost(repeats: int = 3, setup: Mapping[str, Any] = RING_BENCH) -> dict[str, Any]:
     """The 24-blade ring (RING_BENCH) on the blades' built-in load in the fmpy master (feedthrough,
     linear extrapolation; and libcosim's data flow, held inputs), in libcosim, and in our C loop;
     and the former ring (24 Excitation FMUs feeding the blades) in libcosim and the C loop, in the
@@ -253,13 +317,13 @@ def ring_cost(repeats: int = 3) -> dict[str, Any]:
     equal the C loop's in its data flow bit for bit, so that run's inside time is libcosim's compute.
     Least time of `repeats` runs for the C loop, the inside times and libcosim (one run of the fmpy
     master, 25 s or more); the load average before and after says how shared the machine was."""
-    out: dict[str, Any] = {"setup": {k: (dict(v) if isinstance(v, dict) else v) for k, v in RING_BENCH.items()},
+    out: dict[str, Any] = {"setup": {k: (dict(v) if isinstance(v, dict) else v) for k, v in setup.items()},
                            "machine": machine(), "date": time.strftime("%Y-%m-%d %H:%M"),
                            "repeats": repeats, "load_before": os.getloadavg()[0]}
     for load in RING_LOADS:
-        ft = Ring(**RING_BENCH, order=1, load=load)
-        lc_flow = Ring(**RING_BENCH, order=0, coupling="libcosim", load=load)
-        ring_c.run(Ring(**{**RING_BENCH, "stop_time": 10 * RING_BENCH["step"]}, load=load))  # build, load once
+        ft = Ring(**setup, order=1, load=load)
+        lc_flow = Ring(**setup, order=0, coupling="libcosim", load=load)
+        ring_c.run(Ring(**{**setup, "stop_time": 10 * setup["step"]}, load=load))  # build, load once
         n = (3 if load == "excitation" else 2) * ft.n * ft.n_steps
         inside = {k: min(float(ring_c.run(r, time_dosteps=True)["inside_doStep"]) for _ in range(repeats))
                   for k, r in (("ft", ft), ("lc", lc_flow))}
@@ -273,7 +337,7 @@ def ring_cost(repeats: int = 3) -> dict[str, Any]:
             g["C loop"]["deviation_from_fmpy"] = float(np.abs(c_ft["q"] - r["q"]).max() / np.abs(r["q"]).max())
             r, wall, cpu = _timed(ring_run, lc_flow)
             g["fmpy libcosim data flow"] = _row(wall, cpu, inside["lc"], n, r["q"])
-        lc, wall, cpu = _fastest(repeats, ring_libcosim.run, Ring(**RING_BENCH, order=0, load=load))
+        lc, wall, cpu = _fastest(repeats, ring_libcosim.run, Ring(**setup, order=0, load=load))
         g["libcosim"] = {**_row(wall, cpu, inside["lc"], n, lc["q"]), "step_wall": float(lc["step_wall"]),
                          "ratio_step_wall": float(lc["step_wall"]) / inside["lc"],
                          "equals_fmpy_libcosim_data_flow": bool(np.array_equal(lc["q"], c_lc["q"]))}
@@ -282,7 +346,7 @@ def ring_cost(repeats: int = 3) -> dict[str, Any]:
     return out
 
 
-def reference_ratio(fmu: Any, params: dict) -> dict[str, Any]:
+def reference_ratio(fmu: Any, params: dict, sim_scale: float = 1.0) -> dict[str, Any]:
     """The same stepped-speed run (3 plateaus x 0.1 s, 4500/5000/5500 rpm, kn = 1e6, B fixed at 2 d)
     through the FMU and through the Python reference (DOP853 with located events), fed
     the same piecewise Taylor input."""
@@ -290,31 +354,34 @@ def reference_ratio(fmu: Any, params: dict) -> dict[str, Any]:
     # agree point by point; at kn = 1e7 the contact response is sensitive (nearby trajectories
     # separate exponentially), which says nothing about either code
     params = dict(params, amplitudeMode=1, B=2 * params["d"], kn=1e6)
-    speed = Stepped([4500.0, 5000.0, 5500.0], [0.1, 0.1, 0.1])
+    T = 0.1 * sim_scale
+    speed = Stepped([4500.0, 5000.0, 5500.0], [T, T, T])
     aero = AeroLoad(params["Fw0"], params["engineOrder"], speed)
     h = 60.0 / (5500.0 * params["engineOrder"]) / 8
     t = time.perf_counter()
-    r = fmu.run(params, 0.3, h, aero=aero, speed=speed, outputs=["tipDisplacement"])
+    r = fmu.run(params, 3 * T, h, aero=aero, speed=speed, outputs=["tipDisplacement"])
     w_fmu = time.perf_counter() - t
     grid = r["time"]
     t = time.perf_counter()
-    rr = ref.simulate(params, 0.3, fmu_view(aero, grid, 8), fmu_view(speed, grid, 8), grid, breakpoints=grid)
+    rr = ref.simulate(params, 3 * T, fmu_view(aero, grid, 8), fmu_view(speed, grid, 8), grid, breakpoints=grid)
     w_ref = time.perf_counter() - t
     dev = float(np.max(np.abs(rr["tipDisplacement"] - r["tipDisplacement"])) / np.max(np.abs(r["tipDisplacement"])))
-    return {"sim_time": 0.3, "wall_fmu": w_fmu, "wall_reference": w_ref, "ratio": w_ref / w_fmu,
+    return {"sim_time": 3 * T, "wall_fmu": w_fmu, "wall_reference": w_ref, "ratio": w_ref / w_fmu,
             "max_rel_deviation": dev}
 
 
-def hb_all() -> dict[str, Any]:
+def hb_all(values: int | None = None, speeds: int | None = None) -> dict[str, Any]:
+    """Harmonic balance of every study's curves (the first `values` of each, at the first `speeds`
+    of the default size's speeds; None: all)."""
     base = base_params()
-    size = SIZES["default"]
-    hb_curve(base, size.hb_speeds[:5])  # warm-up
+    grid = SIZES["default"].hb_speeds[:speeds]
+    hb_curve(base, grid[:5])  # warm-up
     t = time.perf_counter()
     n = 0
     for st in STUDIES.values():
-        for v in st.values:
-            n += len(hb_curve(dict(base, **{st.param: v}), size.hb_speeds))
-    return {"curves": sum(len(s.values) for s in STUDIES.values()), "speeds_per_curve": len(size.hb_speeds),
+        for v in st.values[:values]:
+            n += len(hb_curve(dict(base, **{st.param: v}), grid))
+    return {"curves": sum(len(s.values[:values]) for s in STUDIES.values()), "speeds_per_curve": len(grid),
             "solutions": n, "wall": time.perf_counter() - t}
 
 
@@ -323,7 +390,8 @@ JACOBIAN_CURVES = (("fixedPoint", {}), ("jenkins", {}), ("coulomb", {}), ("fixed
                    ("jenkins", {"kn": 1e5}), ("fixedPoint", {"gamma": math.pi / 7}))
 
 
-def branch_jacobians(fmu: Any) -> dict[str, Any]:
+def branch_jacobians(fmu: Any, curves: int | None = None,
+                     speed_range: tuple[float, float] = (3000.0, 12000.0)) -> dict[str, Any]:
     """Branches of JACOBIAN_CURVES over 3000..12000 rpm (seeds every 1000 rpm, as `make run`),
     one process, with DP from the FMU's sensitivities (4 steps per period) vs by finite
     differences (the former path: Broyden in Newton, central monodromy, 8 steps per period)."""
@@ -332,9 +400,9 @@ def branch_jacobians(fmu: Any) -> dict[str, Any]:
                       ("finite differences", ShootingSettings(sensitivities=False, steps_per_period=8))):
         wall = cpu = fmi = 0.0
         periods = points = 0
-        for model, extra in JACOBIAN_CURVES:
+        for model, extra in JACOBIAN_CURVES[:curves]:
             t, c = time.perf_counter(), time.process_time()
-            branches, st = trace_branches(fmu, dict(base_params(), **extra), model, (3000.0, 12000.0),
+            branches, st = trace_branches(fmu, dict(base_params(), **extra), model, speed_range,
                                           BranchSettings(seed_step=1000.0, shooting=sh))
             wall += time.perf_counter() - t
             cpu += time.process_time() - c
@@ -345,26 +413,28 @@ def branch_jacobians(fmu: Any) -> dict[str, Any]:
     return out
 
 
-def reproduce_cold(size: str, workers: int | None) -> dict[str, Any]:
+def reproduce_cold(size: str | Size, workers: int | None, extras: bool = True) -> dict[str, Any]:
     """`reproduce` as `make run` does it: the studies as periodic-orbit branches, plus extras."""
     with tempfile.TemporaryDirectory() as tmp:
         t = time.perf_counter()
         with Runner(workers=workers, progress=False) as runner:
-            rep = reproduce(Path(tmp) / "results", size, runner=runner)
+            rep = reproduce(Path(tmp) / "results", size, runner=runner, extras=extras)
         wall = time.perf_counter() - t
-    tim = rep.summary.as_dict()["timing"]
-    return {"size": size, "wall": wall, "workers": workers or os.cpu_count(), **tim}
+    tim = {k: (math.nan if v is None else v) for k, v in rep.summary.as_dict()["timing"].items()}
+    return {"size": size if isinstance(size, str) else size.name, "wall": wall, "workers": workers or os.cpu_count(),
+            **tim}
 
 
-def transient_studies(size: str, workers: int | None) -> dict[str, Any]:
+def transient_studies(size: str | Size, workers: int | None) -> dict[str, Any]:
     """The former path of the same studies from a cold cache: time-domain up/down sweeps, fixed
     points A(B) = B from transients and HB for Figs. 6-9, time-domain + HB Coulomb curves."""
-    sz, base = SIZES[size], base_params()
+    sz, base = (SIZES[size] if isinstance(size, str) else size), base_params()
     specs = [e[2] for e in study_specs(sz, list(STUDIES), base)]
     for name in ("kn", "angle"):
         st = STUDIES[name]
+        values = st.values if sz.values is None else sz.values.get(name, st.values)
         specs += [SweepSpec(dict(base, frictionModel=2, **{st.param: v}), sz.speeds, label=f"Coulomb {st.label(v)}",
-                            methods=("time", "hb"), hb_speeds=sz.hb_speeds, settings=sz.settings) for v in st.values]
+                            methods=("time", "hb"), hb_speeds=sz.hb_speeds, settings=sz.settings) for v in values]
     with tempfile.TemporaryDirectory() as tmp:
         t = time.perf_counter()
         with Runner(workers=workers, progress=False) as runner:
@@ -445,12 +515,15 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
                       f"{b['periods'] / a['periods']:.2f}x fewer periods.", ""]
     if "ring" in data:
         L += _ring_section(data["ring"], data.get("date", ""))
+    if "cli" in data:
+        L += _cli_section(data["cli"], data.get("date", ""))
     if "reproduce" in data:
         r = data["reproduce"]
         nan = math.nan
         fmi, worker = r.get("branches_fmi_s", nan), r.get("branches_worker_s", nan)
         L += ["## `make run` (`reproduce`): the studies as periodic-orbit branches", "",
-              f"Size `{r['size']}`, all studies and extras, {r.get('workers')} worker processes: "
+              f"Size `{r['size']}`, all studies{' and extras' if math.isfinite(r.get('extras_wall', nan)) else ''}, "
+              f"{r.get('workers')} worker processes: "
               f"**{r['wall']:.1f} s wall**.", "",
               f"- branches: {r.get('curves', 0):.0f} curves (fixed point B = A(B) and Jenkins element for every "
               f"study value, Coulomb fixed point for kn and angle), {r.get('branches_evaluations', 0):.0f} periods = "
@@ -470,9 +543,11 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
                   f"{t['sim_time']:.0f} s of blade time.", "",
                   f"Studies: transients {t['wall']:.1f} s vs branches {studies:.1f} s (HB included): "
                   f"**{t['wall'] / studies:.2f}x less wall time**, with every branch, its stability and the "
-                  f"Jenkins element in addition. Whole reproduction (the extras are the same code in both): "
-                  f"{t['wall'] + r.get('extras_wall', 0.0):.1f} s vs {r['wall']:.1f} s: "
-                  f"**{(t['wall'] + r.get('extras_wall', 0.0)) / r['wall']:.2f}x**.", ""]
+                  f"Jenkins element in addition." + (
+                      f" Whole reproduction (the extras are the same code in both): "
+                      f"{t['wall'] + r['extras_wall']:.1f} s vs {r['wall']:.1f} s: "
+                      f"**{(t['wall'] + r['extras_wall']) / r['wall']:.2f}x**." if math.isfinite(r.get("extras_wall", nan))
+                      else ""), ""]
     atomic_write_text(path, "\n".join(L))
 
 
@@ -528,63 +603,105 @@ def _ring_section(g: dict[str, Any], run_date: str) -> list[str]:
     return L
 
 
-def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--size", default="default", metavar="SIZE", help="reproduce size to time: quick, default or full (default: default)")
-    p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes for reproduce (default: number of CPUs)")
-    p.add_argument("--skip-reproduce", action="store_true", help="do not time the whole reproduce")
-    p.add_argument("--output-file", default=str(BENCH_DIR / "RESULTS.md"), metavar="MD",
-                   help="where to write the results (default bench/RESULTS.md)")
-    p.add_argument("--only", choices=("ring",),
-                   help="measure only this section and keep the others from the output file's .json "
-                        "(default: every section)")
-    p.add_argument("--only-modes", action="store_true",
-                   help="measure only the cost per RK4 step vs the number of modes and write that section")
+# `--quick`: every row once at tiny sizes (tests/test_bench_quick.py runs it in `make test`)
+TINY_REPRODUCE = Size("tiny", speeds=(3000.0, 4000.0), fixed_speeds=(4000.0,), hb_speeds=(3000.0, 3500.0, 4000.0),
+                      values={"gap": (2e-5,), "mass": (0.02,), "angle": (math.pi / 3,), "kn": (1e5,)},
+                      settings=SweepSettings(refine_levels=0, max_time=0.1, fixed_max_time=0.1, n_scan=4),
+                      fig45_time=0.05, coulomb=False, iteration_steps=2, speed_range=(3000.0, 4000.0),
+                      seed_step=1000.0, modes=(), campbell_modes=0)
+QUICK = BenchSize("quick", repeats=1, sim_scale=0.02, sweep_speeds=(3000.0, 3500.0),
+                  ring={**RING_BENCH, "n": 4, "stop_time": 0.005}, ring_repeats=1, hb_values=1, hb_speeds=3,
+                  jacobian_curves=2, jacobian_range=(8000.0, 9000.0), cli_repeats=1,
+                  ring_orbits=dict(repeats=1, band=(5800.0, 6400.0), seed_points=2, points=1),
+                  reproduce=TINY_REPRODUCE, extras=False, step_args=("quick",))
 
 
-def run(args: argparse.Namespace) -> int:
-    out = Path(args.output_file)
-    if args.only_modes:
+def run_bench(output_file: Path | str = BENCH_DIR / "RESULTS.md", size: str = "default", workers: int | None = None,
+              skip_reproduce: bool = False, only: str | None = None, only_modes: bool = False,
+              quick: bool = False) -> int:
+    """Measure every section (or `only` one: "ring", "ring-orbits" or "cli"; or `only_modes`: the cost per RK4 step vs the
+    number of modes) and write `output_file` (Markdown) and its .json beside it. `quick`: every row
+    at the QUICK size, never written over bench/RESULTS.md (into a temporary directory instead)."""
+    out = Path(output_file)
+    if quick:
+        if only or only_modes:
+            raise ValueError("--quick runs every row: not with --only or --only-modes")
+        if out.resolve() == (BENCH_DIR / "RESULTS.md").resolve():  # never over the measured results
+            with tempfile.TemporaryDirectory() as tmp:
+                return measure(Path(tmp) / "RESULTS.md", QUICK, workers, skip_reproduce)
+        return measure(out, QUICK, workers, skip_reproduce)
+    if only_modes:
         update_modes_section(out)
         print(out.read_text())
         return 0
-    if args.only == "ring":  # the ring section and the .json's ring entry replaced, the rest kept
+    if only is not None:  # that section and its .json entry replaced, the rest kept
         old = out.with_suffix(".json")
         data = json.loads(old.read_text()) if old.is_file() else {"machine": machine(), "date": ""}
-        print("24-blade ring: built-in load and the former ring ...", flush=True)
-        data["ring"] = ring_cost()
+        if only == "ring":
+            print("24-blade ring: built-in load and the former ring ...", flush=True)
+            data["ring"] = ring_cost()
+            heading, section = RING_SECTION, _ring_section(data["ring"], data["date"])
+        elif only == "ring-orbits":
+            load = os.getloadavg()[0]
+            print("the ring's periodic steady states ...", flush=True)
+            data["ring_orbits"] = ring_orbits_cost()
+            heading = RING_ORBITS_SECTION
+            section = ring_orbits_section(data["ring_orbits"], _machine_text(data.get("machine") or machine(), load),
+                                          time.strftime("%Y-%m-%d %H:%M"))
+        else:
+            print("command line start-up ...", flush=True)
+            data["cli"] = cli_start()
+            heading, section = CLI_SECTION, _cli_section(data["cli"], time.strftime("%Y-%m-%d %H:%M"))
         text = out.read_text() if out.is_file() else "# Benchmark results\n"
-        atomic_write_text(out, replace_section(text, RING_SECTION, "\n".join(_ring_section(data["ring"], data["date"]))))
+        atomic_write_text(out, replace_section(text, heading, "\n".join(section)))
         atomic_write_text(old, json.dumps(data, indent=1, default=str))
         print(out.read_text())
         return 0
+    return measure(out, BenchSize("full", reproduce=size), workers, skip_reproduce)
+
+
+def measure(out: Path, size: BenchSize, workers: int | None, skip_reproduce: bool) -> int:
+    """Every row at `size`, written to `out` (.md and .json) and printed."""
     path, _ = fmu_identity(None)
     data: dict[str, Any] = {"machine": machine(), "date": time.strftime("%Y-%m-%d %H:%M")}
     print("C step benchmark ...", flush=True)
-    data["c_step"] = c_step_cost()
+    data["c_step"] = c_step_cost(size.step_args)
     print("C step benchmark vs the number of modes ...", flush=True)
-    data["modes"] = modes_step_cost()
+    data["modes"] = modes_step_cost(size.repeats, size.step_args)
     p = base_params()
     with BladeFMU(path) as fmu:
         print("doStep cost ...", flush=True)
-        data["dostep"] = dostep_cost(fmu, p)
+        data["dostep"] = dostep_cost(fmu, p, size.repeats, size.sim_scale)
         print("reference ratio ...", flush=True)
-        data["reference"] = reference_ratio(fmu, p)
+        data["reference"] = reference_ratio(fmu, p, size.sim_scale)
         print("branch Jacobians: sensitivities vs finite differences ...", flush=True)
-        data["jacobians"] = branch_jacobians(fmu)
+        data["jacobians"] = branch_jacobians(fmu, size.jacobian_curves, size.jacobian_range)
     print("sweep overhead ...", flush=True)
-    data["sweep"] = sweep_overhead(path)
+    data["sweep"] = sweep_overhead(path, min(size.repeats, 3), size.sweep_speeds)
 
     data["sweep_settings"] = asdict(SweepSettings())
     print("harmonic balance ...", flush=True)
-    data["hb"] = hb_all()
-    print("24-blade ring: fmpy master and libcosim ...", flush=True)
-    data["ring"] = ring_cost()
-    if not args.skip_reproduce:
-        print(f"reproduce --size {args.size} (branches) ...", flush=True)
-        data["reproduce"] = reproduce_cold(args.size, args.workers)
+    data["hb"] = hb_all(size.hb_values, size.hb_speeds)
+    print(f"{size.ring['n']}-blade ring: fmpy master and libcosim ...", flush=True)
+    data["ring"] = ring_cost(size.ring_repeats, size.ring)
+    print("command line start-up ...", flush=True)
+    data["cli"] = cli_start(size.cli_repeats)
+    print("the ring's periodic steady states ...", flush=True)
+    load = os.getloadavg()[0]
+    data["ring_orbits"] = ring_orbits_cost(**size.ring_orbits)
+    if not skip_reproduce:
+        name = size.reproduce if isinstance(size.reproduce, str) else size.reproduce.name
+        print(f"reproduce --size {name} (branches) ...", flush=True)
+        data["reproduce"] = reproduce_cold(size.reproduce, workers, size.extras)
         print("the same studies by transients from a cold cache (the former path) ...", flush=True)
-        data["transient"] = transient_studies(args.size, args.workers)
+        data["transient"] = transient_studies(size.reproduce, workers)
     write_results(out, data)
+    sec = "\n".join(ring_orbits_section(data["ring_orbits"], _machine_text(data["machine"], load), data["date"]))
+    atomic_write_text(out, replace_section(out.read_text(), RING_ORBITS_SECTION, sec))
     atomic_write_text(out.with_suffix(".json"), json.dumps(data, indent=1, default=str))
     print(out.read_text())
     return 0
+
+
+def _machine_text(m: dict[str, Any], load: float) -> str:
+    return f"{m['nproc']} CPU(s), {m['cpu']}, {m['system']}, load average {load:.1f} at the start"

@@ -30,6 +30,8 @@ class Variable:
     min: str = ""
     max: str = ""
     description: str = ""
+    min_open: bool = False  # the bound itself is excluded (the description's OpenBounds annotation)
+    max_open: bool = False
 
 
 @dataclass
@@ -56,6 +58,11 @@ def parse(path: Path) -> Description | None:
     interfaces = [el.tag for el in root if el.tag in ("CoSimulation", "ModelExchange", "ScheduledExecution")]
     d = Description(path, root.get("modelName", "?"), root.get("fmiVersion", "?"), interfaces)
     mv = root.find("ModelVariables")
+    # FMI 2.0 <VendorAnnotations><Tool>, FMI 3.0 <Annotations><Annotation>: the open bounds (fmu_src/gen)
+    ob = root.find("VendorAnnotations/Tool/OpenBounds")
+    ob = ob if ob is not None else root.find("Annotations/Annotation/OpenBounds")
+    open_low = set(ob.get("lower", "").split()) if ob is not None else set()
+    open_high = set(ob.get("upper", "").split()) if ob is not None else set()
     for el in (mv if mv is not None else []):
         if el.tag == "ScalarVariable":
             type_el = el[0]
@@ -71,6 +78,7 @@ def parse(path: Path) -> Description | None:
                 v.description = f"derivative of {state}"
         else:
             continue
+        v.min_open, v.max_open = v.name in open_low, v.name in open_high
         d.variables.append(v)
     return d
 
@@ -93,7 +101,9 @@ def _code(text: str) -> str:
 def _range(v: Variable) -> str:
     if not (v.min or v.max):
         return ""
-    return f"[{v.min or '-inf'}, {v.max or 'inf'}]"
+    lb = "(" if v.min_open or not v.min else "["
+    rb = ")" if v.max_open or not v.max else "]"
+    return f"{lb}{v.min or '-inf'}, {v.max or 'inf'}{rb}"
 
 
 HEADER = ("| name | vr | causality, variability | type [unit] | start | range | description |\n"

@@ -202,14 +202,6 @@ def test_output_path_under_a_file_is_named(capsys, tmp_path, option):
     assert err.startswith("error: ") and f"{option} {bad}" in err and len(err.strip().splitlines()) == 1, err
 
 
-def test_one_ring_command():
-    import subprocess
-    import sys
-    p = subprocess.run([sys.executable, "-m", "harness.system.ring", "--n", "6"], capture_output=True, text=True,
-                       timeout=120)
-    assert p.returncode == 2 and "python -m harness ring --blades N" in p.stderr and p.stdout == ""
-
-
 def test_sweep_both_takes_the_peak_from_the_larger_direction(capsys):
     """The tuned 6-blade ring is bistable at 6200 rpm: up from rest at 5600 rpm it settles near 3.1e-5 m,
     down from rest at 6800 rpm at 3.99e-5 m (measured; a 1.3 s run). The peak of `--sweep both` is

@@ -2,7 +2,7 @@
 - the open-contact blade is linear: its amplitude over speed has a closed form (a 1-DOF forced
   response with the Galerkin constants of the independent Python reference), maximised by scipy;
 - the base case's Jenkins peak against a 1-rpm scan of fixed-speed shooting (parabola through the
-  three largest), and its lower fold against the lowest speed at which fixed-speed shooting still
+  three largest; within 0.05 rpm, 0.009 measured), and its lower fold against the lowest speed at which fixed-speed shooting still
   finds an orbit in contact (0.02-rpm scan).
 """
 from __future__ import annotations
@@ -56,7 +56,7 @@ def base_jenkins(fmu):
     return pm, branches
 
 
-def test_base_case_jenkins_peak_within_1_rpm_of_a_fine_scan(base_jenkins) -> None:
+def test_base_case_jenkins_peak_within_0_05_rpm_of_a_fine_scan(base_jenkins) -> None:
     pm, branches = base_jenkins
     pk = max((e for b in branches for e in b.located("peak") if e.stable), key=lambda e: e.amplitude)
     speeds = np.arange(round(pk.speed) - 6.0, round(pk.speed) + 7.0, 1.0)
@@ -70,7 +70,7 @@ def test_base_case_jenkins_peak_within_1_rpm_of_a_fine_scan(base_jenkins) -> Non
     assert 0 < k < len(amps) - 1, "the scan's maximum is at its edge"
     c = np.polyfit(speeds[k - 1:k + 2], amps[k - 1:k + 2], 2)
     n_scan = -c[1] / (2 * c[0])
-    assert abs(pk.speed - n_scan) <= 1.0, (pk.speed, n_scan)
+    assert abs(pk.speed - n_scan) <= 0.05, (pk.speed, n_scan)  # measured 0.009 rpm
     # the located peak is the maximum: no scanned orbit is larger (beyond Newton's 1e-10)
     assert pk.amplitude >= amps.max() * (1 - 1e-9)
 

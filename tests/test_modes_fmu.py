@@ -12,7 +12,7 @@
   scale);
 - the faces agree at m = 3: FMI 3.0 = FMI 2.0 co-simulation bit for bit, BladeExternalContact with
   F = 0 = ShroudedBlade with the contact open bit for bit, model exchange (fmpy CVode, rtol 1e-10)
-  within 1e-6 of co-simulation; FMU state get/set and serialize continue bit-identically.
+  within 8e-7 of co-simulation (8.2e-8 measured); FMU state get/set and serialize continue bit-identically.
 """
 from __future__ import annotations
 
@@ -180,7 +180,9 @@ def test_model_exchange_agrees_with_co_simulation(fmu_path):
     amp = np.abs(cs["tipDisplacement"]).max()
     assert amp > 3e-5
     for k in names:
-        assert np.abs(np.interp(cs["time"], me["time"], me[k]) - cs[k]).max() < 1e-4 * amp, k
+        # measured 8.2e-8 (tip), 8.2e-9 and 3.4e-8 (modes 2, 3) of the amplitude: CVode at rtol 1e-10
+        # against RK4 at 1e-6 s; tolerance 8e-7, 10x the largest
+        assert np.abs(np.interp(cs["time"], me["time"], me[k]) - cs[k]).max() < 8e-7 * amp, k
 
 
 def test_state_restore_and_serialization_at_three_modes(fmu_path):

@@ -15,7 +15,9 @@ Checks and tolerances:
   deviation decays more slowly through complex pairs); a stable orbit's deviation shrinks, an
   unstable one's grows;
 - the same check with a deliberately broken DP (one column doubled) or a broken stability test
-  (stable read as the largest |multiplier| above 1) fails.
+  (stable read as the largest |multiplier| above 1) fails;
+- a sweep's settled states (harness/system/ring_sweep.py, up and down) lie on the reported branches'
+  stable orbits (tolerance: the settle rule's bound, see the test).
 """
 from __future__ import annotations
 
@@ -23,6 +25,9 @@ import numpy as np
 import pytest
 
 from harness.system.ring import Ring
+from harness.system.ring_orbits.branches import crossings, ring_branches
+from harness.system.ring_orbits.symmetry import distance, index_maps
+from harness.system.ring_sweep import sweep
 from harness.system.ring_orbits.period_map import RingPeriodMap
 from harness.system.ring_orbits.seeds import from_rest, travelling_wave
 from harness.analysis.periodic.shooting import multipliers
@@ -122,4 +127,53 @@ def test_broken_jacobian_fails(pm, orbits, measured):
 
 def test_broken_stability_test_fails(orbits, measured):
     """Stability read as the largest |multiplier| above 1 (inverted): the check fails."""
-    assert not all(agrees(r, f, la, o.max_multiplier, o.max_multiplier > 1.0) for o, (r, f, la) in zip(orbits, measured))
+    assert not all(agrees(r, f, la, o.max_multiplier, o.max_multiplier > 1.0)
+                   for o, (r, f, la) in zip(orbits, measured))
+
+
+SWEEP_SPEEDS = [5600.0, 6000.0, 6400.0]
+SETTLE_RTOL = 1e-4  # the sweep's settle rule: per-period change below this over 5 periods
+MEASURE_RTOL = 1e-4  # the sweep's own measure against a continuous run from the orbit (6e-5: its grid of
+# whole ns drifts against the period) plus the period map's restarted history (1.8e-5), measured at 6000 rpm
+
+
+def test_sweeps_settled_states_lie_on_the_branches():
+    """ring_branches over 5500-6500 rpm on the 4-blade ring, and a sweep up and down at three
+    speeds (harness/system/ring_sweep.py, the C loop run on with the state carried): every settled
+    sweep state equals (per blade, relative to the largest, up to the ring's symmetries) an orbit
+    where a reported branch crosses its speed. Tolerance: a state whose per-period change is below
+    the settle rule's 1e-4 is within 1e-4 mu / (1 - mu) of the orbit it approaches (mu its largest
+    multiplier, the geometric series of the remaining changes), plus MEASURE_RTOL: 6.7e-4..7.7e-4;
+    measured 3.5e-5..5.7e-4 (the sweep's states are that far from settled: 5.7e-4 at 6400 rpm)."""
+    r = ring_branches(SMALL, (5500.0, 6500.0), points=2)
+    sw = sweep(SMALL, SWEEP_SPEEDS, "both", refine=False, rtol=SETTLE_RTOL)
+    maps = index_maps(SMALL)
+    with RingPeriodMap(SMALL) as pm:
+        for d, amps in sw.amplitudes_m.items():
+            for s, a, ok in zip(sw.speeds_rpm, amps, sw.settled[d]):
+                assert ok.all(), (d, s)
+                found = [(distance(o, a, maps), mu) for o, mu in crossings(pm, r.branches, float(s)) if mu < 1]
+                dist, mu = min(found)
+                assert dist <= SETTLE_RTOL * mu / (1 - mu) + MEASURE_RTOL, (d, s, dist, mu)
+
+
+@pytest.mark.parametrize("kw,words", [
+    ({"speeds": (6000.0, 5000.0)}, ["speeds", "FROM must be below TO"]),
+    ({"speeds": (5000.0, 6000.0), "seed_points": 1}, ["seed_points = 1", "[2, 200]"]),
+    ({"speeds": (5000.0, 6000.0), "steps_per_period": 4}, ["steps_per_period = 4", "[8, 100000]"]),
+    ({"speeds": "fast"}, ["speeds = 'fast'", "two speeds"]),
+])
+def test_api_refuses_bad_input(kw, words):
+    import harness
+    with pytest.raises(harness.ParameterError) as e:
+        harness.ring_branches(SMALL, **kw)
+    for w in words:
+        assert w in str(e.value), (w, str(e.value))
+
+
+def test_cli_refuses_branches_without_band():
+    import subprocess
+    import sys
+    p = subprocess.run([sys.executable, "-m", "harness", "ring", "--blades", "4", "--branches"], capture_output=True,
+                       text=True, timeout=120)
+    assert p.returncode == 2 and "--branches" in p.stderr and "--speeds" in p.stderr, p.stderr

@@ -7,6 +7,7 @@
 #include <math.h>
 
 #include "fmi2Functions.h"
+#include "fmi/build.h"
 #include "fmi/instance.h"
 #include "fmi/log.h"
 #include "fmi/variables.h"

@@ -16,7 +16,7 @@ typedef enum { VarReal, VarInteger, VarBoolean } VarType;
 /* CausLocal: a calculated variable that is not an output (model exchange: states and derivatives) */
 typedef enum { CausParameter, CausInput, CausOutput, CausLocal } Causality;
 
-/* One row of a model's variable table. Values live in the model's data (the FMU state) at
+/* One row of a model's variable table (generated from the model's spec, fmu_src/gen). Values live in the model's data (the FMU state) at
  * `offset`: a double for Real, an int32_t for Integer and Boolean. An input's value is the first
  * of (1 + maxInputOrder) doubles: the value and its time derivatives. A calculated output has no
  * storage: `output` is its number for the model's output function; an output with a settable
@@ -32,6 +32,8 @@ typedef struct {
     int loOpen, hiOpen; /* 1: the bound itself is excluded */
     long offset;        /* byte offset in the model's data, or -1 */
     int output;         /* output number (outputs only), else -1 */
+    int meOnly;         /* 1: a model-exchange local (state, derivative): unknown to a face that
+                           declares none (FMI 3.0 co-simulation) */
 } VarInfo;
 
 #define VAR_NO_OFFSET (-1L)

@@ -4,10 +4,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fmi/build.h"
 #include "fmi/instance.h"
 #include "fmi/log.h"
 #include "fmi/state_blob.h"
-#include "fmi/variables.h"
 
 static char *copyString(const char *s)
 {
@@ -84,6 +84,17 @@ FmiInstance *fmiEnter(void *handle, const char *fn, int mask, int logCall)
     return inst;
 }
 
+/* The table's start values into the model's data (a calculated output has no storage). */
+static void startValues(const FmiModel *model, void *data)
+{
+    for (int i = 0; i < model->nVars; ++i) {
+        const VarInfo *v = &model->vars[i];
+        if (v->offset < 0) continue;
+        if (v->type == VarReal) *(double *)(void *)((char *)data + v->offset) = v->start;
+        else *(int32_t *)(void *)((char *)data + v->offset) = (int32_t)v->start;
+    }
+}
+
 void fmiReset(FmiInstance *inst)
 {
     memset(inst->data, 0, inst->model->dataSize);
@@ -91,7 +102,7 @@ void fmiReset(FmiInstance *inst)
     memset(&inst->run, 0, sizeof inst->run); /* time = startTime = 0, no stop time, last status OK */
     inst->fsm = FsmInstantiated;
     inst->built = 0;
-    fmiStartValues(inst->model, inst->data);
+    startValues(inst->model, inst->data);
     if (inst->model->startValues) inst->model->startValues(inst);
 }
 
@@ -117,14 +128,6 @@ FmiStatus fmiSetupExperiment(FmiInstance *inst, const char *fn, int toleranceDef
     inst->run.stopTimeDefined = stopTimeDefined ? 1 : 0;
     inst->run.stopTime = stopTimeDefined ? stopTime : 0.0;
     return FmiOK;
-}
-
-FmiStatus fmiBuild(FmiInstance *inst, const char *fn, int initState)
-{
-    FmiStatus status = inst->model->build(inst, fn, initState);
-    if (status == FmiOK && inst->me && inst->me->built) status = inst->me->built(inst, fn, initState);
-    inst->built = status == FmiOK;
-    return status;
 }
 
 FmiStatus fmiExitInitialization(FmiInstance *inst, const char *fn)

@@ -25,7 +25,7 @@ typedef struct {
     const char *typeNames[3];             /* VarReal, VarInteger, VarBoolean: "Real", ... */
     const char *(*stateName)(int32_t state);
     int declaresLocals;                   /* 0: the face's model description has none of the model's
-                                             model-exchange locals (FMI 3.0 CS; FmiModel.modelExchangeOnly):
+                                             model-exchange locals (FMI 3.0 CS; VarInfo.meOnly):
                                              their value references are unknown there */
 } FmiFace;
 
@@ -78,10 +78,6 @@ void fmiReset(FmiInstance *inst); /* start values, time 0, state machine instant
  * logged when the handle is an instance. logCall: log the call (category logCalls) first. */
 FmiInstance *fmiEnter(void *handle, const char *fn, int mask, int logCall);
 
-
-/* The model's build (FmiModel.build), then for a model-exchange instance its FmiModelExchange.built;
- * sets inst->built. */
-FmiStatus fmiBuild(FmiInstance *inst, const char *fn, int initState);
 
 FmiStatus fmiSetupExperiment(FmiInstance *inst, const char *fn, int toleranceDefined, double tolerance,
                              double startTime, int stopTimeDefined, double stopTime);

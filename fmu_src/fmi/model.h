@@ -68,9 +68,6 @@ typedef struct FmiModel {
     /* Checks the model-specific fields of deserialized data (1: usable); the table's variables
      * were checked already. initialized: the state evolves (else only parameters matter). */
     int (*validData)(struct FmiInstance *inst, const char *fn, const void *data, int initialized);
-    /* 1 if local variable vr serves model exchange only (states, derivatives), so a face that
-     * declares no model-exchange locals hides it; NULL: every local does. */
-    int (*modelExchangeOnly)(FmiValueRef vr);
 } FmiModel;
 
 /* The one model a binary is built from: defined by the model folder (models/<Name>/) linked in. */

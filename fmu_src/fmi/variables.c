@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "fmi/build.h"
 #include "fmi/log.h"
 #include "fmi/variables.h"
 
@@ -34,9 +35,7 @@ const VarInfo *fmiFindVar(const FmiModel *model, FmiValueRef vr)
 const VarInfo *fmiFaceVar(const FmiInstance *inst, FmiValueRef vr)
 {
     const VarInfo *v = fmiFindVar(inst->model, vr);
-    if (v != NULL && v->causality == CausLocal && !inst->face->declaresLocals &&
-        (inst->model->modelExchangeOnly == NULL || inst->model->modelExchangeOnly(vr)))
-        return NULL;
+    if (v != NULL && v->meOnly && !inst->face->declaresLocals) return NULL;
     return v;
 }
 
@@ -71,13 +70,6 @@ static void rangeText(const VarInfo *v, char *buf, size_t n)
 static double storedValue(const VarInfo *v, const void *data)
 {
     return v->type == VarReal ? realIn(data, v->offset) : (double)intIn(data, v->offset);
-}
-
-/* Outputs need the model's derived data; before initialization they follow the parameters. */
-FmiStatus fmiEnsureBuilt(FmiInstance *inst, const char *fn)
-{
-    if (inst->built) return FmiOK;
-    return fmiBuild(inst, fn, fsmPreInit(inst->fsm));
 }
 
 /* Looks up vr, checks its type; logs and returns NULL if unknown or of another type. */
@@ -258,16 +250,6 @@ FmiStatus fmiSetInputDerivatives(FmiInstance *inst, const char *fn, const FmiVal
         realAt(inst->data, v->offset)[order[i]] = value[i];
     }
     return FmiOK;
-}
-
-void fmiStartValues(const FmiModel *model, void *data)
-{
-    for (int i = 0; i < model->nVars; ++i) {
-        const VarInfo *v = &model->vars[i];
-        if (v->offset < 0) continue; /* a calculated output */
-        if (v->type == VarReal) *realAt(data, v->offset) = v->start;
-        else *intAt(data, v->offset) = (int32_t)v->start;
-    }
 }
 
 int fmiVariablesValid(FmiInstance *inst, const char *fn, const void *data)

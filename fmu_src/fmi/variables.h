@@ -17,9 +17,6 @@ const VarInfo *fmiFindVar(const FmiModel *model, FmiValueRef vr);
 const char *fmiVarTypeName(VarType type);
 /* fmiFindVar as the instance's face declares the variables (NULL: unknown there). */
 const VarInfo *fmiFaceVar(const FmiInstance *inst, FmiValueRef vr);
-/* Builds the model's derived data from the parameters if they changed (before the end of
- * initialization also the state from the start values). Logs and returns FmiError on failure. */
-FmiStatus fmiEnsureBuilt(FmiInstance *inst, const char *fn);
 
 /* Unknown or mistyped references give 0 and FmiError, the others are still read. */
 FmiStatus fmiGetValues(FmiInstance *inst, const char *fn, const FmiValueRef vr[], size_t nvr,
@@ -31,8 +28,6 @@ FmiStatus fmiSetValues(FmiInstance *inst, const char *fn, const FmiValueRef vr[]
 FmiStatus fmiSetInputDerivatives(FmiInstance *inst, const char *fn, const FmiValueRef vr[], size_t nvr,
                                  const int32_t order[], const double value[]);
 
-/* Writes the table's start values into a model's data. */
-void fmiStartValues(const FmiModel *model, void *data);
 /* 1 if every parameter, input (value and derivatives) and start value in data is valid; else
  * logs and 0. */
 int fmiVariablesValid(FmiInstance *inst, const char *fn, const void *data);

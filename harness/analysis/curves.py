@@ -31,13 +31,15 @@ from typing import Any, Iterable, Mapping, Sequence
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from harness.analysis.executor import PointCache, Runner, decode_bytes, encode_bytes, point_key
-from harness.analysis.plateau import PLATEAU_OUTPUTS, PhasedSine, Start, fmu_identity, omega_of, settle, worker_fmu  # noqa: F401
+from harness.analysis.cache import PointCache, decode_bytes, encode_bytes, point_key
+from harness.analysis.executor import Runner
+from harness.analysis.plateau import PLATEAU_OUTPUTS, PhasedSine, Start, fmu_identity, omega_of, settle  # noqa: F401
 from harness.analysis.harmonic_balance import harmonic_balance
 from harness.analysis.config import (ALGO_VERSION, DIRECTIONS, MAX_RPM, METHODS, ConfigError,  # noqa: F401
                                      SweepSettings, SweepSpec, parse_speed_range, validate_settings,
                                      validate_spec)
 from harness.analysis.fixed_point import FixedPointResult, FixedPointTask, fixed_refinement, run_fixed_point
+from harness.fmu.pool import worker_fmu
 
 
 @dataclass(frozen=True)

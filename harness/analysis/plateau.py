@@ -1,7 +1,7 @@
 """One constant-speed plateau of the FMU, run until its periodic steady state (or a time cap).
 
-Shared by the time-domain sweeps and the fixed-point procedure: one FMU instance per worker
-(`worker_fmu`, reset per run), the FMU file's hash for cache keys (`fmu_identity`), the aero load
+Shared by the time-domain sweeps and the fixed-point procedure (one FMU instance per worker:
+harness.fmu.pool.worker_fmu, reset per run): the FMU file's hash for cache keys (`fmu_identity`), the aero load
 of a plateau continuing the phase of the previous one (`PhasedSine`), where a plateau starts
 (`Start`: at rest or from a saved FMU state), `settle`: chunks of FMU steps until
 `harness.analysis.steady_state.analyze` finds the steady state (chunk lengths from the fitted decay of the
@@ -9,10 +9,8 @@ transient), and `period_peak`: the max |q| of one more period, finely sampled.
 """
 from __future__ import annotations
 
-import atexit
 import hashlib
 import math
-import threading
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
@@ -21,23 +19,7 @@ import numpy as np
 
 from harness.analysis.config import SweepSettings
 from harness.analysis.steady_state import WINDOW, analyze, decide, hermite_peak
-from harness.fmu.blade import BladeFMU, FMUState, fmu_path
-
-_LOCAL = threading.local()
-
-
-def worker_fmu(path: str) -> Any:
-    """One BladeFMU per worker (process or thread), created on first use, reset per run."""
-    fmus = getattr(_LOCAL, "fmus", None)
-    if fmus is None:
-        fmus = _LOCAL.fmus = {}
-    if path not in fmus:
-        fmu = BladeFMU(path)
-        fmu.__enter__()
-        atexit.register(fmu.__exit__, None, None, None)
-        fmus[path] = fmu
-    return fmus[path]
-
+from harness.fmu.blade import FMUState, fmu_path
 
 _HASHES: dict[str, str] = {}
 

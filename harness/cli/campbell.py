@@ -15,7 +15,7 @@ import json
 
 import numpy as np
 
-from harness.cli.simulate import add_fmu_option, parse_start_values
+from harness.cli.options import add_fmu_option, add_start_values, parse_start_values
 from harness.fmu.blade import SPEED_RANGE, BladeFMU
 from harness.model.params import ParameterError
 from harness.studies.campbell_modes import (MAX_MODES, campbell, campbell_params, check_modes, check_speed,
@@ -33,9 +33,8 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     g.add_argument("--speeds", type=float, nargs=2, metavar=("FROM", "TO"), help="a speed range [rpm], FROM < TO (default: none, one speed)")
     p.add_argument("--points", type=int, default=101, metavar="N",
                    help=f"speeds on the grid of --speeds (default 101, {POINTS_RANGE[0]}..{POINTS_RANGE[1]})")
-    p.add_argument("--start-values", nargs="+", default=[], metavar="NAME VALUE",
-                   help="parameter name-value pairs, e.g. `--start-values m0 0.05 EI 400` (default: none, the model "
-                        "description's values)")
+    add_start_values(p, help="parameter name-value pairs, e.g. `--start-values m0 0.05 EI 400` (default: none, the"
+                             " model description's values)")
     p.add_argument("--plot", metavar="PNG", help="write the diagram (with --speeds; default: none)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
 

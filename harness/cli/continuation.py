@@ -18,7 +18,7 @@ from pathlib import Path
 from harness.analysis.periodic.branches import BranchSettings, trace_branches
 from harness.analysis.periodic.continuation import write_branches_csv
 from harness.analysis.periodic.period_map import MODELS
-from harness.cli.simulate import add_fmu_option, check_outputs, parse_start_values
+from harness.cli.options import add_fmu_option, add_start_values, check_outputs, parse_start_values
 from harness.fmu.blade import SPEED_RANGE, BladeFMU
 from harness.model.params import ParameterError, validate
 from harness.studies.plots import branches_figure
@@ -31,9 +31,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--speed-range", type=float, nargs=2, default=[3000.0, 10000.0], metavar=("LO", "HI"),
                    help="speed range [rpm] (default 3000 10000)")
     p.add_argument("--model", choices=MODELS, default="fixedPoint", help="as for `periodic` (default fixedPoint)")
-    p.add_argument("--start-values", nargs="+", default=[], metavar="NAME VALUE",
-                   help="parameter name-value pairs, e.g. `--start-values d 4e-5 gating false` (units as in"
-                        " modelDescription.xml; default: none, paper Table 1)")
+    add_start_values(p)
     p.add_argument("--seed-step", type=float, default=500.0, metavar="RPM",
                    help="search every orbit at seed speeds this far apart (default 500 rpm)")
     p.add_argument("--output-file", metavar="CSV",

@@ -1,11 +1,12 @@
 """Command line `python -m harness <command> ...`: argument parsing and error reporting only.
 
-Commands live in their own modules, registered in COMMANDS (name -> module path); each module
-provides `configure_parser(parser)` and `run(args) -> int`. Only the module of the command being
-run is imported; the one-line help shown by `--help` is the first sentence of each module's
-docstring (read without importing). Known user errors (bad parameter, missing FMU, bad input
-signal, FMU failure) print one line `error: ...` saying what to do and exit with code 2; option
-names follow fmpy's command line where they overlap.
+Commands live in their own modules of this package, registered in COMMANDS (name -> module path);
+each module provides `configure_parser(parser)` and `run(args) -> int`, options shared by several
+commands are in cli/options.py. Only the module of the command being run is imported (`--help`
+and `--version` import none: no numpy, scipy or fmpy); the one-line help shown by `--help` is the
+first sentence of each module's docstring (read without importing). Known user errors (bad
+parameter, missing FMU, bad input signal, FMU failure) print one line `error: ...` saying what to
+do and exit with code 2; option names follow fmpy's command line where they overlap.
 """
 from __future__ import annotations
 
@@ -16,31 +17,28 @@ import importlib.util
 import os
 import re
 import sys
-from typing import Sequence
+from typing import Any, Sequence
 
-from harness.api import version
-from harness.fmu.binding.status import FmiError
-from harness.fmu.blade import FMUError, FMUNotFoundError
-from harness.fmu.build import BuildError
-from harness.model.excitation import ExcitationError
-from harness.model.params import ParameterError
-from harness.outputs import OutputPathError
 from harness.paths import IN_CHECKOUT
 
 # command name -> module (add your command with one line), imported only when it runs
 COMMANDS: dict[str, str] = {
     "simulate": "harness.cli.simulate",
-    "validate": "harness.validation.validate",
-    "crosscheck": "harness.crosscheck.run",
+    "validate": "harness.cli.validate",
+    "crosscheck": "harness.cli.crosscheck",
     "run": "harness.cli.run",
     "sweep": "harness.cli.sweep",
     "reproduce": "harness.cli.reproduce",
-    "bench": "harness.bench",
+    "bench": "harness.cli.bench",
     "periodic": "harness.cli.periodic",
     "continue": "harness.cli.continuation",
     "ring": "harness.cli.ring",
     "mistuning": "harness.cli.mistuning",
     "campbell": "harness.cli.campbell",
+    "ring-states": "harness.cli.ring_states",
+    "ring-convergence": "harness.cli.ring_convergence",
+    "ring-energy": "harness.cli.ring_energy",
+    "mistuning-dask": "harness.cli.mistuning_dask",
 }
 
 EXIT_USAGE = 2
@@ -53,7 +51,7 @@ class _Parser(argparse.ArgumentParser):
     """argparse with one-line errors: `error: ... (see --help)`, exit code 2, and negative numbers
     in exponent form (`--start-values d -3e-5`) taken as values, not as unknown options."""
 
-    def __init__(self, *args, **kwargs):
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         # argparse's own pattern misses -3e-5, -inf, -nan (private attribute, stable since 3.2)
         self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|nan)$", re.I)
@@ -78,8 +76,29 @@ def _summary(module: str) -> str:
 
 
 def _known_errors() -> tuple[type[BaseException], ...]:
-    # FmiError: an FMU refused a call (its message names the variable, value and range)
+    """The errors a user can cause, imported when a command runs (not for --help)."""
+    from harness.fmu.binding.status import FmiError  # an FMU refused a call (names variable, value, range)
+    from harness.fmu.blade import FMUError, FMUNotFoundError
+    from harness.fmu.build import BuildError
+    from harness.model.excitation import ExcitationError
+    from harness.model.params import ParameterError
+    from harness.outputs import OutputPathError
+
     return (ParameterError, ExcitationError, FMUNotFoundError, FMUError, FmiError, BuildError, OutputPathError)
+
+
+class _Version(argparse.Action):
+    """--version: the installed distribution's version, looked up only when asked (0.1 s)."""
+
+    def __init__(self, option_strings: Sequence[str], dest: str = argparse.SUPPRESS, **kwargs: Any) -> None:
+        super().__init__(option_strings, dest, nargs=0, default=argparse.SUPPRESS,
+                         help="show the program's version number and exit")
+
+    def __call__(self, parser: argparse.ArgumentParser, *_: Any) -> None:
+        from harness.version import version
+
+        print(f"{parser.prog} {version()}")
+        parser.exit()
 
 
 def _prog() -> str:
@@ -104,7 +123,7 @@ def build_parser(command: str | None) -> argparse.ArgumentParser:
                "build/ on first use (cmake + gcc). Results go where --out/--output-file say (default: under\n"
                "the current directory). Parameter names and defaults are those of modelDescription.xml\n"
                "(paper Table 1) plus Fw0 [N/m].")
-    parser.add_argument("--version", action="version", version=f"%(prog)s {version()}")
+    parser.add_argument("--version", action=_Version)
     sub = parser.add_subparsers(dest="command", metavar="<command>", parser_class=_Parser)
     for name, module in COMMANDS.items():
         p = sub.add_parser(name, help=_summary(module), description=_summary(module) + ".")
@@ -144,7 +163,3 @@ def main(argv: Sequence[str] | None = None) -> int:
         where = f"{exc.filename}: " if exc.filename else ""
         print(f"error: {where}{exc.strerror or exc}", file=sys.stderr)
         return EXIT_USAGE
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

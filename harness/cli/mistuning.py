@@ -14,10 +14,9 @@ import math
 from dataclasses import replace
 from pathlib import Path
 
-import numpy as np
-
-from harness.analysis.executor import RESULTS_DIR
-from harness.cli.sweep import add_execution_options, make_runner
+from harness.paths import RESULTS_DIR
+from harness.cli.options import add_execution_options, make_runner
+from harness.cli.reports import mistuning_report
 from harness.model.params import ParameterError
 from harness.outputs import check_dir
 from harness.studies import mistuning, mistuning_plots
@@ -38,7 +37,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                    help=f"relative standard deviations, in [0, 0.2] (default {' '.join(map(str, _S.levels))})")
     p.add_argument("--patterns", type=int, metavar="K", help=f"random patterns per level (default {_S.patterns})")
     p.add_argument("--parameter", choices=PARAMETERS, help=f"scattered blade parameter (default {_S.parameter})")
-    p.add_argument("--seed", type=int, help=f"pattern generator seed (default {_S.seed})")
+    p.add_argument("--seed", type=int, metavar="S", help=f"pattern generator seed (default {_S.seed})")
     p.add_argument("--points", type=int, metavar="K", help=f"speeds across the band (default {_S.points})")
     p.add_argument("--band", type=float, nargs=2, metavar=("FROM", "TO"),
                    help=f"speed band [rpm] (default {CROSSING_BAND[0]:g}x to {CROSSING_BAND[1]:g}x the contact-free "
@@ -105,7 +104,7 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(out))
         return 0
-    report(out)
+    mistuning_report(out)
     return 0
 
 
@@ -127,35 +126,3 @@ def run_and_write(study, runner, cache: Path | None, out_dir: Path) -> dict:
         files += mistuning_states_plots.write(out["states"], out, out_dir, out.get("search"))
     out["files"] = [str(f) for f in files]
     return out
-
-
-def report(out: dict) -> None:
-    """The study's summary on stdout (also used by `make run`)."""
-    sp = out["speeds_rpm"]
-    print(f"mistuning: N = {out['n']}, {len(sp)} speeds {sp[0]:.0f}-{sp[-1]:.0f} rpm (contact-free crossing "
-          f"{out['crossing_rpm']:.0f} rpm), {out['patterns']} patterns per level, {out['computed']} sweeps computed "
-          f"in {out['wall_s']:.1f} s, {out['cached']} from the cache; Whitehead {out['whitehead']:.4f}")
-    for v, r in out["variants"].items():
-        edge = " AT THE BAND'S EDGE" if r["tuned_peak_at_edge"] else ""
-        print(f"  {v:12s} tuned peak {r['tuned_peak_m']:.4e} m at {r['tuned_peak_rpm']:.0f} rpm{edge}; "
-              f"{r['unsettled_points']} of {r['points']} points not settled")
-        for s, a in zip(out["levels"], np.array(r["amplification"], dtype=float)):
-            ok = a[~np.isnan(a)]
-            text = f"mean {ok.mean():.4f}, max {ok.max():.4f}" if len(ok) else "none settled"
-            print(f"  {v:12s} sigma {s:6.3f}: amplification {text}"
-                  + (f" ({len(a) - len(ok)} patterns without a settled point)" if len(ok) < len(a) else ""))
-    st = out.get("states")
-    if st:
-        print(f"  steady states (largest stable, {st['rings']} rings, {st['evaluations']} periods simulated, "
-              f"{st['wall_s']:.1f} s): tuned {st['tuned_peak_m']:.4e} m at {st['tuned_peak_rpm']:.0f} rpm")
-        for s, a in zip(out["levels"], np.array(st["amplification"], dtype=float)):
-            ok = a[~np.isnan(a)]
-            print(f"  {'':12s} sigma {s:6.3f}: amplification " +
-                  (f"mean {ok.mean():.4f}, max {ok.max():.4f} over {len(ok)} patterns" if len(ok) else "none stable"))
-    se = out.get("search")
-    if se:
-        print(f"  worst pattern found at sigma {se['sigma']:g}: amplification {se['amplification']:.4f} "
-              f"({se['rings']} rings from pattern {se['start_pattern']} ({se['start_from']}'s worst): "
-              f"{se['start_amplification']:.4f}); "
-              f"Whitehead {se['whitehead']:.4f}")
-    print("figures:", ", ".join(out["files"]))

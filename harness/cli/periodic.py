@@ -14,7 +14,7 @@ import math
 
 from harness.analysis.periodic.branches import orbits_at
 from harness.analysis.periodic.period_map import MODELS, PeriodMap, STATE_STARTS
-from harness.cli.simulate import add_fmu_option, parse_start_values
+from harness.cli.options import add_fmu_option, add_start_values, parse_start_values
 from harness.fmu.blade import SPEED_RANGE, BladeFMU
 from harness.model.params import ParameterError, input_range, validate
 from harness.analysis.periodic.shooting import describe
@@ -27,9 +27,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--model", choices=MODELS, default="fixedPoint",
                    help="fixedB: B fixed (parameter B); fixedPoint: the paper's B = A(B) (default); jenkins: "
                         "the time-domain macroslip element; coulomb: the Coulomb describing function with B = A(B)")
-    p.add_argument("--start-values", nargs="+", default=[], metavar="NAME VALUE",
-                   help="parameter name-value pairs, e.g. `--start-values d 4e-5 gating false` (units as in"
-                        " modelDescription.xml; default: none, paper Table 1)")
+    add_start_values(p)
     p.add_argument("--json", action="store_true", help="print the solutions as JSON on stdout")
 
 

@@ -28,15 +28,16 @@ from pathlib import Path
 from fmpy import read_model_description
 import numpy as np
 
+from harness.cli.options import add_start_values, parse_start_values
 from harness.cli.ring_branches import run_branches
-from harness.cli.simulate import parse_start_values
 from harness.fmu.slave import build_ring_fmus
 from harness.model.params import ParameterError
 from harness.outputs import check_dir, check_file
-from harness.studies import mistuning
+from harness.studies import mistuning, run_plots
 from harness.system import ring_c, ring_libcosim, ring_values, ssp
 from harness.system.ring import Ring, RingDiverged, amplitudes, diverged_message, harmonic, run as ring_run
 from harness.system.ring_sweep import DIRECTIONS, per_period_settling, period_step, sweep
+from harness.system.ring_tables import write_curves_csv
 from harness.system.ring_values import max_blades
 
 MASTERS = ("fmpy", "c", "libcosim", "ecos")
@@ -58,9 +59,8 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--master", choices=MASTERS, default="fmpy",
                    help="co-simulation master at one speed: fmpy, c (the same data flow, loop in C), libcosim, "
                         "ecos; a sweep runs on c (default: fmpy)")
-    p.add_argument("--start-values", nargs="+", default=[], metavar="NAME VALUE",
-                   help="set on every FMU instance that has it, e.g. `--start-values d 1.0 c 298 Fw0 300` "
-                        "(Fw0 [N/m], the blades' built-in load; default: the FMUs' values, Fw0 100 N/m)")
+    add_start_values(p, help="set on every FMU instance that has it, e.g. `--start-values d 1.0 c 298 Fw0 300` "
+                             "(Fw0 [N/m], the blades' built-in load; default: the FMUs' values, Fw0 100 N/m)")
     p.add_argument("--mistuning", type=float, default=0.0, metavar="SIGMA",
                    help="relative standard deviation of the mistuned parameter, e.g. 0.02 (default: 0, tuned)")
     p.add_argument("--mistuned-parameter", choices=("EI", "m0"), default="EI",
@@ -84,8 +84,9 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                         "every seed (travelling wave, runs from rest, a sweep up and down at --seed-points "
                         "speeds), each point's stability and the bifurcations, and the largest stable steady "
                         "state (harness/system/ring_orbits)")
-    g.add_argument("--seed-points", type=int, default=6, metavar="K",
-                   help="with --branches: speeds of the seeds across the band (default: 6)")
+    g.add_argument("--seed-points", type=int, default=None, metavar="K",
+                   help="with --branches: speeds of the seeds across the band (default: at most 300 rpm apart, "
+                        "at least 4)")
     g.add_argument("--steps-per-period", type=int, default=160, metavar="K",
                    help="with --branches: communication steps per excitation period (default: 160, as the sweeps)")
     g.add_argument("--csv", metavar="PATH",
@@ -123,7 +124,7 @@ def check(args: argparse.Namespace) -> None:
             raise ParameterError(f"--settle-rtol {args.settle_rtol!r} outside (0, 1)")
         if not (math.isfinite(args.max_time) and args.max_time > 0):
             raise ParameterError(f"--max-time {args.max_time!r} s must be > 0")
-        if not 2 <= args.seed_points <= 200:
+        if args.seed_points is not None and not 2 <= args.seed_points <= 200:
             raise ParameterError(f"--seed-points {args.seed_points} outside [2, 200]")
         if not 8 <= args.steps_per_period <= 100000:
             raise ParameterError(f"--steps-per-period {args.steps_per_period} outside [8, 100000]")
@@ -282,7 +283,7 @@ def run_sweep(ring, args) -> int:
     if args.csv:
         write_curves_csv(args.csv, r, tuned)
     if args.plot:
-        plot_curves(args.plot, r, tuned, f"{ring.n}-blade ring, EO {ring.engine_order}, Fw0 = {ring.fw0:g} N/m")
+        run_plots.ring_sweep(args.plot, r, tuned, f"{ring.n}-blade ring, EO {ring.engine_order}, Fw0 = {ring.fw0:g} N/m")
     if args.json:
         print(json.dumps(out, indent=1))
         return 0
@@ -294,60 +295,3 @@ def run_sweep(ring, args) -> int:
     else:
         print("  peak: no speed settled")
     return 0
-
-
-def write_curves_csv(path: str, r, tuned=None) -> None:
-    N = next(iter(r.amplitudes_m.values())).shape[1]
-    head = (["ring", "direction", "speed_rpm"] + [f"amplitude{i}_m" for i in range(N)] +
-            [f"settled{i}" for i in range(N)] + [f"movement{i}" for i in range(N)])
-    rows = []
-    for name, sw in (("mistuned" if tuned else "tuned", r), ("tuned", tuned)):
-        if sw is None:
-            continue
-        for d in sw.amplitudes_m:
-            for j, s in enumerate(sw.speeds_rpm):
-                rows.append([name, d, repr(float(s))] + [repr(float(x)) for x in sw.amplitudes_m[d][j]] +
-                            [str(int(x)) for x in sw.settled[d][j]] + [repr(float(x)) for x in sw.movement[d][j]])
-    Path(path).write_text("\n".join(",".join(x) for x in [head, *rows]) + "\n")
-
-
-def plot_curves(path: str, r, tuned, title: str) -> None:
-    import matplotlib
-    matplotlib.use("Agg")  # straight to a PNG file
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(9, 5.5))
-    styles = {"up": "-", "down": "--"}
-    colors = plt.get_cmap("tab10" if next(iter(r.amplitudes_m.values())).shape[1] <= 10 else "viridis")
-    for d, a in r.amplitudes_m.items():
-        N = a.shape[1]
-        for i in range(N):
-            ax.plot(r.speeds_rpm, a[:, i] * 1e3, styles[d], marker=".", lw=1, color=colors(i / max(N - 1, 1)),
-                    label=f"blade {i}" if d == next(iter(r.amplitudes_m)) and (N <= 10 or i in (0, N - 1)) else None)
-        bad = ~r.settled[d].all(axis=1)
-        if bad.any():
-            ax.plot(r.speeds_rpm[bad], a[bad].max(axis=1) * 1e3, "x", color="k", ms=7,
-                    label="not settled" if d == next(iter(r.amplitudes_m)) else None)
-    for d in r.amplitudes_m:
-        pts = [(x["speed_rpm"], max(x["amplitudes_m"])) for x in r.refinement if x["direction"] == d and x["settled"]]
-        if pts:
-            ax.plot(*np.array(pts).T * [[1], [1e3]], "o" if d == "up" else "s", ms=3, mfc="none", color="r",
-                    label=f"peak refinement ({d}), largest blade")
-    if tuned is not None:
-        for d, a in tuned.amplitudes_m.items():
-            ax.plot(tuned.speeds_rpm, a.max(axis=1) * 1e3, styles[d], color="0.4", lw=2.5, alpha=0.6,
-                    label=f"tuned ring, largest blade ({d})")
-    if r.peak_direction:
-        ax.plot([r.peak_speed_rpm], [r.peak_amplitude_m * 1e3], "*", color="red", ms=14,
-                label=f"peak {r.peak_amplitude_m * 1e3:.4f} mm at {r.peak_speed_rpm:.0f} rpm ({r.peak_direction})")
-    if len(r.amplitudes_m) > 1:
-        ax.plot([], [], "k-", label="sweep up")
-        ax.plot([], [], "k--", label="sweep down")
-    ax.set_xlabel("rotor speed [rpm]")
-    ax.set_ylabel("blade amplitude max|q| [mm]")
-    ax.set_title(title)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, ncol=2)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120, format="png")
-    plt.close(fig)

@@ -17,10 +17,10 @@ from pathlib import Path
 
 import numpy as np
 
-from harness.analysis.executor import RESULTS_DIR
-from harness.cli.mistuning import report, run_and_write
-from harness.cli.reproduce import reproduce_and_report
-from harness.cli.sweep import add_execution_options, make_runner
+from harness.paths import RESULTS_DIR
+from harness.cli.mistuning import run_and_write
+from harness.cli.options import add_execution_options, make_runner
+from harness.cli.reports import mistuning_report, reproduce_and_report
 from harness.studies import mistuning
 from harness.studies.claims import grouped, verdict_counts
 from harness.studies.paper import SIZES, STUDIES, Reproduction
@@ -38,7 +38,7 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.output_dir)
     with make_runner(args) as runner:
         study = run_and_write(mistuning.SIZES["small"], runner, out / "cache" / "mistuning", out / "mistuning")
-    report(study)
+    mistuning_report(study)
     print(f"\nresults in {out.resolve()}/ (claims.md: the paper's claims against ours; the figures *.png; "
           "mistuning/)")
     print("what it found:")

@@ -10,23 +10,17 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
-import tempfile
 from pathlib import Path
-from typing import Any
 
-from fmpy.util import write_csv
-import matplotlib
-import matplotlib.pyplot as plt
 import numpy as np
 
 from harness.analysis.steady_state import analyze
+from harness.cli.options import add_fmu_option, add_start_values, check_outputs, parse_start_values
 from harness.fmu.blade import SPEED_RANGE, BladeFMU, fmu_path
 from harness.model.excitation import Constant, ExcitationError, LinearRamp
-from harness.model.params import ParameterError, validate
-from harness.outputs import check_file, with_unit, write_error
-
-matplotlib.use("Agg")  # figures go straight to PNG files: no display
+from harness.model.params import validate
+from harness.files.tables import write_result_csv
+from harness.studies import run_plots
 
 DEFAULT_OUTPUT = "ShroudedBlade_out.csv"
 
@@ -37,10 +31,9 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--stop-time", type=float, default=0.3, metavar="S", help="stop time [s] (default 0.3)")
     p.add_argument("--output-interval", type=float, default=1e-4, metavar="S",
                    help="communication step = output interval [s] (default 1e-4)")
-    p.add_argument("--start-values", nargs="+", default=[], metavar="NAME VALUE",
-                   help="parameter name-value pairs, e.g. `--start-values d 4e-5 kn 1e6 gating false`;"
-                        " names and units as in modelDescription.xml plus Fw0 (load amplitude fed through"
-                        " aeroLoad, N/m, default 100); default: none (paper Table 1)")
+    add_start_values(p, help="parameter name-value pairs, e.g. `--start-values d 4e-5 kn 1e6 gating false`;"
+                             " names and units as in modelDescription.xml plus Fw0 (load amplitude fed through"
+                             " aeroLoad, N/m, default 100); default: none (paper Table 1)")
     speed = p.add_mutually_exclusive_group()
     speed.add_argument("--speed", type=float, default=5000.0, metavar="RPM",
                        help="constant rotor speed [rpm] (default 5000)")
@@ -54,87 +47,6 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--plot", metavar="PNG", help="also plot tipDisplacement and amplitude [mm] to this PNG file (default: no plot)")
     p.add_argument("--debug-logging", action="store_true", help="print all of the FMU's log messages (default: warnings and errors only)")
     p.add_argument("--fmi-logging", action="store_true", help="print every FMI call of the step loop (slow)")
-
-
-def add_fmu_option(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--fmu", metavar="FILE",
-                   help="the FMU file (a .fmu, not a directory; default: the harness's own: the installed"
-                        " package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
-
-
-def check_outputs(args: argparse.Namespace, *options: tuple[str, str]) -> None:
-    """Refuse, before any work, an output file (attribute, option name) that cannot be written."""
-    for attr, option in options:
-        if getattr(args, attr, None):
-            check_file(getattr(args, attr), option)
-
-
-def parse_start_values(items: list[str]) -> dict[str, Any]:
-    if len(items) % 2:
-        raise ParameterError(f"--start-values needs NAME VALUE pairs; got {len(items)} item(s): {' '.join(items)}")
-    return {items[i]: items[i + 1] for i in range(0, len(items), 2)}
-
-
-def _atomic_path(target: Path, suffix: str) -> Path:
-    try:
-        target.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix, dir=target.parent)
-    except OSError as exc:  # name the user's path, not a temporary one
-        raise write_error(target, exc) from None
-    os.close(fd)
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; results are ordinary files for the user's tools
-    return Path(tmp)
-
-
-def with_units(result: np.ndarray, variables: dict) -> np.ndarray:
-    """`result` (time + FMU outputs) with each column named with its unit from the model description
-    (`time_s`, `tipDisplacement_m`, ...), as every command's CSV and JSON names its quantities."""
-    def unit(name: str) -> str | None:
-        if name == "time":
-            return "s"
-        v = variables.get(name)
-        return None if v is None else (v.unit or (v.declaredType.unit if v.declaredType else None))
-    named = np.dtype({"names": [with_unit(n, unit(n)) for n in result.dtype.names],
-                      "formats": [result.dtype.fields[n][0] for n in result.dtype.names],
-                      "offsets": [result.dtype.fields[n][1] for n in result.dtype.names],
-                      "itemsize": result.dtype.itemsize})
-    return result.view(named).copy()  # a new dtype: the caller's array keeps its names
-
-
-def write_csv_atomic(path: str | Path, result: np.ndarray) -> None:
-    target = Path(path)
-    tmp = _atomic_path(target, ".csv")
-    try:
-        write_csv(tmp, result)
-        os.replace(tmp, target)
-    finally:
-        tmp.unlink(missing_ok=True)
-
-
-def plot_atomic(path: str | Path, result: np.ndarray, title: str) -> None:
-    names = [n for n in ("tipDisplacement", "amplitude") if n in result.dtype.names]
-    if not names:
-        names = [n for n in result.dtype.names if n != "time"][:1]
-    fig, ax = plt.subplots(figsize=(8, 4))
-    for n in names:
-        scale, unit = (1e3, "mm") if n in ("tipDisplacement", "amplitude") else (1.0, "")
-        ax.plot(result["time"], result[n] * scale, label=f"{n} [{unit}]" if unit else n, lw=0.8)
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("tip displacement q and its amplitude [mm]" if "tipDisplacement" in names else names[0])
-    ax.set_title(title)
-    ax.grid(alpha=0.3)
-    ax.legend()
-    fig.tight_layout()
-    target = Path(path)
-    tmp = _atomic_path(target, ".png")
-    try:
-        fig.savefig(tmp, dpi=120, format="png")
-        os.replace(tmp, target)
-    finally:
-        plt.close(fig)
-        tmp.unlink(missing_ok=True)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -159,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
                       outputs=args.output_variables, derivative_order=args.derivative_order,
                       start_time=args.start_time)
         variables = fmu.variables
-    write_csv_atomic(args.output_file, with_units(res, variables))
+    write_result_csv(args.output_file, res, variables)
     print(f"wrote {len(res)} rows x {len(res.dtype.names)} columns to {args.output_file}")
     if "tipDisplacement" in res.dtype.names:
         q = res["tipDisplacement"]
@@ -173,6 +85,6 @@ def run(args: argparse.Namespace) -> int:
             else:
                 print(f"steady state: {ss.message}")
     if args.plot:
-        plot_atomic(args.plot, res, f"ShroudedBlade: tip response, {speed_text}, load Fw0 = {params['Fw0']:g} N/m")
+        run_plots.simulation(args.plot, res, f"ShroudedBlade: tip response, {speed_text}, load Fw0 = {params['Fw0']:g} N/m")
         print(f"wrote {args.plot}")
     return 0

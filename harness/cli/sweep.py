@@ -16,8 +16,8 @@ import numpy as np
 
 from harness.analysis.config import SweepSettings
 from harness.analysis.curves import ConfigError, SweepSpec, parse_speed_range, sweep, validate_spec
-from harness.analysis.executor import DEFAULT_CACHE_DIR, Runner, write_csv
-from harness.cli.simulate import add_fmu_option, check_outputs, parse_start_values
+from harness.files.tables import write_csv
+from harness.cli.options import add_execution_options, add_start_values, check_outputs, make_runner, parse_start_values
 from harness.model.params import validate
 from harness.outputs import check_dir
 from harness.studies import plots
@@ -25,29 +25,6 @@ from harness.studies import plots
 # column names with units, as in every command's CSV and JSON (continue: speed_rpm, amplitude_m)
 OUT_DTYPE = [("speed_rpm", "f8"), ("method", "U9"), ("amplitude_m", "f8"), ("band_lo_m", "f8"), ("band_hi_m", "f8"),
              ("steady", "i4"), ("stable", "i4")]
-
-
-def add_execution_options(p: argparse.ArgumentParser, cache: bool = True, fmu: bool = True) -> None:
-    """Options shared by sweep / reproduce / run / mistuning: where and how the work runs (with
-    `cache`, the per-point result cache of the transient sweeps; with `fmu`, the blade FMU to use)."""
-    if fmu:
-        add_fmu_option(p)
-    p.add_argument("--workers", type=int, default=None, metavar="N",
-                   help="local worker processes (default: number of CPUs; 1 = in this process)")
-    p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="run on a dask.distributed cluster, e.g. tcp://10.0.0.5:8786 (one FMU per worker;"
-                        " default: none, local processes)")
-    if cache:
-        p.add_argument("--cache-dir", default=str(DEFAULT_CACHE_DIR), metavar="DIR",
-                       help=f"per-point result cache, makes interrupted runs resumable (default {DEFAULT_CACHE_DIR})")
-        p.add_argument("--no-cache", action="store_true", help="compute every point again, store nothing")
-    p.add_argument("--quiet", action="store_true", help="no progress bars")
-
-
-def make_runner(args: argparse.Namespace):
-    if args.workers is not None and args.workers < 1:
-        raise ConfigError(f"--workers {args.workers} must be >= 1")
-    return Runner(workers=args.workers, scheduler=args.scheduler, progress=not args.quiet)
 
 
 _DEFAULTS = SweepSettings()
@@ -70,9 +47,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--method", nargs="+", default=["time", "hb"], choices=["time", "fixed", "hb"],
                    help="time (FMU, tracked amplitude), fixed (paper's fixed point), hb (reference); default time hb")
     p.add_argument("--fixed-speeds", metavar="RANGE", help="speeds for --method fixed (default: --speeds)")
-    p.add_argument("--start-values", nargs="+", default=[], metavar="NAME VALUE",
-                   help="parameter name-value pairs, e.g. `--start-values d 4e-5 kn 1e6` (units as in modelDescription.xml;"
-                        " default: none, paper Table 1)")
+    add_start_values(p)
     p.add_argument("--rtol", type=float, default=_DEFAULTS.rtol, metavar="R",
                    help="steady-state tolerance per plateau: estimated relative distance from the periodic "
                         f"limit (default {_DEFAULTS.rtol:g})")

@@ -4,7 +4,7 @@ new user would: load the FMU, initialize, take a few steps, read an output.
 build/ShroudedBlade.fmu carries both <CoSimulation> and <ModelExchange>: a co-simulation-only tool
 simply picks the co-simulation face, so whether a tool imports model exchange is asked with
 `me_only_copy()`, the same FMU with <CoSimulation> removed from its modelDescription.xml. libcosim
-and Ecos are tried in a child process (`python -m harness.crosscheck.flavours TOOL FMU`): both crash
+and Ecos are tried in a child process (`probe`, which runs `child_probe` there): both crash
 (SIGSEGV) on an FMU they cannot use, which must not take the caller down.
 """
 from __future__ import annotations
@@ -76,7 +76,7 @@ def _ecos(fmu: str) -> float:
 
 def probe(tool: str, fmu: Path, timeout: float = 120.0) -> Observation:
     """Load, initialize and step `fmu` in `tool` (libcosim or ecos) in a child process."""
-    proc = subprocess.run([sys.executable, "-m", "harness.crosscheck.flavours", tool, str(fmu)],
+    proc = subprocess.run([sys.executable, "-c", _CHILD, tool, str(fmu)],
                           capture_output=True, text=True, timeout=timeout)
     if proc.returncode == 0 and "tipDisplacement=" in proc.stdout:
         return Observation(True, f"ran {STEPS} steps of {STEP} s")
@@ -86,12 +86,12 @@ def probe(tool: str, fmu: Path, timeout: float = 120.0) -> Observation:
     return Observation(False, f"refused: {last[:200]}")
 
 
-def _main(argv: list[str]) -> int:
-    tool, fmu = argv
+def child_probe(tool: str, fmu: str) -> int:
+    """In the child process of `probe`: step `fmu` in `tool` and print the tip displacement reached."""
     q = {"libcosim": _libcosim, "ecos": _ecos}[tool](fmu)
     print(f"tipDisplacement={q!r}")
     return 0
 
 
-if __name__ == "__main__":
-    sys.exit(_main(sys.argv[1:]))
+# the child's program: `child_probe(TOOL, FMU)` with the arguments after -c
+_CHILD = "import sys; from harness.crosscheck.flavours import child_probe; sys.exit(child_probe(*sys.argv[1:]))"

@@ -20,7 +20,7 @@ import numpy as np
 from harness.model import params as _params
 from harness.model.excitation import AeroLoad, Constant, LinearRamp, Piecewise
 
-INPUTS = ("aeroLoad", "rotorSpeed")  # the FMU's Real inputs, vr 40 and 41
+INPUTS = ("aeroLoad", "rotorSpeed")  # the FMU's Real inputs
 
 
 @dataclass(frozen=True)

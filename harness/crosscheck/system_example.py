@@ -9,11 +9,11 @@ fixed-step Jacobi scheme (outputs at t_k are the inputs for [t_k, t_{k+1}], inpu
 hand-written loop over the project's FMI binding (harness.fmu.slave), and libcosim (libcosimpy) with `connect_real_variables`;
 both pass libcosim's integer-nanosecond communication points. The excitation FMU is built by the
 project's CMake build with the blade (build/Excitation.fmu, `build_excitation_fmu`). `python -m
-harness.crosscheck.system_example` runs both masters and prints the largest relative difference.
+harness crosscheck` runs both masters (its system section) and reports the largest relative
+difference.
 """
 from __future__ import annotations
 
-import argparse
 from contextlib import ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -22,9 +22,9 @@ from typing import Any, Mapping
 import numpy as np
 
 from harness.crosscheck.common import max_rel_diff, outputs, result_array
-from harness.fmu.blade import fmu_path
 from harness.fmu.build import EXCITATION_FMU, build
-from harness.fmu.libcosim import NS_PER_S, last_error, ns_time_grid, samples, to_ns
+from harness.fmu.libcosim import last_error, samples
+from harness.system.time_grid import NS_PER_S, ns_time_grid, to_ns
 from harness.fmu.slave import Slave, Unpacked, variables_by_name
 from harness.optional import require
 EXC = "excitation"
@@ -152,24 +152,3 @@ def run_libcosim(blade_fmu: Path, exc_fmu: Path, system: System) -> np.ndarray:
 
 def compare(a: np.ndarray, b: np.ndarray) -> tuple[float, str]:
     return max_rel_diff(a, b)
-
-
-def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m harness.crosscheck.system_example", description=__doc__.split("\n\n")[0])
-    ap.add_argument("--stop-time", type=float, default=0.3)
-    args = ap.parse_args(argv)
-    system = System(stop_time=args.stop_time)
-    blade = fmu_path(build=True)
-    exc = build_excitation_fmu()
-    a = run_binding(blade, exc, system)
-    b = run_libcosim(blade, exc, system)
-    d, worst = compare(b, a)
-    for name in system.blades:
-        amp = np.max(np.abs(a[f"{name}.tipDisplacement"]))
-        print(f"{name}: max |tipDisplacement| = {amp:.4e} m")
-    print(f"libcosim vs the binding master: max relative difference {d:.2e} ({worst})")
-    return 0 if d <= 1e-10 else 1
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

@@ -27,12 +27,12 @@ from fmpy import extract, read_model_description
 
 from harness.fmu import build as _build
 from harness.fmu.binding import FmiError, LogRecord, fmi2
+from harness.fmu.stepper import STATUS, Stepper, Values
 from harness.model.excitation import MAX_ORDER, AeroLoad, ExcitationError, Signal, as_speed
-from harness.model.params import ParameterError, fmu_parameters, input_range, validate
+from harness.model.params import ParameterError, fmu_parameters, input_range, validate, value_reference
 
-VR_AERO, VR_SPEED = 40, 41  # modelDescription.xml: aeroLoad, rotorSpeed
+VR_AERO, VR_SPEED = value_reference("aeroLoad"), value_reference("rotorSpeed")  # modelDescription.xml
 SPEED_RANGE = input_range("rotorSpeed")  # rotorSpeed min/max [rpm], from modelDescription.xml
-STATUS = ("OK", "Warning", "Discard", "Error", "Fatal", "Pending")
 _ERROR_CATEGORIES = ["logStatusWarning", "logStatusDiscard", "logStatusError", "logStatusFatal"]
 
 
@@ -187,11 +187,11 @@ class _Recorder:
 
     def sample_start(self) -> None:
         """Row 0: the outputs at the start of the run."""
-        f, t = self.fmu, float(self.times[0])
-        st_real = f._getReal(f._c, self.a_vr_real, len(self.real), self.out_real.ctypes.data) if self.real else 0
-        st_int = f._getInteger(f._c, self.a_vr_int, len(self.ints), self.out_int.ctypes.data) if self.ints else 0
+        fmi, t = self.fmu.stepper, float(self.times[0])
+        st_real = fmi.getReal(fmi.c, self.a_vr_real, len(self.real), self.out_real.ctypes.data) if self.real else 0
+        st_int = fmi.getInteger(fmi.c, self.a_vr_int, len(self.ints), self.out_int.ctypes.data) if self.ints else 0
         if (st_real | st_int) > 1:
-            raise f._fail("fmi2GetReal/fmi2GetInteger", max(st_real, st_int), t, self.result(0))
+            raise self.fmu.failure("fmi2GetReal/fmi2GetInteger", max(st_real, st_int), t, self.result(0))
 
     def result(self, rows: int) -> np.ndarray:
         dt = np.dtype([("time", float)] + [(v, float) for v in self.real] + [(v, np.int32) for v in self.ints])
@@ -243,45 +243,12 @@ class BladeFMU:
         # the binding's per-instance logger: several instances in one process keep their messages apart
         self._slave = fmi2.Fmi2Instance(lib, "blade", self.md.guid, fmi2.resource_uri(self._unzip), logging_on=True,
                                         log_limit=200, on_log=self._on_log,
-                                        on_call=self._print_call if self.fmi_logging else None)
+                                        on_call=None)
         self._phase = "instantiated"
         if not self.log:  # loggingOn enabled every category: keep only the status ones
             self._slave.set_debug_logging(False, [])
             self._slave.set_debug_logging(True, _ERROR_CATEGORIES)
-        self._c = self._slave.c
-        self._setReal, self._getReal, self._getInteger = lib.fmi2SetReal, lib.fmi2GetReal, lib.fmi2GetInteger
-        self._setDer, self._doStep = lib.fmi2SetRealInputDerivatives, lib.fmi2DoStep
-        if self.fmi_logging:
-            for name in ("_setReal", "_getReal", "_getInteger", "_setDer", "_doStep"):
-                setattr(self, name, self._logged(name[1:], getattr(self, name)))
-
-    @staticmethod
-    def _print_call(function: str, status: int) -> None:
-        print(f"{function} -> {STATUS[status] if 0 <= status < 6 else status}", file=sys.stderr)
-
-    def _logged(self, name: str, f):
-        """Wrap a raw FMI function so each call is printed with its values (for --fmi-logging)."""
-        D, U, I = ctypes.c_double, ctypes.c_uint, ctypes.c_int
-
-        def arr(ctype, addr: int, n: int) -> list:
-            return list((ctype * n).from_address(addr)) if n else []
-
-        def call(*args):
-            st = f(*args)
-            if name == "doStep":
-                shown = f"t={args[1]:.17g}, h={args[2]:.17g}"
-            elif name == "setDer":
-                n = args[2]
-                shown = (f"vr={arr(U, args[1], n)}, order={arr(I, args[3], n)}, "
-                         f"value={[float(f'{v:.6g}') for v in arr(D, args[4], n)]}")
-            else:
-                n = args[2]
-                vals = arr(I if name == "getInteger" else D, args[3], n)
-                shown = f"vr={arr(U, args[1], n)}, value={vals}"
-            label = {"setDer": "SetRealInputDerivatives"}.get(name, name[0].upper() + name[1:])
-            print(f"fmi2{label}({shown}) -> {STATUS[st] if 0 <= st < 6 else st}", file=sys.stderr)
-            return st
-        return call
+        self._stepper = Stepper(self._slave, trace=self.fmi_logging)
 
     def _on_log(self, rec: LogRecord) -> None:
         status = rec.status
@@ -339,22 +306,19 @@ class BladeFMU:
 
     # ---- parameters and setup ----
     def _set_parameters(self, p: Mapping[str, Any], start: float, u0: tuple[float, float]) -> None:
-        s = self._slave
-        if self._phase != "instantiated":
-            self._guard("fmi2Reset", start, s.reset)
-            self._phase = "instantiated"
+        """reset (unless just instantiated) -> parameters -> initialization with the inputs u0."""
         by_type: dict[str, tuple[list[int], list[Any]]] = {"Real": ([], []), "Integer": ([], []), "Boolean": ([], [])}
         for name, value in fmu_parameters(p).items():
             v = self.variables[name]
             by_type[v.type][0].append(v.valueReference)
             by_type[v.type][1].append(value)
-        self._guard("fmi2SetReal (parameters)", start, s.set_real, *by_type["Real"])
-        self._guard("fmi2SetInteger (parameters)", start, s.set_integer, *by_type["Integer"])
-        self._guard("fmi2SetBoolean (parameters)", start, s.set_boolean, *by_type["Boolean"])
-        self._guard("fmi2SetupExperiment", start, s.setup_experiment, start)
-        self._guard("fmi2EnterInitializationMode", start, s.enter_initialization_mode)
-        self._guard("fmi2SetReal (inputs)", start, s.set_real, [VR_AERO, VR_SPEED], list(u0))
-        self._guard("fmi2ExitInitializationMode", start, s.exit_initialization_mode)
+        reals = Values(by_type["Real"][0], [float(x) for x in by_type["Real"][1]])
+        ints = Values(by_type["Integer"][0], [int(x) for x in by_type["Integer"][1]], ctypes.c_int)
+        bools = Values(by_type["Boolean"][0], [int(x) for x in by_type["Boolean"][1]], ctypes.c_int)
+        st, call = self._stepper.start(reals, ints, bools, Values([VR_AERO, VR_SPEED], u0), start,
+                                       reset=self._phase != "instantiated")
+        if st > 1:
+            raise self._fail(call, st, start, None)
         self._phase = "stepping"
 
     @staticmethod
@@ -464,9 +428,8 @@ class BladeFMU:
         """The communication steps (the hot path: per-step addresses are precomputed, the loop
         makes only the raw FMI calls). Per step: the input values (only before the first step when
         carried), their derivatives, fmi2DoStep, and the outputs where the step is sampled."""
-        c = self._c
-        setReal, setDer, doStep, getReal, getInt = (self._setReal, self._setDer, self._doStep,
-                                                    self._getReal, self._getInteger)
+        fmi = self._stepper
+        c, setReal, setDer, doStep, getReal, getInt = fmi.c, fmi.setReal, fmi.setDer, fmi.doStep, fmi.getReal, fmi.getInteger
         n_der, a_vr_der, a_order = inputs.n_derivatives, inputs.a_vr_der, inputs.a_order
         a_vr_in = inputs.a_vr_in
         n_real, n_int, a_vr_real, a_vr_int = len(rec.real), len(rec.ints), rec.a_vr_real, rec.a_vr_int
@@ -529,20 +492,25 @@ class BladeFMU:
             raise ExcitationError(f"rotorSpeed = {us[0, k]:g} rpm at t = {grid[k]:.9g} s is outside"
                                   f" [{lo:g}, {hi:g}] rpm")
 
-    # ---- raw access for drivers with their own hot loop (harness.analysis.periodic) ----
-    def raw(self) -> "RawFMI":
-        """The raw ctypes FMI functions of this instance (one reset + initialization + steps per
-        evaluation, without run()'s per-call setup). The wrapper forgets which state the FMU is in:
-        a later run() resets it, a later get_state() reads whatever the raw calls left."""
+    # ---- the stepper, for drivers with their own hot loop (harness.analysis.periodic) ----
+    @property
+    def stepper(self) -> Stepper:
+        """This instance's Stepper (harness.fmu.stepper), the calls run() makes."""
+        return self._stepper
+
+    def prepared(self) -> Stepper:
+        """The Stepper for a driver that makes its own calls (reset -> set -> initialize -> steps
+        -> read, without run()'s per-call setup). The wrapper forgets which state the FMU is in: a
+        later run() resets it, a later get_state() reads whatever the driver's calls left."""
         if self._phase in ("closed", "fatal"):
             raise RuntimeError(f"BladeFMU is {self._phase}")
         self._phase, self._held, self._params, self._time = "stepping", None, None, math.nan
-        return RawFMI(self)
+        return self._stepper
 
-    def failure(self, what: str, status: int, t: float) -> FMUError:
-        """The FMUError for a raw call that returned `status` (> fmi2Warning) at time t, with the
-        FMU's log messages; marks the wrapper failed (the next run() resets)."""
-        return self._fail(what, status, t, None)
+    def failure(self, what: str, status: int, t: float, partial: np.ndarray | None = None) -> FMUError:
+        """The FMUError for a stepper call that returned `status` (> fmi2Warning) at time t, with the
+        FMU's log messages (and the results up to t); marks the wrapper failed (the next run() resets)."""
+        return self._fail(what, status, t, partial)
 
     # ---- FMU state ----
     def get_state(self) -> FMUState:
@@ -585,19 +553,3 @@ class BladeFMU:
         self._time = getattr(state, "time", None) if getattr(state, "time", None) is not None else math.nan
         sp = getattr(state, "params", None)
         self._params = validate(sp, source="FMUState.params") if sp is not None else None
-
-
-class RawFMI:
-    """Raw ctypes entry points of one BladeFMU instance (argument types declared once) and its
-    component pointer `c`; statuses are returned as ints, nothing is checked here."""
-
-    def __init__(self, fmu: BladeFMU):
-        lib = fmu._slave.lib
-        self.c = fmu._c
-        self.reset = lib.fmi2Reset
-        self.setupExperiment = lib.fmi2SetupExperiment
-        self.enterInitializationMode = lib.fmi2EnterInitializationMode
-        self.exitInitializationMode = lib.fmi2ExitInitializationMode
-        self.setReal, self.getReal, self.setDer, self.doStep = fmu._setReal, fmu._getReal, fmu._setDer, fmu._doStep
-        self.setInteger = lib.fmi2SetInteger
-        self.setBoolean = lib.fmi2SetBoolean

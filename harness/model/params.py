@@ -1,9 +1,9 @@
 """Parameter sets for the ShroudedBlade FMU and the reference: names, defaults, units, validation.
 
-The FMU's modelDescription.xml is the single source of truth for the FMU parameters (names, types,
-start values, min/max). This module reads it once and adds what the XML cannot say (open
-intervals, cross-parameter rules) plus the harness-only parameters (the aerodynamic load amplitude
-`Fw0`). `validate()` turns any user mapping into a complete, checked parameter dict or raises
+The FMU's modelDescription.xml (generated from fmu_src/models/ShroudedBlade/model.toml) is the
+single source of truth for the FMU variables: names, types, value references, units, start values,
+min/max and, in its vendor annotation, which bounds are open. This module reads it once and adds
+the harness-only parameters (the aerodynamic load amplitude `Fw0`). `validate()` turns any user mapping into a complete, checked parameter dict or raises
 `ParameterError` naming the value, the accepted range and where the value came from.
 
 Start values of the state (the outputs with initial="exact": tipDisplacement, tipVelocity,
@@ -57,9 +57,8 @@ class ParamSpec:
         return f"{lb}{lo}, {hi}{rb}{unit}"
 
 
-# Bounds the XML min/max cannot express: strictly positive quantities and open intervals.
-_OPEN_LOW = {"EI", "rho", "A", "l", "kn", "kdRatio", "gamma", "B"}
-_OPEN_HIGH = {"gamma"}
+# The model description's vendor annotation of the bounds min/max exclude (fmu_src/gen writes it).
+_TOOL = "ShroudedBlade"
 
 # Harness-only parameters (docs/model.md section 1: F_w0 is applied by the harness through aeroLoad).
 _HARNESS_ONLY = [
@@ -78,9 +77,34 @@ def _model_description() -> ET.Element:
 
 
 @lru_cache(maxsize=1)
+def open_bounds() -> tuple[frozenset[str], frozenset[str]]:
+    """(names whose min is excluded, names whose max is excluded), from the model description's
+    <VendorAnnotations><Tool name="ShroudedBlade"><OpenBounds lower=".." upper=".."/>."""
+    el = _model_description().find(f"VendorAnnotations/Tool[@name='{_TOOL}']/OpenBounds")
+    if el is None:
+        return frozenset(), frozenset()
+    return frozenset(el.get("lower", "").split()), frozenset(el.get("upper", "").split())
+
+
+@lru_cache(maxsize=1)
+def value_references() -> dict[str, int]:
+    """name -> value reference of every FMU variable, in the order of modelDescription.xml."""
+    return {sv.get("name"): int(sv.get("valueReference")) for sv in _model_description().iter("ScalarVariable")}
+
+
+def value_reference(name: str) -> int:
+    """The value reference of the FMU variable `name` (modelDescription.xml)."""
+    try:
+        return value_references()[name]
+    except KeyError:
+        raise KeyError(f"{name!r} is not a variable of modelDescription.xml") from None
+
+
+@lru_cache(maxsize=1)
 def specs() -> dict[str, ParamSpec]:
     """All parameters by name: the FMU's (from modelDescription.xml) and the harness-only ones."""
     root = _model_description()
+    open_low, open_high = open_bounds()
     out: dict[str, ParamSpec] = {}
     for sv in root.iter("ScalarVariable"):
         start_value = sv.get("causality") == "output" and sv.get("initial") == "exact"
@@ -101,7 +125,7 @@ def specs() -> dict[str, ParamSpec]:
         out[name] = ParamSpec(
             name=name, type=kind, default=default, unit=typ.get("unit", ""),
             low=None if lo is None else float(lo), high=None if hi is None else float(hi),
-            low_open=name in _OPEN_LOW, high_open=name in _OPEN_HIGH,
+            low_open=name in open_low, high_open=name in open_high,
             description=sv.get("description", ""), start_value=start_value)
     for s in _HARNESS_ONLY:
         out[s.name] = s

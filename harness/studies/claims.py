@@ -19,7 +19,7 @@ from pathlib import Path
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
-from harness.analysis.executor import atomic_write_text
+from harness.files.atomic import atomic_write_text
 
 if TYPE_CHECKING:
     from harness.studies.paper import Fig45Summary, PaperIteration, Summary

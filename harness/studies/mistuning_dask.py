@@ -3,7 +3,7 @@ the speed-up from 1 to 2 workers, a worker killed mid-run, and the cost of the c
 estimated from them. Every (variant, pattern) sweep is one dask task whose record lands in the
 cache as soon as it finishes, so a rerun picks up the finished ones.
 
-`python -m harness.studies.mistuning_dask [--out FILE]` writes the measurement as JSON (make run
+`python -m harness mistuning-dask [--out FILE]` writes the measurement as JSON (make run
 does not run it: it takes a few minutes on 2 cores).
 
 Killed worker: the study runs on 2 workers in a thread; when the first sweep has finished, one
@@ -14,7 +14,6 @@ killed is one that has started a sweep not yet in the cache).
 """
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import os
@@ -26,7 +25,9 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from harness.analysis.executor import PointCache, Runner, atomic_write_text
+from harness.analysis.cache import PointCache
+from harness.analysis.executor import Runner
+from harness.files.atomic import atomic_write_text
 from harness.studies import mistuning
 from harness.studies.mistuning import Study
 
@@ -151,15 +152,8 @@ def measure(study: Study = MEASURED) -> dict:
             "cpus": os.cpu_count(), "load_average": os.getloadavg()}
 
 
-def main(argv: list[str] | None = None) -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default="mistuning_dask.json", metavar="FILE", help="where the JSON goes")
-    a = ap.parse_args(argv)
+def write_measurement(path: str | Path) -> dict:
+    """`measure()`, written to `path` as JSON (atomically); returns it."""
     m = measure()
-    atomic_write_text(a.out, json.dumps(m, indent=1))
-    print(json.dumps({k: m[k] for k in ("speed_up", "efficiency", "sweep_s", "sweep_cpu_s", "cluster_cost")}))
-    print(m["killed_worker"])
-
-
-if __name__ == "__main__":
-    main()
+    atomic_write_text(path, json.dumps(m, indent=1))
+    return m

@@ -8,14 +8,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.ticker import MaxNLocator
 
-from harness.analysis.executor import write_csv
+from harness.files.tables import write_csv
+from harness.files.figures import plt, save_png
 
-matplotlib.use("Agg")  # figures go straight to PNG files: no display
 COLOURS = ("tab:blue", "tab:orange", "tab:green")  # one per variant, in every figure
 
 
@@ -69,6 +67,17 @@ def write(out: dict, directory: Path) -> list[Path]:
                    [("variant", "U12"), ("blade", "i4"), ("tuned_rpm", "f8"), ("tuned_m", "f8"),
                     ("mistuned_rpm", "f8"), ("mistuned_m", "f8")])
 
+    files += amplification_figures(out, d)
+    return files
+
+
+def amplification_figures(out: dict, d: Path) -> list[Path]:
+    """Amplification vs mistuning level and its histogram at the largest level (PNG + CSV each):
+    they need only the study's amplifications (`variants`: `amplification`, `peak_rpm`), `n`,
+    `levels`, `patterns`, `speeds_rpm`, `parameter` and `whitehead`."""
+    n, levels, V, sp = out["n"], out["levels"], out["variants"], np.array(out["speeds_rpm"])
+    sigma = f"sigma = {levels[-1]:g} ({out['parameter']})"
+    files = []
     # amplification vs level: filled markers the max, hollow the mean, one colour per variant
     fig, ax = plt.subplots(figsize=(6, 4))
     rows = []
@@ -79,18 +88,27 @@ def write(out: dict, directory: Path) -> list[Path]:
             continue
         with np.errstate(all="ignore"):
             hi, mean, lo = np.nanmax(a, axis=1), np.nanmean(a, axis=1), np.nanmin(a, axis=1)
-        ax.plot(levels, hi, "o-", color=c, label=f"{v}: max")
-        ax.plot(levels, mean, ("s", "D", "^")[j] + ":", color=c, mfc="none", ms=9 - 2 * j, label=f"{v}: mean")
+        # each curve starts at the tuned ring, amplification 1 at sigma = 0 by definition
+        x = [0.0] + list(levels)
+        ax.plot(x, [1.0, *hi], "o-", color=c, label=f"{v}: max", markevery=list(range(1, len(x))))
+        ax.plot(x, [1.0, *mean], ("s", "D", "^")[j] + ":", color=c, mfc="none", ms=9 - 2 * j, label=f"{v}: mean",
+                markevery=list(range(1, len(x))))
         rows += [(v, s, mean[i], hi[i], lo[i]) for i, s in enumerate(levels)]
-    ax.axhline(out["whitehead"], color="r", label=f"Whitehead (1 + sqrt({n})) / 2")
     ax.plot([0.0], [1.0], "k+", ms=10, label="tuned ring (1 by definition)")
-    # the axes from the tuned ring (0, 1) to the largest level and the bound, with room for the markers
     ax.set_xlim(-0.08 * max(levels), 1.12 * max(levels))
-    top = max([out["whitehead"]] + [r[3] for r in rows if np.isfinite(r[3])])
-    ax.set_ylim(0.95, 1.06 * top)
+    # the y range from the data; Whitehead's bound as a line when it is near, else as a note at the top
+    data = max([1.0] + [r[3] for r in rows if np.isfinite(r[3])])
+    bound = f"Whitehead (1 + sqrt({n})) / 2 = {out['whitehead']:.3f}"
+    if out["whitehead"] <= 1.3 * data:
+        ax.axhline(out["whitehead"], color="r", label=bound)
+        ax.set_ylim(0.95, 1.06 * max(data, out["whitehead"]))
+    else:
+        ax.set_ylim(0.95, 1.0 + 1.25 * (data - 1.0) + 0.05)
+        ax.annotate(f"{bound}: far above", xy=(0.5, 0.97), xycoords="axes fraction", ha="center", va="top",
+                    color="r", fontsize=8)
     ax.set(xlabel="relative standard deviation sigma", ylabel="amplification (band peak / tuned peak)",
            title=f"N = {n}, {out['patterns']} patterns, {sp[0]:.0f}-{sp[-1]:.0f} rpm")
-    ax.legend(fontsize=8, loc="center right")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(0.0, 0.9))  # below the note, above the curves
     files += _save(fig, d / "mistuning_amplification", rows,
                    [("variant", "U12"), ("sigma", "f8"), ("mean", "f8"), ("max", "f8"), ("min", "f8")])
 
@@ -121,7 +139,6 @@ def _curve(ax, x, y, settled, colour, ls, marker, label) -> None:
 
 def _save(fig, stem: Path, rows: list, dtype: list) -> list[Path]:
     fig.tight_layout()
-    fig.savefig(stem.with_suffix(".png"), dpi=120)
-    plt.close(fig)
+    save_png(fig, stem.with_suffix(".png"), dpi=120, tight=False)
     write_csv(stem.with_suffix(".csv"), np.array(rows, dtype=dtype))
     return [stem.with_suffix(".png"), stem.with_suffix(".csv")]

@@ -15,16 +15,15 @@ while each contact works along its own extrapolated u, so sum_i dW_i != -sum_j (
     coupling error = sum_i dW_i + sum_j (dEc_j + dU_j)   (0 for an exact coupling),
     residual       = sum W_aero - sum dE - sum dEc = sum dS + sum dU - coupling error,
 the acceptance residual; over a steady period dS, dU -> 0 and residual = -coupling error.
-`python -m harness.system.energy [--conserving]` prints both, relative to the aero work, vs h and
+`python -m harness ring-energy [--conserving]` prints both, relative to the aero work, vs h and
 order, for the plain master or the energy-conserving one (harness/system/ring_conserving.py).
 """
 from __future__ import annotations
 
-import argparse
 import math
 import time
 from dataclasses import dataclass, replace
-from typing import Mapping
+from typing import Iterator, Mapping, Sequence
 
 import numpy as np
 
@@ -98,26 +97,17 @@ def measure(ring: Ring, periods: int = 1, conserving: bool = False) -> tuple[Per
     return balance(ring, res, periods), time.perf_counter() - t0
 
 
-def main(argv: list[str] | None = None) -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--stop", type=float, default=0.2, help="run length [s]; the window is its last period")
-    ap.add_argument("--orders", type=int, nargs="+", default=[1, 2, 3])
-    ap.add_argument("--conserving", action="store_true", help="with the energy-conserving correction")
-    ap.add_argument("--steps", type=float, nargs="+", default=[1e-4, 5e-5, 2.5e-5, 1.25e-5, 6.25e-6])
-    a = ap.parse_args(argv)
-    print("order h[s] residual/aero coupling_error/aero stored/aero springs/aero amplitude_change wall[s]")
-    for p in a.orders:
-        for h in a.steps:
-            ring = replace(STUDY_RING, step=h, stop_time=a.stop, order=p)
+def step_study(stop: float, orders: Sequence[int], steps: Sequence[float], conserving: bool = False
+               ) -> Iterator[tuple[int, float, PeriodBalance | None, float]]:
+    """The study ring (STUDY_RING) run to `stop` at every extrapolation order and communication
+    step: (order, step, balance over the last period or None where an FMU refused a step (the run
+    diverged), wall time [s])."""
+    for p in orders:
+        for h in steps:
+            ring = replace(STUDY_RING, step=h, stop_time=stop, order=p)
             try:
-                bal, wall = measure(ring, conserving=a.conserving)
-            except Exception as e:  # an FMU refused a step (state out of range): diverged
-                print(p, h, f"failed: {type(e).__name__}", flush=True)
+                bal, wall = measure(ring, conserving=conserving)
+            except Exception:  # an FMU refused a step (state out of range): diverged
+                yield p, h, None, math.nan
                 continue
-            W = bal.aero
-            print(p, h, f"{bal.residual / W:.3e} {bal.coupling_error / W:.3e} {bal.stored / W:.3e} "
-                  f"{bal.springs / W:.3e} {bal.amplitude_change:.2e} {wall:.1f}", flush=True)
-
-
-if __name__ == "__main__":
-    main()
+            yield p, h, bal, wall

@@ -244,9 +244,3 @@ def amplitudes(time: np.ndarray, q: np.ndarray, omega: float) -> np.ndarray:
     if time[-1] - time[0] < T * (1 - 1e-9):
         raise ValueError(f"the run ({time[-1] - time[0]:g} s) is shorter than one excitation period ({T:g} s)")
     return np.abs(q[time >= time[-1] - T - 1e-12]).max(axis=0)
-
-
-if __name__ == "__main__":  # the former second entry point: one ring command
-    import sys
-    print("error: the ring command is `python -m harness ring --blades N ...` (see its --help)", file=sys.stderr)
-    sys.exit(2)

@@ -4,16 +4,15 @@ travelling wave: bladeIndex i of bladeCount N), N ShroudContact contacts (and, w
 with the communication points both masters use (libcosim's integer nanoseconds)."""
 from __future__ import annotations
 
-import atexit
 from contextlib import contextmanager
-from pathlib import Path
 from typing import Iterator
 
 import numpy as np
 
 from harness.fmu.build import EXCITATION_FMU, build
-from harness.fmu.libcosim import ns_time_grid
-from harness.fmu.slave import BLADE_EXTERNAL_FMU, SHROUD_CONTACT_FMU, Slave, Unpacked, build_ring_fmus
+from harness.system.time_grid import ns_time_grid
+from harness.fmu.pool import worker_unpacked
+from harness.fmu.slave import BLADE_EXTERNAL_FMU, SHROUD_CONTACT_FMU, Slave, build_ring_fmus
 
 
 def check(ring) -> None:
@@ -24,7 +23,6 @@ def check(ring) -> None:
 
 
 _built: set[str] = set()  # per process: CMake is asked once (0.3 s a call), not per ring
-_unpacked: dict[str, Unpacked] = {}  # per process: each FMU extracted once (20 ms), removed at exit
 
 
 def _build_once(excitation: bool) -> tuple:
@@ -37,15 +35,6 @@ def _build_once(excitation: bool) -> tuple:
     return BLADE_EXTERNAL_FMU, SHROUD_CONTACT_FMU
 
 
-def _extracted(path) -> Unpacked:
-    """The FMU extracted once per process (again if the file changed)."""
-    key = f"{path}:{Path(path).stat().st_mtime_ns}"
-    if key not in _unpacked:
-        u = _unpacked[key] = Unpacked(path)
-        atexit.register(u.close)
-    return _unpacked[key]
-
-
 @contextmanager
 def open_ring(ring) -> Iterator[tuple[np.ndarray, list[Slave], list[Slave], list[Slave]]]:
     """(t_0..t_K, blades, contacts, excitations) of `ring` (a harness.system.ring.Ring), freed on
@@ -55,7 +44,7 @@ def open_ring(ring) -> Iterator[tuple[np.ndarray, list[Slave], list[Slave], list
     excited = ring.load == "excitation"
     bx_path, sc_path = _build_once(excited)
     N = ring.n
-    BX, SC = _extracted(bx_path), _extracted(sc_path)
+    BX, SC = worker_unpacked(bx_path), worker_unpacked(sc_path)
     speed = {} if excited else {"rotorSpeed": ring.speed}
     made: list[Slave] = []
     try:
@@ -66,7 +55,7 @@ def open_ring(ring) -> Iterator[tuple[np.ndarray, list[Slave], list[Slave], list
         made += contacts
         excs = []
         if excited:
-            EX = _extracted(EXCITATION_FMU)
+            EX = worker_unpacked(EXCITATION_FMU)
             excs = [EX.instance(f"exc{i}", {"Fw0": ring.fw0, "n0": ring.speed, "n1": ring.speed,
                                             "engineOrder": ring.engine_order, "bladeIndex": i, "bladeCount": N})
                     for i in range(N)]

@@ -20,8 +20,9 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from harness.fmu.build import EXCITATION_FMU, build
-from harness.fmu.libcosim import last_error, samples, to_ns
-from harness.fmu.slave import build_ring_fmus
+from harness.fmu.libcosim import last_error, samples
+from harness.system.time_grid import to_ns
+from harness.fmu.slave import BLADE_EXTERNAL_FMU, build_ring_fmus, variables_by_name
 from harness.optional import require
 from harness.system.ring import Ring
 
@@ -135,7 +136,7 @@ def run_libcosim(ssp_dir: Path, ring: Ring) -> dict[str, float | Any]:
     obs = CosimObserver.create_time_series(buffer_size=K + 16)
     ex.add_observer(observer=obs)
     idx = [ex.slave_index_from_instance_name(f"blade{i}") for i in range(ring.n)]
-    vr = 50  # tipDisplacement (fmu_src/models/BladeExternalContact/modelDescription.xml)
+    vr = variables_by_name(ssp_dir / "resources" / BLADE_EXTERNAL_FMU.name)["tipDisplacement"][0]
     for k in idx:
         if k < 0 or not obs.start_time_series(k, vr, CosimVariableType.REAL):
             raise RuntimeError(f"libcosim: cannot observe the blades: {last_error()}")

@@ -4,26 +4,23 @@ shrinks, per extrapolation order of the input derivatives, with the measured ord
 slope of log error over log h on the finest points), and the largest stable h.
 
 Error: max over blades and over the reference's output grid (every 1e-4 s up to stop_time) of
-|q_cosim - q_ref|, relative to max |q_ref|. `python -m harness.validation.ring_convergence` writes
+|q_cosim - q_ref|, relative to max |q_ref|. `python -m harness ring-convergence` writes
 results/ring_convergence.csv and .png (log-log; also libcosim) and prints the table.
 """
 from __future__ import annotations
 
-import argparse
 import csv
 import math
 from dataclasses import dataclass
 from pathlib import Path
 
-import matplotlib
-import matplotlib.pyplot as plt
 import numpy as np
 
+from harness import digits
+from harness.files.figures import plt, save_png
 from harness.reference.ring import MonolithicRing, RingSpec
 from harness.system import ring_libcosim
 from harness.system.ring import Ring, run
-
-matplotlib.use("Agg")  # figures go straight to PNG files: no display
 
 GRID = 1e-4  # reference output spacing [s]; every h divides it
 
@@ -80,7 +77,8 @@ def write(rows: list[tuple[int | str, float, float]], out: Path) -> None:
     with open(out.with_suffix(".csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["order", "h", "relative_error"])
-        w.writerows(rows)
+        texts = [digits.column(r[k] for r in rows) for k in (1, 2)]
+        w.writerows([r[0], h, e] for r, h, e in zip(rows, *texts))
     fig, ax = plt.subplots(figsize=(5, 4))
     for p in dict.fromkeys(r[0] for r in rows):
         pts = [(h, e) for q, h, e in rows if q == p and math.isfinite(e)]
@@ -91,21 +89,4 @@ def write(rows: list[tuple[int | str, float, float]], out: Path) -> None:
     ax.set_title("ring N = 4, EO = 3: Jacobi vs monolithic", fontsize=10)
     ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(out.with_suffix(".png"), dpi=120)
-    plt.close(fig)
-
-
-def main(argv: list[str] | None = None) -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", type=Path, default=Path("results/ring_convergence"))
-    a = ap.parse_args(argv)
-    rows = errors(Study(), libcosim=True)
-    write(rows, a.out)
-    for r in rows:
-        print(*r)
-    for p in dict.fromkeys(r[0] for r in rows):
-        print(f"{p}: measured convergence order {measured_order(rows, p):.2f}")
-
-
-if __name__ == "__main__":
-    main()
+    save_png(fig, out.with_suffix(".png"), dpi=120, tight=False)

@@ -14,11 +14,10 @@ exponential phase estimates the largest transverse Floquet multiplier |mu| of th
 itself comes from the symmetric computation `on_wave` (the full ring, made an exact TW after
 every period).
 
-`python -m harness.validation.ring_states CASE` prints the numbers of one case of the findings page.
+`python -m harness ring-states CASE` prints the numbers of one case of the findings page.
 """
 from __future__ import annotations
 
-import argparse
 import math
 import time
 from dataclasses import replace
@@ -280,19 +279,3 @@ def _kick(spec: RingSpec, wave_periods: int, kick_periods: int, lo: float = 1e-7
         if name == "kicked":
             mu, k0, k1 = growth_per_period(d, lo, hi)
             print(f"  kicked: |mu| = {mu:.4f} per period (periods {k0}-{k1} after the kick)")
-
-
-def main(argv: list[str] | None = None) -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("case", choices=[*SETTINGS])
-    ap.add_argument("--stop", type=float, default=None, help="horizon [s]")
-    ap.add_argument("--rtol", type=float, nargs="+", default=[1e-9], help="reference tolerances (case b)")
-    a = ap.parse_args(argv)
-    if a.case.startswith("a"):
-        case_a(a.case, a.stop or 0.3)
-    else:
-        case_b(a.stop or 2.0, tuple(a.rtol))
-
-
-if __name__ == "__main__":
-    main()

@@ -1,6 +1,6 @@
 """Validate the FMU against the independent Python reference and print a pass/fail table.
 
-`python -m harness validate [--quick]`. Time-domain cases: the FMU runs with input derivatives up
+`python -m harness validate [--quick]` runs them (harness/cli/validate.py). Time-domain cases: the FMU runs with input derivatives up
 to order 8; the reference (harness.reference.simulate) is fed `fmu_view(...)` of exactly the
 inputs the FMU saw, with integration restarts at the communication points, and both are compared
 on the communication grid, for every friction model, formulation, projection, gating setting and
@@ -16,19 +16,17 @@ reference's tracked map, harness.reference.tracked), amplitude and phase to
 """
 from __future__ import annotations
 
-import argparse
 import csv
 import io
 import itertools
 import math
-import sys
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, Callable, Iterable
 
 import numpy as np
 
-from harness.outputs import check_file
-from harness.analysis.executor import atomic_write_text
+from harness.files.atomic import atomic_write_text
 from harness.analysis.harmonic_balance import harmonic_balance
 from harness.analysis.steady_state import analyze
 from harness.fmu.blade import BladeFMU, FMUError
@@ -273,36 +271,12 @@ def format_row(r: Row) -> str:
             f"{'pass' if r.passed else 'FAIL'}{'  ' + r.note if r.note else ''}")
 
 
-def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--quick", action="store_true",
-                   help="reduced matrix: one option changed at a time, 5000 rpm and a run-up, one HB setting")
-    p.add_argument("--fmu", metavar="PATH", help="FMU file (default: the installed package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
-    p.add_argument("--output-file", metavar="CSV", help="also write the table to this CSV file (default: none, the table is printed only)")
-    p.add_argument("--max-step", type=float, default=MAX_STEP, metavar="S",
-                   help=f"FMU internal step maxStep for the time-domain cases (default {MAX_STEP:g} s; the FMU's"
-                        " own default is 1e-5)")
-
-
-def run(args: argparse.Namespace) -> int:
-    if args.output_file:
-        check_file(args.output_file, "--output-file")  # before the cases run
-    case_list = cases(quick=args.quick)
-    print(f"validating the FMU against harness.reference: {len(case_list)} cases, communication step"
-          f" {TD_STEP:g} s, maxStep {args.max_step:g} s")
-    print(HEADER)
-    rows = run_validation(case_list, args.fmu, on_row=lambda r: print(format_row(r), flush=True),
-                          max_step=args.max_step)
-    failed = [r for r in rows if not r.passed]
-    if args.output_file:
-        buf = io.StringIO(newline="")
-        w = csv.writer(buf)
-        w.writerow(["scenario", "quantity", "max_error", "tolerance", "passed", "note"])
-        for r in rows:
-            w.writerow([r.scenario, r.quantity, f"{r.error:.6g}", f"{r.tolerance:g}", r.passed, r.note])
-        atomic_write_text(args.output_file, buf.getvalue())  # never a half-written table
-    print(f"{len(rows) - len(failed)} of {len(rows)} checks pass" + (f"; {len(failed)} FAIL" if failed else ""))
-    return 1 if failed else 0
-
-
-if __name__ == "__main__":
-    sys.exit(run(argparse.Namespace(quick="--quick" in sys.argv, fmu=None, output_file=None, max_step=MAX_STEP)))
+def write_table(path: str | Path, rows: Iterable[Row]) -> None:
+    """The rows as CSV (scenario, quantity, max_error, tolerance, passed, note), atomically: never a
+    half-written table."""
+    buf = io.StringIO(newline="")
+    w = csv.writer(buf)
+    w.writerow(["scenario", "quantity", "max_error", "tolerance", "passed", "note"])
+    for r in rows:
+        w.writerow([r.scenario, r.quantity, f"{r.error:.6g}", f"{r.tolerance:g}", r.passed, r.note])
+    atomic_write_text(path, buf.getvalue())

@@ -13,17 +13,13 @@
 
 #include "fmi/log.h"
 #include "fmi/model.h"
-#include "models/Excitation/config.h"
+#include "models/Excitation/variables.h"
 
+/* par: Fw0 [N/m], n0, n1 (speed before and after the ramp) [rpm], t0, t1 (ramp start, end) [s];
+ * ipar: engineOrder, bladeIndex (0..bladeCount-1), bladeCount. Slots: variables.h (model.toml). */
 typedef struct {
-    double fw0;          /* load amplitude [N/m] */
-    double n0;           /* speed before the ramp [rpm] */
-    double n1;           /* speed after the ramp [rpm] */
-    double t0;           /* ramp start [s] */
-    double t1;           /* ramp end [s] */
-    int32_t engineOrder; /* excitation order [-] */
-    int32_t bladeIndex;  /* this blade's place on the disk, 0..bladeCount-1 [-] */
-    int32_t bladeCount;  /* blades on the disk [-] */
+    double par[PAR_NUM];
+    int32_t ipar[IPAR_NUM];
 } ExcitationData;
 
 typedef struct {
@@ -32,43 +28,36 @@ typedef struct {
 
 enum { OutAeroLoad = 0, OutRotorSpeed };
 
-#define INF HUGE_VAL
 #define AT(member) (long)offsetof(ExcitationData, member)
 
-/* Sorted by value reference. */
+#define PAR(k) AT(par[k])
+#define IPAR(k) AT(ipar[k])
+
+/* Sorted by value reference: generated from model.toml. */
 static const VarInfo VARS[] = {
-    {1, "Fw0", VarReal, CausParameter, "N/m", 100.0, -INF, INF, 0, 0, AT(fw0), -1},
-    {2, "n0", VarReal, CausParameter, "rpm", 5000.0, 0.0, INF, 0, 0, AT(n0), -1},
-    {3, "n1", VarReal, CausParameter, "rpm", 5000.0, 0.0, INF, 0, 0, AT(n1), -1},
-    {4, "t0", VarReal, CausParameter, "s", 0.0, -INF, INF, 0, 0, AT(t0), -1},
-    {5, "t1", VarReal, CausParameter, "s", 1.0, -INF, INF, 0, 0, AT(t1), -1},
-    {6, "engineOrder", VarInteger, CausParameter, "", 3, 1, 100, 0, 0, AT(engineOrder), -1},
-    {7, "bladeIndex", VarInteger, CausParameter, "", 0, 0, 9999, 0, 0, AT(bladeIndex), -1},
-    {8, "bladeCount", VarInteger, CausParameter, "", 1, 1, 10000, 0, 0, AT(bladeCount), -1},
-    {10, "aeroLoad", VarReal, CausOutput, "N/m", 0.0, -INF, INF, 0, 0, VAR_NO_OFFSET, OutAeroLoad},
-    {11, "rotorSpeed", VarReal, CausOutput, "rpm", 0.0, -INF, INF, 0, 0, VAR_NO_OFFSET, OutRotorSpeed},
+#include "models/Excitation/variables.inc"
 };
 
 /* n(t) [rpm] */
 static double speedAt(const ExcitationData *e, double t)
 {
-    if (t <= e->t0) return e->n0;
-    if (t >= e->t1) return e->n1;
-    return e->n0 + (e->n1 - e->n0) * (t - e->t0) / (e->t1 - e->t0);
+    if (t <= e->par[ParT0]) return e->par[ParN0];
+    if (t >= e->par[ParT1]) return e->par[ParN1];
+    return e->par[ParN0] + (e->par[ParN1] - e->par[ParN0]) * (t - e->par[ParT0]) / (e->par[ParT1] - e->par[ParT0]);
 }
 
 /* int_0^t n(s) ds [rpm s], exact for the piecewise-linear profile */
 static double speedIntegral(const ExcitationData *e, double t)
 {
-    const double slope = (e->n1 - e->n0) / (e->t1 - e->t0); /* [rpm/s] */
-    if (t <= e->t0) return e->n0 * t;
-    if (t <= e->t1) {
-        const double s = t - e->t0;
-        return e->n0 * t + 0.5 * slope * s * s;
+    const double slope = (e->par[ParN1] - e->par[ParN0]) / (e->par[ParT1] - e->par[ParT0]); /* [rpm/s] */
+    if (t <= e->par[ParT0]) return e->par[ParN0] * t;
+    if (t <= e->par[ParT1]) {
+        const double s = t - e->par[ParT0];
+        return e->par[ParN0] * t + 0.5 * slope * s * s;
     }
     {
-        const double w = e->t1 - e->t0;
-        return e->n0 * e->t1 + 0.5 * slope * w * w + e->n1 * (t - e->t1);
+        const double w = e->par[ParT1] - e->par[ParT0];
+        return e->par[ParN0] * e->par[ParT1] + 0.5 * slope * w * w + e->par[ParN1] * (t - e->par[ParT1]);
     }
 }
 
@@ -76,9 +65,9 @@ static double speedIntegral(const ExcitationData *e, double t)
 static double aeroLoadAt(const ExcitationData *e, double t)
 {
     const double twoPi = 2.0 * 3.14159265358979323846;
-    const double psi = (double)e->engineOrder * (twoPi / 60.0) * speedIntegral(e, t);
-    const double lead = twoPi * (double)e->engineOrder * (double)e->bladeIndex / (double)e->bladeCount;
-    return e->fw0 * sin(psi + lead); /* lead = 0 for blade 0: exactly the single-blade load */
+    const double psi = (double)e->ipar[IparEngineOrder] * (twoPi / 60.0) * speedIntegral(e, t);
+    const double lead = twoPi * (double)e->ipar[IparEngineOrder] * (double)e->ipar[IparBladeIndex] / (double)e->ipar[IparBladeCount];
+    return e->par[ParFw0] * sin(psi + lead); /* lead = 0 for blade 0: exactly the single-blade load */
 }
 
 /* The ramp needs t1 > t0 and the blade must be on the disk (the table checks the single values). */
@@ -86,13 +75,13 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
 {
     const ExcitationData *e = (const ExcitationData *)inst->data;
     (void)initState;
-    if (!(e->t1 > e->t0)) {
-        fmiLogStatus(inst, FmiError, "%s: the ramp needs t1 > t0, here t0 = %g s, t1 = %g s", fn, e->t0, e->t1);
+    if (!(e->par[ParT1] > e->par[ParT0])) {
+        fmiLogStatus(inst, FmiError, "%s: the ramp needs t1 > t0, here t0 = %g s, t1 = %g s", fn, e->par[ParT0], e->par[ParT1]);
         return FmiError;
     }
-    if (e->bladeIndex >= e->bladeCount) {
+    if (e->ipar[IparBladeIndex] >= e->ipar[IparBladeCount]) {
         fmiLogStatus(inst, FmiError, "%s: bladeIndex = %d must be in [0, bladeCount - 1] = [0, %d]", fn,
-                     (int)e->bladeIndex, (int)e->bladeCount - 1);
+                     (int)e->ipar[IparBladeIndex], (int)e->ipar[IparBladeCount] - 1);
         return FmiError;
     }
     return FmiOK;
@@ -120,9 +109,18 @@ static FmiStatus doStep(FmiInstance *inst, const char *fn, double tc, double h)
 }
 
 const FmiModel fmiModel = {
-    MODEL_NAME, MODEL_GUID, VARS, (int)(sizeof VARS / sizeof VARS[0]), 0,
-    sizeof(ExcitationData), sizeof(ExcitationMemory), 0, 1, NULL, 0,
-    NULL, build, NULL, outputs, output, NULL, doStep, NULL, NULL,
+    .name = MODEL_NAME,
+    .guid = MODEL_GUID,
+    .vars = VARS,
+    .nVars = (int)(sizeof VARS / sizeof VARS[0]),
+    .dataSize = sizeof(ExcitationData),
+    .memorySize = sizeof(ExcitationMemory),
+    .canGetAndSetState = 0,
+    .stateVersion = 1,
+    .build = build,
+    .outputs = outputs,
+    .output = output,
+    .doStep = doStep,
 };
 
 /* co-simulation only */

@@ -12,11 +12,11 @@
 
 #include "fmi/log.h"
 #include "fmi/model.h"
-#include "models/ShroudContact/config.h"
+#include "models/ShroudContact/variables.h"
 #include "physics/contact_element.h"
 
-typedef enum { ParKn = 0, ParKdRatio, ParMu, ParGamma, ParD, ParB, ParE0, ParF0, PAR_NUM } RealParam;
-typedef enum { IparFriction = 0, IparProjection, IparEngineOrder, IparGating, IPAR_NUM } IntParam;
+#define MAX_ORDER 8 /* highest input derivative order, as the blades' (model-notes s.1) */
+/* the slots of par[] and ipar[] (RealParam, IntParam): variables.h, generated from model.toml */
 enum { InQA = 0, InVA, InQB, InVB, InSpeed, NUM_INPUTS };
 
 typedef struct {
@@ -35,39 +35,16 @@ typedef struct {
 
 enum { OutForceA = 0, OutForceB, OutNormal, OutFriction, OutEnergy, OutU, OutState };
 
-#define INF HUGE_VAL
-#define HALF_PI 1.5707963267948966
 #define AT(member) (long)offsetof(ScData, member)
 #define PAR(k) AT(par[k])
 #define IPAR(k) AT(ipar[k])
 #define INPUT(k) AT(in[k][0])
-#define NONE VAR_NO_OFFSET
 #define DATA(inst) ((ScData *)(inst)->data)
 
-/* Sorted by value reference; the contact parameters keep ShroudedBlade's references. */
+/* Sorted by value reference: generated from model.toml (the contact parameters keep ShroudedBlade's
+ * value references). */
 static const VarInfo VARS[] = {
-    {7, "kn", VarReal, CausParameter, "N/m", 1e7, 0.0, INF, 1, 0, PAR(ParKn), -1},
-    {8, "kdRatio", VarReal, CausParameter, "", 0.608695652173913, 0.0, INF, 1, 0, PAR(ParKdRatio), -1},
-    {9, "mu", VarReal, CausParameter, "", 0.33, 0.0, INF, 0, 0, PAR(ParMu), -1},
-    {10, "gamma", VarReal, CausParameter, "rad", 1.0471975511965976, 0.0, HALF_PI, 1, 1, PAR(ParGamma), -1},
-    {11, "d", VarReal, CausParameter, "m", 3e-5, 0.0, INF, 0, 0, PAR(ParD), -1},
-    {12, "B", VarReal, CausParameter, "m", 6e-5, 0.0, INF, 1, 0, PAR(ParB), -1},
-    {20, "frictionModel", VarInteger, CausParameter, "", 3, 1, 3, 0, 0, IPAR(IparFriction), -1},
-    {22, "projection", VarInteger, CausParameter, "", 1, 1, 2, 0, 0, IPAR(IparProjection), -1},
-    {24, "engineOrder", VarInteger, CausParameter, "", 3, 1, 100, 0, 0, IPAR(IparEngineOrder), -1},
-    {30, "gating", VarBoolean, CausParameter, "", 1, 0, 1, 0, 0, IPAR(IparGating), -1},
-    {40, "displacementA", VarReal, CausInput, "m", 0.0, -INF, INF, 0, 0, INPUT(InQA), -1},
-    {41, "velocityA", VarReal, CausInput, "m/s", 0.0, -INF, INF, 0, 0, INPUT(InVA), -1},
-    {42, "displacementB", VarReal, CausInput, "m", 0.0, -INF, INF, 0, 0, INPUT(InQB), -1},
-    {43, "velocityB", VarReal, CausInput, "m/s", 0.0, -INF, INF, 0, 0, INPUT(InVB), -1},
-    {44, "rotorSpeed", VarReal, CausInput, "rpm", 5000.0, 0.0, ROTOR_SPEED_MAX, 0, 0, INPUT(InSpeed), -1},
-    {50, "forceA", VarReal, CausOutput, "N", 0.0, -INF, INF, 0, 0, NONE, OutForceA},
-    {51, "forceB", VarReal, CausOutput, "N", 0.0, -INF, INF, 0, 0, NONE, OutForceB},
-    {52, "normalForce", VarReal, CausOutput, "N", 0.0, -INF, INF, 0, 0, NONE, OutNormal},
-    {53, "frictionForce", VarReal, CausOutput, "N", 0.0, -INF, INF, 0, 0, PAR(ParF0), OutFriction},
-    {57, "dissipatedEnergy", VarReal, CausOutput, "J", 0.0, -INF, INF, 0, 0, PAR(ParE0), OutEnergy},
-    {58, "relativeDisplacement", VarReal, CausOutput, "m", 0.0, -INF, INF, 0, 0, NONE, OutU},
-    {61, "contactState", VarInteger, CausOutput, "", 0, -INF, INF, 0, 0, NONE, OutState},
+#include "models/ShroudContact/variables.inc"
 };
 
 #define COUNT(member) (int)(sizeof(((ScData *)0)->member) / sizeof(((ScData *)0)->member[0]))
@@ -81,8 +58,10 @@ static const StateField FIELDS[] = {
     {AT(ipar), FieldI32, COUNT(ipar)},
     I32(state.mode), I32(state.side), I32(state.slipDir),
 };
-/* Versions: 2 the start value of frictionForce joined the parameters. Older versions are refused. */
-#define STATE_VERSION 2
+/* Versions: 3 the parameter slots in the spec's order (frictionForce's start before
+ * dissipatedEnergy's); 2 the start value of frictionForce joined the parameters. Older versions are
+ * refused. */
+#define STATE_VERSION 3
 
 /* The displacement polynomial of one side (see the head comment). */
 static void sidePoly(const ScData *d, int q, int v, CePoly *p)
@@ -144,7 +123,7 @@ static FmiStatus checkStartForce(FmiInstance *inst, const char *fn, double u0)
         fmiLogStatus(inst, FmiError,
                      "%s: frictionForce = %.15g N: its start value applies only to frictionModel 3 (the "
                      "time-domain Jenkins element), here frictionModel = %d: accepted range [0, 0] N",
-                     fn, F0, (int)d->ipar[IparFriction]);
+                     fn, F0, (int)d->ipar[IparFrictionModel]);
         return FmiError;
     }
     if (!(fabs(u0) > dd)) {
@@ -177,13 +156,13 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
     cp.mu = p[ParMu];
     cp.gamma = p[ParGamma];
     cp.d = p[ParD];
-    rc = ceBuild(&d->model, &cp, (FrictionModel)d->ipar[IparFriction], (Projection)d->ipar[IparProjection],
+    rc = ceBuild(&d->model, &cp, (FrictionModel)d->ipar[IparFrictionModel], (Projection)d->ipar[IparProjection],
                  d->ipar[IparGating] != 0, p[ParB], d->ipar[IparEngineOrder]);
     if (rc != 0) {
         fmiLogStatus(inst, FmiError,
                      "%s: the contact parameters kn = %g N/m, kdRatio = %g, mu = %g, gamma = %g rad, d = %g m, "
                      "B = %g m (frictionModel %d) are not usable together%s", fn, cp.kn, cp.kdRatio, cp.mu,
-                     cp.gamma, cp.d, p[ParB], (int)d->ipar[IparFriction],
+                     cp.gamma, cp.d, p[ParB], (int)d->ipar[IparFrictionModel],
                      rc == 2 ? ": the describing function (eq. 7-13) failed at B" : "");
         return FmiError;
     }
@@ -262,10 +241,10 @@ static FmiStatus doStep(FmiInstance *inst, const char *fn, double tc, double h)
     stepPolys(d, &u, &n);
     if (d->model.friction != FrictionMacroslipTD) {
         const double n1 = cePolyAt(&n, h);
-        if (!(n.c[0] >= 0.0 && n.c[0] <= ROTOR_SPEED_MAX && n1 >= 0.0 && n1 <= ROTOR_SPEED_MAX)) {
+        if (!(n.c[0] >= 0.0 && n.c[0] <= max_rotorSpeed && n1 >= 0.0 && n1 <= max_rotorSpeed)) {
             fmiLogStatus(inst, FmiDiscard, "%s: rotorSpeed = %g rpm at t = %.17g s and %g rpm at the step end: "
                          "it must stay in [0, %g] rpm; the step is refused, the state is unchanged", fn, n.c[0],
-                         tc, n1, ROTOR_SPEED_MAX);
+                         tc, n1, max_rotorSpeed);
             return FmiDiscard;
         }
     }
@@ -303,9 +282,22 @@ static int validData(FmiInstance *inst, const char *fn, const void *data, int in
 }
 
 const FmiModel fmiModel = {
-    MODEL_NAME, MODEL_GUID, VARS, (int)(sizeof VARS / sizeof VARS[0]), MAX_ORDER,
-    sizeof(ScData), sizeof(ScMemory), 1, STATE_VERSION, FIELDS, (int)(sizeof FIELDS / sizeof FIELDS[0]),
-    NULL, build, NULL, outputs, output, NULL, doStep, validData, NULL,
+    .name = MODEL_NAME,
+    .guid = MODEL_GUID,
+    .vars = VARS,
+    .nVars = (int)(sizeof VARS / sizeof VARS[0]),
+    .maxInputOrder = MAX_ORDER,
+    .dataSize = sizeof(ScData),
+    .memorySize = sizeof(ScMemory),
+    .canGetAndSetState = 1,
+    .stateVersion = STATE_VERSION,
+    .fields = FIELDS,
+    .nFields = (int)(sizeof FIELDS / sizeof FIELDS[0]),
+    .build = build,
+    .outputs = outputs,
+    .output = output,
+    .doStep = doStep,
+    .validData = validData,
 };
 
 /* co-simulation only */

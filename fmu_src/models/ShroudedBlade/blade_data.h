@@ -5,27 +5,13 @@
 #define SHROUDED_BLADE_DATA_H
 
 #include "fmi/instance.h"
+#include "models/ShroudedBlade/variables.h"
 #include "physics/dynamics.h"
 #include "solver/blade_modes.h"
 #include "solver/rk4_events.h"
 
-/* Real parameter slots (units as in modelDescription.xml) */
-typedef enum {
-    ParEI = 0, ParRho, ParA, ParL, ParC, ParM0, ParKn, ParKdRatio, ParMu, ParGamma, ParD, ParB,
-    ParMaxStep,
-    ParQ0, ParV0, ParE0, /* start values of the initial="exact" outputs q [m], q' [m/s], E [J] */
-    ParF0,               /* start value of jenkinsForce: Jenkins spring force k_d (Delta_u - w) [N] */
-    ParWindowMax0,       /* start value of runningMaximum: max |q| over the running period [m] */
-    ParFw0,              /* amplitude of the built-in aerodynamic load [N/m] */
-    ParQm0,              /* start values of modalDisplacement[1..6] [m] */
-    ParVm0 = ParQm0 + MODES_MAX, /* start values of modalVelocity[1..6] [m/s] */
-    PAR_NUM = ParVm0 + MODES_MAX
-} RealParam;
-
-typedef enum {
-    IparFrictionModel = 0, IparFormulation, IparProjection, IparAmplitudeMode, IparEngineOrder,
-    IparGating, IparSensitivities, IparBladeIndex, IparBladeCount, IparModes, IPAR_NUM
-} IntParam;
+/* The parameter slots par[] and ipar[] (RealParam, IntParam) and the value references are generated
+ * from model.toml into variables.h. */
 
 /* Everything of the model an FMU state captures. Plain data (no pointers). The last block is
  * derived from the rest (rebuilt after deserialization, not serialized). */

@@ -37,6 +37,8 @@ typedef struct {
  * describing-function loop changes contactState (model-notes s.4): contactState is a discrete
  * variable, so its changes must be events too (it is held between them, see holdContactState). */
 enum { ZGate0 = 0, ZGate1, ZFriction0, ZFriction1, ZPeriod, ZExtremum, ZLoop, NZ = ZLoop + 5 };
+/* the counts the model description declares (model.toml) are these (a negative array size otherwise) */
+typedef char DescriptionAgreesWithC[(NZ == MODEL_EVENT_INDICATORS && DYN_NX_MAX == MODEL_CONTINUOUS_STATES) ? 1 : -1];
 
 static int slotOf(DynSwitch k)
 {
@@ -271,8 +273,18 @@ static void heldOutputs(FmiInstance *inst)
 }
 
 static const FmiModelExchange BLADE_ME = {
-    DYN_NX_MAX, NZ, sizeof(BladeMeData), sizeof(BladeMeMemory), getStates, setStates, nominals, derivatives,
-    eventIndicators, eventUpdate, afterBuild, heldOutputs,
+    .nx = DYN_NX_MAX,
+    .nz = NZ,
+    .dataSize = sizeof(BladeMeData),
+    .memorySize = sizeof(BladeMeMemory),
+    .getStates = getStates,
+    .setStates = setStates,
+    .nominals = nominals,
+    .derivatives = derivatives,
+    .eventIndicators = eventIndicators,
+    .eventUpdate = eventUpdate,
+    .built = afterBuild,
+    .outputs = heldOutputs,
 };
 
 const FmiModelExchange *const fmiModelExchange = &BLADE_ME;

@@ -26,6 +26,7 @@ from typing import Callable
 
 import numpy as np
 
+from harness import digits
 from harness.fmu.blade import SPEED_RANGE, FMUError
 from harness.model.params import ParameterError
 from harness.analysis.periodic.period_map import PeriodMap
@@ -43,6 +44,9 @@ class ContinuationSettings:
     max_points: int = 400
     max_corrector: int = 8
     ds_fold: float = 0.02  # a step that passes a fold is refused (and halved) while longer than this
+    # a corrector that fails quasi-Newton is retried with a fresh Jacobian per iteration (one period
+    # per unknown each: for a map of many unknowns a halved step is cheaper)
+    fresh_fallback: bool = True
 
 
 @dataclass
@@ -126,25 +130,47 @@ def write_branches_csv(path: Path, branches: list[Branch], columns: dict[str, li
     "fold": a located extremum, after the branch's points), model, speed [rpm], amplitude [m], B [m]
     (or empty), q0 [m], q0' [m/s], stable, label, |mu|max and the multipliers. `columns` maps a
     leading column's name to one value per branch (e.g. the study value). A fold's `stable` is 1 if
-    it bounds a stable part of the branch."""
+    it bounds a stable part of the branch. Numbers with harness.digits.SIGNIFICANT significant
+    digits of their column's largest magnitude (the multipliers' scale: the unit circle)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(path.suffix + ".tmp")
     columns = columns or {}
+    rows = []  # (branch, kind, point, label, lead)
+    for i, br in enumerate(branches):
+        lead = [columns[c][i] for c in columns]
+        rows += [(i, "point", p, p.label, lead) for p in br.points]
+        rows += [(i, e.kind, e, e.stability, lead) for e in br.extrema]
+    has_B = [branches[i].model not in ("fixedB", "jenkins") for i, *_ in rows]
+    tips = [tip_state(p.x) for _, _, p, _, _ in rows]
+    num = {
+        "speed": digits.column(p.speed for _, _, p, _, _ in rows),
+        "amplitude": digits.column(p.amplitude for _, _, p, _, _ in rows),
+        "B": digits.column(p.x[-1] if b else 0.0 for (_, _, p, _, _), b in zip(rows, has_B)),
+        "q0": digits.column(t[0] for t in tips),
+        "v0": digits.column(t[1] for t in tips),
+        "mu": digits.column(np.max(np.abs(p.multipliers)) for _, _, p, _, _ in rows),
+        "lead": [digits.column(r[4][k] for r in rows) if rows and isinstance(rows[0][4][k], float) else None
+                 for k in range(len(columns))],
+    }
+    e_mu = digits.exponent(1.0)
     with open(tmp, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(list(columns) + ["branch", "kind", "model", "speed_rpm", "amplitude_m", "B_m", "q0_m", "v0_m_s",
                                     "stable", "label", "mu_abs_max", "multipliers"])
-        for i, br in enumerate(branches):
-            lead = [f"{columns[c][i]:.9g}" if isinstance(columns[c][i], float) else columns[c][i] for c in columns]
-            rows = [("point", p, p.label) for p in br.points] + [(e.kind, e, e.stability) for e in br.extrema]
-            for kind, p, label in rows:
-                B = "" if br.model in ("fixedB", "jenkins") else f"{p.x[-1]:.12g}"
-                mus = " ".join(f"{m.real:.9g}{m.imag:+.9g}j" for m in p.multipliers)
-                q0, v0 = tip_state(p.x)
-                w.writerow(lead + [i, kind, br.model, f"{p.speed:.9g}", f"{p.amplitude:.12g}", B, f"{q0:.12g}",
-                            f"{v0:.12g}", int(p.stable), label, f"{np.max(np.abs(p.multipliers)):.9g}", mus])
+        for j, (i, kind, p, label, lead) in enumerate(rows):
+            lead_text = [num["lead"][k][j] if num["lead"][k] is not None else v for k, v in enumerate(lead)]
+            mus = " ".join(_complex_text(m, e_mu) for m in p.multipliers)
+            w.writerow(lead_text + [i, kind, branches[i].model, num["speed"][j], num["amplitude"][j],
+                                    num["B"][j] if has_B[j] else "", num["q0"][j], num["v0"][j], int(p.stable), label,
+                                    num["mu"][j], mus])
     tmp.replace(path)
+
+
+def _complex_text(z: complex, e: int | None) -> str:
+    """a+bj with both parts rounded to 10^e (Python's complex() reads it back)."""
+    im = digits.text(z.imag, e)
+    return f"{digits.text(z.real, e)}{im if im.startswith('-') else '+' + im}j"
 
 
 def tip_state(x: np.ndarray) -> tuple[float, float]:
@@ -309,7 +335,7 @@ def _step(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, ds:
     multipliers and the next tangent."""
     fail = (False, z, t, Jz, None)
     zp = z + ds * t
-    for quasi in (True, False):
+    for quasi in ((True, False) if s.fresh_fallback else (True,)):
         try:
             done = correct(prob, zp, t, Jz, s, quasi)
         except (FMUError, ParameterError):  # the FMU refused the start, or the speed left its range

@@ -39,6 +39,7 @@ import numpy as np
 
 from harness.model.excitation import MAX_ORDER, AeroLoad, Constant
 from harness.fmu.blade import SPEED_RANGE, VR_AERO, VR_SPEED, BladeFMU, step_inputs
+from harness.fmu.stepper import Derivatives, Values
 from harness.model.params import ParameterError, fmu_parameters, validate
 
 MODELS = ("fixedB", "fixedPoint", "jenkins", "coulomb")
@@ -131,31 +132,25 @@ class PeriodMap:
         self.simulated = 0.0  # blade seconds simulated [s]
         self.fmi_seconds = 0.0  # wall time spent in the FMI calls of the evaluations (ctypes included) [s]
         self.account: PeriodMap = self  # whose counters the evaluations add to (see with_model)
-        self._raw = fmu.raw()
+        self._fmi = fmu.prepared()
         v = fmu.variables
         fixed = {k: x for k, x in fmu_parameters(self.p).items() if k != "B"}
         reals = [(k, x) for k, x in fixed.items() if v[k].type == "Real"]
         starts = STATE_STARTS if self.m == 1 else modal_names(self.m) + STATE_STARTS[2:]
         names = [k for k, _ in reals] + ["B", *starts]
-        self._rvr = (ctypes.c_uint * len(names))(*[v[k].valueReference for k in names])
-        self._rval = (ctypes.c_double * len(names))(*[x for _, x in reals], *([0.0] * (1 + len(starts))))
+        self._reals = Values([v[k].valueReference for k in names], [x for _, x in reals] + [0.0] * (1 + len(starts)))
         self._iB = len(reals)  # index of B, then the start values in STATE_STARTS order
         ints = [(k, x) for k, x in fixed.items() if v[k].type == "Integer"]
         bools = [(k, x) for k, x in fixed.items() if v[k].type == "Boolean"]
-        self._ivr = (ctypes.c_uint * len(ints))(*[v[k].valueReference for k, _ in ints])
-        self._ival = (ctypes.c_int * len(ints))(*[int(x) for _, x in ints])
-        self._bvr = (ctypes.c_uint * len(bools))(*[v[k].valueReference for k, _ in bools])
-        self._bval = (ctypes.c_int * len(bools))(*[int(bool(x)) for _, x in bools])
+        self._ints = Values([v[k].valueReference for k, _ in ints], [int(x) for _, x in ints], ctypes.c_int)
+        self._bools = Values([v[k].valueReference for k, _ in bools], [int(bool(x)) for _, x in bools], ctypes.c_int)
         self._isens = next((i for i, (k, _) in enumerate(bools) if k == "sensitivities"), None)
         out = (_OUT + (_SENS if settings.sensitivities else ())) if self.m == 1 else \
             _OUT + modal_names(self.m) + (modal_sensitivities(self.m) if settings.sensitivities else ())
-        self._ovr = (ctypes.c_uint * len(out))(*[v[k].valueReference for k in out])
-        self._oval = (ctypes.c_double * len(out))()
+        self._out = Values([v[k].valueReference for k in out])
         K = MAX_ORDER
         # per step the load's derivatives 1..K; the speed's stay 0 from the reset (constant speed)
-        self._dvr = (ctypes.c_uint * K)(*([VR_AERO] * K))
-        self._dord = (ctypes.c_int * K)(*range(1, K + 1))
-        self._invr = (ctypes.c_uint * 2)(VR_AERO, VR_SPEED)
+        self._der = Derivatives([VR_AERO] * K, range(1, K + 1))
         self._speed: float | None = None
         self._unit: np.ndarray | None = None
 
@@ -182,12 +177,12 @@ class PeriodMap:
         T = 2.0 * math.pi / omega(self.p, speed)
         if self._unit is None:  # per step: the load's derivatives 1..K
             ua = self._unit_load()
-            self._der = np.zeros((N, K))
-            self._val = (ctypes.c_double * 2)(float(ua[0, 0]), 0.0)
-            self._addr = (self._der.ctypes.data + 8 * K * np.arange(N)).tolist()
+            self._derivs = np.zeros((N, K))
+            self._inputs = Values([VR_AERO, VR_SPEED], [float(ua[0, 0]), 0.0])
+            self._addr = (self._derivs.ctypes.data + 8 * K * np.arange(N)).tolist()
             self._ks = np.arange(1, K + 1, dtype=float)
-        np.multiply(self._unit[1:].T, (1.0 / T) ** self._ks, out=self._der)
-        self._val[1] = float(speed)
+        np.multiply(self._unit[1:].T, (1.0 / T) ** self._ks, out=self._derivs)
+        self._inputs.value[1] = float(speed)
         grid = [T * k / N for k in range(N)] + [T]
         self._steps = [(grid[k], grid[k + 1] - grid[k], self._addr[k]) for k in range(N)]
         self.T, self._speed = T, speed
@@ -230,15 +225,14 @@ class PeriodMap:
         want = self.s.sensitivities and jacobian
         self.DP = None
         if self._isens is not None:
-            self._bval[self._isens] = int(want)
+            self._bools.value[self._isens] = int(want)
         m = self.m
         q0, v0 = self.tip(x)
         if self.model == "jenkins":
             B, F0 = self.B, min(max(float(x[-1]), -1.0), 1.0) * self.slip_limit(q0)
         else:
             B, F0 = (self.B if self.dim == 2 * m else float(x[-1])), 0.0
-        r, i = self._raw, self._iB
-        c, val = r.c, self._rval
+        i, val = self._iB, self._reals.value
         if m == 1:
             val[i], val[i + 1], val[i + 2], val[i + 3], val[i + 4] = B, q0, v0, F0, 0.0
         else:
@@ -250,28 +244,15 @@ class PeriodMap:
         acct.evaluations += 1
         acct.simulated += self.T
         t_in = time.perf_counter()
-        st = r.reset(c)
-        st = max(st, r.setReal(c, ctypes.addressof(self._rvr), len(val), ctypes.addressof(val)))
-        st = max(st, r.setInteger(c, ctypes.addressof(self._ivr), len(self._ival), ctypes.addressof(self._ival)))
-        st = max(st, r.setBoolean(c, ctypes.addressof(self._bvr), len(self._bval), ctypes.addressof(self._bval)))
+        fmi = self._fmi
+        st, call = fmi.start(self._reals, self._ints, self._bools, self._inputs)
         if st > 1:
-            raise self.fmu.failure("fmi2SetReal/Integer/Boolean (parameters, start values)", st, 0.0)
-        st = max(r.setupExperiment(c, 0, 0.0, 0.0, 0, 0.0), r.enterInitializationMode(c),
-                 r.setReal(c, ctypes.addressof(self._invr), 2, ctypes.addressof(self._val)))
-        st = max(st, r.exitInitializationMode(c)) if st <= 1 else st
+            raise self.fmu.failure(call, st, 0.0)
+        st, k, call = fmi.derivative_steps(self._steps, self._der)
         if st > 1:
-            raise self.fmu.failure("fmi2ExitInitializationMode (start state)", st, 0.0)
-        a_dvr, a_ord, setDer, doStep = ctypes.addressof(self._dvr), ctypes.addressof(self._dord), r.setDer, r.doStep
-        nd = len(self._dvr)
-        for t, h, da in self._steps:
-            st = setDer(c, a_dvr, nd, a_ord, da)
-            if st > 1:
-                raise self.fmu.failure("fmi2SetRealInputDerivatives", st, t)
-            st = doStep(c, t, h, 1)
-            if st > 1:
-                raise self.fmu.failure("fmi2DoStep", st, t)
-        o = self._oval
-        st = r.getReal(c, ctypes.addressof(self._ovr), len(o) if want or m > 1 else len(_OUT), ctypes.addressof(o))
+            raise self.fmu.failure(call, st, self._steps[k][0])
+        o = self._out.value
+        st = fmi.read(self._out, None if want or m > 1 else len(_OUT))
         acct.fmi_seconds += time.perf_counter() - t_in
         if st > 1:
             raise self.fmu.failure("fmi2GetReal", st, self.T)

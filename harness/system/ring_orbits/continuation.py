@@ -28,12 +28,16 @@ from harness.analysis.periodic.extrema import locate
 from harness.analysis.periodic.shooting import UNIT_CIRCLE_TOL
 from harness.fmu.blade import FMUError
 from harness.system.ring_orbits.period_map import RingPeriodMap
-from harness.system.ring_orbits.shooting import RingOrbit, monodromy
+from harness.system.ring_orbits.shooting import RingOrbit, monodromy, shoot
 
-RING_CONTINUATION = ContinuationSettings(ds=0.05, ds_min=2e-4, ds_max=0.3, max_points=300, max_corrector=8,
-                                         ds_fold=0.02)
+# no fresh-Jacobian retry of a failed corrector (up to 8 x 19 periods on 6 blades; a halved step costs a
+# few): on the 6-blade study ring over 5500-7200 rpm 21773 -> 15475 periods in all (continuation 15942 ->
+# 10908), the same largest stable state (4.94023e-5 m at 5794.83 rpm)
+RING_CONTINUATION = ContinuationSettings(ds=0.05, ds_min=1e-3, ds_max=0.3, max_points=300, max_corrector=8,
+                                         ds_fold=0.02, fresh_fallback=False)
 
 
+EXTREMUM_TOL = 1e-5  # Brent's tolerance locating a peak or fold: 1e-5 of the scaled arc, 0.01 rpm along the speed
 CROSSING_TOL = 1e-3  # a multiplier counts as outside the unit circle beyond 1 + this (a multiplier
 # hovering at 1 within the finite-difference DP's error would flip the counts from point to point)
 
@@ -73,6 +77,8 @@ class RingBranch:
     folds: list[RingOrbit] = field(default_factory=list)  # located folds (largest multiplier ~ 1)
     fold_sides: list[bool] = field(default_factory=list)  # per fold: it bounds a stable part
     closed: bool = False
+    cost: dict = field(default_factory=dict)  # periods simulated per stage of its tracing
+    origin: str = ""  # the seed or branch point it was entered from
 
     @property
     def speeds(self) -> np.ndarray:
@@ -94,7 +100,7 @@ class RingBranch:
                 "bifurcations": [b.as_dict() for b in self.bifurcations],
                 "peaks": [{"speed_rpm": p.speed, "amplitude_m": p.amplitude, "amplitudes_m": p.amplitudes.tolist(),
                            "stable": p.stable, "max_multiplier": p.max_multiplier} for p in self.peaks],
-                "end_reasons": self.end_reasons, "closed": self.closed}
+                "end_reasons": self.end_reasons, "closed": self.closed, "origin": self.origin}
 
 
 def _orbit(pm: RingPeriodMap, x: np.ndarray, speed: float, mu: np.ndarray, it: int = 0) -> RingOrbit:
@@ -134,7 +140,7 @@ def bifurcations(pm: RingPeriodMap, br: Branch, folds: list) -> list[Bifurcation
             x = a.x + f * (b.x - a.x)
             amp = (1 - f) * pm.measures(a.x, a.speed)[0] + f * pm.measures(b.x, b.speed)[0]
             vec = None
-            if kind == "branch point":
+            if kind == "branch point" and (a.stable or b.stable):  # the switching direction (branches.py)
                 J = monodromy(pm, b.x if f > 0.5 else a.x, b.speed if f > 0.5 else a.speed)
                 w, V = np.linalg.eig(J)
                 real = np.abs(w.imag) <= UNIT_CIRCLE_TOL * np.maximum(np.abs(w), 1e-300)
@@ -151,25 +157,41 @@ def bifurcations(pm: RingPeriodMap, br: Branch, folds: list) -> list[Bifurcation
 def trace(pm: RingPeriodMap, orbit: RingOrbit, band: tuple[float, float],
           settings: ContinuationSettings = RING_CONTINUATION, directions: tuple[int, ...] = (-1, 1),
           joined: Callable[[float, np.ndarray], bool] | None = None) -> RingBranch:
-    """The branch through `orbit` across `band` [rpm] (both directions), with its located peaks,
-    folds and bifurcations; a direction ends where joined(speed, per-blade amplitudes) says the
-    branch ran onto one traced before."""
+    """The branch through `orbit` across `band` [rpm] (both directions; an end that left the band
+    replaced by the orbit at the band's edge), with its located peaks, folds and bifurcations; a
+    direction ends where joined(speed, per-blade amplitudes) says the branch ran onto one traced
+    before."""
     stop = None
     if joined is not None:
         def stop(p) -> str | None:
             return (f"joined a branch traced before at {p.speed:.1f} rpm"
                     if joined(p.speed, pm.measures(p.x, p.speed)[0]) else None)
+    e0 = pm.evaluations
     br = continue_branch(pm, orbit.x, orbit.speed, band, settings, directions, stop)
+    e1 = pm.evaluations
     st = [p.stable for p in br.points]  # (the last point of a direction may lie just outside the band)
     try:  # only the peaks and folds next to a stable point: those bound the stable steady states
-        br.extrema = locate(pm, br, settings, keep=lambda i, kind: st[i - 1] or st[i] or st[i + 1])
+        br.extrema = locate(pm, br, settings, keep=lambda i, kind: st[i - 1] or st[i] or st[i + 1],
+                            xatol=EXTREMUM_TOL)
     except FMUError:
         br.extrema = []
+    e2 = pm.evaluations
     orbits = [_orbit(pm, p.x, p.speed, p.multipliers, p.iterations) for p in br.points]
+    for end, nxt in ((0, 1), (-1, -2)):  # a direction that left the band: its last point at the band's edge
+        if len(orbits) > 1 and not band[0] <= orbits[end].speed <= band[1] and band[0] <= orbits[nxt].speed <= band[1]:
+            edge = band[0] if orbits[end].speed < band[0] else band[1]
+            a, b = orbits[nxt], orbits[end]
+            f = (edge - a.speed) / (b.speed - a.speed)
+            o = shoot(pm, a.x + f * (b.x - a.x), edge)
+            if o is not None:
+                orbits[end] = o
     folds = [e for e in br.extrema if e.kind == "fold"]
     peaks = [_orbit(pm, e.x, e.speed, e.multipliers) for e in br.extrema if e.kind == "peak"]
-    return RingBranch(orbits, br.end_reasons, bifurcations(pm, br, folds), peaks,
-                      [_orbit(pm, e.x, e.speed, e.multipliers) for e in folds], [e.stable for e in folds], br.closed)
+    e3 = pm.evaluations
+    out = RingBranch(orbits, br.end_reasons, bifurcations(pm, br, folds), peaks,
+                     [_orbit(pm, e.x, e.speed, e.multipliers) for e in folds], [e.stable for e in folds], br.closed)
+    out.cost = {"continuation": e1 - e0, "extrema": e2 - e1, "band_edges": e3 - e2, "bifurcations": pm.evaluations - e3}
+    return out
 
 
 def switch(pm: RingPeriodMap, br: RingBranch, bif: Bifurcation, eps: float = 0.05,
@@ -192,10 +214,14 @@ def switch(pm: RingPeriodMap, br: RingBranch, bif: Bifurcation, eps: float = 0.0
         return []
     for sgn in (1.0, -1.0):
         zp = z0 + sgn * eps * v
-        try:
-            done = correct(prob, zp, v, Jz, settings, quasi=False)
-        except FMUError:
-            done = None
+        done = None
+        for quasi in (True, False):  # Broyden from the point's Jacobian first (one period per iteration)
+            try:
+                done = correct(prob, zp, v, Jz, settings, quasi=quasi)
+            except FMUError:
+                done = None
+            if done is not None:
+                break
         if done is None:
             continue
         x, n = prob.from_z(done[0])

@@ -9,16 +9,14 @@ the study rows (and through them the claims table and the study CSVs) use.
 """
 from __future__ import annotations
 
-import atexit
 import math
 import time
 from dataclasses import dataclass, field, replace
-from pathlib import Path
 from typing import Any, Mapping
 
 from harness.analysis.periodic.branches import BranchSettings, TraceStats, trace_branches
 from harness.analysis.periodic.continuation import Branch
-from harness.fmu.blade import BladeFMU
+from harness.fmu.pool import worker_fmu
 
 
 @dataclass(frozen=True)
@@ -39,23 +37,9 @@ class Curve:
     stats: TraceStats
 
 
-_FMUS: dict = {}  # the FMU of each path in this (worker) process, reused by all its curves
-
-
-def _process_fmu(path: Path | str):
-    """The process's BladeFMU for `path`, opened on first use (~11 ms: extract, load,
-    instantiate) and closed at exit; every period-map evaluation resets it and sets every
-    parameter, so curves cannot see each other."""
-    key = str(path)
-    if key not in _FMUS:
-        _FMUS[key] = BladeFMU(path)
-        atexit.register(_FMUS[key].close)
-    return _FMUS[key]
-
-
 def trace_curve(task: CurveTask) -> Curve:
     t0 = time.perf_counter()
-    fmu = _process_fmu(task.fmu_path)
+    fmu = worker_fmu(task.fmu_path)
     branches, stats = trace_branches(fmu, dict(task.params), task.model, task.speed_range, task.settings)
     return Curve(task, branches, replace(stats, wall=time.perf_counter() - t0))
 
