@@ -183,46 +183,66 @@ def test_mistuning_table(folder, header):
         assert got_mean in mean and got_top in top, (sigma, cell, mean, top)
 
 
-def _states(folder: str) -> tuple[dict, dict[str, list[float]]]:
-    """The tuned ring's row and the amplifications per sigma (in %) from mistuning_states.csv."""
+def _states(folder: str) -> tuple[dict, dict[str, list[float]], dict[str, float]]:
+    """The tuned ring's row, the amplifications per sigma (in %) and half the writer's quantum per
+    column, from mistuning_states.csv."""
     with open(REPO / "results" / folder / "mistuning_states.csv", newline="") as f:
         rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
     per: dict[str, list[float]] = {}
     for r in rows[1:]:
         per.setdefault(f"{100 * float(r['sigma']):g}", []).append(float(r["amplification"]))
-    return rows[0], per
+    return rows[0], per, _half_quanta(rows)
 
 
-@pytest.mark.parametrize("folder", ["mistuning", "mistuning_search"])
-def test_mistuning_states_table(folder):
-    """The steady-state tables on the mistuning page: tuned ring's largest stable state and
-    mean / max (patterns) per sigma, against mistuning_states.csv."""
-    tuned, per = _states(folder)
+def test_mistuning_states_table():
+    """The steady-state table on the mistuning page: the tuned ring's largest stable state and
+    mean / max (patterns) per sigma, against results/mistuning/mistuning_states.csv."""
+    tuned, per, h = _states("mistuning")
     text = (REPO / MISTUNING).read_text()
-    header = f"| sigma (EI), {folder} | on stable steady states |"
+    header = "| sigma (EI), mistuning | on stable steady states |"
     table = text[text.index(header):].split("\n\n")[0].splitlines()[2:]
     assert len(table) == len(per) + 1
-    cell = [c.strip() for c in table[0].strip("|").split("|")]
-    assert cell == ["tuned", f"{float(tuned['stable_peak_m']):.4e} m at {float(tuned['stable_peak_rpm']):.1f} rpm"]
+    name, cell = [c.strip() for c in table[0].strip("|").split("|")]
+    amp, rpm = cell.removesuffix(" rpm").split(" m at ")
+    assert name == "tuned" and amp in _printed(float(tuned["stable_peak_m"]), ".4e", h["stable_peak_m"])
+    assert rpm in _printed(float(tuned["stable_peak_rpm"]), ".1f", h["stable_peak_rpm"])
     for line in table[1:]:
         sigma, cell = [c.strip() for c in line.strip("|").split("|")]
         a = per[sigma.rstrip(" %")]
-        assert cell == f"{np.mean(a):.4f} / {np.max(a):.4f} ({len(a)})", sigma
+        mean, top, count = cell.replace(" / ", " ").replace("(", "").replace(")", "").split()
+        assert mean in _printed(float(np.mean(a)), ".4f", h["amplification"]), sigma
+        assert top in _printed(float(np.max(a)), ".4f", h["amplification"]) and int(count) == len(a), sigma
+
+
+def _search() -> tuple[float, int, float]:
+    """(best amplification, rings, start amplification) of results/mistuning_search/mistuning_search.csv."""
+    with open(REPO / "results" / "mistuning_search" / "mistuning_search.csv", newline="") as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    return max(float(r["amplification"]) for r in rows), len(rows), float(rows[0]["amplification"])
 
 
 def test_readme_mistuning_numbers():
-    tuned, per = _states("mistuning_search")
+    tuned, per, h = _states("mistuning")
     m = _one(README, r"largest stable response over 3973-14898 rpm is ([\d.e-]+) m")
-    assert m.group(1) == f"{float(tuned['stable_peak_m']):.4e}"
-    with open(REPO / "results" / "mistuning_search" / "mistuning_search.csv", newline="") as f:
-        found = max(float(r["amplification"]) for r in csv.DictReader(line for line in f if not line.startswith("#")))
+    assert m.group(1) in _printed(float(tuned["stable_peak_m"]), ".4e", h["stable_peak_m"])
+    m = _one(README, r"5 % blade stiffness scatter gives ([\d.]+)x")
+    assert m.group(1) in _printed(max(per["5"]), ".4f", h["amplification"])
+    best, rings, _ = _search()
     m = _one(README, r"a search of (\d+) rings\s+finds at most ([\d.]+)x")
-    assert m.group(2) == f"{found:.4f}"
+    assert int(m.group(1)) == rings and m.group(2) in _printed(best, ".4f", 5e-7)
     mean, top = _amplification("mistuning")[("friction", "5")]
     m = _one(README, r"Sweeps alone say\s+([\d.]+)x")
     assert m.group(1) in top
     m = _one(README, r"On 24 blades \(4 patterns, sweeps\) the worst\s+reaches ([\d.]+)x")
     assert m.group(1) in _amplification("mistuning_24")[("friction", "5")][1]
+
+
+def test_mistuning_search_line():
+    """The search's result on the mistuning page against results/mistuning_search/mistuning_search.csv."""
+    best, rings, start = _search()
+    m = _one(MISTUNING, r"at most ([\d.]+)x after (\d+) rings, from ([\d.]+)x")
+    assert m.group(1) in _printed(best, ".4f", 5e-7) and int(m.group(2)) == rings
+    assert m.group(3) in _printed(start, ".4f", 5e-7)
 
 
 def test_dask_measurement():

@@ -19,7 +19,7 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from harness.analysis.executor import PointCache, point_key
+from harness.analysis.cache import PointCache, point_key
 from harness.studies import mistuning
 from harness.studies.mistuning import Study
 from harness.system.ring import Ring

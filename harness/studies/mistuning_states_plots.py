@@ -14,7 +14,7 @@ import matplotlib
 import matplotlib.pyplot as plt
 import numpy as np
 
-from harness.analysis.executor import write_csv
+from harness.files.tables import write_csv
 
 matplotlib.use("Agg")
 
@@ -64,6 +64,10 @@ def write(states: dict, sweep: dict, directory: Path, search: dict | None = None
         top = curves.max(axis=1)
         good = ok.all(axis=1) if ok is not None else np.isfinite(top)
         ax.plot(sp[good], top[good] * 1e3, "o", mfc="none", color=colour, ms=5, label=label)
+    for peak, rpm, colour in ((sw["tuned_peak_m"], sw["tuned_peak_rpm"], "tab:blue"),
+                              (sw["peak_m"][-1][k], sw["peak_rpm"][-1][k], "tab:red")):
+        ax.plot(rpm, peak * 1e3, "X", color=colour, ms=8, mec="k", mew=0.5)
+    ax.plot([], [], "X", color="grey", mec="k", mew=0.5, label="the sweep's located peak")
     ax.set(xlabel="rotor speed [rpm]", ylabel="largest blade max |q| [mm]",
            title=f"N = {sweep['n']}: steady states (stars: largest stable) and the sweep's states")
     ax.legend(fontsize=7)
