@@ -8,7 +8,8 @@ extras: Fig. 2, 4/5, 6-9 (the studies as branches of periodic orbits with their 
 section-4 Coulomb comparison and a Campbell diagram as PNG + CSV, summary.json and the claims
 table claims.md; then the bladed disk's mistuning study at size small (
 harness/studies/mistuning.py: <out>/mistuning/, each sweep over speed cached under
-<out>/cache/mistuning, so a second run reads it back; the study alone takes 1.5-4 min on 2 cores).
+<out>/cache/mistuning, so a second run reads it back; the sweeps take 1.5-4 min on 2 cores, the three
+rings on stable steady states about 5 min more).
 """
 from __future__ import annotations
 
