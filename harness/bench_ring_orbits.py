@@ -70,7 +70,8 @@ def twenty_four_part(points: int = 6, rpm: float = 6000.0) -> dict[str, Any]:
 def ring_orbits_cost(repeats: int = 20, band: tuple[float, float] = (4000.0, 9000.0), seed_points: int | None = None,
                      points: int = 6) -> dict[str, Any]:
     """The section's rows (the defaults: `make bench`; smaller ones: `bench --quick`)."""
-    out: dict[str, Any] = {"period_6_s": period_cost(6, repeats=repeats), "period_24_s": period_cost(24, repeats=repeats)}
+    out: dict[str, Any] = {"period_6_s": period_cost(6, repeats=repeats),
+                           "period_24_s": period_cost(24, repeats=repeats)}
     out["six"] = six_blades(band, seed_points)
     out["twenty_four"] = twenty_four_part(points)
     s = out["six"]

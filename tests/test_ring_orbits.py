@@ -127,7 +127,8 @@ def test_broken_jacobian_fails(pm, orbits, measured):
 
 def test_broken_stability_test_fails(orbits, measured):
     """Stability read as the largest |multiplier| above 1 (inverted): the check fails."""
-    assert not all(agrees(r, f, la, o.max_multiplier, o.max_multiplier > 1.0) for o, (r, f, la) in zip(orbits, measured))
+    assert not all(agrees(r, f, la, o.max_multiplier, o.max_multiplier > 1.0)
+                   for o, (r, f, la) in zip(orbits, measured))
 
 
 SWEEP_SPEEDS = [5600.0, 6000.0, 6400.0]

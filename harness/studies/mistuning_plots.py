@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.ticker import MaxNLocator
 
-from harness.analysis.executor import write_csv
+from harness.files.tables import write_csv
 from harness.files.figures import plt, save_png
 
 COLOURS = ("tab:blue", "tab:orange", "tab:green")  # one per variant, in every figure

@@ -28,7 +28,9 @@ import numpy as np
 from harness import digits
 from harness.analysis.curves import (ConfigError, SweepSettings, SweepSpec, fmu_identity, hb_curve, hb_stable_peak,
                                      omega_of)
-from harness.analysis.executor import RESULTS_DIR, Runner, write_csv
+from harness.paths import RESULTS_DIR
+from harness.analysis.executor import Runner
+from harness.files.tables import write_csv
 from harness.files.atomic import atomic_write_text
 from harness.analysis.periodic.branches import orbits_at
 from harness.analysis.periodic.harmonics import branch_harmonics, summarize

@@ -1,16 +1,17 @@
 """All the branches of the ring's periodic orbits over a speed band, from every seed, and the largest
 stable steady state among them.
 
-Seeds (harness/system/ring_orbits/seeds.py): the travelling wave (tuned ring), a run from rest at each
-grid speed and a sweep up and back down the grid. A seed whose state already lies on a traced branch (up to the ring's symmetries,
-symmetry.py, by the per-blade amplitudes) is dropped; otherwise Newton finds its orbit, which is
-dropped if it lies on a traced branch, else continued both ways across the band (continuation.py)
-until it leaves the band or runs onto a branch traced before.
+Seeds (harness/system/ring_orbits/seeds.py): the travelling wave (tuned ring), a run from rest at
+each grid speed and a sweep up and back down the grid. A seed whose state already lies on a traced
+branch (up to the ring's symmetries, symmetry.py, by the per-blade amplitudes) is dropped; otherwise
+Newton finds its orbit, which is dropped if it lies on a traced branch, else continued both ways
+across the band (continuation.py) until it leaves the band or runs onto a branch traced before.
 At every branch point next to a stable point (where a stable branch can emanate; at most
 `max_switches` in all) the other branch is entered along the critical eigenvector
-(continuation.switch) and traced too. The largest stable steady state: the largest blade amplitude over the stable points,
-the located peaks that are stable, and the stability boundaries (a fold bounding a stable part, a
-branch point, period doubling or Neimark-Sacker point next to a stable point).
+(continuation.switch) and traced too. The largest stable steady state: the largest blade amplitude
+over the stable points, the located peaks that are stable, and the stability boundaries (a fold
+bounding a stable part, a branch point, period doubling or Neimark-Sacker point next to a stable
+point).
 """
 from __future__ import annotations
 

@@ -37,6 +37,7 @@ RING_CONTINUATION = ContinuationSettings(ds=0.05, ds_min=1e-3, ds_max=0.3, max_p
                                          ds_fold=0.02, fresh_fallback=False)
 
 
+EXTREMUM_TOL = 1e-5  # Brent's tolerance locating a peak or fold: 1e-5 of the scaled arc, 0.01 rpm along the speed
 CROSSING_TOL = 1e-3  # a multiplier counts as outside the unit circle beyond 1 + this (a multiplier
 # hovering at 1 within the finite-difference DP's error would flip the counts from point to point)
 
@@ -157,8 +158,9 @@ def trace(pm: RingPeriodMap, orbit: RingOrbit, band: tuple[float, float],
           settings: ContinuationSettings = RING_CONTINUATION, directions: tuple[int, ...] = (-1, 1),
           joined: Callable[[float, np.ndarray], bool] | None = None) -> RingBranch:
     """The branch through `orbit` across `band` [rpm] (both directions; an end that left the band
-    replaced by the orbit at the band's edge), with its located peaks, folds and bifurcations; a direction ends where joined(speed, per-blade amplitudes) says the
-    branch ran onto one traced before."""
+    replaced by the orbit at the band's edge), with its located peaks, folds and bifurcations; a
+    direction ends where joined(speed, per-blade amplitudes) says the branch ran onto one traced
+    before."""
     stop = None
     if joined is not None:
         def stop(p) -> str | None:
@@ -169,7 +171,8 @@ def trace(pm: RingPeriodMap, orbit: RingOrbit, band: tuple[float, float],
     e1 = pm.evaluations
     st = [p.stable for p in br.points]  # (the last point of a direction may lie just outside the band)
     try:  # only the peaks and folds next to a stable point: those bound the stable steady states
-        br.extrema = locate(pm, br, settings, keep=lambda i, kind: st[i - 1] or st[i] or st[i + 1])
+        br.extrema = locate(pm, br, settings, keep=lambda i, kind: st[i - 1] or st[i] or st[i + 1],
+                            xatol=EXTREMUM_TOL)
     except FMUError:
         br.extrema = []
     e2 = pm.evaluations
