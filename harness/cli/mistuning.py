@@ -65,7 +65,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     add_execution_options(p, fmu=False)  # the ring's FMUs, not a --fmu of the user's
 
 
-def study_from(args: argparse.Namespace):
+def study_from(args: argparse.Namespace) -> mistuning.Study:
     s = SIZES[args.size]
     given = {"n": args.blades, "levels": tuple(args.levels) if args.levels else None, "patterns": args.patterns,
              "parameter": args.parameter, "seed": args.seed, "rtol": args.rtol, "max_time": args.max_time,

@@ -14,6 +14,7 @@ rings on stable steady states about 5 min more).
 from __future__ import annotations
 
 import argparse
+from typing import Any
 from pathlib import Path
 
 import numpy as np
@@ -48,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def findings(rep: Reproduction, study: dict) -> list[str]:
+def findings(rep: Reproduction, study: dict[str, Any]) -> list[str]:
     """Three lines: the paper's claims, the base case's resonance, the mistuned ring."""
     groups = grouped(verdict_counts(rep.claims))
     total = sum(groups.values())
