@@ -34,7 +34,7 @@ from harness.system.ring_orbits.shooting import RingOrbit, monodromy, shoot
 # few): on the 6-blade study ring over 5500-7200 rpm 21773 -> 15475 periods in all (continuation 15942 ->
 # 10908), the same largest stable state (4.94023e-5 m at 5794.83 rpm)
 RING_CONTINUATION = ContinuationSettings(ds=0.05, ds_min=1e-3, ds_max=0.3, max_points=300, max_corrector=8,
-                                         ds_fold=0.02, fresh_fallback=False)
+                                         ds_fold=0.02, fresh_fallback=False, kink_steps=(0.01, 0.03, 0.1))
 
 
 EXTREMUM_TOL = 1e-5  # Brent's tolerance locating a peak or fold: 1e-5 of the scaled arc, 0.01 rpm along the speed

@@ -203,6 +203,13 @@ class RingPeriodMap:
                                            self.touching(x))
         return x
 
+    def read(self, blades: list, contacts: list) -> np.ndarray:
+        """x of a ring's FMU instances as they are now (blades' modal states, contacts' friction
+        forces at their inputs): this map's own ring or another run of the same ring."""
+        ym = np.array([b.s.get_real(self._vr_modal) for b in blades])
+        out = np.array([c.s.get_real(self._vr_cout) for c in contacts])
+        return self.state(ym[:, : self.m], ym[:, self.m:], out[:, 0])
+
     def bounded(self, x: np.ndarray) -> np.ndarray:
         """x moved into the domain: |phi_j| <= 1, phi_j its touching value while contact j is open."""
         x = np.array(x, dtype=float)
@@ -268,9 +275,7 @@ class RingPeriodMap:
             rec = self._cr.advance(K, rpm, finish=True)
         except (FmiError, RingDiverged, RuntimeError) as e:
             raise RingMapFailed(f"period map at {rpm:.6g} rpm: {e}") from e
-        ym = np.array([b.s.get_real(self._vr_modal) for b in self.blades])
-        out = np.array([c.s.get_real(self._vr_cout) for c in self.contacts])
-        Px = self.state(ym[:, : self.m], ym[:, self.m:], out[:, 0])
+        Px = self.read(self.blades, self.contacts)
         q = rec["q"]
         amp = window_amplitude(np.vstack([q[K - 1], q[:K], q[0]]))
         if len(self.seen) >= self.CACHE:
