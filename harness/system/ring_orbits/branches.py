@@ -164,14 +164,21 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int | None = No
         e_seeds = pm.evaluations
         todo: list = []  # orbits to continue (from seeds, then from branch points)
         switches, switch_cost = 0, 0
+        sweep_orbits: list[dict] = []  # per C-loop sweep state: its Newton orbit
         stage: dict[str, int] = {}  # periods per stage of tracing (every branch traced, kept or merged away)
         for sd in seeds:
             if len(branches) >= max_branches:
                 break
+            swept = sd.origin.startswith("C-loop")
             amps = pm.measures(sd.x, sd.speed)[0]
-            if known(branches, sd.speed, amps, maps, min(max(SAME_RTOL, 10 * sd.change), 2e-2)):
+            # a sweep's state always gets its Newton: the orbit it reports must be on a branch
+            if not swept and known(branches, sd.speed, amps, maps, min(max(SAME_RTOL, 10 * sd.change), 2e-2)):
                 continue
             orb = shoot(pm, sd.x, sd.speed)
+            if swept:
+                sweep_orbits.append({"origin": sd.origin, "speed_rpm": sd.speed, "seed_amplitudes_m": amps.tolist(),
+                                     "seed_residual": sd.change, "orbit": None if orb is None else
+                                     {k: orb.as_dict()[k] for k in ("amplitudes_m", "max_multiplier", "period_residual")}})
             if orb is None or known(branches, orb.speed, orb.amplitudes, maps, SAME_RTOL):
                 continue
             todo.append((orb, f"{sd.origin} at {sd.speed:.1f} rpm"))
@@ -207,7 +214,7 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int | None = No
         npts = sum(len(b.orbits) for b in branches)
         return RingBranches(branches, (lo, hi), amp, speed, blade, len(seeds), pm.evaluations,
                             time.perf_counter() - t0, npts,
-                            {"seed_evaluations": e_seeds, "steps_per_period": settings.steps_per_period,
+                            {"seed_evaluations": e_seeds, "sweep_orbits": sweep_orbits, "steps_per_period": settings.steps_per_period,
                              "evaluations_by_stage": {"seeds": e_seeds, **stage, "switching": switch_cost}})
 
 
