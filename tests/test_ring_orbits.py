@@ -138,21 +138,24 @@ MEASURE_RTOL = 1e-4  # the sweep's own measure against a continuous run from the
 
 
 def test_sweeps_settled_states_lie_on_the_branches():
-    """ring_branches over 5500-6500 rpm on the 4-blade ring, and a sweep up and down at three
-    speeds (harness/system/ring_sweep.py, the C loop run on with the state carried): every settled
-    sweep state equals (per blade, relative to the largest, up to the ring's symmetries) an orbit
-    where a reported branch crosses its speed. Tolerance: a state whose per-period change is below
-    the settle rule's 1e-4 is within 1e-4 mu / (1 - mu) of the orbit it approaches (mu its largest
-    multiplier, the geometric series of the remaining changes), plus MEASURE_RTOL: 6.7e-4..7.7e-4;
-    measured 3.5e-5..5.7e-4 (the sweep's states are that far from settled: 5.7e-4 at 6400 rpm)."""
-    r = ring_branches(SMALL, (5500.0, 6500.0), points=2)
+    """ring_branches over 5500-6500 rpm on the 4-blade ring seeded by nothing but a C-loop sweep up
+    and down at three speeds (harness/system/ring_sweep.py, the state carried), and that sweep run
+    again on its own: every state where it settled, up and down, equals (per blade, relative to the
+    largest, up to the ring's symmetries) an orbit where a reported branch crosses its speed. Without
+    the sweep's seeds there is no branch, and the test fails. Tolerance: a state whose per-period
+    change is below the settle rule's 1e-4 is within 1e-4 mu / (1 - mu) of the stable orbit it
+    approaches (mu its largest multiplier, the geometric series of the remaining changes), plus
+    MEASURE_RTOL: 6.7e-4..7.7e-4; measured 3.5e-5..5.7e-4."""
+    r = ring_branches(SMALL, (5500.0, 6500.0), points=2, sweep_speeds=SWEEP_SPEEDS, seed_kinds=("C-loop sweep",))
     sw = sweep(SMALL, SWEEP_SPEEDS, "both", refine=False, rtol=SETTLE_RTOL)
     maps = index_maps(SMALL)
+    assert set(sw.amplitudes_m) == {"up", "down"}
     with RingPeriodMap(SMALL) as pm:
         for d, amps in sw.amplitudes_m.items():
             for s, a, ok in zip(sw.speeds_rpm, amps, sw.settled[d]):
                 assert ok.all(), (d, s)
                 found = [(distance(o, a, maps), mu) for o, mu in crossings(pm, r.branches, float(s)) if mu < 1]
+                assert found, (d, s, "no stable orbit crosses this speed")
                 dist, mu = min(found)
                 assert dist <= SETTLE_RTOL * mu / (1 - mu) + MEASURE_RTOL, (d, s, dist, mu)
 

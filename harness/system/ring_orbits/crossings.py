@@ -16,9 +16,11 @@ else the one next to the decided point before): Newton on the plane normal to th
 fraction f (quasi-Newton from the segment start's Jacobian), the multipliers there from a fresh DP,
 and f bisected on the sign of the test function until the bracket is ARC_TOL of scaled arc long
 (about 0.1 rpm where the branch runs along the speed); the located orbit is the bracket's end with the
-smaller |test function|. Where the corrector fails or the test function has the same sign at both
-ends (another multiplier came closer), the point is the linear zero between the ends, flagged
-`located` False.
+smaller |test function|. Where the corrector fails inside the bracket (a kink of the map: the
+multiplier jumps through 1 there rather than crossing it) the bisection stops and the bracket's better
+end is returned with its length, flagged `located` False; where it fails at once or the test
+function has the same sign at both ends (another multiplier came closer), the point is the linear
+zero between the ends, also `located` False.
 """
 from __future__ import annotations
 
@@ -123,16 +125,16 @@ def locate(pm: RingPeriodMap, a: BranchPoint, b: BranchPoint, kind: str, setting
             done = correct(prob, za + f * chord, t, Jz, settings, quasi=True) or \
                 correct(prob, za + f * chord, t, Jz, settings, quasi=False)
             if done is None:
-                return interpolated
+                break  # a kink of the map inside the bracket: the multiplier jumps there
             zk, Hz, Px, _, _ = done
             Jk, DP = prob.jac(zk, Hz, Px)
         except FMUError:
-            return interpolated
+            break
         mu = multipliers(DP)
         g = critical_value(mu, kind)
         x, speed = prob.from_z(zk)
         if not np.isfinite(g):
-            return interpolated
+            break
         Jz = Jk
         if g * lo[1] > 0.0:
             lo = (f, g, x, speed, mu, DP)
@@ -141,4 +143,5 @@ def locate(pm: RingPeriodMap, a: BranchPoint, b: BranchPoint, kind: str, setting
     best = min((e for e in (lo, hi) if e[5] is not None), key=lambda e: abs(e[1]), default=None)
     if best is None:
         return interpolated
-    return Located(best[2], best[3], best[4], best[5], best[1], (hi[0] - lo[0]) * length, True)
+    bracket = (hi[0] - lo[0]) * length
+    return Located(best[2], best[3], best[4], best[5], best[1], bracket, bracket <= ARC_TOL)
