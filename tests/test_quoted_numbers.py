@@ -253,3 +253,11 @@ def test_base_case_peak_and_crossing(page):
         m = _one(page, r"max\|q\| = ([\d.]+) mm at (\d+) rpm")
         assert (m.group(1), int(m.group(2))) == (f"{peak_mm:.4f}", round(speed))
     assert f"{crossing:.0f} rpm (one mode, printed formulation)" in text
+
+
+def test_whitehead_bound():
+    """Whitehead's bound (1 + sqrt N) / 2 where README and the mistuning page quote it."""
+    m = _one(README, r"Whitehead's bound ([\d.]+)x")
+    assert m.group(1) == f"{(1 + 6 ** 0.5) / 2:.2f}"
+    m = _one(MISTUNING, r"for linear rings: ([\d.]+) \(N = 6\), ([\d.]+) \(N = 24\)")
+    assert m.groups() == (f"{(1 + 6 ** 0.5) / 2:.3f}", f"{(1 + 24 ** 0.5) / 2:.2f}")
