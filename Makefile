@@ -19,10 +19,11 @@ javadeps:
 
 venv: $(STAMP)
 $(STAMP): pyproject.toml
-	python3 -m venv .venv
-	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e '.[test,cluster,crosscheck,docs]'
-	touch $(STAMP)
+	@echo "setting up .venv (pip install -e '.[test,cluster,crosscheck,docs]')"
+	@python3 -m venv .venv
+	@$(PY) -m pip install --quiet --upgrade pip
+	@$(PY) -m pip install --quiet -e '.[test,cluster,crosscheck,docs]'
+	@touch $(STAMP)
 
 # the compiler's lines go to build/build.log, shown whole only when the build fails
 fmu: $(STAMP)
@@ -31,7 +32,8 @@ fmu: $(STAMP)
 	@cmake --build build -j $(JOBS) -- --no-print-directory > build/build.log 2>&1 || { cat build/build.log; exit 1; }
 
 run: fmu
-	$(PY) -m harness run --out results
+	@echo "harness run --out results"
+	@$(PY) -m harness run --out results
 
 test: fmu sysdeps
 	$(PY) -m pytest

@@ -192,7 +192,7 @@ def _check_ring(ring: Ring, where: str) -> None:
             ring_values.typed(name, value, *var[kind][name], origin=f"{where}(ring=Ring({kind}=...))")
 
 
-def ring_branches(ring: Ring, speeds: tuple[float, float], seed_points: int = 6,
+def ring_branches(ring: Ring, speeds: tuple[float, float], seed_points: int | None = None,
                   steps_per_period: int = 160) -> RingBranches:
     """The periodic steady states of the bladed-disk ring over a speed band.
 
@@ -209,7 +209,7 @@ def ring_branches(ring: Ring, speeds: tuple[float, float], seed_points: int = 6,
     speeds : (float, float)
         The band [rpm], FROM < TO inside BladeExternalContact's rotorSpeed range.
     seed_points : int, optional
-        Speeds of the seeds across the band, 2..200 (default 6).
+        Speeds of the seeds across the band, 2..200 (default: at most 300 rpm apart, at least 4).
     steps_per_period : int, optional
         Communication steps per excitation period, 8..100000 (default 160, as the sweeps).
 
@@ -240,6 +240,8 @@ def ring_branches(ring: Ring, speeds: tuple[float, float], seed_points: int = 6,
     if not lo < hi:
         raise _error(f"speeds = {speeds!r} (from {where}(speeds=...)): FROM must be below TO")
     for name, v, a, b in (("seed_points", seed_points, 2, 200), ("steps_per_period", steps_per_period, 8, 100000)):
+        if v is None and name == "seed_points":
+            continue
         if not (isinstance(v, int) and not isinstance(v, bool) and a <= v <= b):
             raise _error(f"{name} = {v!r} (from {where}({name}=...)) is out of range; accepted: whole numbers in "
                          f"[{a}, {b}]")

@@ -11,3 +11,7 @@ REPO_ROOT = PACKAGE_DIR.parent  # the checkout's root (when IN_CHECKOUT)
 IN_CHECKOUT = (REPO_ROOT / "CMakeLists.txt").is_file() and (REPO_ROOT / "fmu_src").is_dir()
 INSTALLED_DIR = PACKAGE_DIR / "fmus"
 BUILD_DIR = REPO_ROOT / "build" if IN_CHECKOUT else INSTALLED_DIR
+# where the commands write by default: under the current directory, never inside the installed
+# package (`make run` passes --out results, the committed results of the checkout)
+RESULTS_DIR = Path("shroudedblade-results")
+DEFAULT_CACHE_DIR = RESULTS_DIR / "cache"

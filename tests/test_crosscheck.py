@@ -30,7 +30,7 @@ from harness.crosscheck.importers import libcosim as xl
 from harness.crosscheck import static as xs
 from harness.crosscheck.common import max_rel_diff, rel_diffs
 from harness.crosscheck.plan import SCENARIOS, make_plan
-from harness.fmu.libcosim import ns_time_grid
+from harness.system.time_grid import ns_time_grid
 
 
 SAME_INPUTS_TOL = 1e-12

@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from harness import digits
-from harness.analysis.executor import read_csv, write_csv
+from harness.files.tables import read_csv, write_csv
 from harness.analysis.periodic.continuation import Branch, BranchPoint, write_branches_csv
 
 

@@ -1,6 +1,7 @@
-"""`ruff check` over harness/, tests/ and bench/ with the rules of pyproject.toml ([tool.ruff.lint]:
-pyflakes F, syntax errors E9): an undefined name (the kind that broke `make bench` unseen), an unused
-import or variable, an f-string without fields fails the default tests."""
+"""`ruff check` over harness/, tests/, bench/, the FMU generator fmu_src/gen/ and sitegen/ with the
+rules of pyproject.toml ([tool.ruff.lint]: pyflakes F, syntax errors E9): an undefined name (the
+kind that broke `make bench` unseen), an unused import or variable, an f-string without fields
+fails the default tests."""
 from __future__ import annotations
 
 import subprocess
@@ -13,7 +14,7 @@ def test_ruff_finds_nothing():
     import importlib.util
     assert importlib.util.find_spec("ruff"), "ruff is not installed: pip install -e '.[test]' (pyproject.toml)"
     proc = subprocess.run([sys.executable, "-m", "ruff", "check", "--output-format", "concise", "harness", "tests",
-                           "bench"], cwd=REPO_ROOT, capture_output=True, text=True, timeout=300)
+                           "bench", "fmu_src/gen", "sitegen"], cwd=REPO_ROOT, capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stdout + proc.stderr
 
 

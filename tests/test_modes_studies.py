@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from harness.analysis.periodic.period_map import PeriodMap
-from harness.analysis.periodic.studies import peak_orbit, trace_curve
+from harness.analysis.periodic.curve import peak_orbit, trace_curve
 from harness.reference.modes import modal_galerkin
 from harness.studies.claims import _modes
 from harness.studies.modes_convergence import ModesConvergence, ModesRow, modes_convergence, modes_tasks

@@ -127,7 +127,8 @@ def test_broken_jacobian_fails(pm, orbits, measured):
 
 def test_broken_stability_test_fails(orbits, measured):
     """Stability read as the largest |multiplier| above 1 (inverted): the check fails."""
-    assert not all(agrees(r, f, la, o.max_multiplier, o.max_multiplier > 1.0) for o, (r, f, la) in zip(orbits, measured))
+    assert not all(agrees(r, f, la, o.max_multiplier, o.max_multiplier > 1.0)
+                   for o, (r, f, la) in zip(orbits, measured))
 
 
 SWEEP_SPEEDS = [5600.0, 6000.0, 6400.0]
@@ -154,3 +155,25 @@ def test_sweeps_settled_states_lie_on_the_branches():
                 found = [(distance(o, a, maps), mu) for o, mu in crossings(pm, r.branches, float(s)) if mu < 1]
                 dist, mu = min(found)
                 assert dist <= SETTLE_RTOL * mu / (1 - mu) + MEASURE_RTOL, (d, s, dist, mu)
+
+
+@pytest.mark.parametrize("kw,words", [
+    ({"speeds": (6000.0, 5000.0)}, ["speeds", "FROM must be below TO"]),
+    ({"speeds": (5000.0, 6000.0), "seed_points": 1}, ["seed_points = 1", "[2, 200]"]),
+    ({"speeds": (5000.0, 6000.0), "steps_per_period": 4}, ["steps_per_period = 4", "[8, 100000]"]),
+    ({"speeds": "fast"}, ["speeds = 'fast'", "two speeds"]),
+])
+def test_api_refuses_bad_input(kw, words):
+    import harness
+    with pytest.raises(harness.ParameterError) as e:
+        harness.ring_branches(SMALL, **kw)
+    for w in words:
+        assert w in str(e.value), (w, str(e.value))
+
+
+def test_cli_refuses_branches_without_band():
+    import subprocess
+    import sys
+    p = subprocess.run([sys.executable, "-m", "harness", "ring", "--blades", "4", "--branches"], capture_output=True,
+                       text=True, timeout=120)
+    assert p.returncode == 2 and "--branches" in p.stderr and "--speeds" in p.stderr, p.stderr

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from harness.studies.claims import build_claims, write_claims
-from harness.analysis.executor import Runner, read_csv
+from harness.analysis.executor import Runner
+from harness.files.tables import read_csv
 from harness.validation.reproduction import reproduce
 
 

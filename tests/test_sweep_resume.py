@@ -15,6 +15,8 @@ import numpy as np
 import pytest
 
 from harness.analysis import executor as ex
+from harness.analysis.cache import PointCache
+from harness.files import atomic, tables
 from harness.analysis import curves as sw
 from harness.model.params import validate
 from test_sweep import assert_same
@@ -32,14 +34,14 @@ def _spec() -> sw.SweepSpec:
 # ---------------------------------------------------------------------------------------------
 def test_atomic_write_never_leaves_a_partial_file(tmp_path, monkeypatch):
     target = tmp_path / "table.csv"
-    ex.atomic_write_text(target, "old complete content\n")
+    atomic.atomic_write_text(target, "old complete content\n")
 
     def crash(src, dst):
         raise OSError("disk gone while renaming")
 
-    monkeypatch.setattr(ex.os, "replace", crash)
+    monkeypatch.setattr(atomic.os, "replace", crash)
     with pytest.raises(OSError):
-        ex.atomic_write_text(target, "new content that never lands\n")
+        atomic.atomic_write_text(target, "new content that never lands\n")
     monkeypatch.undo()
     assert target.read_text() == "old complete content\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["table.csv"]  # no temporary left behind
@@ -51,12 +53,12 @@ def test_csv_roundtrip_and_cache_ignores_corrupt_entries(tmp_path):
     tab["direction"] = ["up", "down", "up"]
     tab["amplitude"] = [1e-5, 3.14159e-5, 0.1 + 0.2]
     tab["reached"] = [True, False, True]
-    ex.write_csv(tmp_path / "t.csv", tab, "comment")
-    back = ex.read_csv(tmp_path / "t.csv")
+    tables.write_csv(tmp_path / "t.csv", tab, "comment")
+    back = tables.read_csv(tmp_path / "t.csv")
     # 6 significant digits of the column's largest value (harness/digits.py): quantum 1e-6 here
     assert np.array_equal(back["amplitude"], [1e-5, 3.1e-5, 0.3])
     assert list(back["direction"]) == ["up", "down", "up"]
-    cache = ex.PointCache(tmp_path / "cache")
+    cache = PointCache(tmp_path / "cache")
     cache.put("ab" * 16, {"x": 1.5})
     assert cache.get("ab" * 16) == {"x": 1.5}
     p = tmp_path / "cache" / "cd" / ("cd" * 16 + ".json")

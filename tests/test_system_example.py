@@ -21,7 +21,7 @@ import pytest
 from harness.crosscheck import system_example as se
 from harness.crosscheck.common import max_rel_diff
 from harness.crosscheck.importers.fmpy import SlaveLoop
-from harness.fmu.libcosim import ns_time_grid
+from harness.system.time_grid import ns_time_grid
 from harness.crosscheck.plan import InputPlan
 from harness.model.excitation import AeroLoad, LinearRamp
 from harness.model.params import validate

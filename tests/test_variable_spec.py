@@ -6,7 +6,9 @@
 - the FMU packing is deterministic: the same files give the same bytes, whatever their time stamps,
   and the build's archive is that packing of its staging folder;
 - adding a variable is one spec entry plus the C that computes it: a copy of the sources with one
-  more Excitation output builds, and fmpy reads the new output at the value of its closed form.
+  more Excitation output builds, and fmpy reads the new output at the value of its closed form;
+- the two outputs of a spec agree: each built FMU refuses a parameter just beyond a declared bound
+  and accepts the bound itself unless the description marks it open.
 """
 from __future__ import annotations
 
@@ -197,3 +199,61 @@ def test_adding_a_variable_is_one_spec_entry_plus_its_c(tmp_path):
                        "engineOrder": eo}, output=["excitationFrequency"])
     # closed form eo n / 60 = 400 Hz; one rounding of the product and the division
     assert res["excitationFrequency"] == pytest.approx(eo * n0 / 60.0, rel=1e-15)
+
+
+# --- the two outputs of a spec agree: the C table's range checks are the description's bounds ------
+
+@pytest.mark.parametrize("name", ["ShroudedBlade", "BladeExternalContact", "ShroudContact", "Excitation"])
+def test_the_fmu_accepts_exactly_the_declared_ranges(name, tmp_path):
+    """Every bounded parameter through the built binary: a value just outside a bound is refused, the
+    bound itself is accepted unless the description's OpenBounds annotation excludes it."""
+    from fmpy import extract, read_model_description
+    from fmpy.fmi1 import FMICallException
+    from fmpy.fmi2 import FMU2Slave
+
+    from harness.fmu.build import fmu_file
+
+    fmu = fmu_file(name)
+    md = read_model_description(str(fmu))
+    root = ET.fromstring(zipfile.ZipFile(fmu).read("modelDescription.xml"))
+    ob = root.find("VendorAnnotations/Tool/OpenBounds")
+    open_low = set(ob.get("lower", "").split()) if ob is not None else set()
+    open_high = set(ob.get("upper", "").split()) if ob is not None else set()
+    slave = FMU2Slave(guid=md.guid, unzipDirectory=extract(str(fmu), str(tmp_path / "x")),
+                      modelIdentifier=md.coSimulation.modelIdentifier, instanceName="bounds")
+    slave.instantiate()
+
+    def accepted(v, x) -> bool:
+        try:
+            (slave.setReal if v.type == "Real" else slave.setInteger)([v.valueReference], [x])
+            return True
+        except FMICallException:
+            return False
+
+    checked = 0
+    try:
+        for v in md.modelVariables:
+            if v.causality != "parameter" or v.type not in ("Real", "Integer"):
+                continue
+            for bound, outward, is_open in ((v.min, -1, v.name in open_low), (v.max, 1, v.name in open_high)):
+                if bound is None:
+                    continue
+                b = float(bound) if v.type == "Real" else int(bound)
+                beyond = b + outward * max(abs(b), 1.0) * 1e-9 if v.type == "Real" else b + outward
+                assert not accepted(v, beyond), f"{name}: {v.name} = {beyond!r} accepted beyond {b!r}"
+                assert accepted(v, b) != is_open, f"{name}: {v.name} = {b!r} (open: {is_open})"
+                accepted(v, float(v.start) if v.type == "Real" else int(v.start))  # back to the default
+                checked += 1
+    finally:
+        slave.freeInstance()
+    assert checked >= 4
+
+
+# ShroudedBlade's two FMUs: tests/test_fmu_basics.py and tests/test_fmi3.py
+@pytest.mark.parametrize("name", ["BladeExternalContact", "ShroudContact", "Excitation"])
+def test_generated_descriptions_pass_fmpy_validation(name):
+    from fmpy.validation import validate_fmu
+
+    from harness.fmu.build import fmu_file
+
+    assert validate_fmu(str(fmu_file(name))) == []

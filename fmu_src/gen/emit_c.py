@@ -88,7 +88,7 @@ def header(model: Model, spec_rel: str) -> str:
     lines += ["", "/* slots of the model data: par[] (Real), ipar[] (Integer, Boolean) */"]
     lines += _slot_enum(model, "par", "Par", "PAR_NUM", "RealParam")
     lines += _slot_enum(model, "ipar", "Ipar", "IPAR_NUM", "IntParam")
-    lines += [f"#endif", ""]
+    lines += ["#endif", ""]
     return "\n".join(lines)
 
 

@@ -201,7 +201,7 @@ def load(path: Path) -> Model:
         lists.update(inc_doc.get("lists", {}))
         for e in inc_doc.get("var", []):
             shared[e.get("array", e["name"].split("[")[0])] = e
-    entries: list[dict[str, Any]] = []
+    entries: list[tuple[dict[str, Any], str]] = []  # (expanded entry, where it is written)
     for n, e in enumerate(doc.get("var", [])):
         where = f"{path} [[var]] #{n + 1}"
         if "use" in e:

@@ -13,6 +13,7 @@
 #include "physics/gauss_legendre.h"
 
 #include <math.h>
+#include <string.h>
 #include <stddef.h>
 
 #define GL_NODES GAUSS_LEGENDRE_NODES /* Gauss-Legendre nodes per panel */
@@ -183,4 +184,22 @@ BladeParams bladeParamsOf(const double v[6])
     bp.c = v[4];
     bp.m0 = v[5];
     return bp;
+}
+
+int bladeReduceReusing(BladeReductionCache *c, const BladeParams *p, Formulation formulation, BladeReduction *out)
+{
+    int rc;
+    if (c->valid && c->formulation == formulation && memcmp(&c->params, p, sizeof *p) == 0) {
+        *out = c->reduction;
+        return 0;
+    }
+    c->valid = 0;
+    rc = bladeReduce(p, formulation, out);
+    if (rc == 0) {
+        c->params = *p;
+        c->formulation = formulation;
+        c->reduction = *out;
+        c->valid = 1;
+    }
+    return rc;
 }

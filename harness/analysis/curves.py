@@ -31,7 +31,8 @@ from typing import Any, Iterable, Mapping, Sequence
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from harness.analysis.executor import PointCache, Runner, decode_bytes, encode_bytes, point_key
+from harness.analysis.cache import PointCache, decode_bytes, encode_bytes, point_key
+from harness.analysis.executor import Runner
 from harness.analysis.plateau import PLATEAU_OUTPUTS, PhasedSine, Start, fmu_identity, omega_of, settle  # noqa: F401
 from harness.analysis.harmonic_balance import harmonic_balance
 from harness.analysis.config import (ALGO_VERSION, DIRECTIONS, MAX_RPM, METHODS, ConfigError,  # noqa: F401

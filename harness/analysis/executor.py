@@ -1,19 +1,16 @@
-"""Run many independent tasks: atomic files, a per-point result cache, a local pool or dask.
+"""Run many independent tasks on a local pool or on dask.
 
-Sweeps and studies are split into tasks (one speed chain, one fixed-point speed) that are mapped
-over a pool of worker processes (`concurrent.futures`, the default) or a dask.distributed cluster
-(`scheduler="tcp://host:8786"`). Every finished point is stored at once as one JSON file under the
-cache directory, written atomically (temporary file + `os.replace`), so an interrupted run (SIGINT,
-a killed worker, a killed master) loses at most the points that were being computed: running the
-same command again finds the finished points by their key and continues. A pool whose worker died
-is rebuilt and the unfinished tasks are resubmitted (they resume from the cache).
+Sweeps and studies are split into tasks (one speed chain, one fixed-point speed, one curve) that
+are mapped over a pool of worker processes (`concurrent.futures`, the default) or a
+dask.distributed cluster (`scheduler="tcp://host:8786"`). A task stores every finished point at once
+in the point cache (harness.analysis.cache), so an interrupted run (SIGINT, a killed worker, a
+killed master) loses at most the points that were being computed: running the same command again
+finds the finished points by their key and continues. A pool whose worker died is rebuilt and the
+unfinished tasks are resubmitted (they resume from the cache).
 """
 from __future__ import annotations
 
-import base64
-import hashlib
 import importlib
-import json
 import multiprocessing as mp
 import os
 import sys
@@ -22,140 +19,11 @@ import warnings
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, Callable, Sequence
 
-import numpy as np
 from tqdm.auto import tqdm
 
-from harness import digits
 from harness.optional import require
-from harness.files.atomic import atomic_write_text
-
-# relative: under the current directory, never inside the installed package (`make run` passes
-# --out results, the committed results of the checkout)
-RESULTS_DIR = Path("shroudedblade-results")
-DEFAULT_CACHE_DIR = RESULTS_DIR / "cache"
-
-
-def write_csv(path: Path | str, table: np.ndarray, header_comment: str = "") -> None:
-    """Write a structured array as CSV (quoted header; floats with harness.digits.SIGNIFICANT
-    significant digits of their column's largest magnitude), atomically."""
-    names = table.dtype.names or ()
-    lines = []
-    if header_comment:
-        lines += [f"# {ln}" for ln in header_comment.splitlines()]
-    lines.append(",".join(f'"{n}"' for n in names))
-    floats = {n: digits.column(table[n]) for n in names if np.issubdtype(table.dtype[n], np.floating)}
-    for i, row in enumerate(table):
-        cells = []
-        for n in names:
-            v = row[n]
-            if isinstance(v, (bytes, np.bytes_)):
-                v = v.decode()
-            if n in floats:
-                cells.append(floats[n][i])
-            elif isinstance(v, (bool, np.bool_)):
-                cells.append("1" if v else "0")
-            else:
-                cells.append(str(v))
-        lines.append(",".join(cells))
-    atomic_write_text(path, "\n".join(lines) + "\n")
-
-
-def read_csv(path: Path | str) -> np.ndarray:
-    """Read a CSV written by `write_csv` back into a structured array (numbers as float)."""
-    with open(path) as fh:
-        rows = [ln for ln in fh if not ln.startswith("#")]
-    names = [n.strip().strip('"') for n in rows[0].strip().split(",")]
-    cols: list[list[str]] = [[] for _ in names]
-    for ln in rows[1:]:
-        for i, cell in enumerate(ln.strip().split(",")):
-            cols[i].append(cell)
-    arrays = []
-    for c in cols:
-        try:
-            arrays.append(np.array([float(x) for x in c]))
-        except ValueError:
-            arrays.append(np.array(c))
-    dtype = [(n, a.dtype) for n, a in zip(names, arrays)]
-    out = np.zeros(len(rows) - 1, dtype=dtype)
-    for n, a in zip(names, arrays):
-        out[n] = a
-    return out
-
-
-# ---------------------------------------------------------------------------------------------
-# Point cache
-# ---------------------------------------------------------------------------------------------
-def _canonical(obj: Any) -> Any:
-    """A JSON-able, deterministic form of `obj` (floats by repr, dict keys sorted)."""
-    if isinstance(obj, dict):
-        return {str(k): _canonical(v) for k, v in sorted(obj.items())}
-    if isinstance(obj, (list, tuple)):
-        return [_canonical(v) for v in obj]
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        return repr(float(obj))
-    if isinstance(obj, bytes):
-        return hashlib.sha256(obj).hexdigest()
-    if obj is None or isinstance(obj, str):
-        return obj
-    raise TypeError(f"cannot hash {type(obj).__name__} into a cache key")
-
-
-def point_key(**parts: Any) -> str:
-    """Hex digest identifying one computed point (parameters, scenario, start state, code version)."""
-    text = json.dumps(_canonical(parts), sort_keys=True, separators=(",", ":"))
-    return hashlib.sha256(text.encode()).hexdigest()[:32]
-
-
-def encode_bytes(data: bytes) -> str:
-    return base64.b64encode(data).decode("ascii")
-
-
-def decode_bytes(text: str) -> bytes:
-    return base64.b64decode(text.encode("ascii"))
-
-
-@dataclass
-class PointCache:
-    """One JSON file per point, `<dir>/<key[:2]>/<key>.json`; `None` directory disables caching."""
-
-    directory: Path | None = DEFAULT_CACHE_DIR
-    hits: int = 0
-    misses: int = 0
-
-    def _path(self, key: str) -> Path:
-        assert self.directory is not None
-        return Path(self.directory) / key[:2] / f"{key}.json"
-
-    def get(self, key: str) -> dict | None:
-        if self.directory is None:
-            self.misses += 1
-            return None
-        try:
-            with open(self._path(key)) as fh:
-                rec = json.load(fh)
-        except (FileNotFoundError, json.JSONDecodeError, UnicodeDecodeError):
-            self.misses += 1
-            return None
-        self.hits += 1
-        return rec
-
-    def put(self, key: str, record: dict) -> None:
-        if self.directory is None:
-            return
-        atomic_write_text(self._path(key), json.dumps(record, sort_keys=True))
-
-    def count(self) -> int:
-        if self.directory is None or not Path(self.directory).exists():
-            return 0
-        return sum(1 for _ in Path(self.directory).glob("*/*.json"))
-
 
 # ---------------------------------------------------------------------------------------------
 # Parallel map

@@ -23,7 +23,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from harness.analysis.config import ALGO_VERSION, SweepSettings, SweepSpec
-from harness.analysis.executor import PointCache, point_key
+from harness.analysis.cache import PointCache, point_key
 from harness.analysis.plateau import PLATEAU_OUTPUTS, Start, omega_of, period_peak, settle
 from harness.model.galerkin import galerkin
 from harness.fmu.pool import worker_fmu

@@ -51,7 +51,7 @@ class _Parser(argparse.ArgumentParser):
     """argparse with one-line errors: `error: ... (see --help)`, exit code 2, and negative numbers
     in exponent form (`--start-values d -3e-5`) taken as values, not as unknown options."""
 
-    def __init__(self, *args, **kwargs):
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         # argparse's own pattern misses -3e-5, -inf, -nan (private attribute, stable since 3.2)
         self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|nan)$", re.I)

@@ -13,7 +13,7 @@ import json
 import math
 from dataclasses import replace
 
-from harness.analysis.executor import RESULTS_DIR
+from harness.paths import RESULTS_DIR
 from harness.cli.options import add_execution_options, make_runner
 from harness.cli.reports import mistuning_report
 from harness.model.params import ParameterError
@@ -56,7 +56,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     add_execution_options(p, fmu=False)  # the ring's FMUs, not a --fmu of the user's
 
 
-def study_from(args: argparse.Namespace):
+def study_from(args: argparse.Namespace) -> mistuning.Study:
     s = SIZES[args.size]
     given = {"n": args.blades, "levels": tuple(args.levels) if args.levels else None, "patterns": args.patterns,
              "parameter": args.parameter, "seed": args.seed, "rtol": args.rtol, "max_time": args.max_time,

@@ -7,7 +7,8 @@ import argparse
 from typing import Any
 
 from harness.analysis.config import ConfigError
-from harness.analysis.executor import DEFAULT_CACHE_DIR, Runner
+from harness.paths import DEFAULT_CACHE_DIR
+from harness.analysis.executor import Runner
 from harness.model.params import ParameterError
 from harness.outputs import check_file
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import argparse
 
-from harness.analysis.executor import RESULTS_DIR
+from harness.paths import RESULTS_DIR
 from harness.cli.options import add_execution_options
 from harness.cli.reports import reproduce_and_report
 from harness.studies.paper import SIZES, STUDIES

@@ -84,8 +84,9 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
                         "every seed (travelling wave, runs from rest, a sweep up and down at --seed-points "
                         "speeds), each point's stability and the bifurcations, and the largest stable steady "
                         "state (harness/system/ring_orbits)")
-    g.add_argument("--seed-points", type=int, default=6, metavar="K",
-                   help="with --branches: speeds of the seeds across the band (default: 6)")
+    g.add_argument("--seed-points", type=int, default=None, metavar="K",
+                   help="with --branches: speeds of the seeds across the band (default: at most 300 rpm apart, "
+                        "at least 4)")
     g.add_argument("--steps-per-period", type=int, default=160, metavar="K",
                    help="with --branches: communication steps per excitation period (default: 160, as the sweeps)")
     g.add_argument("--csv", metavar="PATH",
@@ -123,7 +124,7 @@ def check(args: argparse.Namespace) -> None:
             raise ParameterError(f"--settle-rtol {args.settle_rtol!r} outside (0, 1)")
         if not (math.isfinite(args.max_time) and args.max_time > 0):
             raise ParameterError(f"--max-time {args.max_time!r} s must be > 0")
-        if not 2 <= args.seed_points <= 200:
+        if args.seed_points is not None and not 2 <= args.seed_points <= 200:
             raise ParameterError(f"--seed-points {args.seed_points} outside [2, 200]")
         if not 8 <= args.steps_per_period <= 100000:
             raise ParameterError(f"--steps-per-period {args.steps_per_period} outside [8, 100000]")

@@ -13,11 +13,12 @@ harness/studies/mistuning.py: <out>/mistuning/, each sweep over speed cached und
 from __future__ import annotations
 
 import argparse
+from typing import Any
 from pathlib import Path
 
 import numpy as np
 
-from harness.analysis.executor import RESULTS_DIR
+from harness.paths import RESULTS_DIR
 from harness.cli.options import add_execution_options, make_runner
 from harness.cli.reports import mistuning_report, reproduce_and_report
 from harness.studies import mistuning, mistuning_plots
@@ -47,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def findings(rep: Reproduction, study: dict) -> list[str]:
+def findings(rep: Reproduction, study: dict[str, Any]) -> list[str]:
     """Three lines: the paper's claims, the base case's resonance, the mistuned ring."""
     groups = grouped(verdict_counts(rep.claims))
     total = sum(groups.values())

@@ -17,7 +17,7 @@ import numpy as np
 from harness.analysis.steady_state import analyze
 from harness.cli.options import add_fmu_option, add_start_values, check_outputs, parse_start_values
 from harness.fmu.blade import SPEED_RANGE, BladeFMU, fmu_path
-from harness.model.excitation import Constant, ExcitationError, LinearRamp
+from harness.model.excitation import Constant, ExcitationError, LinearRamp, Signal
 from harness.model.params import validate
 from harness.files.tables import write_result_csv
 from harness.studies import run_plots
@@ -52,6 +52,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     params = validate(parse_start_values(args.start_values), source="--start-values")
     check_outputs(args, ("output_file", "--output-file"), ("plot", "--plot"))
+    speed: Signal
     if args.run_up is not None:
         n0, n1, t0, t1 = args.run_up
         speed = LinearRamp(n0, n1, t0, t1)
@@ -72,8 +73,9 @@ def run(args: argparse.Namespace) -> int:
                       start_time=args.start_time)
         variables = fmu.variables
     write_result_csv(args.output_file, res, variables)
-    print(f"wrote {len(res)} rows x {len(res.dtype.names)} columns to {args.output_file}")
-    if "tipDisplacement" in res.dtype.names:
+    columns = res.dtype.names or ()
+    print(f"wrote {len(res)} rows x {len(columns)} columns to {args.output_file}")
+    if "tipDisplacement" in columns:
         q = res["tipDisplacement"]
         print(f"max |tipDisplacement| = {np.max(np.abs(q)) * 1e3:.6g} mm ({speed_text})")
         if args.run_up is None and args.speed > 0:

@@ -15,8 +15,8 @@ import argparse
 import numpy as np
 
 from harness.analysis.config import SweepSettings
-from harness.analysis.curves import ConfigError, SweepSpec, parse_speed_range, sweep, validate_spec
-from harness.analysis.executor import write_csv
+from harness.analysis.curves import ConfigError, SweepResult, SweepSpec, parse_speed_range, sweep, validate_spec
+from harness.files.tables import write_csv
 from harness.cli.options import add_execution_options, add_start_values, check_outputs, make_runner, parse_start_values
 from harness.model.params import validate
 from harness.outputs import check_dir
@@ -63,7 +63,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     add_execution_options(p)
 
 
-def to_table(res) -> np.ndarray:
+def to_table(res: SweepResult) -> np.ndarray:
     nan = float("nan")
     rows = [(r["speed"], f"time-{r['direction']}", r["amplitude"], r["amp_lo"], r["amp_hi"], int(r["reached"]), -1)
             for r in res.time]

@@ -190,8 +190,9 @@ points its outputs are bit-identical to the FMI 2.0 co-simulation FMU's (tests/t
 def _readme(scenario: Scenario, version: str, fmi: str = "2.0", kind: str = "cs") -> str:
     return f"""# {MODEL_NAME} {version}: {_FLAVOUR_TEXT[(fmi, kind)]}, linux64
 {_flavour_notes(scenario, fmi, kind)}
-Reduced-order model of a shrouded turbine blade rubbing/impacting its neighbours (one-mode Galerkin
-model, macroslip friction; Nan et al., Shock and Vibration 2020). Hand-written C99, fixed-step RK4
+Reduced-order model of a shrouded turbine blade rubbing/impacting its neighbours (m-mode Galerkin
+model, m = 1..6 by the `modes` parameter, macroslip friction; Nan et al., Shock and Vibration 2020).
+C99 generated from one variable spec per model, fixed-step RK4
 with located switching events; `canInterpolateInputs` (input derivatives up to order 8),
 `canHandleVariableCommunicationStepSize`, `canGetAndSetFMUstate`, `canSerializeFMUstate`.
 The archive carries its C sources (`sources/`).

@@ -33,7 +33,7 @@ from harness.crosscheck.static import fmpy_validate, fmutool_check
 from harness.fmu import build as _build
 from harness.fmu.blade import fmu_path
 from harness.fmu.build import REPO_ROOT
-from harness.fmu.libcosim import ns_time_grid
+from harness.system.time_grid import ns_time_grid
 
 AGREEMENT_FILE = REPO_ROOT / "crosscheck" / "agreement.md"
 TOOLS = ("fmpy", "libcosim", "ecos", "fmi4j")

@@ -23,7 +23,8 @@ import numpy as np
 
 from harness.crosscheck.common import max_rel_diff, outputs, result_array
 from harness.fmu.build import EXCITATION_FMU, build
-from harness.fmu.libcosim import NS_PER_S, last_error, ns_time_grid, samples, to_ns
+from harness.fmu.libcosim import last_error, samples
+from harness.system.time_grid import NS_PER_S, ns_time_grid, to_ns
 from harness.fmu.slave import Slave, Unpacked, variables_by_name
 from harness.optional import require
 EXC = "excitation"

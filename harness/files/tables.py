@@ -1,6 +1,7 @@
-"""A simulation result (time + FMU outputs) as a CSV file in fmpy's format, each column named with
-its unit from the model description, written atomically (temporary file + rename, so an interrupted
-run never leaves a truncated CSV)."""
+"""Result tables as CSV, written atomically (temporary file + rename: an interrupted run never
+leaves a truncated table): `write_csv` / `read_csv` for the studies' structured arrays (floats at
+harness.digits' significant digits of their column), `write_result_csv` for a simulation result
+(time + FMU outputs) in fmpy's format, each column named with its unit from the model description."""
 from __future__ import annotations
 
 import os
@@ -9,8 +10,10 @@ from pathlib import Path
 from typing import Any, Mapping
 
 import numpy as np
-from fmpy.util import write_csv
+from fmpy.util import write_csv as fmpy_write_csv
 
+from harness import digits
+from harness.files.atomic import atomic_write_text
 from harness.outputs import with_unit, write_error
 
 
@@ -53,7 +56,54 @@ def write_result_csv(path: str | os.PathLike[str], result: np.ndarray, variables
     target = Path(path)
     tmp = _temporary_beside(target, ".csv")
     try:
-        write_csv(str(tmp), with_units(result, variables))
+        fmpy_write_csv(str(tmp), with_units(result, variables))
         os.replace(tmp, target)
     finally:
         tmp.unlink(missing_ok=True)
+
+
+def write_csv(path: Path | str, table: np.ndarray, header_comment: str = "") -> None:
+    """Write a structured array as CSV (quoted header; floats with harness.digits.SIGNIFICANT
+    significant digits of their column's largest magnitude), atomically."""
+    names = table.dtype.names or ()
+    lines = []
+    if header_comment:
+        lines += [f"# {ln}" for ln in header_comment.splitlines()]
+    lines.append(",".join(f'"{n}"' for n in names))
+    floats = {n: digits.column(table[n]) for n in names if np.issubdtype(table.dtype[n], np.floating)}
+    for i, row in enumerate(table):
+        cells = []
+        for n in names:
+            v = row[n]
+            if isinstance(v, (bytes, np.bytes_)):
+                v = v.decode()
+            if n in floats:
+                cells.append(floats[n][i])
+            elif isinstance(v, (bool, np.bool_)):
+                cells.append("1" if v else "0")
+            else:
+                cells.append(str(v))
+        lines.append(",".join(cells))
+    atomic_write_text(path, "\n".join(lines) + "\n")
+
+
+def read_csv(path: Path | str) -> np.ndarray:
+    """Read a CSV written by `write_csv` back into a structured array (numbers as float)."""
+    with open(path) as fh:
+        rows = [ln for ln in fh if not ln.startswith("#")]
+    names = [n.strip().strip('"') for n in rows[0].strip().split(",")]
+    cols: list[list[str]] = [[] for _ in names]
+    for ln in rows[1:]:
+        for i, cell in enumerate(ln.strip().split(",")):
+            cols[i].append(cell)
+    arrays = []
+    for c in cols:
+        try:
+            arrays.append(np.array([float(x) for x in c]))
+        except ValueError:
+            arrays.append(np.array(c))
+    dtype = [(n, a.dtype) for n, a in zip(names, arrays)]
+    out = np.zeros(len(rows) - 1, dtype=dtype)
+    for n, a in zip(names, arrays):
+        out[n] = a
+    return out

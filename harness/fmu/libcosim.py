@@ -1,31 +1,9 @@
-"""libcosim's time and its C API, shared by every libcosim master (the ring, the SSP runner, the
-cross-check importer): integer-nanosecond communication points, observer samples, the last error.
-
-libcosim keeps time as integer nanoseconds: the communication point passed to fmi2DoStep is
-double(k * step_ns) / 1e9, so neither the time nor the step accumulates rounding.
-"""
+"""libcosim's C API where libcosimpy does not reach, shared by every libcosim master (the ring, the
+SSP runner, the cross-check importer): observer samples from step 0 on, the last error. Its
+integer-nanosecond time is harness.system.time_grid."""
 from __future__ import annotations
 
 import ctypes
-
-import numpy as np
-
-NS_PER_S = 1_000_000_000
-
-
-def to_ns(seconds: float) -> int:
-    """A step or time in whole nanoseconds; refuses values that are not (libcosim would round them)."""
-    ns = round(seconds * NS_PER_S)
-    if abs(ns / NS_PER_S - seconds) > 1e-15 * max(1.0, abs(seconds)):
-        raise ValueError(f"{seconds} s is not a whole number of nanoseconds")
-    return ns
-
-
-def ns_time_grid(start: float, step: float, n_steps: int) -> np.ndarray:
-    """The communication points libcosim passes to the FMU: double(start_ns + k step_ns) / 1e9."""
-    s0, h = to_ns(start), to_ns(step)
-    return np.array([(s0 + k * h) / NS_PER_S for k in range(n_steps + 1)])
-
 
 def samples(observer, idx: int, vr: int, typ: str, n: int) -> tuple[list[int], list[int], list[float]]:
     """All n samples of one variable from step 0 (initialization) on: (time [ns], step, value).

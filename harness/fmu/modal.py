@@ -9,10 +9,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from harness.model.params import value_reference
+from harness.model import params
 
-ROWS, COLS = 15, 14
-MODES_MAX = 6
+
+def _shape() -> tuple[int, int]:
+    """(rows, columns) of the sensitivity[r,c] the model description declares."""
+    rc = [tuple(map(int, n[len("sensitivity["):-1].split(","))) for n in params.value_references()
+          if n.startswith("sensitivity[")]
+    return max(r for r, _ in rc), max(c for _, c in rc)
+
+
+ROWS, COLS = _shape()  # 15, 14
+MODES_MAX = int(params.specs()["modes"].high)  # the largest number of modes, 6
 ROW_JENKINS_FORCE, ROW_RUNNING_MAXIMUM, ROW_AMPLITUDE = 12, 13, 14  # 0-based
 COL_JENKINS_FORCE, COL_B = 12, 13
 
@@ -25,7 +33,7 @@ def name(r: int, c: int) -> str:
 def value_references() -> list[int]:
     """The 210 value references in row-major order (reshape the values to (ROWS, COLS)), from the
     model description."""
-    return [value_reference(name(r, c)) for r in range(1, ROWS + 1) for c in range(1, COLS + 1)]
+    return [params.value_reference(name(r, c)) for r in range(1, ROWS + 1) for c in range(1, COLS + 1)]
 
 
 def state_indices(m: int) -> list[int]:

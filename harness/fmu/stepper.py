@@ -72,37 +72,22 @@ class Stepper:
         fmi2ExitInitializationMode. Returns (status, call): the first status > fmi2Warning and its
         call (nothing after it is called), else (the worst status, "")."""
         c = self.c
-        worst = self.reset(c) if reset else 0
-        if worst > 1:
-            return worst, "fmi2Reset"
-        st = self.setReal(c, reals.a_vr, reals.n, reals.a_value)
-        if st > 1:
-            return st, "fmi2SetReal (parameters, start values)"
-        worst = max(worst, st)
-        st = self.setInteger(c, ints.a_vr, ints.n, ints.a_value)
-        if st > 1:
-            return st, "fmi2SetInteger (parameters)"
-        worst = max(worst, st)
-        st = self.setBoolean(c, bools.a_vr, bools.n, bools.a_value)
-        if st > 1:
-            return st, "fmi2SetBoolean (parameters)"
-        worst = max(worst, st)
-        st = self.setupExperiment(c, 0, 0.0, start_time, 0, 0.0)
-        if st > 1:
-            return st, "fmi2SetupExperiment"
-        worst = max(worst, st)
-        st = self.enterInitializationMode(c)
-        if st > 1:
-            return st, "fmi2EnterInitializationMode"
-        worst = max(worst, st)
-        st = self.setReal(c, inputs.a_vr, inputs.n, inputs.a_value)
-        if st > 1:
-            return st, "fmi2SetReal (inputs)"
-        worst = max(worst, st)
-        st = self.exitInitializationMode(c)
-        if st > 1:
-            return st, "fmi2ExitInitializationMode"
-        return max(worst, st), ""
+        calls = [(self.setReal, (c, reals.a_vr, reals.n, reals.a_value), "fmi2SetReal (parameters, start values)"),
+                 (self.setInteger, (c, ints.a_vr, ints.n, ints.a_value), "fmi2SetInteger (parameters)"),
+                 (self.setBoolean, (c, bools.a_vr, bools.n, bools.a_value), "fmi2SetBoolean (parameters)"),
+                 (self.setupExperiment, (c, 0, 0.0, start_time, 0, 0.0), "fmi2SetupExperiment"),
+                 (self.enterInitializationMode, (c,), "fmi2EnterInitializationMode"),
+                 (self.setReal, (c, inputs.a_vr, inputs.n, inputs.a_value), "fmi2SetReal (inputs)"),
+                 (self.exitInitializationMode, (c,), "fmi2ExitInitializationMode")]
+        if reset:
+            calls.insert(0, (self.reset, (c,), "fmi2Reset"))
+        worst = 0
+        for f, args, name in calls:
+            st = f(*args)
+            if st > 1:
+                return st, name
+            worst = max(worst, st)
+        return worst, ""
 
     def derivative_steps(self, steps: Sequence[tuple[float, float, int]], der: Derivatives) -> tuple[int, int, str]:
         """Communication steps (t_k, h_k, address of the n derivative values of step k) with the

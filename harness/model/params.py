@@ -86,13 +86,18 @@ def open_bounds() -> tuple[frozenset[str], frozenset[str]]:
     return frozenset(el.get("lower", "").split()), frozenset(el.get("upper", "").split())
 
 
-@lru_cache(maxsize=None)
+@lru_cache(maxsize=1)
+def value_references() -> dict[str, int]:
+    """name -> value reference of every FMU variable, in the order of modelDescription.xml."""
+    return {sv.get("name"): int(sv.get("valueReference")) for sv in _model_description().iter("ScalarVariable")}
+
+
 def value_reference(name: str) -> int:
     """The value reference of the FMU variable `name` (modelDescription.xml)."""
-    for sv in _model_description().iter("ScalarVariable"):
-        if sv.get("name") == name:
-            return int(sv.get("valueReference"))
-    raise KeyError(f"{name!r} is not a variable of modelDescription.xml")
+    try:
+        return value_references()[name]
+    except KeyError:
+        raise KeyError(f"{name!r} is not a variable of modelDescription.xml") from None
 
 
 @lru_cache(maxsize=1)

@@ -18,7 +18,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 from scipy.optimize import brentq
 
-from harness.analysis.executor import write_csv
+from harness.files.tables import write_csv
 from harness.fmu.blade import SPEED_RANGE
 from harness.model.params import ParameterError, validate
 from harness.studies import plots

@@ -38,7 +38,7 @@ from typing import Any, Sequence
 from fmpy import read_model_description
 import numpy as np
 
-from harness.analysis.executor import PointCache, point_key
+from harness.analysis.cache import PointCache, point_key
 from harness.fmu.build import EXCITATION_FMU
 from harness.fmu.slave import build_ring_fmus
 from harness.model.galerkin import galerkin

@@ -25,7 +25,8 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from harness.analysis.executor import PointCache, Runner
+from harness.analysis.cache import PointCache
+from harness.analysis.executor import Runner
 from harness.files.atomic import atomic_write_text
 from harness.studies import mistuning
 from harness.studies.mistuning import Study

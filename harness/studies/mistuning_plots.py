@@ -8,14 +8,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.ticker import MaxNLocator
 
-from harness.analysis.executor import write_csv
+from harness.files.tables import write_csv
+from harness.files.figures import plt, save_png
 
-matplotlib.use("Agg")  # figures go straight to PNG files: no display
 COLOURS = ("tab:blue", "tab:orange", "tab:green")  # one per variant, in every figure
 
 
@@ -141,7 +139,6 @@ def _curve(ax, x, y, settled, colour, ls, marker, label) -> None:
 
 def _save(fig, stem: Path, rows: list, dtype: list) -> list[Path]:
     fig.tight_layout()
-    fig.savefig(stem.with_suffix(".png"), dpi=120)
-    plt.close(fig)
+    save_png(fig, stem.with_suffix(".png"), dpi=120, tight=False)
     write_csv(stem.with_suffix(".csv"), np.array(rows, dtype=dtype))
     return [stem.with_suffix(".png"), stem.with_suffix(".csv")]

@@ -15,7 +15,8 @@ from typing import Any, Mapping
 
 from harness.analysis.periodic.branches import BranchSettings, trace_branches
 from harness.analysis.periodic.continuation import write_branches_csv
-from harness.analysis.periodic.studies import jump_speed, peak_orbit
+from harness.analysis.periodic.curve import jump_speed, peak_orbit
+from harness.fmu.blade import SPEED_RANGE
 from harness.studies import plots
 from harness.studies.campbell_modes import campbell, campbell_params
 
@@ -42,11 +43,12 @@ def mode2_crossing(fmu: Any, out: Path, base: Mapping[str, Any], engine_order: i
     """results/mode2_crossing_branches.csv and .png: the branches over [1 - window, 1 + window]
     times the contact-free crossing speed."""
     p = campbell_params(dict(base, formulation=2, engineOrder=engine_order), 2)
-    rough = campbell(fmu, p, [8000.0, 30000.0], orders=(engine_order,))
+    top = SPEED_RANGE[1]  # the FMU's rotorSpeed max [rpm] (modelDescription.xml)
+    rough = campbell(fmu, p, [8000.0, top], orders=(engine_order,))
     free = next((c.speed_rpm for c in rough.crossings if c.mode == 2), math.nan)
     if not math.isfinite(free):
-        raise ValueError(f"mode 2 does not cross EO {engine_order} between 8000 and 30000 rpm")
-    rng = (free * (1 - window), min(free * (1 + window), 30000.0))
+        raise ValueError(f"mode 2 does not cross EO {engine_order} between 8000 and {top:g} rpm")
+    rng = (free * (1 - window), min(free * (1 + window), top))
     rows, traced = [], {}
     for model in MODELS:
         br, _ = trace_branches(fmu, p, model, rng, BranchSettings(seed_step=seed_step))

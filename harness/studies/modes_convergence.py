@@ -19,10 +19,10 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from harness.analysis.executor import write_csv
+from harness.files.tables import write_csv
 from harness.analysis.periodic.branches import BranchSettings
 from harness.analysis.periodic.period_map import PeriodMap
-from harness.analysis.periodic.studies import Curve, CurveTask, peak_orbit
+from harness.analysis.periodic.curve import Curve, CurveTask, peak_orbit
 from harness.studies import plots
 
 MODELS = ("jenkins", "fixedPoint")

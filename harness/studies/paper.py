@@ -28,12 +28,14 @@ import numpy as np
 from harness import digits
 from harness.analysis.curves import (ConfigError, SweepSettings, SweepSpec, fmu_identity, hb_curve, hb_stable_peak,
                                      omega_of)
-from harness.analysis.executor import RESULTS_DIR, Runner, write_csv
+from harness.paths import RESULTS_DIR
+from harness.analysis.executor import Runner
+from harness.files.tables import write_csv
 from harness.files.atomic import atomic_write_text
 from harness.analysis.periodic.branches import orbits_at
 from harness.analysis.periodic.harmonics import branch_harmonics, summarize
 from harness.analysis.periodic.period_map import PeriodMap
-from harness.analysis.periodic.studies import trace_curve
+from harness.analysis.periodic.curve import trace_curve
 from harness.analysis.steady_state import analyze
 from harness.fmu.blade import BladeFMU
 from harness.model import params as _params
@@ -470,7 +472,7 @@ def run_studies(out: Path | str = RESULTS_DIR, size: str | Size = "default", stu
     summary = Summary(size.name, base_p)
     rep = Reproduction(summary)
     try:
-        runner.warm_up("harness.analysis.periodic.studies")  # the workers start while HB runs here
+        runner.warm_up("harness.analysis.periodic.curve")  # the workers start while HB runs here
         t0 = _time.perf_counter()
         hb_params = {n: {v: dict(base_p, **{STUDIES[n].param: v}) for v in values[n]} for n in names}
         hb = {}

@@ -7,27 +7,18 @@ Campbell diagram. Nothing is ever shown on screen; every function returns the pa
 """
 from __future__ import annotations
 
-import io
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from harness.files.atomic import atomic_write_bytes  # noqa: E402
+from harness.files.figures import plt, save_png
 
 MM = 1e3  # m -> mm
 
 
 def _save(fig: Any, path: Path | str) -> Path:
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=110, bbox_inches="tight")
-    plt.close(fig)
-    atomic_write_bytes(path, buf.getvalue())
-    return Path(path)
+    return save_png(fig, path, dpi=110, tight=True)
 
 
 def _colors(n: int) -> list:

@@ -13,9 +13,10 @@ from harness.files.figures import plt, save_png
 
 def simulation(path: str | Path, result: np.ndarray, title: str) -> Path:
     """`simulate --plot`: tipDisplacement and amplitude [mm] over time (else the first output)."""
-    names = [n for n in ("tipDisplacement", "amplitude") if n in result.dtype.names]
+    columns = result.dtype.names or ()
+    names: list[str] = [n for n in ("tipDisplacement", "amplitude") if n in columns]
     if not names:
-        names = [n for n in result.dtype.names if n != "time"][:1]
+        names = [n for n in columns if n != "time"][:1]
     fig, ax = plt.subplots(figsize=(8, 4))
     for n in names:
         scale, unit = (1e3, "mm") if n in ("tipDisplacement", "amplitude") else (1.0, "")
@@ -68,7 +69,7 @@ def ring_sweep(path: str | Path, r: Any, tuned: Any, title: str) -> Path:
     return save_png(fig, path, dpi=120, tight=False)
 
 
-def ring_branches(path: str | Path, out: dict, title: str) -> Path:
+def ring_branches(path: str | Path, out: dict[str, Any], title: str) -> Path:
     """`ring --speeds ... --branches --plot`: the branches of periodic steady states of `out`
     (RingBranches.as_dict(), with a sweep's "sweep" entry if any): the largest blade, stable solid,
     unstable dashed, bifurcations marked, the sweep's settled points over them."""

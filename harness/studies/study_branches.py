@@ -19,10 +19,10 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from harness.studies import plots
-from harness.analysis.executor import write_csv
+from harness.files.tables import write_csv
 from harness.analysis.periodic.branches import BranchSettings
 from harness.analysis.periodic.continuation import write_branches_csv
-from harness.analysis.periodic.studies import Curve, CurveSummary, CurveTask, curve_summary
+from harness.analysis.periodic.curve import Curve, CurveSummary, CurveTask, curve_summary
 
 MODELS = ("fixedPoint", "jenkins")  # drawn for every study
 COULOMB_STUDIES = ("kn", "angle")  # section 4: + the Coulomb DF's fixed point

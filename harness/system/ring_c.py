@@ -18,7 +18,7 @@ from dataclasses import replace
 import numpy as np
 
 from harness.fmu.build import BUILD_DIR, build
-from harness.fmu.libcosim import to_ns
+from harness.system.time_grid import to_ns
 from harness.system.ring import Ring, RingDiverged, diverged_message, extrapolation_weights
 from harness.system.ring_instances import open_ring
 

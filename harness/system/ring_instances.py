@@ -10,7 +10,7 @@ from typing import Iterator
 import numpy as np
 
 from harness.fmu.build import EXCITATION_FMU, build
-from harness.fmu.libcosim import ns_time_grid
+from harness.system.time_grid import ns_time_grid
 from harness.fmu.pool import worker_unpacked
 from harness.fmu.slave import BLADE_EXTERNAL_FMU, SHROUD_CONTACT_FMU, Slave, build_ring_fmus
 

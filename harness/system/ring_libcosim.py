@@ -18,7 +18,8 @@ import time
 import numpy as np
 
 from harness.fmu.build import EXCITATION_FMU, build
-from harness.fmu.libcosim import last_error, samples, to_ns
+from harness.fmu.libcosim import last_error, samples
+from harness.system.time_grid import to_ns
 from harness.fmu.slave import variables_by_name
 from harness.fmu.slave import build_ring_fmus
 from harness.optional import require

@@ -20,7 +20,8 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from harness.fmu.build import EXCITATION_FMU, build
-from harness.fmu.libcosim import last_error, samples, to_ns
+from harness.fmu.libcosim import last_error, samples
+from harness.system.time_grid import to_ns
 from harness.fmu.slave import BLADE_EXTERNAL_FMU, build_ring_fmus, variables_by_name
 from harness.optional import require
 from harness.system.ring import Ring

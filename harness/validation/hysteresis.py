@@ -15,7 +15,7 @@ import numpy as np
 
 from harness import reference as ref
 from harness.analysis.curves import omega_of
-from harness.analysis.executor import write_csv
+from harness.files.tables import write_csv
 from harness.model import params as _params
 from harness.studies import plots
 from harness.studies.paper import HysteresisLoop

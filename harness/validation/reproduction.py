@@ -11,8 +11,9 @@ import time
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
-from harness.analysis.curves import fmu_identity
-from harness.analysis.executor import RESULTS_DIR, Runner
+from harness.analysis.plateau import fmu_identity
+from harness.paths import RESULTS_DIR
+from harness.analysis.executor import Runner
 from harness.fmu.blade import BladeFMU
 from harness.studies import paper
 from harness.validation.hysteresis import hysteresis

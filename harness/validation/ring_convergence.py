@@ -14,16 +14,13 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-import matplotlib
-import matplotlib.pyplot as plt
 import numpy as np
 
 from harness import digits
+from harness.files.figures import plt, save_png
 from harness.reference.ring import MonolithicRing, RingSpec
 from harness.system import ring_libcosim
 from harness.system.ring import Ring, run
-
-matplotlib.use("Agg")  # figures go straight to PNG files: no display
 
 GRID = 1e-4  # reference output spacing [s]; every h divides it
 
@@ -92,5 +89,4 @@ def write(rows: list[tuple[int | str, float, float]], out: Path) -> None:
     ax.set_title("ring N = 4, EO = 3: Jacobi vs monolithic", fontsize=10)
     ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(out.with_suffix(".png"), dpi=120)
-    plt.close(fig)
+    save_png(fig, out.with_suffix(".png"), dpi=120, tight=False)

@@ -40,6 +40,9 @@ typedef struct {
     SolverCounters counters;
     BladeModesCache modesCache;
     double frequencies[MODES_MAX];                        /* modeFrequency [Hz] */
+    /* the last reduction: a reset and re-initialised instance (the ring's period map does that every
+     * period) reuses it */
+    BladeReductionCache reductionCache;
 } BxMemory;
 
 enum { OutQ = 0, OutV, OutEnergy, OutW, OutFrequency, OutModalQ1, OutModalV1 = OutModalQ1 + MODES_MAX,
@@ -81,7 +84,8 @@ static FmiStatus build(FmiInstance *inst, const char *fn, int initState)
     const double *p = d->par;
     BladeParams bp;
     bp = bladeParamsOf(&p[ParEI]); /* ParEI..ParM0 in that order */
-    if (bladeReduce(&bp, (Formulation)d->ipar[IparFormulation], &d->blade) != 0 || !(d->blade.K0static > 0.0) ||
+    if (bladeReduceReusing(&((BxMemory *)inst->memory)->reductionCache, &bp, (Formulation)d->ipar[IparFormulation],
+                           &d->blade) != 0 || !(d->blade.K0static > 0.0) ||
         dynBuildModel(&d->model, &d->blade, NULL, FrictionNone, ProjectionPaper, 0, 0, d->ipar[IparEngineOrder]) != 0) {
         fmiLogStatus(inst, FmiError,
                      "%s: the Galerkin reduction (eq. 19-26) failed for EI = %g N.m2, rho = %g kg/m3, "

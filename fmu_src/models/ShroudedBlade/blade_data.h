@@ -34,10 +34,7 @@ typedef struct {
     SolverCounters counters;     /* work statistics */
     /* the last Galerkin reduction and what it was built from: a master that resets and restarts
      * with the same blade (shooting) skips eq. 19-26 */
-    int32_t bladeCacheValid;
-    int32_t bladeCacheFormulation;
-    BladeParams bladeCacheParams;
-    BladeReduction bladeCache;
+    BladeReductionCache reductionCache;
     DynOutputs out;              /* outputs of the current get call */
     BladeModesCache modesCache;  /* the last modal reduction (m > 1) */
     double frequencies[MODES_MAX]; /* modeFrequency at frequencySpeed [Hz] */

@@ -121,23 +121,8 @@ static FmiStatus checkStartForce(FmiInstance *inst, const char *fn, double q0)
 static int bladeReduceCached(FmiInstance *inst, const BladeParams *bp)
 {
     BladeData *d = BLADE_DATA(inst);
-    BladeMemory *mem = BLADE_MEMORY(inst);
-    const int32_t formulation = d->ipar[IparFormulation];
-    int rc;
-    if (mem->bladeCacheValid && mem->bladeCacheFormulation == formulation &&
-        memcmp(&mem->bladeCacheParams, bp, sizeof *bp) == 0) {
-        d->blade = mem->bladeCache;
-        return 0;
-    }
-    mem->bladeCacheValid = 0;
-    rc = bladeReduce(bp, (Formulation)formulation, &d->blade);
-    if (rc == 0) {
-        mem->bladeCacheParams = *bp;
-        mem->bladeCacheFormulation = formulation;
-        mem->bladeCache = d->blade;
-        mem->bladeCacheValid = 1;
-    }
-    return rc;
+    return bladeReduceReusing(&BLADE_MEMORY(inst)->reductionCache, bp, (Formulation)d->ipar[IparFormulation],
+                              &d->blade);
 }
 
 /* Blade reduction and dynamics constants from the parameters; if initState, also the initial

@@ -44,6 +44,9 @@ class ContinuationSettings:
     max_points: int = 400
     max_corrector: int = 8
     ds_fold: float = 0.02  # a step that passes a fold is refused (and halved) while longer than this
+    # a corrector that fails quasi-Newton is retried with a fresh Jacobian per iteration (one period
+    # per unknown each: for a map of many unknowns a halved step is cheaper)
+    fresh_fallback: bool = True
 
 
 @dataclass
@@ -332,7 +335,7 @@ def _step(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, ds:
     multipliers and the next tangent."""
     fail = (False, z, t, Jz, None)
     zp = z + ds * t
-    for quasi in (True, False):
+    for quasi in ((True, False) if s.fresh_fallback else (True,)):
         try:
             done = correct(prob, zp, t, Jz, s, quasi)
         except (FMUError, ParameterError):  # the FMU refused the start, or the speed left its range

@@ -114,8 +114,8 @@ class _Section:
                 return self.solved[sigma]
         return None
 
-    def located(self, kind: str, objective: Callable[[np.ndarray, float], float], sides: tuple[str, str]
-                ) -> Extremum | None:
+    def located(self, kind: str, objective: Callable[[np.ndarray, float], float], sides: tuple[str, str],
+                xatol: float = SIGMA_TOL) -> Extremum | None:
         """The minimum of objective(z, amplitude) over sigma between the neighbours."""
         # where the corrector finds no branch point the objective is undefined: a finite value above
         # the three sampled points' keeps Brent away from it (an infinite one turns its parabola
@@ -128,7 +128,7 @@ class _Section:
             return worse if sol is None else objective(*sol)
 
         lo, hi = sorted((self.sigma[0], self.sigma[2]))
-        res = minimize_scalar(f, bounds=(lo, hi), method="bounded", options={"xatol": SIGMA_TOL})
+        res = minimize_scalar(f, bounds=(lo, hi), method="bounded", options={"xatol": xatol})
         sol = self.solve(float(res.x))
         if sol is None:
             return None
@@ -143,10 +143,10 @@ class _Section:
 
 
 def locate(pm: PeriodMap, branch: Branch, settings: ContinuationSettings = ContinuationSettings(),
-           keep: Callable[[int, str], bool] | None = None) -> list[Extremum]:
+           keep: Callable[[int, str], bool] | None = None, xatol: float = SIGMA_TOL) -> list[Extremum]:
     """The located peaks and folds of `branch` (in arc order); an extremum whose refinement fails
     is left out (its sampled point stays on the branch). keep(index, kind): locate only the
-    candidates it accepts (default: all)."""
+    candidates it accepts (default: all); xatol: Brent's tolerance in sigma."""
     out = []
     for i, kind in candidates(branch):
         if keep is not None and not keep(i, kind):
@@ -155,10 +155,10 @@ def locate(pm: PeriodMap, branch: Branch, settings: ContinuationSettings = Conti
         sides = (p[i - 1].label, p[i + 1].label)
         sec = _Section(pm, branch, i, settings)
         if kind == "peak":
-            e = sec.located(kind, lambda z, amp: -amp, sides)
+            e = sec.located(kind, lambda z, amp: -amp, sides, xatol)
         else:
             turn = 1.0 if p[i].speed > p[i - 1].speed else -1.0  # +1: the speed has a maximum here
-            e = sec.located(kind, lambda z, amp: -turn * float(z[-1]), sides)
+            e = sec.located(kind, lambda z, amp: -turn * float(z[-1]), sides, xatol)
         if e is not None:
             out.append(e)
     return out

@@ -16,7 +16,8 @@ import numpy as np
 
 from harness.crosscheck.common import Run, outputs, result_array, timed
 from harness.crosscheck.plan import INPUTS, InputPlan, Scenario
-from harness.fmu.libcosim import NS_PER_S, last_error, samples, to_ns
+from harness.fmu.libcosim import last_error, samples
+from harness.system.time_grid import NS_PER_S, to_ns
 from harness.fmu.slave import variables_by_name
 from harness.optional import require
 

@@ -1,16 +1,17 @@
 """All the branches of the ring's periodic orbits over a speed band, from every seed, and the largest
 stable steady state among them.
 
-Seeds (harness/system/ring_orbits/seeds.py): the travelling wave (tuned ring), a run from rest at each
-grid speed and a sweep up and back down the grid. A seed whose state already lies on a traced branch (up to the ring's symmetries,
-symmetry.py, by the per-blade amplitudes) is dropped; otherwise Newton finds its orbit, which is
-dropped if it lies on a traced branch, else continued both ways across the band (continuation.py)
-until it leaves the band or runs onto a branch traced before.
+Seeds (harness/system/ring_orbits/seeds.py): the travelling wave (tuned ring), a run from rest at
+each grid speed and a sweep up and back down the grid. A seed whose state already lies on a traced
+branch (up to the ring's symmetries, symmetry.py, by the per-blade amplitudes) is dropped; otherwise
+Newton finds its orbit, which is dropped if it lies on a traced branch, else continued both ways
+across the band (continuation.py) until it leaves the band or runs onto a branch traced before.
 At every branch point next to a stable point (where a stable branch can emanate; at most
 `max_switches` in all) the other branch is entered along the critical eigenvector
-(continuation.switch) and traced too. The largest stable steady state: the largest blade amplitude over the stable points,
-the located peaks that are stable, and the stability boundaries (a fold bounding a stable part, a
-branch point, period doubling or Neimark-Sacker point next to a stable point).
+(continuation.switch) and traced too. The largest stable steady state: the largest blade amplitude
+over the stable points, the located peaks that are stable, and the stability boundaries (a fold
+bounding a stable part, a branch point, period doubling or Neimark-Sacker point next to a stable
+point).
 """
 from __future__ import annotations
 
@@ -80,12 +81,17 @@ def known(branches: list[RingBranch], speed: float, amps: np.ndarray, maps: list
 
 def merged(branches: list[RingBranch], maps: list[np.ndarray]) -> list[RingBranch]:
     """The branches without those whose every point lies on another kept branch (up to the ring's
-    symmetries): a branch entered twice, from two seeds or from a branch point."""
+    symmetries): a branch entered twice, from two seeds or from a branch point. Longest first."""
     kept: list[RingBranch] = []
     for br in sorted(branches, key=lambda b: -len(b.orbits)):
         if not all(known(kept, o.speed, o.amplitudes, maps, SAME_RTOL) for o in br.orbits):
             kept.append(br)
     return kept
+
+
+def in_band(branches: list[RingBranch], band: tuple[float, float]) -> list[RingBranch]:
+    """The branches with a point inside the band (a corrector from a branch point may land outside)."""
+    return [b for b in branches if any(band[0] <= o.speed <= band[1] for o in b.orbits)]
 
 
 def peak_stable(branches: list[RingBranch], band: tuple[float, float]) -> tuple[float, float, int]:
@@ -107,13 +113,24 @@ def peak_stable(branches: list[RingBranch], band: tuple[float, float]) -> tuple[
     return float(a), float(s), int(np.argmax(amps))
 
 
-def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
+SEED_SPACING = 300.0  # [rpm] between seed speeds by default: 6 seeds over 4000-9000 rpm missed the study
+# ring's largest stable state (a run from rest near 5800 rpm reaches its branch; from 5000 or 6000 none does)
+
+
+def default_seed_points(band: tuple[float, float]) -> int:
+    """Seed speeds across the band at most SEED_SPACING apart, at least 4."""
+    return max(4, math.ceil((band[1] - band[0]) / SEED_SPACING) + 1)
+
+
+def ring_branches(ring: Ring, band: tuple[float, float], points: int | None = None,
                   settings: RingShootingSettings = RingShootingSettings(), switch_branches: bool = True,
                   max_branches: int = 24, settle: float = 1e-3, max_periods: int = 300,
                   max_switches: int = 8) -> RingBranches:
-    """Every branch found from the seeds at `points` speeds across `band` [rpm] (see the module
-    docstring). Raises ValueError on a bad band or count."""
+    """Every branch found from the seeds at `points` speeds across `band` [rpm] (default: at most
+    SEED_SPACING apart; see the module docstring). Raises ValueError on a bad band or count."""
     lo, hi = (float(v) for v in band)
+    if points is None:
+        points = default_seed_points((lo, hi))
     if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi):
         raise ValueError(f"band {band!r} rpm: need 0 < FROM < TO")
     if not (isinstance(points, int) and 2 <= points <= 1000):
@@ -139,13 +156,14 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
             orb = shoot(pm, sd.x, sd.speed)
             if orb is None or known(branches, orb.speed, orb.amplitudes, maps, SAME_RTOL):
                 continue
-            todo.append(orb)
+            todo.append((orb, f"{sd.origin} at {sd.speed:.1f} rpm"))
             while todo and len(branches) < max_branches:
-                o = todo.pop(0)
+                o, origin = todo.pop(0)
                 if branches and known(branches, o.speed, o.amplitudes, maps, SAME_RTOL):
                     continue
                 done = list(branches)
                 br = trace(pm, o, (lo, hi), joined=lambda n, a: known(done, n, a, maps, SAME_RTOL))
+                br.origin = origin
                 for k, v in br.cost.items():
                     stage[k] = stage.get(k, 0) + v
                 branches.append(br)
@@ -165,8 +183,8 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int = 11,
                                 continue
                             new = shoot(pm, guess.x, guess.speed)
                             if new is not None:
-                                todo.append(new)
-        branches = merged(branches, maps)
+                                todo.append((new, f"branch point at {b.speed:.1f} rpm"))
+        branches = merged(in_band(branches, (lo, hi)), maps)
         amp, speed, blade = peak_stable(branches, (lo, hi))
         npts = sum(len(b.orbits) for b in branches)
         return RingBranches(branches, (lo, hi), amp, speed, blade, len(seeds), pm.evaluations,

@@ -30,10 +30,14 @@ from harness.fmu.blade import FMUError
 from harness.system.ring_orbits.period_map import RingPeriodMap
 from harness.system.ring_orbits.shooting import RingOrbit, monodromy, shoot
 
-RING_CONTINUATION = ContinuationSettings(ds=0.05, ds_min=2e-4, ds_max=0.3, max_points=300, max_corrector=8,
-                                         ds_fold=0.02)
+# no fresh-Jacobian retry of a failed corrector (up to 8 x 19 periods on 6 blades; a halved step costs a
+# few): on the 6-blade study ring over 5500-7200 rpm 21773 -> 15475 periods in all (continuation 15942 ->
+# 10908), the same largest stable state (4.94023e-5 m at 5794.83 rpm)
+RING_CONTINUATION = ContinuationSettings(ds=0.05, ds_min=1e-3, ds_max=0.3, max_points=300, max_corrector=8,
+                                         ds_fold=0.02, fresh_fallback=False)
 
 
+EXTREMUM_TOL = 1e-5  # Brent's tolerance locating a peak or fold: 1e-5 of the scaled arc, 0.01 rpm along the speed
 CROSSING_TOL = 1e-3  # a multiplier counts as outside the unit circle beyond 1 + this (a multiplier
 # hovering at 1 within the finite-difference DP's error would flip the counts from point to point)
 
@@ -74,6 +78,7 @@ class RingBranch:
     fold_sides: list[bool] = field(default_factory=list)  # per fold: it bounds a stable part
     closed: bool = False
     cost: dict = field(default_factory=dict)  # periods simulated per stage of its tracing
+    origin: str = ""  # the seed or branch point it was entered from
 
     @property
     def speeds(self) -> np.ndarray:
@@ -95,7 +100,7 @@ class RingBranch:
                 "bifurcations": [b.as_dict() for b in self.bifurcations],
                 "peaks": [{"speed_rpm": p.speed, "amplitude_m": p.amplitude, "amplitudes_m": p.amplitudes.tolist(),
                            "stable": p.stable, "max_multiplier": p.max_multiplier} for p in self.peaks],
-                "end_reasons": self.end_reasons, "closed": self.closed}
+                "end_reasons": self.end_reasons, "closed": self.closed, "origin": self.origin}
 
 
 def _orbit(pm: RingPeriodMap, x: np.ndarray, speed: float, mu: np.ndarray, it: int = 0) -> RingOrbit:
@@ -153,8 +158,9 @@ def trace(pm: RingPeriodMap, orbit: RingOrbit, band: tuple[float, float],
           settings: ContinuationSettings = RING_CONTINUATION, directions: tuple[int, ...] = (-1, 1),
           joined: Callable[[float, np.ndarray], bool] | None = None) -> RingBranch:
     """The branch through `orbit` across `band` [rpm] (both directions; an end that left the band
-    replaced by the orbit at the band's edge), with its located peaks, folds and bifurcations; a direction ends where joined(speed, per-blade amplitudes) says the
-    branch ran onto one traced before."""
+    replaced by the orbit at the band's edge), with its located peaks, folds and bifurcations; a
+    direction ends where joined(speed, per-blade amplitudes) says the branch ran onto one traced
+    before."""
     stop = None
     if joined is not None:
         def stop(p) -> str | None:
@@ -165,7 +171,8 @@ def trace(pm: RingPeriodMap, orbit: RingOrbit, band: tuple[float, float],
     e1 = pm.evaluations
     st = [p.stable for p in br.points]  # (the last point of a direction may lie just outside the band)
     try:  # only the peaks and folds next to a stable point: those bound the stable steady states
-        br.extrema = locate(pm, br, settings, keep=lambda i, kind: st[i - 1] or st[i] or st[i + 1])
+        br.extrema = locate(pm, br, settings, keep=lambda i, kind: st[i - 1] or st[i] or st[i + 1],
+                            xatol=EXTREMUM_TOL)
     except FMUError:
         br.extrema = []
     e2 = pm.evaluations

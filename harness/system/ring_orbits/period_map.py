@@ -83,8 +83,8 @@ class _Restart:
         self.real = ((C.c_uint * len(vr_r))(*vr_r), (C.c_double * len(vr_r))(*groups["Real"][1], *[0.0] * len(starts)))
         self.starts = np.frombuffer(self.real[1], dtype=np.float64)[len(groups["Real"][1]):]
         self.ints = [(f, (C.c_uint * len(vrs))(*vrs), (C.c_int * len(vrs))(*vals))
-                     for f, (vrs, vals) in (("fmi2SetInteger", groups["Integer"]), ("fmi2SetBoolean", groups["Boolean"]))
-                     if vrs]
+                     for f, (vrs, vals) in (("fmi2SetInteger", groups["Integer"]),
+                                            ("fmi2SetBoolean", groups["Boolean"])) if vrs]
 
     def _check(self, function: str, status: int) -> None:
         if status > 1:  # above fmi2Warning
