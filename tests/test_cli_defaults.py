@@ -28,7 +28,7 @@ from harness.cli.main import COMMANDS, _Parser, main
 
 # defaults stated in words: what they mean is checked by the commands' own tests
 WORDS = ("all", "every", "number of", "the ", "each", "no plot", "warnings", "--speeds", "t/160", "0.8x",
-         "build/shroudedblade.fmu")
+         "build/shroudedblade.fmu", "at most")
 STATED = re.compile(r"(?:^|[(;,] ?)default:? ([^);]+)")
 RESOLVED_IN_CODE = {("ring", "--order"), ("campbell", "--speed")}  # see test_defaults_resolved_in_code
 
