@@ -77,7 +77,7 @@ def _mistuning_defaults() -> dict[str, Any]:
     s = study_from(_parser("mistuning").parse_args([]))
     return {"--blades": s.n, "--levels": list(s.levels), "--patterns": s.patterns, "--parameter": s.parameter,
             "--seed": s.seed, "--points": s.points, "--rtol": s.rtol, "--max-time": s.max_time,
-            "--variants": list(s.variants)}
+            "--variants": list(s.variants), "--state-patterns": s.state_patterns, "--search": s.search_budget}
 
 
 def _cases() -> list[tuple[str, argparse.Action]]:

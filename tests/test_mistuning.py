@@ -168,7 +168,7 @@ def test_cache_is_read_and_a_killed_run_resumes(tmp_path, monkeypatch):
 
 
 def test_cli_writes_figures(tmp_path, capsys):
-    assert main(["mistuning", "--blades", "3", "--levels", "0", "0.02", "--patterns", "2", "--points", "2", "--variants", "open", "--workers", "1", "--quiet", "--no-cache", "--out",
+    assert main(["mistuning", "--blades", "3", "--levels", "0", "0.02", "--patterns", "2", "--points", "2", "--variants", "open", "--state-patterns", "0", "--workers", "1", "--quiet", "--no-cache", "--out",
                  str(tmp_path), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert sorted(p.split("/")[-1] for p in out["files"]) == sorted(
