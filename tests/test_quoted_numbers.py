@@ -302,5 +302,5 @@ def test_whitehead_bound():
     """Whitehead's bound (1 + sqrt N) / 2 where README and the mistuning page quote it."""
     m = _one(README, r"Whitehead's bound ([\d.]+)x")
     assert m.group(1) == f"{(1 + 6 ** 0.5) / 2:.2f}"
-    m = _one(MISTUNING, r"for linear rings: ([\d.]+) \(N = 6\), ([\d.]+) \(N = 24\)")
+    m = _one(MISTUNING, r"for\s+linear rings: ([\d.]+) \(N = 6\), ([\d.]+) \(N = 24\)")
     assert m.groups() == (f"{(1 + 6 ** 0.5) / 2:.3f}", f"{(1 + 24 ** 0.5) / 2:.2f}")
