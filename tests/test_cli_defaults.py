@@ -28,7 +28,7 @@ from harness.cli.main import COMMANDS, _Parser, main
 
 # defaults stated in words: what they mean is checked by the commands' own tests
 WORDS = ("all", "every", "number of", "the ", "each", "no plot", "warnings", "--speeds", "t/160", "0.8x",
-         "build/shroudedblade.fmu")
+         "build/shroudedblade.fmu", "at most")
 STATED = re.compile(r"(?:^|[(;,] ?)default:? ([^);]+)")
 RESOLVED_IN_CODE = {("ring", "--order"), ("campbell", "--speed")}  # see test_defaults_resolved_in_code
 
@@ -77,7 +77,7 @@ def _mistuning_defaults() -> dict[str, Any]:
     s = study_from(_parser("mistuning").parse_args([]))
     return {"--blades": s.n, "--levels": list(s.levels), "--patterns": s.patterns, "--parameter": s.parameter,
             "--seed": s.seed, "--points": s.points, "--rtol": s.rtol, "--max-time": s.max_time,
-            "--variants": list(s.variants)}
+            "--variants": list(s.variants), "--state-patterns": s.state_patterns, "--search": s.search_budget}
 
 
 def _cases() -> list[tuple[str, argparse.Action]]:

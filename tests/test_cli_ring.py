@@ -67,7 +67,6 @@ def test_diverging_ring_exits_2_naming_the_step(capsys):
     assert "diverged at step" in err and "reduce --step (now 0.0004 s" in err and "raise --order" in err
 
 
-@pytest.mark.crosscheck
 def test_diverging_libcosim_ring_exits_2(capsys):
     args = ["ring", "--blades", "4", "--master", "libcosim", "--step", "1e-4", "--stop-time", "0.05",
             "--start-values", "c", "298", "Fw0", "300"]
@@ -141,7 +140,6 @@ def test_bad_values_are_named(capsys, args, words):
     assert err.count("\n") == 1, err
 
 
-@pytest.mark.crosscheck
 def test_write_ssp_loads_in_libcosim(capsys, tmp_path):
     from harness.system import ssp
     from harness.system.ring import Ring, amplitudes

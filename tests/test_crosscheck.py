@@ -32,7 +32,6 @@ from harness.crosscheck.common import max_rel_diff, rel_diffs
 from harness.crosscheck.plan import SCENARIOS, make_plan
 from harness.system.time_grid import ns_time_grid
 
-pytestmark = pytest.mark.crosscheck
 
 SAME_INPUTS_TOL = 1e-12
 TARGET = 1e-10

@@ -19,7 +19,6 @@ from harness.crosscheck import deliverables as xd
 from harness.crosscheck.flavours import me_only_copy, probe
 from harness.crosscheck.plan import SCENARIOS, Scenario, make_plan
 
-pytestmark = pytest.mark.crosscheck
 
 
 @pytest.fixture(scope="module")

@@ -459,7 +459,6 @@ def test_model_exchange_refused(fmus) -> None:
     lib.fmi3FreeInstance(None)
 
 
-@pytest.mark.crosscheck
 def test_ecos_bit_identical(fmu_path: Path, fmu3_path: Path) -> None:
     """Ecos (ecospy; its fmi4c loads FMI 3.0 co-simulation) runs both FMUs with the same step and
     the same held inputs: identical outputs (Jenkins element, run-up)."""

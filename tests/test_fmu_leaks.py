@@ -40,6 +40,7 @@ def run_leak_cycles(asan_build: tuple[Path, Path], n_inst: int, n_reset: int) ->
     return proc.stdout
 
 
+@pytest.mark.sanitizer  # the sanitized build (40 s): with the sanitizer tests in `make test-slow`
 def test_leak_cycles_under_lsan(asan_build: tuple[Path, Path]) -> None:
     print(run_leak_cycles(asan_build, 1000, 10000))
 

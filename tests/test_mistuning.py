@@ -16,6 +16,7 @@ which leaves a linear response within rtol mu / (1 - mu) of its limit (mu the de
 """
 from __future__ import annotations
 
+import csv
 import json
 import math
 import re
@@ -167,11 +168,23 @@ def test_cache_is_read_and_a_killed_run_resumes(tmp_path, monkeypatch):
 
 
 def test_cli_writes_figures(tmp_path, capsys):
-    assert main(["mistuning", "--blades", "3", "--levels", "0", "0.02", "--patterns", "2", "--points", "2", "--variants", "open", "--workers", "1", "--quiet", "--no-cache", "--out",
+    assert main(["mistuning", "--blades", "3", "--levels", "0", "0.02", "--patterns", "2", "--points", "2", "--variants", "open", "--state-patterns", "0", "--workers", "1", "--quiet", "--no-cache", "--out",
                  str(tmp_path), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert sorted(p.split("/")[-1] for p in out["files"]) == sorted(
         f"mistuning_{k}.{e}" for k in ("response", "blades", "amplification", "histogram") for e in ("png", "csv"))
+    for p in out["files"]:
+        if p.endswith(".png"):
+            data = open(p, "rb").read()
+            assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10000, p  # a drawn figure, not an empty one
+    # the amplification table holds the study's mean / max / min per level (6 digits, harness/digits.py)
+    a = np.array(out["variants"]["open"]["amplification"], dtype=float)
+    with open(tmp_path / "mistuning_amplification.csv") as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    assert [float(r["sigma"]) for r in rows] == [0.0, 0.02]
+    for r, level in zip(rows, a):
+        for key, want in (("mean", np.mean(level)), ("max", level.max()), ("min", level.min())):
+            assert float(r[key]) == pytest.approx(want, rel=1e-5), (key, r[key], want)
 
 
 @pytest.mark.parametrize("args, words", [

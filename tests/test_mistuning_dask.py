@@ -5,6 +5,7 @@ equal the in-process run's to the last bit; a rerun on the cluster computes noth
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from harness.analysis.executor import Runner
 from harness.studies import mistuning, mistuning_dask
@@ -14,6 +15,7 @@ from harness.studies.mistuning import Study
 SMALL = Study(n=3, levels=(0.05,), patterns=4, points=3, variants=("friction",))
 
 
+@pytest.mark.slow  # 22 s: a dask cluster with a killed worker
 def test_a_killed_worker_loses_one_sweep_and_the_study_completes(tmp_path):
     k = mistuning_dask.killed(SMALL, tmp_path / "cache", wait_s=300)
     assert k["completed"] and k["records"] == k["sweeps"] == 5

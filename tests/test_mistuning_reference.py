@@ -24,6 +24,8 @@ from harness.reference.ring import MonolithicRing, RingSpec
 from harness.studies import mistuning as M
 from harness.system.ring_sweep import sweep
 
+pytestmark = pytest.mark.slow  # 26-32 s: a differential evolution over patterns
+
 WORST = 55
 
 

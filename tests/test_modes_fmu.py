@@ -234,6 +234,11 @@ def test_harness_reads_the_monodromy(fmu_path, m):
     J = np.array([r[modal.name(i, j)][-1] for i in range(1, 16) for j in range(1, 15)])
     P = modal.monodromy(J, m)
     assert P.shape == (2 * m + 1, 2 * m + 1) and np.all(np.isfinite(P)) and abs(P).max() > 0
+    # the documented layout (docs/model.md s.2a): rows and columns {1..m, 7..6+m, 13} of sensitivity[r,c]
+    idx = list(range(1, m + 1)) + [6 + i for i in range(1, m + 1)] + [13]
+    want = np.array([[r[f"sensitivity[{i},{j}]"][-1] for j in idx] for i in idx])
+    assert np.array_equal(P, want)
+    assert np.count_nonzero(P) > (2 * m + 1) ** 2 // 2  # the modes couple: a dense block, not a diagonal
     if m == 1:
         old = np.array([r[f"d{a}_d{b}"][-1] for a in ("TipDisplacement", "TipVelocity", "JenkinsForce")
                         for b in ("Q0", "V0", "F0")]).reshape(3, 3)

@@ -16,15 +16,23 @@ and fails test_cosimulation_refuses_a_max_step_just_above_the_stable_one.
 
 Model exchange does not use maxStep (the importer's solver takes the steps): every maxStep in the
 declared range [1e-8, 1e-3] is accepted there and the results do not depend on it (bit for bit).
+The numbers docs/model.md quotes about the modes and the step are recomputed here too.
 """
 from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
 
 import numpy as np
 import pytest
 import scipy.linalg as sl
 from fmpy import simulate_fmu
 
+from harness.reference.blade import galerkin as reference_galerkin
 from modes_galerkin import Modes
+
+REPO = Path(__file__).resolve().parent.parent
 
 TWO_PI = 2.0 * np.pi
 SPEED = 5000.0  # rpm, the speed of initialization
@@ -82,3 +90,50 @@ def test_model_exchange_accepts_every_max_step_and_does_not_use_it(max_step, fmu
     assert np.all(np.isfinite(got["tipDisplacement"]))
     for name in ("tipDisplacement", "modalDisplacement[6]"):
         assert np.array_equal(got[name], ref[name])
+
+
+def _quoted(pattern: str) -> re.Match:
+    text = " ".join((REPO / "docs" / "model.md").read_text().split())  # the page's line breaks as spaces
+    found = list(re.finditer(pattern, text))
+    assert len(found) == 1, (pattern, len(found))
+    return found[0]
+
+
+def _same(quote: str, value: float) -> bool:
+    """The quote is the value rounded to the digits the quote shows."""
+    if "e" in quote.lower():
+        mant, exp = quote.lower().split("e")
+        decimals = len(mant.split(".")[1]) if "." in mant else 0
+        return f"{value / 10.0 ** int(exp):.{decimals}f}" == mant
+    decimals = len(quote.split(".")[1]) if "." in quote else 0
+    if decimals == 0 and len(quote) > 3 and quote.endswith("0"):  # 2830: three significant digits
+        return f"{value:.3g}" == f"{float(quote):.3g}"
+    return f"{value:.{decimals}f}" == quote
+
+
+def test_model_page_numbers(h_max):
+    """The numbers docs/model.md s.2a quotes, recomputed here (independent Galerkin model, reference
+    one-mode reduction, RK4's amplification factor)."""
+    g6 = Modes(M)
+    Mm, _, K, K2, _ = g6.matrices()
+    om = TWO_PI * SPEED / 60.0
+    f = np.sqrt(sl.eigh(K + om ** 2 * K2, Mm, eigvals_only=True)) / TWO_PI
+    m = _quoted(r"lambda_i l = ([\d., ]+?);")
+    assert all(_same(q.strip(), v) for q, v in zip(m.group(1).split(","), g6.aL))
+    m = _quoted(r"contact-free frequencies at rest ([\d., ]+?) Hz")
+    rest = np.sqrt(g6.EI / g6.rhoA) * (g6.aL / g6.l) ** 2 / TWO_PI
+    assert all(_same(q.strip(), v) for q, v in zip(m.group(1).split(","), rest))
+    m = _quoted(r"m = 6 at 5000 rpm: ([\d.]+) kHz, maxStep <= ([\d.e-]+) s")
+    assert _same(m.group(1), f[-1] / 1e3) and _same(m.group(2), h_max)
+    m = _quoted(r"up to w_1 = (\d+) rad/s, (\d+) Hz")
+    assert _same(m.group(1), STABLE_HW / 1e-3) and _same(m.group(2), STABLE_HW / 1e-3 / TWO_PI)
+    g1 = reference_galerkin({})  # the FMU's defaults: one mode, printed formulation
+    m = _quoted(r"the defaults give (\d+) Hz at 5000 rpm")
+    assert _same(m.group(1), math.sqrt(g1.K0(om) / g1.M) / TWO_PI)
+    hw = 1e-5 * TWO_PI * f[-1]
+    R = sum((1j * hw) ** k / math.factorial(k) for k in range(5))
+    m = _quoted(r"h w_6 = ([\d.]+) \(m = 6 at the default maxStep\) mode 6 loses ([\d.]+) % of its amplitude and "
+                r"([\d.]+) rad of phase per step")
+    assert _same(m.group(1), hw) and _same(m.group(2), 100 * (1 - abs(R))) and _same(m.group(3), hw - np.angle(R))
+    m = _quoted(r"0.3 / w_m \(m = 6 at 5000 rpm: ([\d.e-]+) s\)")
+    assert _same(m.group(1), 0.3 / (TWO_PI * f[-1]))

@@ -13,6 +13,7 @@ import json
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from harness import digits
@@ -167,10 +168,10 @@ def _amplification(folder: str) -> dict[tuple[str, str], tuple[set[str], set[str
             for r in rows}
 
 
-@pytest.mark.parametrize("folder, header", [("mistuning", "| sigma (EI) | friction |"),
-                                            ("mistuning_24", "| sigma (EI), N = 24 | friction |")])
+@pytest.mark.parametrize("folder, header", [("mistuning", "| sigma (EI) | what a sweep finds |"),
+                                            ("mistuning_24", "| sigma (EI), N = 24 | what a sweep finds |")])
 def test_mistuning_table(folder, header):
-    """Each mean / max cell of a mistuning table on the mistuning page against the study's CSV."""
+    """Each mean / max cell of a sweep table on the mistuning page against the study's CSV."""
     csv_rows = _amplification(folder)
     text = (REPO / MISTUNING).read_text()
     table = text[text.index(header):].split("\n\n")[0].splitlines()[2:]
@@ -182,12 +183,54 @@ def test_mistuning_table(folder, header):
         assert got_mean in mean and got_top in top, (sigma, cell, mean, top)
 
 
-def test_readme_mistuning_maximum():
-    m = _one(README, r"5 % blade stiffness scatter raises\s+the 6-blade ring's largest blade amplitude to at most "
-                     r"([\d.]+)x the tuned ring's peak \(mean\s+([\d.]+)x")
+def _states(folder: str) -> tuple[dict, dict[str, list[float]], dict[str, float]]:
+    """The tuned ring's row, the amplifications per sigma (in %) and half the writer's quantum per
+    column, from mistuning_states.csv."""
+    with open(REPO / "results" / folder / "mistuning_states.csv", newline="") as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    per: dict[str, list[float]] = {}
+    for r in rows[1:]:
+        per.setdefault(f"{100 * float(r['sigma']):g}", []).append(float(r["amplification"]))
+    return rows[0], per, _half_quanta(rows)
+
+
+def test_mistuning_states_table():
+    """The steady-state table on the mistuning page: the tuned ring's largest stable state and
+    mean / max (patterns) per sigma, against results/mistuning/mistuning_states.csv."""
+    tuned, per, h = _states("mistuning")
+    text = (REPO / MISTUNING).read_text()
+    header = "| sigma (EI), mistuning | on stable steady states |"
+    table = text[text.index(header):].split("\n\n")[0].splitlines()[2:]
+    assert len(table) == len(per) + 1
+    name, cell = [c.strip() for c in table[0].strip("|").split("|")]
+    amp, rpm = cell.removesuffix(" rpm").split(" m at ")
+    assert name == "tuned" and amp in _printed(float(tuned["stable_peak_m"]), ".4e", h["stable_peak_m"])
+    assert rpm in _printed(float(tuned["stable_peak_rpm"]), ".1f", h["stable_peak_rpm"])
+    for line in table[1:]:
+        sigma, cell = [c.strip() for c in line.strip("|").split("|")]
+        a = per[sigma.rstrip(" %")]
+        mean, top, count = cell.replace(" / ", " ").replace("(", "").replace(")", "").split()
+        assert mean in _printed(float(np.mean(a)), ".4f", h["amplification"]), sigma
+        assert top in _printed(float(np.max(a)), ".4f", h["amplification"]) and int(count) == len(a), sigma
+
+
+def _search() -> tuple[float, int, float]:
+    """(best amplification, rings, start amplification) of results/mistuning_search/mistuning_search.csv."""
+    with open(REPO / "results" / "mistuning_search" / "mistuning_search.csv", newline="") as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    return max(float(r["amplification"]) for r in rows), len(rows), float(rows[0]["amplification"])
+
+
+def test_readme_mistuning_numbers():
+    tuned, per, h = _states("mistuning")
+    m = _one(README, r"largest stable response over 3973-14898 rpm is ([\d.e-]+) m")
+    assert m.group(1) in _printed(float(tuned["stable_peak_m"]), ".4e", h["stable_peak_m"])
+    m = _one(README, r"5 % blade stiffness scatter gives ([\d.]+)x")
+    assert m.group(1) in _printed(max(per["5"]), ".4f", h["amplification"])
     mean, top = _amplification("mistuning")[("friction", "5")]
-    assert m.group(1) in top and m.group(2) in mean
-    m = _one(README, r"On 24 blades \(4 patterns\) the worst\s+reaches ([\d.]+)x")
+    m = _one(README, r"Sweeps alone say\s+([\d.]+)x")
+    assert m.group(1) in top
+    m = _one(README, r"On 24 blades \(4 patterns, sweeps\) the worst\s+reaches ([\d.]+)x")
     assert m.group(1) in _amplification("mistuning_24")[("friction", "5")][1]
 
 
@@ -253,3 +296,11 @@ def test_base_case_peak_and_crossing(page):
         m = _one(page, r"max\|q\| = ([\d.]+) mm at (\d+) rpm")
         assert (m.group(1), int(m.group(2))) == (f"{peak_mm:.4f}", round(speed))
     assert f"{crossing:.0f} rpm (one mode, printed formulation)" in text
+
+
+def test_whitehead_bound():
+    """Whitehead's bound (1 + sqrt N) / 2 where README and the mistuning page quote it."""
+    m = _one(README, r"Whitehead's bound ([\d.]+)x")
+    assert m.group(1) == f"{(1 + 6 ** 0.5) / 2:.2f}"
+    m = _one(MISTUNING, r"for\s+linear rings: ([\d.]+) \(N = 6\), ([\d.]+) \(N = 24\)")
+    assert m.groups() == (f"{(1 + 6 ** 0.5) / 2:.3f}", f"{(1 + 24 ** 0.5) / 2:.2f}")

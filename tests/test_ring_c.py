@@ -78,7 +78,6 @@ def test_bad_order_is_refused():
         ring_c.run(Ring(n=2, stop_time=0.001, order=5))
 
 
-@pytest.mark.crosscheck
 def test_libcosim_data_flow_bit_for_bit():
     from harness.system import ring_libcosim
     ring = Ring(n=4, stop_time=0.01, step=2.5e-5, order=0, coupling="libcosim", **CLOSING)

@@ -35,7 +35,6 @@ from harness.reference.ring import MonolithicRing, RingSpec
 from harness.system import ring_libcosim, ssp
 from harness.system.ring import Ring, harmonic, run
 
-pytestmark = pytest.mark.crosscheck
 
 TUNED = dict(blade={"c": 298.0}, fw0=300.0)
 

@@ -20,7 +20,6 @@ from harness.fmu.build import BUILD_DIR
 from harness.system import ring_libcosim, ssp
 from harness.system.ring import Ring, run
 
-pytestmark = pytest.mark.crosscheck
 
 TUNED = dict(blade={"c": 298.0}, fw0=300.0)
 

@@ -115,6 +115,7 @@ def _cache_files(d: Path) -> list[Path]:
     return sorted(d.glob("*/*.json")) if d.exists() else []
 
 
+@pytest.mark.slow  # 33 s: a child sweep interrupted and rerun
 def test_sigint_keeps_finished_points_and_rerun_completes(fmu_path, tmp_path):
     cache = tmp_path / "cache"
     out = tmp_path / "sweep.csv"

@@ -27,7 +27,6 @@ from harness.model.excitation import AeroLoad, LinearRamp
 from harness.model.params import validate
 from harness.reference import galerkin
 
-pytestmark = pytest.mark.crosscheck
 
 SYSTEM = se.System(stop_time=0.05)
 

@@ -21,6 +21,8 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.slow  # builds a wheel with CMake in a fresh venv: 2.5 min
+
 REPO = Path(__file__).resolve().parent.parent
 SPEED = 7000.0  # [rpm]
 RTOL = 1e-9  # the wheel's FMU is compiled from the same sources with the same flags as build/'s

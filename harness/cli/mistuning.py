@@ -12,6 +12,7 @@ import argparse
 import json
 import math
 from dataclasses import replace
+from pathlib import Path
 
 from harness.paths import RESULTS_DIR
 from harness.cli.options import add_execution_options, make_runner
@@ -50,6 +51,14 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--variants", nargs="+", choices=VARIANTS,
                    help=f"friction (contacts as given), frictionless (mu = 0), open (d = 1 m) "
                         f"(default {' '.join(_S.variants)})")
+    p.add_argument("--state-patterns", type=int, metavar="K",
+                   help="patterns per level also taken to the ring's periodic-orbit engine: each ring's largest "
+                        "stable steady state over the band and the amplification on it, beside the sweep's "
+                        f"(default {_S.state_patterns}; 0: the sweeps only)")
+    p.add_argument("--search", type=int, metavar="RINGS",
+                   help="search the worst pattern at the largest level on stable steady states (a compass search "
+                        "from the worst of --state-patterns, or of the sweeps if none), with this budget of rings "
+                        f"(default {_S.search_budget}, no search)")
     p.add_argument("--out", default=str(RESULTS_DIR / "mistuning"), metavar="DIR",
                    help=f"figures and CSVs (default ./{RESULTS_DIR / 'mistuning'})")
     p.add_argument("--json", action="store_true", help="print the study as JSON on stdout")
@@ -60,7 +69,7 @@ def study_from(args: argparse.Namespace) -> mistuning.Study:
     s = SIZES[args.size]
     given = {"n": args.blades, "levels": tuple(args.levels) if args.levels else None, "patterns": args.patterns,
              "parameter": args.parameter, "seed": args.seed, "rtol": args.rtol, "max_time": args.max_time,
-             "points": args.points,
+             "points": args.points, "state_patterns": args.state_patterns, "search_budget": args.search,
              "band": tuple(args.band) if args.band else None,
              "variants": tuple(args.variants) if args.variants else None}
     s = replace(s, **{k: v for k, v in given.items() if v is not None})
@@ -70,6 +79,10 @@ def study_from(args: argparse.Namespace) -> mistuning.Study:
         raise ParameterError(f"--patterns {s.patterns} must be >= 1")
     if s.points < 2:
         raise ParameterError(f"--points {s.points} must be >= 2")
+    if not 0 <= s.state_patterns <= s.patterns:
+        raise ParameterError(f"--state-patterns {s.state_patterns} outside [0, --patterns = {s.patterns}]")
+    if s.search_budget < 0:
+        raise ParameterError(f"--search {s.search_budget}: a number of rings >= 0")
     if s.band is not None and not (all(math.isfinite(x) for x in s.band) and 0 < s.band[0] < s.band[1]):
         raise ParameterError(f"--band {s.band[0]!r} {s.band[1]!r} rpm: need 0 < FROM < TO")
     bad = [x for x in s.levels if not (math.isfinite(x) and 0 <= x <= 0.2)]
@@ -87,11 +100,29 @@ def run(args: argparse.Namespace) -> int:
     cache = None if args.no_cache else check_dir(args.cache_dir, "--cache-dir")  # before any work
     out_dir = check_dir(args.out, "--out")
     with make_runner(args) as runner:
-        out = mistuning.run_study(study, runner, cache)
-    files = mistuning_plots.write(out, out_dir)
-    out["files"] = [str(f) for f in files]
+        out = run_and_write(study, runner, cache, out_dir)
     if args.json:
         print(json.dumps(out))
         return 0
     mistuning_report(out)
     return 0
+
+
+def run_and_write(study, runner, cache: Path | None, out_dir: Path) -> dict:
+    """The sweeps of every ring, then (study.state_patterns > 0) the steady states of the tuned ring
+    and those patterns, then (study.search_budget > 0) the worst-pattern search; figures and CSVs into
+    out_dir. The output of run_study with "states" and "search" added."""
+    out = mistuning.run_study(study, runner, cache)
+    files = mistuning_plots.write(out, out_dir)
+    if study.state_patterns or study.search_budget:
+        from harness.studies import mistuning_states, mistuning_states_plots  # the engine: only when asked
+        settings = mistuning_states.StatesSettings()
+        cdir = cache / "states" if cache else None
+        variant = "friction" if "friction" in study.variants else study.variants[0]
+        out["states"] = mistuning_states.run_states(study, settings, runner, cdir, variant)
+        if study.search_budget:
+            sweep_amp = out["variants"][variant]["amplification"][-1]
+            out["search"] = mistuning_states.run_search(study, out["states"], settings, runner, cdir, sweep_amp)
+        files += mistuning_states_plots.write(out["states"], out, out_dir, out.get("search"))
+    out["files"] = [str(f) for f in files]
+    return out

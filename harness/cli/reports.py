@@ -58,4 +58,17 @@ def mistuning_report(out: dict[str, Any]) -> None:
             text = f"mean {ok.mean():.4f}, max {ok.max():.4f}" if len(ok) else "none settled"
             print(f"  {v:12s} sigma {s:6.3f}: amplification {text}"
                   + (f" ({len(a) - len(ok)} patterns without a settled point)" if len(ok) < len(a) else ""))
+    st = out.get("states")
+    if st:
+        print(f"  steady states (largest stable, {st['rings']} rings, {st['evaluations']} periods simulated, "
+              f"{st['wall_s']:.1f} s): tuned {st['tuned_peak_m']:.4e} m at {st['tuned_peak_rpm']:.0f} rpm")
+        for s, a in zip(out["levels"], np.array(st["amplification"], dtype=float)):
+            ok = a[~np.isnan(a)]
+            print(f"  {'':12s} sigma {s:6.3f}: amplification on steady states " +
+                  (f"mean {ok.mean():.4f}, max {ok.max():.4f} over {len(ok)} patterns" if len(ok) else "none"))
+    se = out.get("search")
+    if se:
+        print(f"  worst pattern found at sigma {se['sigma']:g}: amplification {se['amplification']:.4f} "
+              f"({se['rings']} rings from pattern {se['start_pattern']}, the {se['start_from']}' worst: "
+              f"{se['start_amplification']:.4f}); Whitehead {se['whitehead']:.4f}")
     print("figures:", ", ".join(out["files"]))

@@ -72,11 +72,15 @@ class Study:
     fw0: float = 300.0
     blade: dict = field(default_factory=lambda: {"c": 298.0})
     contact: dict = field(default_factory=dict)
+    # on stable steady states (harness/studies/mistuning_states.py, the ring's periodic-orbit engine)
+    state_patterns: int = 0  # patterns per level taken to the engine (0: the sweeps only)
+    search_budget: int = 0  # rings of the worst-pattern search at the largest level (0: none)
 
 
 SIZES = {
-    # `make run`: 6 blades, 2 levels x 10 patterns + the tuned ring: 21 sweeps of 23 speeds
-    "small": Study(),
+    # `make run`: 6 blades, 2 levels x 10 patterns + the tuned ring: 21 sweeps of 23 speeds; the tuned
+    # ring and the first pattern of each level also on stable steady states (3 rings of the engine)
+    "small": Study(state_patterns=1),
     # a cluster: 24 blades, 4 levels x 100 patterns, the frictionless and open rings too, 45 speeds
     "cluster": Study(n=24, levels=(0.005, 0.01, 0.02, 0.05), patterns=100, points=45,
                      variants=("friction", "frictionless", "open")),
