@@ -18,7 +18,7 @@ master's extrapolation history restarted (as at the start of any run), K = steps
 the exact grid t_k = k T / K (not the nanosecond grid: the load's phase advances exactly 2 pi), then
 the state at T read back (the contacts' at the inputs of point K, after their direct feedthrough).
 Nothing else carries over between evaluations, so the image is a function of x alone
-(tests/test_ring_orbits.py: bit-identical images whatever ran before).
+(tests/system/test_ring_orbits.py: bit-identical images whatever ran before).
 
 The amplitude of blade i is max |q_i| over the period, the largest of the K sampled points refined by
 the parabola through it and its neighbours (the sweeps' measure, ring_sweep.window_amplitude, with
