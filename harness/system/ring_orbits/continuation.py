@@ -27,7 +27,7 @@ from harness.analysis.periodic.continuation import (Branch, BranchProblem, Conti
 from harness.analysis.periodic.extrema import locate
 from harness.analysis.periodic.shooting import UNIT_CIRCLE_TOL
 from harness.fmu.blade import FMUError
-from harness.system.ring_orbits.crossings import KINDS, detect, segment
+from harness.system.ring_orbits.crossings import JUMP, KINDS, detect, segment
 from harness.system.ring_orbits.crossings import locate as locate_crossing
 from harness.system.ring_orbits.period_map import RingPeriodMap
 from harness.system.ring_orbits.shooting import RingOrbit, monodromy, shoot
@@ -61,7 +61,8 @@ class Bifurcation:
                "amplitudes_m": self.amplitudes.tolist()}
         if self.kind != "fold":
             out.update(located=self.located, test_function=None if self.value != self.value else self.value,
-                       bracket_arc=None if self.bracket != self.bracket else self.bracket)
+                       bracket_arc=None if self.bracket != self.bracket else self.bracket,
+                       jump=self.located and abs(self.value) > JUMP)
         return out
 
 

@@ -20,7 +20,9 @@ smaller |test function|. Where the corrector fails inside the bracket (a kink of
 multiplier jumps through 1 there rather than crossing it) the bisection stops and the bracket's better
 end is returned with its length, flagged `located` False; where it fails at once or the test
 function has the same sign at both ends (another multiplier came closer), the point is the linear
-zero between the ends, also `located` False.
+zero between the ends, also `located` False. A located crossing whose test function is still
+beyond JUMP at the bracket's better end is a jump of the multiplier through the circle (a kink of the
+map), not a smooth crossing: `jump` True (no branch need emanate there).
 """
 from __future__ import annotations
 
@@ -36,6 +38,8 @@ from harness.system.ring_orbits.period_map import RingPeriodMap
 NOISE = 1e-3  # a multiplier within this of the unit circle is undecided (the finite-difference DP's spread)
 ARC_TOL = 1e-4  # bisection ends when the bracket is this long in scaled arc (0.1 rpm along the speed)
 MAX_BISECTIONS = 14
+JUMP = 1e-2  # a bracket of ARC_TOL whose better end is still this far from 0: the multiplier jumps
+# through the circle there (a kink of the map: a contact opening or closing at the period's start)
 KINDS = ("branch point", "period doubling", "Neimark-Sacker")
 
 
@@ -84,6 +88,10 @@ class Located:
     value: float  # the test function there
     bracket: float  # the final bracket's length in scaled arc
     located: bool  # False: the linear zero between the segment's ends
+
+    @property
+    def jump(self) -> bool:
+        return self.located and abs(self.value) > JUMP
 
 
 def segment(mus: list[np.ndarray], i: int, j: int, kind: str) -> int:
