@@ -23,6 +23,7 @@ import pytest
 
 from harness import digits
 from harness.analysis.executor import Runner
+from harness.studies.claims import write_claims
 from harness.validation.reproduction import reproduce
 
 REPO = Path(__file__).resolve().parents[2]
@@ -37,7 +38,8 @@ pytestmark = pytest.mark.slow
 def fresh(tmp_path_factory, fmu_path) -> Path:
     out = tmp_path_factory.mktemp("results")
     with Runner(workers=2, progress=False) as r:
-        reproduce(out, "default", runner=r, fmu_path=fmu_path)
+        rep = reproduce(out, "default", runner=r, fmu_path=fmu_path)
+    write_claims(out / "claims.md", rep.summary)  # as `make run` does (harness/cli/reports.py)
     return out
 
 

@@ -36,6 +36,7 @@ from harness.fmu.binding.fmi2 import (CO_SIMULATION, DO_STEP_STATUS, LAST_SUCCES
                                       MODEL_EXCHANGE, PENDING_STATUS, TERMINATED)
 from harness.fmu.binding.fmi2_signatures import MODEL_EXCHANGE as _ME_SIGNATURES
 from harness.fmu.binding.library import Library
+from harness.fmu.stepper import Derivatives, Stepper, Values
 from harness.fmu.binding.log import LogRecord
 from harness.fmu.binding.log import decode as _dec
 from harness.fmu.binding.status import (DISCARD, ERROR, FATAL, OK, PENDING, STATUS_NAMES,  # noqa: F401
@@ -463,18 +464,23 @@ def run_steps(inst: Instance, t0: float, h: float, n: int, Fw0: float = 100.0,
     """n communication steps from t0 with inputs and derivatives set before each; returns the
     worst status and the (n, n_outputs) array of outputs after each step (stops at non-OK)."""
     omega = engine_order * 2 * math.pi * speed / 60.0
+    fmi = Stepper(inst.f)  # the harness's call path (harness/fmu/stepper.py) on this raw instance
+    c, inputs = fmi.c, Values(vr_of(["aeroLoad", "rotorSpeed"]))
+    aero, aero_values = Derivatives(vr_of(["aeroLoad"] * order), range(1, order + 1)), (ctypes.c_double * max(order, 1))()
+    slope, slope_value = Derivatives(vr_of(["rotorSpeed"]), [1]), (ctypes.c_double * 1)(speed_slope)
     rows = []
     worst = OK
     for k in range(n):
         t = t0 + k * h
         d = aero_derivatives(t, Fw0, omega, order)
-        st = inst.set_real(["aeroLoad", "rotorSpeed"], [d[0], speed + speed_slope * (t - t0)])
+        inputs.value[0], inputs.value[1] = d[0], speed + speed_slope * (t - t0)
+        st = fmi.setReal(c, inputs.a_vr, inputs.n, inputs.a_value)
         if order:
-            st = max(st, inst.set_input_derivatives(["aeroLoad"] * order, list(range(1, order + 1)),
-                                                    d[1:]))
+            aero_values[:order] = d[1:]
+            st = max(st, fmi.setDer(c, aero.a_vr, aero.n, aero.a_order, ctypes.addressof(aero_values)))
             if speed_slope:
-                st = max(st, inst.set_input_derivatives(["rotorSpeed"], [1], [speed_slope]))
-        st = max(st, inst.do_step(t, h))
+                st = max(st, fmi.setDer(c, slope.a_vr, slope.n, slope.a_order, ctypes.addressof(slope_value)))
+        st = max(st, fmi.doStep(c, t, h, 1))
         worst = max(worst, st)
         if st not in (OK, WARNING):
             break
