@@ -30,10 +30,13 @@ from harness import digits
 from harness.fmu.blade import SPEED_RANGE, FMUError
 from harness.model.params import ParameterError
 from harness.analysis.periodic.period_map import PeriodMap
-from harness.analysis.periodic.shooting import at_bound, bounded, classify, fd_direction, multipliers
+from harness.analysis.periodic.shooting import at_bound, bounded, classify, fd_direction, multipliers, newton
 
 SPEED_SCALE = 1000.0  # [rpm] per unit of arc
 MAX_KINKS = 8  # kinks stepped past per direction of a branch
+KINK_ALONG_SPEED = 0.2  # past a kink, Newton at a fixed speed only where the tangent runs this much along it
+KINK_REACH = 0.2  # ... accepted this far (scaled) from the last point: at a kink the state may turn
+# steeply (6-blade study ring at 7037 rpm: 0.10 within 3.3 rpm)
 EASY_CORRECTOR = 6  # ds grows after a step whose corrector took at most this many iterations
 
 
@@ -51,7 +54,8 @@ class ContinuationSettings:
     # where ds falls below ds_min (a kink of the map: a contact opening or closing exactly at the
     # period's start, a grazing), steps of these lengths (scaled arc) are tried past it, the
     # corrector with a fresh Jacobian per iteration, accepted within half a step of the predictor;
-    # the branch goes on from there (empty: it ends)
+    # then, where the branch runs along the speed, damped Newton at the predictor's speed, accepted
+    # within max(3 steps, KINK_REACH) of the last point; the branch goes on from there (empty: it ends)
     kink_steps: tuple[float, ...] = ()
 
 
@@ -362,6 +366,22 @@ def _past_kink(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray
             continue
         x, n = prob.from_z(zk)
         return zk, _tangent(Jz_new, t), Jz_new, BranchPoint(n, x, A, multipliers(DP), it)
+    if abs(t[-1]) < KINK_ALONG_SPEED:
+        return None
+    for ds in s.kink_steps:  # Newton at the predictor's speed (damped, from the predictor's state)
+        x0, n1 = prob.from_z(z + ds * t)
+        try:
+            sol = newton(prob.pm, x0, n1)
+            if sol is None:
+                continue
+            zk = prob.to_z(sol.x, n1)
+            if np.linalg.norm(zk - z) > max(3.0 * ds, KINK_REACH):
+                continue  # another branch (or this one's image under a symmetry: 2 sqrt 2 away)
+            Hz, Px, A = prob.H(zk)
+            Jz_new, DP = prob.jac(zk, Hz, Px)
+        except (FMUError, ParameterError):
+            continue
+        return zk, _tangent(Jz_new, t), Jz_new, BranchPoint(n1, sol.x, A, multipliers(DP), sol.iterations)
     return None
 
 
