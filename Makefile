@@ -39,7 +39,7 @@ test: fmu sysdeps
 	$(PY) -m pytest
 
 test-slow: fmu sysdeps javadeps
-	$(PY) -m pytest -m slow
+	$(PY) -m pytest -m 'slow or sanitizer'
 
 bench: fmu
 	$(PY) -m harness bench

@@ -198,8 +198,9 @@ def ring_branches(ring: Ring, speeds: tuple[float, float], seed_points: int | No
 
     Every branch of periodic orbits of the co-simulation the sweeps run (the C loop, h = T /
     steps_per_period), traced by shooting and pseudo-arclength continuation in speed from every seed
-    (the travelling wave of a tuned ring, runs from rest and a sweep up and down at `seed_points`
-    speeds), with branch switching at branch points and branches merged up to the ring's symmetries.
+    (the travelling wave of a tuned ring, runs from rest and a sweep of the period map up and down at
+    `seed_points` speeds, and the states of a C-loop sweep up and down at most 100 rpm apart where
+    it leaves each speed), with branch switching at branch points and branches merged up to the ring's symmetries.
 
     Parameters
     ----------

@@ -603,7 +603,7 @@ def _ring_section(g: dict[str, Any], run_date: str) -> list[str]:
     return L
 
 
-# `--quick`: every row once at tiny sizes (tests/test_bench_quick.py runs it in `make test`)
+# `--quick`: every row once at tiny sizes (tests/project/test_bench_quick.py runs it in `make test`)
 TINY_REPRODUCE = Size("tiny", speeds=(3000.0, 4000.0), fixed_speeds=(4000.0,), hb_speeds=(3000.0, 3500.0, 4000.0),
                       values={"gap": (2e-5,), "mass": (0.02,), "angle": (math.pi / 3,), "kn": (1e5,)},
                       settings=SweepSettings(refine_levels=0, max_time=0.1, fixed_max_time=0.1, n_scan=4),

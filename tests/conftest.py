@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from fmi2raw import Fmi2Library
+from tests.support.fmi2raw import Fmi2Library
 from harness.fmu import build as _build
 from harness.fmu.blade import BladeFMU
 
@@ -34,7 +34,7 @@ def physics_lib() -> Path:
 
 @pytest.fixture(scope="module")
 def lib(request: pytest.FixtureRequest) -> Fmi2Library:
-    """The raw FMI 2.0 binding (tests/fmi2raw.py) of the FMU under test."""
+    """The raw FMI 2.0 binding (tests/support/fmi2raw.py) of the FMU under test."""
     if not os.environ.get("SB_FMU_BINARY"):
         request.getfixturevalue("fmu_path")  # build/ShroudedBlade.fmu, built once per session
     return Fmi2Library.get()

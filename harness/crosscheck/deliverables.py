@@ -19,7 +19,7 @@ FMI 2.0 model exchange (the same FMU file, which carries both) and FMI 3.0 co-si
 (build/fmi3/ShroudedBlade.fmu). The model-exchange `_in.csv` writes the held inputs as steps (each
 t_k twice: the value before and after), because a model-exchange importer interpolates the table
 linearly; its reference is fmpy's CVode at RelTol ME_REL_TOL. The FMI 3.0 reference is fmpy's
-simulate_fmu as for 2.0 (the outputs are bit-identical to FMI 2.0's, tests/test_fmi3.py).
+simulate_fmu as for 2.0 (the outputs are bit-identical to FMI 2.0's, tests/fmu/test_fmi3.py).
 """
 from __future__ import annotations
 
@@ -182,7 +182,7 @@ at its own solver points, FMI4j's RK4 and the co-simulation FMU hold them exactl
 FMI 3.0: build/fmi3/ShroudedBlade.fmu, from the same C sources with the FMI 3.0 face
 (fmu_src/fmi/fmi3_cs.c), instantiationToken = the FMI 2.0 guid, `time` is vr 0. FMI 3.0 has no
 function to set input derivatives: inputs are held over each step. Given the same communication
-points its outputs are bit-identical to the FMI 2.0 co-simulation FMU's (tests/test_fmi3.py).
+points its outputs are bit-identical to the FMI 2.0 co-simulation FMU's (tests/fmu/test_fmi3.py).
 """
     return ""
 

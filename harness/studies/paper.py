@@ -113,7 +113,7 @@ SIZES: dict[str, Size] = {
     # their fold above 10000 rpm for d = 0.02 mm and gamma = pi/6..pi/4 (a peak at the range end
     # would be a missed solution); the transient path (bench) keeps its 3000..10000 rpm grid.
     # Seeds every 1000 rpm: the 50 curves traced with seeds every 500 rpm have the same branches
-    # (docs/periodic.md; tests/test_continuation.py checks two of them)
+    # (docs/periodic.md; tests/analysis/test_continuation.py checks two of them)
     "default": Size("default", speeds=_grid(3000, 10000, 500), fixed_speeds=_grid(3000, 10000, 500),
                     hb_speeds=_grid(2000, 12000, 40), speed_range=(3000.0, 12000.0), seed_step=1000.0),
     "full": Size("full", speeds=_grid(2000, 10000, 250), fixed_speeds=_grid(2000, 10000, 250),

@@ -23,7 +23,7 @@ at t_0 as above (libcosim's initialization sets the contacts' inputs and reads t
 blades start with the feedthrough forces); at t_k, k >= 1, the blades get the forces each contact
 reported right after its previous doStep (the state at the end of its own step, u moved along the
 held velocities), read before its inputs are set to the new q, v. The FMUs then do exactly
-libcosim's work (tests/test_ring_libcosim.py: equal to libcosim and Ecos).
+libcosim's work (tests/system/test_ring_libcosim.py: equal to libcosim and Ecos).
 The command is `python -m harness ring` (harness/cli/ring.py).
 """
 from __future__ import annotations

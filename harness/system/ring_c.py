@@ -1,7 +1,7 @@
 """The ring of harness/system/ring.py with its communication loop in C (harness/native/ring_master.c):
 the same instances (made, parameterised and initialised through fmpy), the same data flow (both
 couplings, both loads) and extrapolation weights, but no Python between the FMI calls. `run`
-returns what `ring.run` returns (the fmpy master stays the readable reference; tests/test_ring_c.py
+returns what `ring.run` returns (the fmpy master stays the readable reference; tests/system/test_ring_c.py
 holds the two together). `CRing` keeps a ring open between calls: `advance` runs it on by a number
 of steps at a rotor speed (a speed sweep steps rotorSpeed between calls; built-in load only),
 `set_step` changes the communication step from the current point on (the extrapolation history

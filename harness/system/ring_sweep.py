@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field, replace
-from typing import Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -145,14 +145,15 @@ class _Sweeper:
 
 def sweep(ring: Ring, speeds_rpm: Sequence[float], direction: str = "up", master: str = "c", *,
           rtol: float = 1e-4, periods: int = 5, max_time: float = 1.0, steps_per_period: int = 160,
-          step: float | None = None, refine: bool = True, speed_tol: float = 1.0, refine_points: int = 3
-          ) -> RingSweep:
+          step: float | None = None, refine: bool = True, speed_tol: float = 1.0, refine_points: int = 3,
+          on_settled: Callable[[CRing, str, float, float], None] | None = None) -> RingSweep:
     """Forced response of `ring` (its blades, contacts, load, order, coupling; its speed, step and
     stop time are replaced) at speeds_rpm, swept `direction` ("up", "down" or "both": up from rest
     at the lowest speed, then down from where it ended; "down" alone starts from rest at the
     highest) with the state carried, at h = T / steps_per_period at each speed (whole ns), or at
     the fixed step `step` [s] when given. See the module docstring for the settle rule and the
-    located peak."""
+    located peak. on_settled(cr, direction, rpm, time spent at rpm [s]) is called where the sweep
+    leaves each speed (before the refinement), with the running ring; it must leave it as it was."""
     if master != "c":
         raise ValueError(f"master {master!r}: the sweep runs on the C loop ('c') only")
     if direction not in DIRECTIONS:
@@ -181,6 +182,8 @@ def sweep(ring: Ring, speeds_rpm: Sequence[float], direction: str = "up", master
             order = range(K) if d == "up" else range(K - 1, -1, -1)
             for j in order:
                 amps[d][j], settled[d][j], movement[d][j], spent[d][j] = sw.settle(speeds[j])
+                if on_settled is not None:
+                    on_settled(cr, d, float(speeds[j]), float(spent[d][j]))
                 if refine:
                     saved[d][j] = cr.save()  # the state settled at speeds[j]: a refinement starts there
         for d in dirs:

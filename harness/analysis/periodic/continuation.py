@@ -30,9 +30,13 @@ from harness import digits
 from harness.fmu.blade import SPEED_RANGE, FMUError
 from harness.model.params import ParameterError
 from harness.analysis.periodic.period_map import PeriodMap
-from harness.analysis.periodic.shooting import at_bound, bounded, classify, fd_direction, multipliers
+from harness.analysis.periodic.shooting import at_bound, bounded, classify, fd_direction, multipliers, newton
 
 SPEED_SCALE = 1000.0  # [rpm] per unit of arc
+MAX_KINKS = 8  # kinks stepped past per direction of a branch
+KINK_ALONG_SPEED = 0.2  # past a kink, Newton at a fixed speed only where the tangent runs this much along it
+KINK_REACH = 0.2  # ... accepted this far (scaled) from the last point: at a kink the state may turn
+# steeply (6-blade study ring at 7037 rpm: 0.10 within 3.3 rpm)
 EASY_CORRECTOR = 6  # ds grows after a step whose corrector took at most this many iterations
 
 
@@ -47,6 +51,12 @@ class ContinuationSettings:
     # a corrector that fails quasi-Newton is retried with a fresh Jacobian per iteration (one period
     # per unknown each: for a map of many unknowns a halved step is cheaper)
     fresh_fallback: bool = True
+    # where ds falls below ds_min (a kink of the map: a contact opening or closing exactly at the
+    # period's start, a grazing), steps of these lengths (scaled arc) are tried past it, the
+    # corrector with a fresh Jacobian per iteration, accepted within half a step of the predictor;
+    # then, where the branch runs along the speed, damped Newton at the predictor's speed, accepted
+    # within max(3 steps, KINK_REACH) of the last point; the branch goes on from there (empty: it ends)
+    kink_steps: tuple[float, ...] = ()
 
 
 @dataclass
@@ -301,6 +311,7 @@ def _march(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, rn
            s: ContinuationSettings, z_first: np.ndarray, stop: Callable[[BranchPoint], str | None] | None = None
            ) -> tuple[list[BranchPoint], str, bool]:
     pts: list[BranchPoint] = []
+    kinks: list[str] = []  # kinks stepped past
     ds = s.ds
     lo, hi = rng
     while len(pts) < s.max_points:
@@ -309,21 +320,69 @@ def _march(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, rn
             ok = False  # a fold passed (the speed turned back) with a long step: resolve its tip
         if not ok:
             ds *= 0.5
-            if ds < s.ds_min:
-                return pts, f"step size below {s.ds_min:g} at {z[-1] * SPEED_SCALE:.1f} rpm", False
-            continue
+            if ds >= s.ds_min:
+                continue
+            jumped = _past_kink(prob, z, t, Jz, s) if len(kinks) < MAX_KINKS else None
+            if jumped is None:
+                return pts, _with(f"step size below {s.ds_min:g} at {z[-1] * SPEED_SCALE:.1f} rpm", kinks), False
+            kinks.append(f"stepped past a kink at {z[-1] * SPEED_SCALE:.1f} rpm to {jumped[3].speed:.1f} rpm")
+            z_new, t_new, Jz_new, point = jumped
+            ds = s.ds
         pts.append(point)
         if not lo <= point.speed <= hi:
-            return pts, f"left the speed range at {point.speed:.1f} rpm", False
+            return pts, _with(f"left the speed range at {point.speed:.1f} rpm", kinks), False
         if len(pts) > 5 and np.linalg.norm(z_new - z_first) < 0.75 * ds:
-            return pts, "closed on itself (isola)", True
+            return pts, _with("closed on itself (isola)", kinks), True
         why = stop(point) if stop is not None else None
         if why:
-            return pts, why, False
+            return pts, _with(why, kinks), False
         z, t, Jz = z_new, t_new, Jz_new
         if point.iterations <= EASY_CORRECTOR:
             ds = min(ds * 1.4, s.ds_max)
-    return pts, f"{s.max_points} points", False
+    return pts, _with(f"{s.max_points} points", kinks), False
+
+
+def _with(reason: str, kinks: list[str]) -> str:
+    return "; ".join([*kinks, reason])
+
+
+def _past_kink(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, s: ContinuationSettings
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, BranchPoint] | None:
+    """(z, tangent, dH/dz, point) a step of s.kink_steps past a kink the corrector could not
+    cross, or None: the corrector from z + ds t with a fresh Jacobian per iteration, accepted if it
+    ends within ds / 2 of its predictor (the branch through z, not another one)."""
+    for ds in s.kink_steps:
+        zp = z + ds * t
+        try:
+            done = correct(prob, zp, t, Jz, s, quasi=False)
+        except (FMUError, ParameterError):
+            continue
+        if done is None or np.linalg.norm(done[0] - zp) > 0.5 * ds:
+            continue
+        zk, Hz, Px, A, it = done
+        try:
+            Jz_new, DP = prob.jac(zk, Hz, Px)
+        except (FMUError, ParameterError):
+            continue
+        x, n = prob.from_z(zk)
+        return zk, _tangent(Jz_new, t), Jz_new, BranchPoint(n, x, A, multipliers(DP), it)
+    if abs(t[-1]) < KINK_ALONG_SPEED:
+        return None
+    for ds in s.kink_steps:  # Newton at the predictor's speed (damped, from the predictor's state)
+        x0, n1 = prob.from_z(z + ds * t)
+        try:
+            sol = newton(prob.pm, x0, n1)
+            if sol is None:
+                continue
+            zk = prob.to_z(sol.x, n1)
+            if np.linalg.norm(zk - z) > max(3.0 * ds, KINK_REACH):
+                continue  # another branch (or this one's image under a symmetry: 2 sqrt 2 away)
+            Hz, Px, A = prob.H(zk)
+            Jz_new, DP = prob.jac(zk, Hz, Px)
+        except (FMUError, ParameterError):
+            continue
+        return zk, _tangent(Jz_new, t), Jz_new, BranchPoint(n1, sol.x, A, multipliers(DP), sol.iterations)
+    return None
 
 
 def _step(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, ds: float, s: ContinuationSettings

@@ -6,7 +6,7 @@ model, so the samples are the orbit). Its discrete Fourier series q(t) = sum_k a
 phi_k) gives the first-harmonic amplitude a1 and the higher harmonics' amplitude
 h = sqrt(sum_{k>=2} a_k^2) (sqrt 2 times their RMS). The harmonic balance (harness.analysis.harmonic_balance:
 one harmonic, gating off) is compared with a1 and with max |q|: ungated, the fixed-B ODE is linear,
-h = 0 and HB equals the orbit (tests/test_periodic.py); gated, and for the Jenkins element, h
+h = 0 and HB equals the orbit (tests/analysis/test_periodic.py); gated, and for the Jenkins element, h
 measures what one harmonic cannot hold.
 """
 from __future__ import annotations

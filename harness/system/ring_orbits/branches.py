@@ -2,7 +2,9 @@
 stable steady state among them.
 
 Seeds (harness/system/ring_orbits/seeds.py): the travelling wave (tuned ring), a run from rest at
-each grid speed and a sweep up and back down the grid. A seed whose state already lies on a traced
+each grid speed, a sweep of the period map up and back down the grid, and every state where a C-loop
+sweep up and back down (harness/system/ring_sweep.py, the sweeps' own path and settle rule) leaves a
+speed, at most SWEEP_SPACING apart: the states the sweeps report are then on the traced branches. A seed whose state already lies on a traced
 branch (up to the ring's symmetries, symmetry.py, by the per-blade amplitudes) is dropped; otherwise
 Newton finds its orbit, which is dropped if it lies on a traced branch, else continued both ways
 across the band (continuation.py) until it leaves the band or runs onto a branch traced before.
@@ -18,6 +20,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from typing import Sequence
 
 import numpy as np
 
@@ -25,7 +28,7 @@ from harness.analysis.periodic.shooting import newton
 from harness.system.ring import Ring
 from harness.system.ring_orbits.continuation import RingBranch, switch, trace
 from harness.system.ring_orbits.period_map import RingPeriodMap, RingShootingSettings
-from harness.system.ring_orbits.seeds import from_rest, sweep, travelling_wave
+from harness.system.ring_orbits.seeds import from_rest, settled_states, sweep, travelling_wave
 from harness.system.ring_orbits.shooting import shoot
 from harness.system.ring_orbits.symmetry import distance, index_maps, tuned
 
@@ -117,17 +120,24 @@ SEED_SPACING = 300.0  # [rpm] between seed speeds by default: 6 seeds over 4000-
 # ring's largest stable state (a run from rest near 5800 rpm reaches its branch; from 5000 or 6000 none does)
 
 
-def default_seed_points(band: tuple[float, float]) -> int:
-    """Seed speeds across the band at most SEED_SPACING apart, at least 4."""
-    return max(4, math.ceil((band[1] - band[0]) / SEED_SPACING) + 1)
+SWEEP_SPACING = 100.0  # [rpm] between the C-loop sweep's speeds by default (the spacing a sweep is run at)
+SEED_KINDS = ("travelling wave", "rest", "map sweep", "C-loop sweep")
+
+
+def default_seed_points(band: tuple[float, float], spacing: float = SEED_SPACING) -> int:
+    """Seed speeds across the band at most `spacing` apart, at least 4."""
+    return max(4, math.ceil((band[1] - band[0]) / spacing) + 1)
 
 
 def ring_branches(ring: Ring, band: tuple[float, float], points: int | None = None,
                   settings: RingShootingSettings = RingShootingSettings(), switch_branches: bool = True,
                   max_branches: int = 24, settle: float = 1e-3, max_periods: int = 300,
-                  max_switches: int = 8) -> RingBranches:
+                  max_switches: int = 8, sweep_speeds: Sequence[float] | None = None,
+                  seed_kinds: Sequence[str] = SEED_KINDS) -> RingBranches:
     """Every branch found from the seeds at `points` speeds across `band` [rpm] (default: at most
-    SEED_SPACING apart; see the module docstring). Raises ValueError on a bad band or count."""
+    SEED_SPACING apart) and a C-loop sweep at `sweep_speeds` (default: across the band at most
+    SWEEP_SPACING apart); only the seeds of `seed_kinds` (see the module docstring). Raises
+    ValueError on a bad band, count or kind."""
     lo, hi = (float(v) for v in band)
     if points is None:
         points = default_seed_points((lo, hi))
@@ -135,25 +145,40 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int | None = No
         raise ValueError(f"band {band!r} rpm: need 0 < FROM < TO")
     if not (isinstance(points, int) and 2 <= points <= 1000):
         raise ValueError(f"points = {points!r}: need a whole number in [2, 1000]")
+    bad = [k for k in seed_kinds if k not in SEED_KINDS]
+    if bad or not seed_kinds:
+        raise ValueError(f"seed_kinds {list(seed_kinds)!r}: need some of {', '.join(SEED_KINDS)}")
+    if sweep_speeds is None:
+        sweep_speeds = np.linspace(lo, hi, default_seed_points((lo, hi), SWEEP_SPACING))
     t0 = time.perf_counter()
     grid = np.linspace(lo, hi, points)
     branches: list[RingBranch] = []
     maps = index_maps(ring)
     symmetric = tuned(ring)
     with RingPeriodMap(ring, settings) as pm:
-        seeds = (travelling_wave(pm, grid, settle, max_periods) if symmetric else []) + \
-            from_rest(pm, grid, settle, max_periods) + sweep(pm, grid, settle, max_periods)
+        seeds = (travelling_wave(pm, grid, settle, max_periods) if symmetric and "travelling wave" in seed_kinds
+                 else []) + \
+            (from_rest(pm, grid, settle, max_periods) if "rest" in seed_kinds else []) + \
+            (sweep(pm, grid, settle, max_periods) if "map sweep" in seed_kinds else []) + \
+            (settled_states(pm, ring, sweep_speeds) if "C-loop sweep" in seed_kinds else [])
         e_seeds = pm.evaluations
         todo: list = []  # orbits to continue (from seeds, then from branch points)
         switches, switch_cost = 0, 0
+        sweep_orbits: list[dict] = []  # per C-loop sweep state: its Newton orbit
         stage: dict[str, int] = {}  # periods per stage of tracing (every branch traced, kept or merged away)
         for sd in seeds:
             if len(branches) >= max_branches:
                 break
+            swept = sd.origin.startswith("C-loop")
             amps = pm.measures(sd.x, sd.speed)[0]
-            if known(branches, sd.speed, amps, maps, min(max(SAME_RTOL, 10 * sd.change), 2e-2)):
+            # a sweep's state always gets its Newton: the orbit it reports must be on a branch
+            if not swept and known(branches, sd.speed, amps, maps, min(max(SAME_RTOL, 10 * sd.change), 2e-2)):
                 continue
             orb = shoot(pm, sd.x, sd.speed)
+            if swept:
+                sweep_orbits.append({"origin": sd.origin, "speed_rpm": sd.speed, "seed_amplitudes_m": amps.tolist(),
+                                     "seed_residual": sd.change, "orbit": None if orb is None else
+                                     {k: orb.as_dict()[k] for k in ("amplitudes_m", "max_multiplier", "period_residual")}})
             if orb is None or known(branches, orb.speed, orb.amplitudes, maps, SAME_RTOL):
                 continue
             todo.append((orb, f"{sd.origin} at {sd.speed:.1f} rpm"))
@@ -189,7 +214,7 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int | None = No
         npts = sum(len(b.orbits) for b in branches)
         return RingBranches(branches, (lo, hi), amp, speed, blade, len(seeds), pm.evaluations,
                             time.perf_counter() - t0, npts,
-                            {"seed_evaluations": e_seeds, "steps_per_period": settings.steps_per_period,
+                            {"seed_evaluations": e_seeds, "sweep_orbits": sweep_orbits, "steps_per_period": settings.steps_per_period,
                              "evaluations_by_stage": {"seeds": e_seeds, **stage, "switching": switch_cost}})
 
 

@@ -4,16 +4,16 @@ The continuation is the single blade's (harness.analysis.periodic.continuation: 
 (x / scale, rpm / 1000), quasi-Newton corrector, step control through folds) on the ring's period
 map, with forward differences for DP (the map's `central_differences`); peaks (of the largest
 blade's max |q|) and folds (speed turning points) are located by the single blade's
-harness.analysis.periodic.extrema where a neighbour is stable (the others stay sampled). Bifurcations
-between neighbouring points, from the multipliers (a multiplier counts as outside beyond 1 + 1e-3):
+harness.analysis.periodic.extrema where a neighbour is stable (the others stay sampled). A corrector
+that cannot cross a kink of the map (ds below ds_min: a contact opening or closing exactly at the
+period's start, a grazing) is retried a step of kink_steps past it before the branch ends there.
+Bifurcations (crossings.py: detected beyond the multipliers' noise, located by bisection in the arc):
 - fold: the speed turns (located by extrema);
 - branch point: the number of real multipliers above +1 changes where the speed does not turn (a
   symmetry-breaking pitchfork of the tuned ring passes +1 with a double multiplier: the sign of
   det(DP - I) alone would miss it);
 - period doubling: the number of real multipliers below -1 changes;
 - Neimark-Sacker: the number of complex multipliers outside the unit circle changes.
-A branch point, period doubling or Neimark-Sacker point is located on the segment between the two
-points by the zero of |mu| - 1 of the critical multiplier, linear in the arc between them.
 """
 from __future__ import annotations
 
@@ -27,6 +27,8 @@ from harness.analysis.periodic.continuation import (Branch, BranchProblem, Conti
 from harness.analysis.periodic.extrema import locate
 from harness.analysis.periodic.shooting import UNIT_CIRCLE_TOL
 from harness.fmu.blade import FMUError
+from harness.system.ring_orbits.crossings import JUMP, KINDS, detect, segment
+from harness.system.ring_orbits.crossings import locate as locate_crossing
 from harness.system.ring_orbits.period_map import RingPeriodMap
 from harness.system.ring_orbits.shooting import RingOrbit, monodromy, shoot
 
@@ -34,21 +36,10 @@ from harness.system.ring_orbits.shooting import RingOrbit, monodromy, shoot
 # few): on the 6-blade study ring over 5500-7200 rpm 21773 -> 15475 periods in all (continuation 15942 ->
 # 10908), the same largest stable state (4.94023e-5 m at 5794.83 rpm)
 RING_CONTINUATION = ContinuationSettings(ds=0.05, ds_min=1e-3, ds_max=0.3, max_points=300, max_corrector=8,
-                                         ds_fold=0.02, fresh_fallback=False)
+                                         ds_fold=0.02, fresh_fallback=False, kink_steps=(0.01, 0.03, 0.1))
 
 
 EXTREMUM_TOL = 1e-5  # Brent's tolerance locating a peak or fold: 1e-5 of the scaled arc, 0.01 rpm along the speed
-CROSSING_TOL = 1e-3  # a multiplier counts as outside the unit circle beyond 1 + this (a multiplier
-# hovering at 1 within the finite-difference DP's error would flip the counts from point to point)
-
-
-def counts(mu: np.ndarray) -> tuple[int, int, int]:
-    """(real multipliers > 1, real ones < -1, complex ones outside the unit circle), each beyond
-    1 + CROSSING_TOL in modulus."""
-    real = np.abs(mu.imag) <= UNIT_CIRCLE_TOL * np.maximum(np.abs(mu), 1e-300)
-    out = np.abs(mu) > 1.0 + CROSSING_TOL
-    return (int(np.sum(real & out & (mu.real > 0))), int(np.sum(real & out & (mu.real < 0))),
-            int(np.sum(~real & out)))
 
 
 @dataclass
@@ -60,10 +51,19 @@ class Bifurcation:
     index: int  # the first branch point after it
     x: np.ndarray | None = None  # state (interpolated for all but folds)
     vector: np.ndarray | None = None  # critical eigenvector of DP (branch points: the switching direction)
+    located: bool = True  # False: linear between two points (crossings.py)
+    value: float = float("nan")  # the test function at the located point (crossings.py)
+    bracket: float = float("nan")  # the bisection's final bracket [scaled arc]
+    between: tuple[int, int] = (-1, -1)  # the decided points around it (crossings.detect)
 
     def as_dict(self) -> dict:
-        return {"kind": self.kind, "speed_rpm": self.speed, "amplitude_m": self.amplitude,
-                "amplitudes_m": self.amplitudes.tolist()}
+        out = {"kind": self.kind, "speed_rpm": self.speed, "amplitude_m": self.amplitude,
+               "amplitudes_m": self.amplitudes.tolist()}
+        if self.kind != "fold":
+            out.update(located=self.located, test_function=None if self.value != self.value else self.value,
+                       bracket_arc=None if self.bracket != self.bracket else self.bracket,
+                       jump=self.located and abs(self.value) > JUMP)
+        return out
 
 
 @dataclass
@@ -108,45 +108,33 @@ def _orbit(pm: RingPeriodMap, x: np.ndarray, speed: float, mu: np.ndarray, it: i
     return RingOrbit(float(speed), np.array(x, dtype=float), amp.copy(), mu, res, it)
 
 
-def _critical(mu_a: np.ndarray, mu_b: np.ndarray, kind: str) -> float:
-    """Where between a (0) and b (1) the critical multiplier's |mu| - 1 changes sign (linear)."""
-    def pick(mu: np.ndarray) -> float:
-        real = np.abs(mu.imag) <= UNIT_CIRCLE_TOL * np.maximum(np.abs(mu), 1e-300)
-        sel = {"branch point": real & (mu.real > 0), "period doubling": real & (mu.real < 0)}.get(kind, ~real)
-        vals = np.abs(mu[sel]) - 1.0
-        return float(vals[np.argmin(np.abs(vals))]) if len(vals) else 0.0
-    fa, fb = pick(mu_a), pick(mu_b)
-    return 0.5 if fa == fb else min(1.0, max(0.0, fa / (fa - fb)))
-
-
-def bifurcations(pm: RingPeriodMap, br: Branch, folds: list) -> list[Bifurcation]:
-    """The bifurcations between neighbouring points of br (see the module docstring)."""
+def bifurcations(pm: RingPeriodMap, br: Branch, folds: list, settings: ContinuationSettings = RING_CONTINUATION
+                 ) -> list[Bifurcation]:
+    """The bifurcations of br (see the module docstring): folds as located by extrema, the others
+    detected beyond the multipliers' noise and located by bisection (crossings.py)."""
     out: list[Bifurcation] = []
     pts = br.points
     n = br.speeds
-    for i in range(1, len(pts)):
-        a, b = pts[i - 1], pts[i]
-        ca, cb = counts(a.multipliers), counts(b.multipliers)
-        turned = any((n[k] - n[k - 1]) * (n[k + 1] - n[k]) < 0 for k in (i - 1, i) if 0 < k < len(pts) - 1)
-        kinds = []
-        if ca[0] != cb[0] and not turned:
-            kinds.append("branch point")
-        if ca[1] != cb[1]:
-            kinds.append("period doubling")
-        if ca[2] != cb[2]:
-            kinds.append("Neimark-Sacker")
-        for kind in kinds:
-            f = _critical(a.multipliers, b.multipliers, kind)
-            x = a.x + f * (b.x - a.x)
-            amp = (1 - f) * pm.measures(a.x, a.speed)[0] + f * pm.measures(b.x, b.speed)[0]
+    mus = [p.multipliers for p in pts]
+    st = [p.stable for p in pts]
+    for kind in KINDS:
+        for i, j in detect(mus, kind):
+            k = segment(mus, i, j, kind)
+            turned = any((n[m] - n[m - 1]) * (n[m + 1] - n[m]) < 0 for m in (k, k + 1) if 0 < m < len(pts) - 1)
+            if kind == "branch point" and turned:
+                continue  # a fold (located by extrema)
+            loc = locate_crossing(pm, pts[k], pts[k + 1], kind, settings)
+            amp = pm.measures(loc.x, loc.speed)[0] if loc.located else \
+                0.5 * (pm.measures(pts[k].x, pts[k].speed)[0] + pm.measures(pts[k + 1].x, pts[k + 1].speed)[0])
             vec = None
-            if kind == "branch point" and (a.stable or b.stable):  # the switching direction (branches.py)
-                J = monodromy(pm, b.x if f > 0.5 else a.x, b.speed if f > 0.5 else a.speed)
+            if kind == "branch point" and any(st[i:j + 1]):  # the switching direction (branches.py)
+                J = loc.DP if loc.DP is not None else monodromy(pm, pts[k + 1].x, pts[k + 1].speed)
                 w, V = np.linalg.eig(J)
                 real = np.abs(w.imag) <= UNIT_CIRCLE_TOL * np.maximum(np.abs(w), 1e-300)
-                k = int(np.argmin(np.where(real, np.abs(w.real - 1.0), np.inf)))
-                vec = np.real(V[:, k])
-            out.append(Bifurcation(kind, float(a.speed + f * (b.speed - a.speed)), float(amp.max()), amp, i, x, vec))
+                c = int(np.argmin(np.where(real & (w.real > 0), np.abs(w.real - 1.0), np.inf)))
+                vec = np.real(V[:, c])
+            out.append(Bifurcation(kind, float(loc.speed), float(amp.max()), amp, k + 1, loc.x, vec,
+                                   loc.located, loc.value, loc.bracket, (i, j)))
     for e in folds:
         amp = pm.measures(e.x, e.speed)[0]
         i = int(np.argmin(np.abs(n - e.speed)))

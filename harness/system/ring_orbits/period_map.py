@@ -18,7 +18,7 @@ master's extrapolation history restarted (as at the start of any run), K = steps
 the exact grid t_k = k T / K (not the nanosecond grid: the load's phase advances exactly 2 pi), then
 the state at T read back (the contacts' at the inputs of point K, after their direct feedthrough).
 Nothing else carries over between evaluations, so the image is a function of x alone
-(tests/test_ring_orbits.py: bit-identical images whatever ran before).
+(tests/system/test_ring_orbits.py: bit-identical images whatever ran before).
 
 The amplitude of blade i is max |q_i| over the period, the largest of the K sampled points refined by
 the parabola through it and its neighbours (the sweeps' measure, ring_sweep.window_amplitude, with
@@ -203,6 +203,13 @@ class RingPeriodMap:
                                            self.touching(x))
         return x
 
+    def read(self, blades: list, contacts: list) -> np.ndarray:
+        """x of a ring's FMU instances as they are now (blades' modal states, contacts' friction
+        forces at their inputs): this map's own ring or another run of the same ring."""
+        ym = np.array([b.s.get_real(self._vr_modal) for b in blades])
+        out = np.array([c.s.get_real(self._vr_cout) for c in contacts])
+        return self.state(ym[:, : self.m], ym[:, self.m:], out[:, 0])
+
     def bounded(self, x: np.ndarray) -> np.ndarray:
         """x moved into the domain: |phi_j| <= 1, phi_j its touching value while contact j is open."""
         x = np.array(x, dtype=float)
@@ -268,9 +275,7 @@ class RingPeriodMap:
             rec = self._cr.advance(K, rpm, finish=True)
         except (FmiError, RingDiverged, RuntimeError) as e:
             raise RingMapFailed(f"period map at {rpm:.6g} rpm: {e}") from e
-        ym = np.array([b.s.get_real(self._vr_modal) for b in self.blades])
-        out = np.array([c.s.get_real(self._vr_cout) for c in self.contacts])
-        Px = self.state(ym[:, : self.m], ym[:, self.m:], out[:, 0])
+        Px = self.read(self.blades, self.contacts)
         q = rec["q"]
         amp = window_amplitude(np.vstack([q[K - 1], q[:K], q[0]]))
         if len(self.seen) >= self.CACHE:

@@ -13,20 +13,33 @@ iteration stays on the travelling wave, stable or not (the sweeps' runs leave an
 their rounding breaks the symmetry and the wave's multiplier above 1 grows it): the runs from rest
 and the sweeps start from rest with blade 0 moved by `kick` [m] (asymmetric); the travelling-wave
 seed starts from rest exactly.
+
+The sweeps' own settled states (`settled_states`): harness/system/ring_sweep.py's sweep up and down
+(the C loop run on with the state carried, whole-ns steps, its settle rule), and where it leaves each
+speed the running ring is copied (fmi2GetFMUstate), advanced to the next load phase 0 and read as x,
+then put back, so the sweep goes on undisturbed. The load phase is psi = sum over the speeds visited
+of omega_k t_k (the blades integrate d psi / dt = omega from psi = 0 at t = 0, the speed constant
+between changes); the advance takes whole steps, then one step of the remainder (whole ns: psi within
+1e-6 rad of 0). Each such seed's `change` is its scaled period residual |P(x) - x| / scale, which is
+small only if the phase is right and the state settled.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
 
+from harness.system.ring import Ring
+from harness.system.ring_c import CRing
 from harness.system.ring_orbits.period_map import RingMapFailed, RingPeriodMap
+from harness.system.ring_sweep import sweep as c_sweep
 
 
 @dataclass
 class Seed:
-    origin: str  # "rest", "sweep up", "sweep down"
+    origin: str  # "travelling wave", "rest", "sweep up", "sweep down", "C-loop sweep up", "C-loop sweep down"
     speed: float  # [rpm]
     x: np.ndarray
     change: float  # scaled change over the last period
@@ -94,4 +107,48 @@ def sweep(pm: RingPeriodMap, speeds: Sequence[float], settle_tol: float = 1e-3, 
                 x = kicked(pm)
                 continue
             out.append(Seed(origin, s, x.copy(), ch))
+    return out
+
+
+class _AtPhaseZero:
+    """on_settled hook of ring_sweep.sweep: the ring's state at the next load phase 0 per speed."""
+
+    def __init__(self, pm: RingPeriodMap):
+        self.pm, self.psi = pm, 0.0
+        self.states: list[tuple[str, float, np.ndarray]] = []
+
+    def __call__(self, cr: CRing, direction: str, rpm: float, spent: float) -> None:
+        w = self.pm.omega(rpm)
+        self.psi = (self.psi + w * spent) % (2.0 * math.pi)
+        dt = (2.0 * math.pi - self.psi) % (2.0 * math.pi) / w
+        if dt * 1e9 < 0.5:  # at phase 0 already: one period on
+            dt += 2.0 * math.pi / w
+        saved = cr.save()
+        end = cr.time(cr.k) + dt
+        whole = int(dt // cr.ring.step)
+        if end - cr.time(cr.k + whole) < 0.5e-9:  # the remainder below a ns: one whole step fewer
+            whole -= 1
+        if whole > 0:
+            cr.advance(whole, rpm)
+        cr.set_step(round((end - cr.time(cr.k)) * 1e9) / 1e9)
+        cr.advance(1, rpm, finish=True)
+        self.states.append((direction, rpm, self.pm.read(cr.blades, cr.contacts)))
+        cr.restore(saved)
+
+
+def settled_states(pm: RingPeriodMap, ring: Ring, speeds: Sequence[float], rtol: float = 1e-4, periods: int = 5,
+                   max_time: float = 1.0) -> list[Seed]:
+    """The states of a C-loop sweep up and down `speeds` (ring_sweep.sweep, "both", its settle rule
+    rtol / periods / max_time, pm's steps per period) at load phase 0 where it leaves each speed (see
+    the module docstring); a state whose period map fails is left out."""
+    hook = _AtPhaseZero(pm)
+    c_sweep(ring, speeds, "both", rtol=rtol, periods=periods, max_time=max_time,
+            steps_per_period=pm.s.steps_per_period, refine=False, on_settled=hook)
+    out = []
+    for d, s, x in hook.states:
+        try:
+            res = float(pm.measures(x, s)[1])
+        except RingMapFailed:
+            continue
+        out.append(Seed(f"C-loop sweep {d}", s, x, res))
     return out

@@ -1,0 +1,155 @@
+"""Branch points, period doublings and Neimark-Sacker points of a ring branch: detected beyond the
+multipliers' noise, located by bisection in the arc.
+
+Test functions of an orbit's multipliers mu (per kind, of the multiplier that crosses the circle):
+- branch point: the real positive multiplier closest to +1, minus 1 (not the largest: on an
+  unstable travelling wave another real multiplier may sit far above 1 while a second one crosses);
+- period doubling: |the real negative multiplier closest to -1| - 1;
+- Neimark-Sacker: |the complex multiplier closest to the circle| - 1.
+Detection with hysteresis: a multiplier within NOISE of the circle is undecided (the
+finite-difference DP puts a multiplier that sits at 1 anywhere within about 1e-3 of it, so a branch
+along which one hovers there would list a crossing between most neighbours). For each kind a point
+is decided when none of its multipliers of that kind is within NOISE of the circle; a crossing is a
+change of the number outside between two decided points, the undecided ones between them skipped.
+It is located on the segment between neighbours where the test function changes sign (the first,
+else the one next to the decided point before): Newton on the plane normal to the chord at the arc
+fraction f (quasi-Newton from the segment start's Jacobian), the multipliers there from a fresh DP,
+and f bisected on the sign of the test function until the bracket is ARC_TOL of scaled arc long
+(about 0.1 rpm where the branch runs along the speed); the located orbit is the bracket's end with the
+smaller |test function|. Where the corrector fails inside the bracket (a kink of the map: the
+multiplier jumps through 1 there rather than crossing it) the bisection stops and the bracket's better
+end is returned with its length, flagged `located` False; where it fails at once or the test
+function has the same sign at both ends (another multiplier came closer), the point is the linear
+zero between the ends, also `located` False. A located crossing whose test function is still
+beyond JUMP at the bracket's better end is a jump of the multiplier through the circle (a kink of the
+map), not a smooth crossing: `jump` True (no branch need emanate there).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from harness.analysis.periodic.continuation import BranchPoint, BranchProblem, ContinuationSettings, correct
+from harness.analysis.periodic.shooting import UNIT_CIRCLE_TOL, multipliers
+from harness.fmu.blade import FMUError
+from harness.system.ring_orbits.period_map import RingPeriodMap
+
+NOISE = 1e-3  # a multiplier within this of the unit circle is undecided (the finite-difference DP's spread)
+ARC_TOL = 1e-4  # bisection ends when the bracket is this long in scaled arc (0.1 rpm along the speed)
+MAX_BISECTIONS = 14
+JUMP = 1e-2  # a bracket of ARC_TOL whose better end is still this far from 0: the multiplier jumps
+# through the circle there (a kink of the map: a contact opening or closing at the period's start)
+KINDS = ("branch point", "period doubling", "Neimark-Sacker")
+
+
+def _select(mu: np.ndarray, kind: str) -> np.ndarray:
+    real = np.abs(mu.imag) <= UNIT_CIRCLE_TOL * np.maximum(np.abs(mu), 1e-300)
+    sel = {"branch point": real & (mu.real > 0), "period doubling": real & (mu.real < 0)}.get(kind, ~real)
+    return mu[sel]
+
+
+def critical_value(mu: np.ndarray, kind: str) -> float:
+    """|mu| - 1 of the multiplier of `kind` closest to the circle (nan if there is none)."""
+    vals = np.abs(_select(mu, kind)) - 1.0
+    return float(vals[np.argmin(np.abs(vals))]) if len(vals) else float("nan")
+
+
+def decided(mu: np.ndarray, kind: str, noise: float = NOISE) -> int | None:
+    """The number of multipliers of `kind` outside the circle, or None if one is within `noise` of it."""
+    r = np.abs(_select(mu, kind))
+    if np.any(np.abs(r - 1.0) <= noise):
+        return None
+    return int(np.sum(r > 1.0))
+
+
+def detect(mus: list[np.ndarray], kind: str, noise: float = NOISE) -> list[tuple[int, int]]:
+    """(i, j): the decided points around each crossing of `kind` along a branch's multipliers."""
+    out = []
+    last: tuple[int, int] | None = None  # (index, count) of the last decided point
+    for k, mu in enumerate(mus):
+        c = decided(mu, kind, noise)
+        if c is None:
+            continue
+        if last is not None and c != last[1]:
+            out.append((last[0], k))
+        last = (k, c)
+    return out
+
+
+@dataclass
+class Located:
+    """A located crossing: the orbit there and its multipliers."""
+
+    x: np.ndarray
+    speed: float  # [rpm]
+    multipliers: np.ndarray
+    DP: np.ndarray | None  # the monodromy matrix there (physical units), None if interpolated
+    value: float  # the test function there
+    bracket: float  # the final bracket's length in scaled arc
+    located: bool  # False: the linear zero between the segment's ends
+
+    @property
+    def jump(self) -> bool:
+        return self.located and abs(self.value) > JUMP
+
+
+def segment(mus: list[np.ndarray], i: int, j: int, kind: str) -> int:
+    """The k in [i, j) whose segment (k, k + 1) holds the sign change of the test function (first
+    one), else i."""
+    for k in range(i, j):
+        a, b = critical_value(mus[k], kind), critical_value(mus[k + 1], kind)
+        if np.isfinite(a) and np.isfinite(b) and a * b <= 0.0:
+            return k
+    return i
+
+
+def locate(pm: RingPeriodMap, a: BranchPoint, b: BranchPoint, kind: str, settings: ContinuationSettings
+           ) -> Located:
+    """The zero of the test function of `kind` on the branch between its neighbouring points a, b
+    (see the module docstring)."""
+    ga, gb = critical_value(a.multipliers, kind), critical_value(b.multipliers, kind)
+    f_lin = 0.5 if not (np.isfinite(ga) and np.isfinite(gb)) or ga == gb else min(1.0, max(0.0, ga / (ga - gb)))
+    interpolated = Located(a.x + f_lin * (b.x - a.x), a.speed + f_lin * (b.speed - a.speed),
+                           a.multipliers if f_lin < 0.5 else b.multipliers, None, float("nan"), float("nan"), False)
+    if not (np.isfinite(ga) and np.isfinite(gb)) or ga * gb > 0.0:
+        return interpolated
+    prob = BranchProblem(pm, pm.scales(a.x, a.speed))
+    za, zb = prob.to_z(a.x, a.speed), prob.to_z(b.x, b.speed)
+    chord = zb - za
+    length = float(np.linalg.norm(chord))
+    t = chord / length
+    try:
+        Hz, Px, _ = prob.H(za)
+        Jz = prob.jac(za, Hz, Px)[0]
+    except FMUError:
+        return interpolated
+    lo, hi = (0.0, ga, a.x, a.speed, a.multipliers, None), (1.0, gb, b.x, b.speed, b.multipliers, None)
+    n = 0
+    while (hi[0] - lo[0]) * length > ARC_TOL and n < MAX_BISECTIONS:
+        n += 1
+        f = 0.5 * (lo[0] + hi[0])
+        try:
+            done = correct(prob, za + f * chord, t, Jz, settings, quasi=True) or \
+                correct(prob, za + f * chord, t, Jz, settings, quasi=False)
+            if done is None:
+                break  # a kink of the map inside the bracket: the multiplier jumps there
+            zk, Hz, Px, _, _ = done
+            Jk, DP = prob.jac(zk, Hz, Px)
+        except FMUError:
+            break
+        mu = multipliers(DP)
+        g = critical_value(mu, kind)
+        x, speed = prob.from_z(zk)
+        if not np.isfinite(g):
+            break
+        Jz = Jk
+        if g * lo[1] > 0.0:
+            lo = (f, g, x, speed, mu, DP)
+        else:
+            hi = (f, g, x, speed, mu, DP)
+    best = min((e for e in (lo, hi) if e[5] is not None), key=lambda e: abs(e[1]), default=None)
+    if best is None:
+        return interpolated
+    bracket = (hi[0] - lo[0]) * length
+    return Located(best[2], best[3], best[4], best[5], best[1], bracket, bracket <= ARC_TOL)

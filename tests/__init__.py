@@ -1,0 +1,1 @@
+"""The tests, one package per layer of the harness (tests/<layer>/), helpers in tests/support."""

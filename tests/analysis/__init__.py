@@ -1,0 +1,1 @@
+"""Tests of steady states, sweeps, periodic orbits and their branches."""

@@ -1,0 +1,1 @@
+"""Tests of the FMUs through the FMI binding, fmpy and C importers."""

@@ -1,0 +1,1 @@
+"""Tests of the paper's studies and the mistuning study."""

@@ -1,0 +1,1 @@
+"""Tests of the ring of blades and its masters."""

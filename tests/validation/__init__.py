@@ -1,0 +1,1 @@
+"""Tests of the FMU against the reference and other importers."""
