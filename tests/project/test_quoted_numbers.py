@@ -227,11 +227,22 @@ def test_readme_mistuning_numbers():
     assert m.group(1) in _printed(float(tuned["stable_peak_m"]), ".4e", h["stable_peak_m"])
     m = _one(README, r"5 % blade stiffness scatter gives ([\d.]+)x")
     assert m.group(1) in _printed(max(per["5"]), ".4f", h["amplification"])
+    best, rings, _ = _search()
+    m = _one(README, r"a search of (\d+) rings\s+finds at most ([\d.]+)x")
+    assert int(m.group(1)) == rings and m.group(2) in _printed(best, ".4f", 5e-7)
     mean, top = _amplification("mistuning")[("friction", "5")]
     m = _one(README, r"Sweeps alone say\s+([\d.]+)x")
     assert m.group(1) in top
     m = _one(README, r"On 24 blades \(4 patterns, sweeps\) the worst\s+reaches ([\d.]+)x")
     assert m.group(1) in _amplification("mistuning_24")[("friction", "5")][1]
+
+
+def test_mistuning_search_line():
+    """The search's result on the mistuning page against results/mistuning_search/mistuning_search.csv."""
+    best, rings, start = _search()
+    m = _one(MISTUNING, r"at most ([\d.]+)x after (\d+) rings, from ([\d.]+)x")
+    assert m.group(1) in _printed(best, ".4f", 5e-7) and int(m.group(2)) == rings
+    assert m.group(3) in _printed(start, ".4f", 5e-7)
 
 
 def test_dask_measurement():
