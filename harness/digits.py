@@ -38,6 +38,8 @@ def text(value: float, e: int | None) -> str:
     """`value` rounded to a multiple of 10^e, as the shortest text that reads back as that number
     ('nan', 'inf' as Python writes them; e None: the value's own shortest text)."""
     v = float(value)
+    if v == 0.0:
+        return "0.0"  # -0.0 too: the sign of a zero is rounding noise
     if e is None or not math.isfinite(v):
         return repr(v)
     d = Decimal(v).quantize(Decimal(1).scaleb(e), rounding=ROUND_HALF_EVEN)

@@ -13,7 +13,9 @@ import json
 import math
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
+from harness.analysis.executor import Runner
 from harness.paths import RESULTS_DIR
 from harness.cli.options import add_execution_options, make_runner
 from harness.cli.reports import mistuning_report
@@ -108,7 +110,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def run_and_write(study, runner, cache: Path | None, out_dir: Path) -> dict:
+def run_and_write(study: mistuning.Study, runner: Runner, cache: Path | None, out_dir: Path) -> dict[str, Any]:
     """The sweeps of every ring, then (study.state_patterns > 0) the steady states of the tuned ring
     and those patterns, then (study.search_budget > 0) the worst-pattern search; figures and CSVs into
     out_dir. The output of run_study with "states" and "search" added."""

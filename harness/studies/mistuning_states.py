@@ -33,7 +33,8 @@ CACHE_VERSION = 1  # bump when the meaning of a cached record changes
 class StatesSettings:
     """The engine's settings for every ring of the study."""
 
-    seed_points: int = 6  # speeds across the band where seeds start (rest, sweep, wave): the engine's default
+    seed_points: int | None = None  # speeds where seeds start (rest, sweep, wave); None: the engine's default, at
+    # most 300 rpm apart (6 seeds across the band missed a pattern's largest stable branch near 5800 rpm)
     switch_branches: bool = True
     max_branches: int = 24
     steps_per_period: int = 160  # the sweeps' step h = T / 160
