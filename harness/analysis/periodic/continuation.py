@@ -332,7 +332,9 @@ def _march(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, rn
         if not lo <= point.speed <= hi:
             return pts, _with(f"left the speed range at {point.speed:.1f} rpm", kinks), False
         if len(pts) > 5 and np.linalg.norm(z_new - z_first) < 0.75 * ds:
-            return pts, _with("closed on itself (isola)", kinks), True
+            if kinks:  # past a kink it may have turned back along itself: trace the other way too
+                return pts, _with("came back to its start", kinks), False
+            return pts, "closed on itself (isola)", True
         why = stop(point) if stop is not None else None
         if why:
             return pts, _with(why, kinks), False
