@@ -155,22 +155,12 @@ def run_ring(ring: Ring, master: str = "c") -> dict[str, np.ndarray]:
     where = "harness.run_ring"
     if master not in RING_MASTERS:
         raise _error(f"master = {master!r} (from {where}(master=...)) is not one of {', '.join(RING_MASTERS)}")
-    nmax = ring_values.max_blades()
-    if not (isinstance(ring.n, int) and not isinstance(ring.n, bool) and 2 <= ring.n <= nmax):
-        raise _error(f"n = {ring.n!r} (from {where}(ring=Ring(n=...))) is out of range; accepted: [2, {nmax}] blades"
-                     " (the blade FMU's bladeCount)")
+    _check_ring(ring, where)
     t = _finite("stop_time", ring.stop_time, f"{where}(ring=Ring(stop_time=...))")
     h = _finite("step", ring.step, f"{where}(ring=Ring(step=...))")
     if not 0 < h <= t:
         raise _error(f"step = {ring.step!r} s (from {where}(ring=Ring(step=...))) is out of range; accepted:"
                      f" (0, stop_time = {t:g}] s")
-    var = ring_values.settable()
-    for kind, values in (("blade", ring.blade), ("contact", ring.contact)):
-        for name, value in values.items():
-            if name not in var[kind]:
-                raise _error(f"{name} (from {where}(ring=Ring({kind}=...))) is not a parameter of the {kind} FMU;"
-                             f" known: {', '.join(sorted(var[kind]))}")
-            ring_values.typed(name, value, *var[kind][name], origin=f"{where}(ring=Ring({kind}=...))")
     _ring_speed(ring.speed, f"{where}(ring=Ring(speed=...))")
     if master == "c":
         return ring_c.run(ring)
