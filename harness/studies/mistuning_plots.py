@@ -42,6 +42,13 @@ def write(out: dict, directory: Path) -> list[Path]:
         ok_w = ~np.isnan(worst).any(axis=1)
         _curve(ax, sp, worst.max(axis=1), ok_w, c, "-", "o", f"{v}: worst pattern ({k}), largest blade")
         rows += [(v, s, tuned[i].max(), int(ok_t[i].all()), k, worst[i].max()) for i, s in enumerate(sp)]
+        # the located peaks the amplification divides (refined in speed, not the sampled maxima)
+        t_peak = np.nanmax(np.array(r["tuned_peak_blades"] or [np.nan], dtype=float))
+        w_peak = np.nanmax(np.array(r["peak_blades"], dtype=float)[-1, k])
+        ax.plot([r["tuned_peak_rpm"]], [t_peak * 1e3], "*", color=c, mfc="none", ms=12, ls="none",
+                label=f"{v}: tuned, located peak")
+        ax.plot([r["peak_rpm"][-1][k]], [w_peak * 1e3], "*", color=c, ms=12, ls="none",
+                label=f"{v}: worst pattern, located peak")
     ax.axvline(out["crossing_rpm"], color="grey", lw=0.8, ls=":", label="contact-free crossing")
     ax.set(xlabel="rotor speed [rpm]", ylabel="max |q| [mm]", title=f"N = {n}, {sigma}; thin: every blade of the worst")
     ax.legend(fontsize=8)
