@@ -71,25 +71,24 @@ def kicked(pm: RingPeriodMap, kick: float = KICK) -> np.ndarray:
 def travelling_wave(pm: RingPeriodMap, speeds: Sequence[float], settle_tol: float = 1e-3, max_periods: int = 300
                     ) -> list[Seed]:
     """From rest exactly (the tuned ring stays on its travelling wave)."""
-    out = []
-    for s in speeds:
-        try:
-            x, ch = settle(pm, np.zeros(pm.dim), float(s), settle_tol, max_periods)
-        except RingMapFailed:
-            continue
-        out.append(Seed("travelling wave", float(s), x, ch))
-    return out
+    return _settled_from(pm, np.zeros(pm.dim), "travelling wave", speeds, settle_tol, max_periods)
 
 
 def from_rest(pm: RingPeriodMap, speeds: Sequence[float], settle_tol: float = 1e-3, max_periods: int = 300,
               min_periods: int = 60) -> list[Seed]:
+    return _settled_from(pm, kicked(pm), "rest", speeds, settle_tol, max_periods, min_periods)
+
+
+def _settled_from(pm: RingPeriodMap, x0: np.ndarray, label: str, speeds: Sequence[float], settle_tol: float,
+                  max_periods: int, *min_periods: int) -> list[Seed]:
+    """A seed per speed: the map iterated from x0 until it settles (speeds where the map fails are left out)."""
     out = []
     for s in speeds:
         try:
-            x, ch = settle(pm, kicked(pm), float(s), settle_tol, max_periods, min_periods)
+            x, ch = settle(pm, x0, float(s), settle_tol, max_periods, *min_periods)
         except RingMapFailed:
             continue
-        out.append(Seed("rest", float(s), x, ch))
+        out.append(Seed(label, float(s), x, ch))
     return out
 
 
