@@ -17,19 +17,39 @@ Parameters are the FMU's (names, units, defaults and ranges of its modelDescript
 came from. Importing `harness` loads none of numpy, fmpy or the FMU: the names resolve on first use
 from harness.api, where the functions live.
 """
+
 from __future__ import annotations
 
 import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from harness.api import (RING_MASTERS, ParameterError, Ring, branch, fmu_path, periodic_orbits,  # noqa: F401
-                             ring_branches, run_ring, simulate)
+    from harness.api import (
+        RING_MASTERS,
+        ParameterError,
+        Ring,
+        branch,
+        fmu_path,
+        periodic_orbits,  # noqa: F401
+        ring_branches,
+        run_ring,
+        simulate,
+    )
 
     __version__: str
 
-__all__ = ["__version__", "fmu_path", "simulate", "periodic_orbits", "branch", "Ring", "run_ring", "ring_branches",
-           "ParameterError", "RING_MASTERS"]
+__all__ = [
+    "__version__",
+    "fmu_path",
+    "simulate",
+    "periodic_orbits",
+    "branch",
+    "Ring",
+    "run_ring",
+    "ring_branches",
+    "ParameterError",
+    "RING_MASTERS",
+]
 
 
 def __getattr__(name: str) -> Any:

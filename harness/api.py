@@ -3,6 +3,7 @@ functions, checking every argument with a `ParameterError` that names the value,
 range and the argument it came from. `python -m harness` / `harness` is the command line over the
 same. Above the system layer: it imports model, fmu, analysis and system (docs/layers.md).
 """
+
 from __future__ import annotations
 
 import math
@@ -28,8 +29,18 @@ from harness.system.ring_orbits.branches import ring_branches as trace_ring_bran
 from harness.system.ring_orbits.period_map import RingShootingSettings
 from harness.version import version
 
-__all__ = ["version", "fmu_path", "simulate", "periodic_orbits", "branch", "Ring", "run_ring", "ring_branches",
-           "ParameterError", "RING_MASTERS"]
+__all__ = [
+    "version",
+    "fmu_path",
+    "simulate",
+    "periodic_orbits",
+    "branch",
+    "Ring",
+    "run_ring",
+    "ring_branches",
+    "ParameterError",
+    "RING_MASTERS",
+]
 
 RING_MASTERS = ("fmpy", "c")  # the ring's loop in Python (the readable reference) or in C
 
@@ -62,8 +73,10 @@ def _speed(speed: Any, where: str, low_open: bool) -> float:
     lo, hi = input_range("rotorSpeed")
     v = _finite("speed", speed, where)
     if (v <= lo if low_open else v < lo) or v > hi:
-        raise _error(f"speed = {speed!r} rpm (from {where}) is out of range; accepted: {'(' if low_open else '['}{lo:g},"
-                     f" {hi:g}] rpm (the FMU's rotorSpeed)")
+        raise _error(
+            f"speed = {speed!r} rpm (from {where}) is out of range; accepted: {'(' if low_open else '['}{lo:g},"
+            f" {hi:g}] rpm (the FMU's rotorSpeed)"
+        )
     return v
 
 
@@ -78,8 +91,15 @@ def _model(model: str, where: str) -> None:
         raise _error(f"model = {model!r} (from {where}(model=...)) is not one of {', '.join(MODELS)}")
 
 
-def simulate(stop_time: float = 0.3, *, speed: float = 5000.0, step: float = 1e-4,
-             outputs: Sequence[str] | None = None, fmu: str | Path | None = None, **parameters: Any) -> np.ndarray:
+def simulate(
+    stop_time: float = 0.3,
+    *,
+    speed: float = 5000.0,
+    step: float = 1e-4,
+    outputs: Sequence[str] | None = None,
+    fmu: str | Path | None = None,
+    **parameters: Any,
+) -> np.ndarray:
     """Run the FMU from rest for `stop_time` [s] at constant `speed` [rpm] with communication step
     `step` [s] under the aerodynamic load Fw0 sin(EO * phase); returns a numpy record array with
     'time' and the outputs (all, or `outputs`) at every step. `parameters`: FMU parameters and Fw0
@@ -96,8 +116,9 @@ def simulate(stop_time: float = 0.3, *, speed: float = 5000.0, step: float = 1e-
         return blade.run(params, t, h, speed=v, outputs=outputs)
 
 
-def periodic_orbits(speed: float, model: str = "fixedPoint", *, fmu: str | Path | None = None,
-                    **parameters: Any) -> list[Orbit]:
+def periodic_orbits(
+    speed: float, model: str = "fixedPoint", *, fmu: str | Path | None = None, **parameters: Any
+) -> list[Orbit]:
     """Every periodic orbit of the FMU found at `speed` [rpm], by shooting, sorted by amplitude,
     each with its Floquet multipliers and stability (`Orbit.amplitude` [m], `.stable`, `.label`,
     `.multipliers`, `.as_dict()`). model: fixedB (B fixed, parameter B), fixedPoint (the paper's
@@ -108,15 +129,18 @@ def periodic_orbits(speed: float, model: str = "fixedPoint", *, fmu: str | Path 
     _model(model, where)
     state = [k for k in parameters if k in STATE_STARTS]
     if state:
-        raise _error(f"{state[0]} (from {where}(**parameters)): the state on the orbit is what shooting solves"
-                     " for; give parameters only")
+        raise _error(
+            f"{state[0]} (from {where}(**parameters)): the state on the orbit is what shooting solves"
+            " for; give parameters only"
+        )
     params = _parameters(parameters, f"{where}(**parameters)")
     with BladeFMU(fmu) as blade:
         return orbits_at(PeriodMap(blade, params, model), v)
 
 
-def branch(speed_range: tuple[float, float], model: str = "fixedPoint", *, fmu: str | Path | None = None,
-           **parameters: Any) -> list[Branch]:
+def branch(
+    speed_range: tuple[float, float], model: str = "fixedPoint", *, fmu: str | Path | None = None, **parameters: Any
+) -> list[Branch]:
     """The branches of periodic orbits over `speed_range` = (low, high) [rpm], traced by
     pseudo-arclength continuation from the orbits found at seed speeds 500 rpm apart (each branch:
     `.points`, with speed, amplitude and stability). As the studies of `harness reproduce`."""
@@ -125,8 +149,9 @@ def branch(speed_range: tuple[float, float], model: str = "fixedPoint", *, fmu: 
     try:
         lo, hi = speed_range
     except (TypeError, ValueError):
-        raise _error(f"speed_range = {speed_range!r} (from {where}(speed_range=...)) is not a pair (low, high) of"
-                     " speeds [rpm]") from None
+        raise _error(
+            f"speed_range = {speed_range!r} (from {where}(speed_range=...)) is not a pair (low, high) of speeds [rpm]"
+        ) from None
     lo = _speed(lo, f"{where}(speed_range=(low, ...))", low_open=True)
     hi = _speed(hi, f"{where}(speed_range=(..., high))", low_open=True)
     if not lo < hi:
@@ -143,8 +168,10 @@ def _ring_speed(speed: Any, where: str) -> None:
     lo, hi = float(rs.min), float(rs.max)
     v = _finite("speed", speed, where)
     if not lo < v <= hi:
-        raise _error(f"speed = {speed!r} rpm (from {where}) is out of range; accepted: ({lo:g}, {hi:g}] rpm"
-                     " (BladeExternalContact's rotorSpeed)")
+        raise _error(
+            f"speed = {speed!r} rpm (from {where}) is out of range; accepted: ({lo:g}, {hi:g}] rpm"
+            " (BladeExternalContact's rotorSpeed)"
+        )
 
 
 def run_ring(ring: Ring, master: str = "c") -> dict[str, np.ndarray]:
@@ -159,8 +186,10 @@ def run_ring(ring: Ring, master: str = "c") -> dict[str, np.ndarray]:
     t = _finite("stop_time", ring.stop_time, f"{where}(ring=Ring(stop_time=...))")
     h = _finite("step", ring.step, f"{where}(ring=Ring(step=...))")
     if not 0 < h <= t:
-        raise _error(f"step = {ring.step!r} s (from {where}(ring=Ring(step=...))) is out of range; accepted:"
-                     f" (0, stop_time = {t:g}] s")
+        raise _error(
+            f"step = {ring.step!r} s (from {where}(ring=Ring(step=...))) is out of range; accepted:"
+            f" (0, stop_time = {t:g}] s"
+        )
     _ring_speed(ring.speed, f"{where}(ring=Ring(speed=...))")
     if master == "c":
         return ring_c.run(ring)
@@ -171,19 +200,24 @@ def _check_ring(ring: Ring, where: str) -> None:
     """n and the FMU parameters of `ring` (as run_ring)."""
     nmax = ring_values.max_blades()
     if not (isinstance(ring.n, int) and not isinstance(ring.n, bool) and 2 <= ring.n <= nmax):
-        raise _error(f"n = {ring.n!r} (from {where}(ring=Ring(n=...))) is out of range; accepted: [2, {nmax}] blades"
-                     " (the blade FMU's bladeCount)")
+        raise _error(
+            f"n = {ring.n!r} (from {where}(ring=Ring(n=...))) is out of range; accepted: [2, {nmax}] blades"
+            " (the blade FMU's bladeCount)"
+        )
     var = ring_values.settable()
     for kind, values in (("blade", ring.blade), ("contact", ring.contact)):
         for name, value in values.items():
             if name not in var[kind]:
-                raise _error(f"{name} (from {where}(ring=Ring({kind}=...))) is not a parameter of the {kind} FMU;"
-                             f" known: {', '.join(sorted(var[kind]))}")
+                raise _error(
+                    f"{name} (from {where}(ring=Ring({kind}=...))) is not a parameter of the {kind} FMU;"
+                    f" known: {', '.join(sorted(var[kind]))}"
+                )
             ring_values.typed(name, value, *var[kind][name], origin=f"{where}(ring=Ring({kind}=...))")
 
 
-def ring_branches(ring: Ring, speeds: tuple[float, float], seed_points: int | None = None,
-                  steps_per_period: int = 160) -> RingBranches:
+def ring_branches(
+    ring: Ring, speeds: tuple[float, float], seed_points: int | None = None, steps_per_period: int = 160
+) -> RingBranches:
     """The periodic steady states of the bladed-disk ring over a speed band.
 
     Every branch of periodic orbits of the co-simulation the sweeps run (the C loop, h = T /
@@ -220,8 +254,10 @@ def ring_branches(ring: Ring, speeds: tuple[float, float], seed_points: int | No
     where = "harness.ring_branches"
     _check_ring(ring, where)
     if ring.load != "builtin":
-        raise _error(f"load = {ring.load!r} (from {where}(ring=Ring(load=...))): the periodic orbits need the "
-                     "blades' built-in load ('builtin')")
+        raise _error(
+            f"load = {ring.load!r} (from {where}(ring=Ring(load=...))): the periodic orbits need the "
+            "blades' built-in load ('builtin')"
+        )
     try:
         lo, hi = (float(v) for v in speeds)
     except (TypeError, ValueError):
@@ -234,7 +270,9 @@ def ring_branches(ring: Ring, speeds: tuple[float, float], seed_points: int | No
         if v is None and name == "seed_points":
             continue
         if not (isinstance(v, int) and not isinstance(v, bool) and a <= v <= b):
-            raise _error(f"{name} = {v!r} (from {where}({name}=...)) is out of range; accepted: whole numbers in "
-                         f"[{a}, {b}]")
-    return trace_ring_branches(ring, (lo, hi), points=seed_points,
-                               settings=RingShootingSettings(steps_per_period=steps_per_period))
+            raise _error(
+                f"{name} = {v!r} (from {where}({name}=...)) is out of range; accepted: whole numbers in [{a}, {b}]"
+            )
+    return trace_ring_branches(
+        ring, (lo, hi), points=seed_points, settings=RingShootingSettings(steps_per_period=steps_per_period)
+    )

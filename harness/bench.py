@@ -9,6 +9,7 @@ through the Python reference as a ratio, harmonic balance for all studies, the w
 FMI calls, side by side the former transient path of the same studies, and a 24-blade ring in
 the fmpy master and in libcosim against the FMUs' own compute.
 """
+
 from __future__ import annotations
 
 import json
@@ -77,8 +78,6 @@ class BenchSize:
     step_args: tuple[str, ...] = ()  # for build/bench_step
 
 
-
-
 def machine() -> dict[str, Any]:
     cpu = "unknown"
     try:
@@ -90,8 +89,13 @@ def machine() -> dict[str, Any]:
     except OSError:
         pass
 
-    return {"nproc": os.cpu_count(), "cpu": cpu, "python": platform.python_version(), "fmpy": fmpy.__version__,
-            "system": f"{platform.system()} {platform.release()}"}
+    return {
+        "nproc": os.cpu_count(),
+        "cpu": cpu,
+        "python": platform.python_version(),
+        "fmpy": fmpy.__version__,
+        "system": f"{platform.system()} {platform.release()}",
+    }
 
 
 def c_step_cost(args: tuple[str, ...] = ()) -> dict[str, Any]:
@@ -125,25 +129,35 @@ def modes_step_cost(repeats: int = 5, args: tuple[str, ...] = ()) -> dict[str, A
         for line in proc.stdout.splitlines():
             mm = re.match(r"(m = \d, \w+(?: \(default\))?)\s+([0-9.]+)\s+([0-9.]+)\s+([0-9.]+)$", line.strip())
             if mm and (mm.group(1) not in rows or float(mm.group(2)) < rows[mm.group(1)]["ns_per_step"]):
-                rows[mm.group(1)] = {"configuration": mm.group(1), "ns_per_step": float(mm.group(2)),
-                                     "rhs_per_step": float(mm.group(3)), "events_per_step": float(mm.group(4))}
+                rows[mm.group(1)] = {
+                    "configuration": mm.group(1),
+                    "ns_per_step": float(mm.group(2)),
+                    "rhs_per_step": float(mm.group(3)),
+                    "events_per_step": float(mm.group(4)),
+                }
     return {"repeats": repeats, "rows": list(rows.values())}
 
 
 def modes_section(d: dict[str, Any], machine_text: str, date: str) -> list[str]:
     base = next(r["ns_per_step"] for r in d["rows"] if r["configuration"] == "m = 1, consistent")
-    L = [MODES_SECTION, "",
-         f"`build/bench_step modes` ({machine_text}; {date}; `python -m harness bench --only-modes`): the Jenkins "
-         "element, tracked B, 5000 rpm, communication step 1 ms, maxStep 1e-5 s, 1 s simulated, per row the best "
-         f"of 3 x {d['repeats']} runs, the rows measured one after the other in each run (ratios side by side). "
-         "m > 1 needs the "
-         "consistent formulation; the stable step of the highest mode is maxStep <= 2 sqrt(2) / w_m "
-         "(docs/model.md s.2a: 2.19e-5 s for m = 6 at 5000 rpm).", "",
-         "| configuration | ns per RK4 step | / m = 1 consistent | rhs calls per step | events per step |",
-         "|---|---|---|---|---|"]
+    L = [
+        MODES_SECTION,
+        "",
+        f"`build/bench_step modes` ({machine_text}; {date}; `python -m harness bench --only-modes`): the Jenkins "
+        "element, tracked B, 5000 rpm, communication step 1 ms, maxStep 1e-5 s, 1 s simulated, per row the best "
+        f"of 3 x {d['repeats']} runs, the rows measured one after the other in each run (ratios side by side). "
+        "m > 1 needs the "
+        "consistent formulation; the stable step of the highest mode is maxStep <= 2 sqrt(2) / w_m "
+        "(docs/model.md s.2a: 2.19e-5 s for m = 6 at 5000 rpm).",
+        "",
+        "| configuration | ns per RK4 step | / m = 1 consistent | rhs calls per step | events per step |",
+        "|---|---|---|---|---|",
+    ]
     for r in d["rows"]:
-        L.append(f"| {r['configuration']} | {r['ns_per_step']:.1f} | {r['ns_per_step'] / base:.2f} | "
-                 f"{r['rhs_per_step']:.2f} | {r['events_per_step']:.5f} |")
+        L.append(
+            f"| {r['configuration']} | {r['ns_per_step']:.1f} | {r['ns_per_step'] / base:.2f} | "
+            f"{r['rhs_per_step']:.2f} | {r['events_per_step']:.5f} |"
+        )
     return L + [""]
 
 
@@ -162,7 +176,7 @@ def replace_section(text: str, heading: str, sec: str) -> str:
     if heading in text:
         a = text.index(heading)
         b = text.find("\n## ", a + 1)
-        return text[:a] + sec + ("\n" + text[b + 1:] if b >= 0 else "")
+        return text[:a] + sec + ("\n" + text[b + 1 :] if b >= 0 else "")
     return text.rstrip("\n") + "\n\n" + sec
 
 
@@ -213,14 +227,19 @@ def dostep_cost(fmu: Any, params: dict, repeats: int = 5, sim_scale: float = 1.0
     T = 60.0 / (5000.0 * params["engineOrder"])
     spp = SweepSettings().steps_per_period
     plain = {"outputs": ["tipDisplacement", "amplitude"]}
-    sweep_like = {"outputs": list(PLATEAU_OUTPUTS), "input_fit": "chebyshev",
-                  "carry_values": True, "sample_every": spp}
+    sweep_like = {"outputs": list(PLATEAU_OUTPUTS), "input_fit": "chebyshev", "carry_values": True, "sample_every": spp}
     for label, h, t_stop, kw in (
-            ("h = maxStep = 1e-5 s (1 internal step)", 1e-5, 0.2, plain),
-            ("h = T/8 = 0.5 ms (50 internal steps)", T / 8, 1.0, plain),
-            ("h = T/4 = 1 ms (100 internal steps)", T / 4, 1.0, plain),
-            (f"h = T/{spp} = {T / spp * 1e3:g} ms ({T / spp / 1e-5:.0f} internal steps), as in the sweeps: "
-             "Chebyshev-fitted load, values carried, 1 sample per period", T / spp, 1.0, sweep_like)):
+        ("h = maxStep = 1e-5 s (1 internal step)", 1e-5, 0.2, plain),
+        ("h = T/8 = 0.5 ms (50 internal steps)", T / 8, 1.0, plain),
+        ("h = T/4 = 1 ms (100 internal steps)", T / 4, 1.0, plain),
+        (
+            f"h = T/{spp} = {T / spp * 1e3:g} ms ({T / spp / 1e-5:.0f} internal steps), as in the sweeps: "
+            "Chebyshev-fitted load, values carried, 1 sample per period",
+            T / spp,
+            1.0,
+            sweep_like,
+        ),
+    ):
         fmu.run(params, 10 * h, h)  # warm-up
 
         def go():
@@ -228,37 +247,53 @@ def dostep_cost(fmu: Any, params: dict, repeats: int = 5, sim_scale: float = 1.0
 
         wall, cpu, r = _best(go, repeats)
         inside, n = _inside(fmu, go, repeats)
-        out[label] = {"steps": n, "us_per_doStep": wall / n * 1e6, "cpu_us_per_doStep": cpu / n * 1e6,
-                      "us_inside_doStep": inside / n * 1e6, "ratio_wall": wall / inside, "ratio_cpu": cpu / inside,
-                      "sim_time": t_stop * sim_scale, "us_per_simulated_ms": wall / (t_stop * sim_scale) * 1e3}
+        out[label] = {
+            "steps": n,
+            "us_per_doStep": wall / n * 1e6,
+            "cpu_us_per_doStep": cpu / n * 1e6,
+            "us_inside_doStep": inside / n * 1e6,
+            "ratio_wall": wall / inside,
+            "ratio_cpu": cpu / inside,
+            "sim_time": t_stop * sim_scale,
+            "us_per_simulated_ms": wall / (t_stop * sim_scale) * 1e3,
+        }
     return out
 
 
-def sweep_overhead(fmu_path: str, repeats: int = 3,
-                   speeds: tuple[float, ...] = BenchSize("full").sweep_speeds) -> dict[str, Any]:
+def sweep_overhead(
+    fmu_path: str, repeats: int = 3, speeds: tuple[float, ...] = BenchSize("full").sweep_speeds
+) -> dict[str, Any]:
     """One up sweep (base case, 3000..10000 rpm every 500, no refinement, no cache): the wall and
     CPU time of the Python-driven sweep against the time spent inside fmi2DoStep for the same work."""
     out = {}
     for spp in (sw.SweepSettings().steps_per_period, 8):
         s = sw.SweepSettings(refine_levels=0, steps_per_period=spp)
-        task = sw.ChainTask(base_params(), tuple(speeds), "up", s,
-                            *sw.fmu_identity(fmu_path), None)
+        task = sw.ChainTask(base_params(), tuple(speeds), "up", s, *sw.fmu_identity(fmu_path), None)
         fmu = worker_fmu(task.fmu_path)
         sw.run_chain(task)  # warm-up
         wall, cpu, recs = _best(lambda: sw.run_chain(task), repeats)
         inside, n = _inside(fmu, lambda: sw.run_chain(task), repeats)
         out[f"{spp} steps per period"] = {
-            "plateaus": len(recs), "sim_time": sum(r.sim_time for r in recs), "wall": wall, "cpu": cpu,
-            "inside_doStep": inside, "doSteps": n, "ratio_wall": wall / inside, "ratio_cpu": cpu / inside}
+            "plateaus": len(recs),
+            "sim_time": sum(r.sim_time for r in recs),
+            "wall": wall,
+            "cpu": cpu,
+            "inside_doStep": inside,
+            "doSteps": n,
+            "ratio_wall": wall / inside,
+            "ratio_cpu": cpu / inside,
+        }
     return out
 
 
 RING_LOADS = {"builtin": "built-in load", "excitation": "former ring, Excitation FMUs"}
 CLI_SECTION = "## Command line start-up"
 # (row, command): ours through the installed console script, fmpy's CLI as its user runs it
-CLI_COMMANDS = (("harness --help", [str(Path(sys.executable).with_name("harness")), "--help"]),
-                ("harness --version", [str(Path(sys.executable).with_name("harness")), "--version"]),
-                ("python -m fmpy --help", [sys.executable, "-m", "fmpy", "--help"]))
+CLI_COMMANDS = (
+    ("harness --help", [str(Path(sys.executable).with_name("harness")), "--help"]),
+    ("harness --version", [str(Path(sys.executable).with_name("harness")), "--version"]),
+    ("python -m fmpy --help", [sys.executable, "-m", "fmpy", "--help"]),
+)
 
 
 def cli_start(repeats: int = 15) -> dict[str, Any]:
@@ -271,17 +306,27 @@ def cli_start(repeats: int = 15) -> dict[str, Any]:
             subprocess.run(cmd, capture_output=True, check=True, timeout=60)
             times[name].append(time.perf_counter() - t)
     fmpy_best = min(times["python -m fmpy --help"])
-    return {"repeats": repeats, "load_average": os.getloadavg()[0],
-            "rows": {k: {"best": min(v), "median": float(np.median(v)), "ratio_best": min(v) / fmpy_best}
-                     for k, v in times.items()}}
+    return {
+        "repeats": repeats,
+        "load_average": os.getloadavg()[0],
+        "rows": {
+            k: {"best": min(v), "median": float(np.median(v)), "ratio_best": min(v) / fmpy_best}
+            for k, v in times.items()
+        },
+    }
 
 
 def _cli_section(c: dict[str, Any], date: str) -> list[str]:
-    L = [CLI_SECTION, "",
-         f"Wall time of the command, started as a new process (`python -m harness bench --only cli`, {date}, load "
-         f"average {c['load_average']:.1f}): the rows run in turn, {c['repeats']} times; target <= 0.3 s. "
-         "The top-level parser imports no command module (so none of numpy, scipy, fmpy).", "",
-         "| command | best | median | best / fmpy's best |", "|---|---|---|---|"]
+    L = [
+        CLI_SECTION,
+        "",
+        f"Wall time of the command, started as a new process (`python -m harness bench --only cli`, {date}, load "
+        f"average {c['load_average']:.1f}): the rows run in turn, {c['repeats']} times; target <= 0.3 s. "
+        "The top-level parser imports no command module (so none of numpy, scipy, fmpy).",
+        "",
+        "| command | best | median | best / fmpy's best |",
+        "|---|---|---|---|",
+    ]
     for k, v in c["rows"].items():
         L.append(f"| `{k}` | {v['best']:.3f} s | {v['median']:.3f} s | {v['ratio_best']:.2f} |")
     return L + [""]
@@ -297,8 +342,16 @@ def _timed(f, *a, **kw) -> tuple[Any, float, float]:
 
 
 def _row(wall: float, cpu: float, inside: float, doSteps: int, q: np.ndarray) -> dict[str, Any]:
-    return {"doSteps": doSteps, "wall": wall, "cpu": cpu, "inside_doStep": inside, "ratio_wall": wall / inside,
-            "ratio_cpu": cpu / inside, "finite": bool(np.all(np.isfinite(q))), "max_q": float(np.abs(q).max())}
+    return {
+        "doSteps": doSteps,
+        "wall": wall,
+        "cpu": cpu,
+        "inside_doStep": inside,
+        "ratio_wall": wall / inside,
+        "ratio_cpu": cpu / inside,
+        "finite": bool(np.all(np.isfinite(q))),
+        "max_q": float(np.abs(q).max()),
+    }
 
 
 def _fastest(repeats: int, f, *a, **kw) -> tuple[Any, float, float]:
@@ -317,16 +370,22 @@ def ring_cost(repeats: int = 3, setup: Mapping[str, Any] = RING_BENCH) -> dict[s
     equal the C loop's in its data flow bit for bit, so that run's inside time is libcosim's compute.
     Least time of `repeats` runs for the C loop, the inside times and libcosim (one run of the fmpy
     master, 25 s or more); the load average before and after says how shared the machine was."""
-    out: dict[str, Any] = {"setup": {k: (dict(v) if isinstance(v, dict) else v) for k, v in setup.items()},
-                           "machine": machine(), "date": time.strftime("%Y-%m-%d %H:%M"),
-                           "repeats": repeats, "load_before": os.getloadavg()[0]}
+    out: dict[str, Any] = {
+        "setup": {k: (dict(v) if isinstance(v, dict) else v) for k, v in setup.items()},
+        "machine": machine(),
+        "date": time.strftime("%Y-%m-%d %H:%M"),
+        "repeats": repeats,
+        "load_before": os.getloadavg()[0],
+    }
     for load in RING_LOADS:
         ft = Ring(**setup, order=1, load=load)
         lc_flow = Ring(**setup, order=0, coupling="libcosim", load=load)
         ring_c.run(Ring(**{**setup, "stop_time": 10 * setup["step"]}, load=load))  # build, load once
         n = (3 if load == "excitation" else 2) * ft.n * ft.n_steps
-        inside = {k: min(float(ring_c.run(r, time_dosteps=True)["inside_doStep"]) for _ in range(repeats))
-                  for k, r in (("ft", ft), ("lc", lc_flow))}
+        inside = {
+            k: min(float(ring_c.run(r, time_dosteps=True)["inside_doStep"]) for _ in range(repeats))
+            for k, r in (("ft", ft), ("lc", lc_flow))
+        }
         g: dict[str, Any] = {"fmus": n // ft.n_steps}
         c_ft, wall, cpu = _fastest(repeats, ring_c.run, ft)
         g["C loop"] = _row(wall, cpu, inside["ft"], n, c_ft["q"])
@@ -338,9 +397,12 @@ def ring_cost(repeats: int = 3, setup: Mapping[str, Any] = RING_BENCH) -> dict[s
             r, wall, cpu = _timed(ring_run, lc_flow)
             g["fmpy libcosim data flow"] = _row(wall, cpu, inside["lc"], n, r["q"])
         lc, wall, cpu = _fastest(repeats, ring_libcosim.run, Ring(**setup, order=0, load=load))
-        g["libcosim"] = {**_row(wall, cpu, inside["lc"], n, lc["q"]), "step_wall": float(lc["step_wall"]),
-                         "ratio_step_wall": float(lc["step_wall"]) / inside["lc"],
-                         "equals_fmpy_libcosim_data_flow": bool(np.array_equal(lc["q"], c_lc["q"]))}
+        g["libcosim"] = {
+            **_row(wall, cpu, inside["lc"], n, lc["q"]),
+            "step_wall": float(lc["step_wall"]),
+            "ratio_step_wall": float(lc["step_wall"]) / inside["lc"],
+            "equals_fmpy_libcosim_data_flow": bool(np.array_equal(lc["q"], c_lc["q"])),
+        }
         out[load] = g
     out["load_after"] = os.getloadavg()[0]
     return out
@@ -366,8 +428,13 @@ def reference_ratio(fmu: Any, params: dict, sim_scale: float = 1.0) -> dict[str,
     rr = ref.simulate(params, 3 * T, fmu_view(aero, grid, 8), fmu_view(speed, grid, 8), grid, breakpoints=grid)
     w_ref = time.perf_counter() - t
     dev = float(np.max(np.abs(rr["tipDisplacement"] - r["tipDisplacement"])) / np.max(np.abs(r["tipDisplacement"])))
-    return {"sim_time": 3 * T, "wall_fmu": w_fmu, "wall_reference": w_ref, "ratio": w_ref / w_fmu,
-            "max_rel_deviation": dev}
+    return {
+        "sim_time": 3 * T,
+        "wall_fmu": w_fmu,
+        "wall_reference": w_ref,
+        "ratio": w_ref / w_fmu,
+        "max_rel_deviation": dev,
+    }
 
 
 def hb_all(values: int | None = None, speeds: int | None = None) -> dict[str, Any]:
@@ -381,29 +448,43 @@ def hb_all(values: int | None = None, speeds: int | None = None) -> dict[str, An
     for st in STUDIES.values():
         for v in st.values[:values]:
             n += len(hb_curve(dict(base, **{st.param: v}), grid))
-    return {"curves": sum(len(s.values[:values]) for s in STUDIES.values()), "speeds_per_curve": len(grid),
-            "solutions": n, "wall": time.perf_counter() - t}
+    return {
+        "curves": sum(len(s.values[:values]) for s in STUDIES.values()),
+        "speeds_per_curve": len(grid),
+        "solutions": n,
+        "wall": time.perf_counter() - t,
+    }
 
 
 # representative curves: (model, parameters over the base case)
-JACOBIAN_CURVES = (("fixedPoint", {}), ("jenkins", {}), ("coulomb", {}), ("fixedPoint", {"d": 6e-5}),
-                   ("jenkins", {"kn": 1e5}), ("fixedPoint", {"gamma": math.pi / 7}))
+JACOBIAN_CURVES = (
+    ("fixedPoint", {}),
+    ("jenkins", {}),
+    ("coulomb", {}),
+    ("fixedPoint", {"d": 6e-5}),
+    ("jenkins", {"kn": 1e5}),
+    ("fixedPoint", {"gamma": math.pi / 7}),
+)
 
 
-def branch_jacobians(fmu: Any, curves: int | None = None,
-                     speed_range: tuple[float, float] = (3000.0, 12000.0)) -> dict[str, Any]:
+def branch_jacobians(
+    fmu: Any, curves: int | None = None, speed_range: tuple[float, float] = (3000.0, 12000.0)
+) -> dict[str, Any]:
     """Branches of JACOBIAN_CURVES over 3000..12000 rpm (seeds every 1000 rpm, as `make run`),
     one process, with DP from the FMU's sensitivities (4 steps per period) vs by finite
     differences (the former path: Broyden in Newton, central monodromy, 8 steps per period)."""
     out = {}
-    for label, sh in (("sensitivities", ShootingSettings()),
-                      ("finite differences", ShootingSettings(sensitivities=False, steps_per_period=8))):
+    for label, sh in (
+        ("sensitivities", ShootingSettings()),
+        ("finite differences", ShootingSettings(sensitivities=False, steps_per_period=8)),
+    ):
         wall = cpu = fmi = 0.0
         periods = points = 0
         for model, extra in JACOBIAN_CURVES[:curves]:
             t, c = time.perf_counter(), time.process_time()
-            branches, st = trace_branches(fmu, dict(base_params(), **extra), model, speed_range,
-                                          BranchSettings(seed_step=1000.0, shooting=sh))
+            branches, st = trace_branches(
+                fmu, dict(base_params(), **extra), model, speed_range, BranchSettings(seed_step=1000.0, shooting=sh)
+            )
             wall += time.perf_counter() - t
             cpu += time.process_time() - c
             fmi += st.fmi_s
@@ -421,8 +502,12 @@ def reproduce_cold(size: str | Size, workers: int | None, extras: bool = True) -
             rep = reproduce(Path(tmp) / "results", size, runner=runner, extras=extras)
         wall = time.perf_counter() - t
     tim = {k: (math.nan if v is None else v) for k, v in rep.summary.as_dict()["timing"].items()}
-    return {"size": size if isinstance(size, str) else size.name, "wall": wall, "workers": workers or os.cpu_count(),
-            **tim}
+    return {
+        "size": size if isinstance(size, str) else size.name,
+        "wall": wall,
+        "workers": workers or os.cpu_count(),
+        **tim,
+    }
 
 
 def transient_studies(size: str | Size, workers: int | None) -> dict[str, Any]:
@@ -433,86 +518,139 @@ def transient_studies(size: str | Size, workers: int | None) -> dict[str, Any]:
     for name in ("kn", "angle"):
         st = STUDIES[name]
         values = st.values if sz.values is None else sz.values.get(name, st.values)
-        specs += [SweepSpec(dict(base, frictionModel=2, **{st.param: v}), sz.speeds, label=f"Coulomb {st.label(v)}",
-                            methods=("time", "hb"), hb_speeds=sz.hb_speeds, settings=sz.settings) for v in values]
+        specs += [
+            SweepSpec(
+                dict(base, frictionModel=2, **{st.param: v}),
+                sz.speeds,
+                label=f"Coulomb {st.label(v)}",
+                methods=("time", "hb"),
+                hb_speeds=sz.hb_speeds,
+                settings=sz.settings,
+            )
+            for v in values
+        ]
     with tempfile.TemporaryDirectory() as tmp:
         t = time.perf_counter()
         with Runner(workers=workers, progress=False) as runner:
             res = run_sweeps(specs, runner, cache_dir=Path(tmp) / "cache")
         wall = time.perf_counter() - t
-    return {"wall": wall, "curves": len(specs), "plateaus": sum(len(r.time) for r in res),
-            "sim_time": float(sum(r.stats.sim_time for r in res)),
-            "fixed_evals": int(sum(r.stats.fixed_evals for r in res)), "workers": workers or os.cpu_count()}
+    return {
+        "wall": wall,
+        "curves": len(specs),
+        "plateaus": sum(len(r.time) for r in res),
+        "sim_time": float(sum(r.stats.sim_time for r in res)),
+        "fixed_evals": int(sum(r.stats.fixed_evals for r in res)),
+        "workers": workers or os.cpu_count(),
+    }
 
 
 def write_results(path: Path, data: dict[str, Any]) -> None:
     m = data["machine"]
-    L = ["# Benchmark results", "",
-         f"Machine: {m['nproc']} CPU(s), {m['cpu']}, {m['system']}, Python {m['python']}, fmpy {m['fmpy']}.",
-         f"Measured by `make bench` (`python -m harness bench`) on {data['date']}; every number below comes from "
-         "that single run" + ("" if data.get("ring", {}).get("date", data["date"]) == data["date"] else
-                              " but the ring section's, measured separately (its date and machine stated there)")
-         + ".", ""]
+    L = [
+        "# Benchmark results",
+        "",
+        f"Machine: {m['nproc']} CPU(s), {m['cpu']}, {m['system']}, Python {m['python']}, fmpy {m['fmpy']}.",
+        f"Measured by `make bench` (`python -m harness bench`) on {data['date']}; every number below comes from "
+        "that single run"
+        + (
+            ""
+            if data.get("ring", {}).get("date", data["date"]) == data["date"]
+            else " but the ring section's, measured separately (its date and machine stated there)"
+        )
+        + ".",
+        "",
+    ]
     c = data.get("c_step", {})
     L += ["## FMU internal step cost (C benchmark `build/bench_step`)", ""]
-    L += (["```", c.get("text", ""), "```", ""] if c.get("available") else [c.get("text", "not measured"), ""])
+    L += ["```", c.get("text", ""), "```", ""] if c.get("available") else [c.get("text", "not measured"), ""]
     if "modes" in data:
         L += modes_section(data["modes"], f"{m['nproc']} CPU(s), {m['cpu']}, {m['system']}", data["date"])
     if "dostep" in data:
-        L += ["## Cost of one fmi2DoStep through the harness loop (fmpy/ctypes)", "",
-              "BladeFMU.run at 5000 rpm, outputs sampled every step (first three rows: fmi2SetReal, "
-              "fmi2SetRealInputDerivatives, fmi2DoStep, fmi2GetReal per step); the last row is the sweeps' "
-              "configuration (fmi2SetRealInputDerivatives and fmi2DoStep per step, fmi2GetReal once per "
-              "period); minimum over 5 repeats.", "",
-              "| communication step | doSteps | us per doStep (wall) | (CPU) | us inside fmi2DoStep | wall / inside | CPU / inside |",
-              "|---|---|---|---|---|---|---|"]
+        L += [
+            "## Cost of one fmi2DoStep through the harness loop (fmpy/ctypes)",
+            "",
+            "BladeFMU.run at 5000 rpm, outputs sampled every step (first three rows: fmi2SetReal, "
+            "fmi2SetRealInputDerivatives, fmi2DoStep, fmi2GetReal per step); the last row is the sweeps' "
+            "configuration (fmi2SetRealInputDerivatives and fmi2DoStep per step, fmi2GetReal once per "
+            "period); minimum over 5 repeats.",
+            "",
+            "| communication step | doSteps | us per doStep (wall) | (CPU) | us inside fmi2DoStep | wall / inside | CPU / inside |",
+            "|---|---|---|---|---|---|---|",
+        ]
         for k, v in data["dostep"].items():
-            L.append(f"| {k} | {v['steps']} | {v['us_per_doStep']:.2f} | {v['cpu_us_per_doStep']:.2f} | "
-                     f"{v['us_inside_doStep']:.2f} | {v['ratio_wall']:.2f} | {v['ratio_cpu']:.2f} |")
+            L.append(
+                f"| {k} | {v['steps']} | {v['us_per_doStep']:.2f} | {v['cpu_us_per_doStep']:.2f} | "
+                f"{v['us_inside_doStep']:.2f} | {v['ratio_wall']:.2f} | {v['ratio_cpu']:.2f} |"
+            )
         L.append("")
     if "sweep" in data:
         st = data.get("sweep_settings", {})
-        L += ["## A time-domain sweep driven from Python vs the FMU's own compute (target <= 1.5x)", "",
-              "One up sweep of the base case, 3000..10000 rpm every 500 rpm, no refinement, no cache (plateaus "
-              "with steady-state checks, state carried); the FMU's own compute = time spent inside "
-              "fmi2DoStep for the same work. Minimum over 3 repeats. Default settings: "
-              f"{st.get('steps_per_period', '?')} steps per period with the load's degree-8 "
-              f"{st.get('input_fit', '?')} polynomial per step, rtol {st.get('rtol', '?')}, cap "
-              f"{st.get('max_time', '?')} s per plateau; the second row only changes the steps per period "
-              "(more doSteps for the same physics).", "",
-              "| communication step | plateaus | simulated | doSteps | wall | CPU | inside fmi2DoStep | wall / inside | CPU / inside |",
-              "|---|---|---|---|---|---|---|---|---|"]
+        L += [
+            "## A time-domain sweep driven from Python vs the FMU's own compute (target <= 1.5x)",
+            "",
+            "One up sweep of the base case, 3000..10000 rpm every 500 rpm, no refinement, no cache (plateaus "
+            "with steady-state checks, state carried); the FMU's own compute = time spent inside "
+            "fmi2DoStep for the same work. Minimum over 3 repeats. Default settings: "
+            f"{st.get('steps_per_period', '?')} steps per period with the load's degree-8 "
+            f"{st.get('input_fit', '?')} polynomial per step, rtol {st.get('rtol', '?')}, cap "
+            f"{st.get('max_time', '?')} s per plateau; the second row only changes the steps per period "
+            "(more doSteps for the same physics).",
+            "",
+            "| communication step | plateaus | simulated | doSteps | wall | CPU | inside fmi2DoStep | wall / inside | CPU / inside |",
+            "|---|---|---|---|---|---|---|---|---|",
+        ]
         for k, v in data["sweep"].items():
-            L.append(f"| {k} | {v['plateaus']} | {v['sim_time']:.1f} s | {v['doSteps']} | {v['wall']:.3f} s | "
-                     f"{v['cpu']:.3f} s | {v['inside_doStep']:.3f} s | **{v['ratio_wall']:.2f}** | {v['ratio_cpu']:.2f} |")
+            L.append(
+                f"| {k} | {v['plateaus']} | {v['sim_time']:.1f} s | {v['doSteps']} | {v['wall']:.3f} s | "
+                f"{v['cpu']:.3f} s | {v['inside_doStep']:.3f} s | **{v['ratio_wall']:.2f}** | {v['ratio_cpu']:.2f} |"
+            )
         L.append("")
     if "reference" in data:
         r = data["reference"]
-        L += ["## The same run through the Python reference", "",
-              f"Stepped speed 4500/5000/5500 rpm, kn = 1e6 N/m, B fixed at 2 d, {r['sim_time']} s simulated, "
-              f"same piecewise Taylor input: FMU "
-              f"{r['wall_fmu']:.3f} s, reference {r['wall_reference']:.2f} s: **reference / FMU = {r['ratio']:.0f}x** "
-              f"(max deviation {r['max_rel_deviation']:.1e} of the peak).", ""]
+        L += [
+            "## The same run through the Python reference",
+            "",
+            f"Stepped speed 4500/5000/5500 rpm, kn = 1e6 N/m, B fixed at 2 d, {r['sim_time']} s simulated, "
+            f"same piecewise Taylor input: FMU "
+            f"{r['wall_fmu']:.3f} s, reference {r['wall_reference']:.2f} s: **reference / FMU = {r['ratio']:.0f}x** "
+            f"(max deviation {r['max_rel_deviation']:.1e} of the peak).",
+            "",
+        ]
     if "hb" in data:
         h = data["hb"]
-        L += ["## Harmonic balance for all studies (target <= 1 s)", "",
-              f"{h['curves']} curves x {h['speeds_per_curve']} speeds ({h['solutions']} solutions, every branch with "
-              f"stability), one process: **{h['wall']:.3f} s**.", ""]
+        L += [
+            "## Harmonic balance for all studies (target <= 1 s)",
+            "",
+            f"{h['curves']} curves x {h['speeds_per_curve']} speeds ({h['solutions']} solutions, every branch with "
+            f"stability), one process: **{h['wall']:.3f} s**.",
+            "",
+        ]
     if "jacobians" in data:
         j = data["jacobians"]
-        L += ["## Branches: the Jacobian from the FMU's sensitivities vs by finite differences", "",
-              f"{len(JACOBIAN_CURVES)} representative curves (fixed point, Jenkins element, Coulomb, d = 0.06 mm, "
-              "kn = 1e5 N/m with the Jenkins element, gamma = pi/7), 3000..12000 rpm, seeds every 1000 rpm, one "
-              "process; finite differences = the former path (Broyden-updated forward differences in Newton, "
-              "central ones for the monodromy, 8 steps per period).", "",
-              "| Jacobian | periods | branch points | wall | CPU | in the FMI calls | CPU / FMI |", "|---|---|---|---|---|---|---|"]
+        L += [
+            "## Branches: the Jacobian from the FMU's sensitivities vs by finite differences",
+            "",
+            f"{len(JACOBIAN_CURVES)} representative curves (fixed point, Jenkins element, Coulomb, d = 0.06 mm, "
+            "kn = 1e5 N/m with the Jenkins element, gamma = pi/7), 3000..12000 rpm, seeds every 1000 rpm, one "
+            "process; finite differences = the former path (Broyden-updated forward differences in Newton, "
+            "central ones for the monodromy, 8 steps per period).",
+            "",
+            "| Jacobian | periods | branch points | wall | CPU | in the FMI calls | CPU / FMI |",
+            "|---|---|---|---|---|---|---|",
+        ]
         for k, v in j.items():
-            L.append(f"| {k} | {v['periods']} | {v['points']} | {v['wall']:.2f} s | {v['cpu']:.2f} s | "
-                     f"{v['fmi']:.2f} s | {v['cpu'] / v['fmi']:.2f} |")
+            L.append(
+                f"| {k} | {v['periods']} | {v['points']} | {v['wall']:.2f} s | {v['cpu']:.2f} s | "
+                f"{v['fmi']:.2f} s | {v['cpu'] / v['fmi']:.2f} |"
+            )
         a, b = j.get("sensitivities"), j.get("finite differences")
         if a and b:
-            L += ["", f"Sensitivities: **{b['wall'] / a['wall']:.2f}x less wall time**, "
-                      f"{b['periods'] / a['periods']:.2f}x fewer periods.", ""]
+            L += [
+                "",
+                f"Sensitivities: **{b['wall'] / a['wall']:.2f}x less wall time**, "
+                f"{b['periods'] / a['periods']:.2f}x fewer periods.",
+                "",
+            ]
     if "ring" in data:
         L += _ring_section(data["ring"], data.get("date", ""))
     if "cli" in data:
@@ -521,33 +659,46 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
         r = data["reproduce"]
         nan = math.nan
         fmi, worker = r.get("branches_fmi_s", nan), r.get("branches_worker_s", nan)
-        L += ["## `make run` (`reproduce`): the studies as periodic-orbit branches", "",
-              f"Size `{r['size']}`, all studies{' and extras' if math.isfinite(r.get('extras_wall', nan)) else ''}, "
-              f"{r.get('workers')} worker processes: "
-              f"**{r['wall']:.1f} s wall**.", "",
-              f"- branches: {r.get('curves', 0):.0f} curves (fixed point B = A(B) and Jenkins element for every "
-              f"study value, Coulomb fixed point for kn and angle), {r.get('branches_evaluations', 0):.0f} periods = "
-              f"{r.get('branches_simulated_s', 0):.0f} s of blade time: {r.get('branches_wall', nan):.1f} s wall; "
-              f"time in the FMI calls (ctypes included) {fmi:.1f} s of {worker:.1f} s worker time: "
-              f"**worker time / FMI time = {worker / fmi:.2f}**, wall x workers / FMI time = "
-              f"{r.get('branches_wall', nan) * r.get('workers', 1) / fmi:.2f}",
-              f"- harmonic balance: {r.get('hb_wall', nan):.2f} s",
-              f"- Fig. 2, 4/5, Campbell, the paper's iteration: {r.get('extras_wall', nan):.1f} s", ""]
+        L += [
+            "## `make run` (`reproduce`): the studies as periodic-orbit branches",
+            "",
+            f"Size `{r['size']}`, all studies{' and extras' if math.isfinite(r.get('extras_wall', nan)) else ''}, "
+            f"{r.get('workers')} worker processes: "
+            f"**{r['wall']:.1f} s wall**.",
+            "",
+            f"- branches: {r.get('curves', 0):.0f} curves (fixed point B = A(B) and Jenkins element for every "
+            f"study value, Coulomb fixed point for kn and angle), {r.get('branches_evaluations', 0):.0f} periods = "
+            f"{r.get('branches_simulated_s', 0):.0f} s of blade time: {r.get('branches_wall', nan):.1f} s wall; "
+            f"time in the FMI calls (ctypes included) {fmi:.1f} s of {worker:.1f} s worker time: "
+            f"**worker time / FMI time = {worker / fmi:.2f}**, wall x workers / FMI time = "
+            f"{r.get('branches_wall', nan) * r.get('workers', 1) / fmi:.2f}",
+            f"- harmonic balance: {r.get('hb_wall', nan):.2f} s",
+            f"- Fig. 2, 4/5, Campbell, the paper's iteration: {r.get('extras_wall', nan):.1f} s",
+            "",
+        ]
         if "transient" in data:
             t = data["transient"]
             studies = r.get("branches_wall", nan) + r.get("hb_wall", 0.0)
-            L += ["### Side by side: the same studies by transients (the former `make run`, same run)", "",
-                  f"{t['curves']} curves (Figs. 6-9: up/down time-domain sweeps, fixed points A(B) = B from "
-                  f"transients, HB; section 4: Coulomb time domain + HB), cold cache, {t['workers']} workers: "
-                  f"**{t['wall']:.1f} s wall**, {t['plateaus']} plateaus + {t['fixed_evals']} A(B) transients = "
-                  f"{t['sim_time']:.0f} s of blade time.", "",
-                  f"Studies: transients {t['wall']:.1f} s vs branches {studies:.1f} s (HB included): "
-                  f"**{t['wall'] / studies:.2f}x less wall time**, with every branch, its stability and the "
-                  f"Jenkins element in addition." + (
-                      f" Whole reproduction (the extras are the same code in both): "
-                      f"{t['wall'] + r['extras_wall']:.1f} s vs {r['wall']:.1f} s: "
-                      f"**{(t['wall'] + r['extras_wall']) / r['wall']:.2f}x**." if math.isfinite(r.get("extras_wall", nan))
-                      else ""), ""]
+            L += [
+                "### Side by side: the same studies by transients (the former `make run`, same run)",
+                "",
+                f"{t['curves']} curves (Figs. 6-9: up/down time-domain sweeps, fixed points A(B) = B from "
+                f"transients, HB; section 4: Coulomb time domain + HB), cold cache, {t['workers']} workers: "
+                f"**{t['wall']:.1f} s wall**, {t['plateaus']} plateaus + {t['fixed_evals']} A(B) transients = "
+                f"{t['sim_time']:.0f} s of blade time.",
+                "",
+                f"Studies: transients {t['wall']:.1f} s vs branches {studies:.1f} s (HB included): "
+                f"**{t['wall'] / studies:.2f}x less wall time**, with every branch, its stability and the "
+                f"Jenkins element in addition."
+                + (
+                    f" Whole reproduction (the extras are the same code in both): "
+                    f"{t['wall'] + r['extras_wall']:.1f} s vs {r['wall']:.1f} s: "
+                    f"**{(t['wall'] + r['extras_wall']) / r['wall']:.2f}x**."
+                    if math.isfinite(r.get("extras_wall", nan))
+                    else ""
+                ),
+                "",
+            ]
     atomic_write_text(path, "\n".join(L))
 
 
@@ -556,69 +707,114 @@ def _ring_section(g: dict[str, Any], run_date: str) -> list[str]:
     if "builtin" not in g:  # results written before the built-in load: nothing to compare
         return []
     m = g.get("machine", {})
-    when = ("" if g.get("date") == run_date else
-            f" Measured in a separate run (`python -m harness bench --only ring`) on {g.get('date')}, "
-            f"{m.get('nproc')} CPU(s), {m.get('cpu')}, Python {m.get('python')}, fmpy {m.get('fmpy')}; "
-            "every row of this table comes from that one run.")
+    when = (
+        ""
+        if g.get("date") == run_date
+        else f" Measured in a separate run (`python -m harness bench --only ring`) on {g.get('date')}, "
+        f"{m.get('nproc')} CPU(s), {m.get('cpu')}, Python {m.get('python')}, fmpy {m.get('fmpy')}; "
+        "every row of this table comes from that one run."
+    )
     if "load_before" in g:
-        when += (f" The machine was shared (load average {g['load_before']:.1f} before, {g['load_after']:.1f} after, "
-                 f"on {m.get('nproc')} CPUs): C loop, inside times and libcosim are the least of {g['repeats']} runs, "
-                 "the fmpy master one run.")
-    L = [f"{RING_SECTION} ({st['n']} blades): the masters vs the FMUs' own compute (goal <= 2x for libcosim)", "",
-         f"{st['n']} blades + {st['n']} shroud contacts, the blades making their load (built-in load, "
-         f"{g['builtin']['fmus']} FMUs), side by side with the former ring, whose {st['n']} Excitation FMUs feed "
-         f"the blades' aeroLoad ({g['excitation']['fmus']} FMUs). EO {st['engine_order']}, 5000 rpm, "
-         f"c = {st['blade']['c']:g} N s/m2, F_w0 = {st['fw0']:g} N/m, default contacts (k_n = 1e7), "
-         f"{st['stop_time']:g} s at h = {st['step']:g} s in every master. Wall = the whole run (instantiating the "
-         "FMUs included); inside = the time inside fmi2DoStep of all FMUs, measured in C around each call by the C "
-         "loop (harness/system/ring_c.py) in the same data flow: feedthrough with linear extrapolation, or "
-         "libcosim's (held inputs, the forces of the contacts' previous step). libcosim steps the FMUs on its own "
-         "worker threads (CPU counts all threads)." + when, "",
-         "| ring | master | doSteps | wall | CPU | inside fmi2DoStep | wall / inside | CPU / inside | max abs q |",
-         "|---|---|---|---|---|---|---|---|---|"]
-    labels = {"fmpy feedthrough": "fmpy master (feedthrough, linear extrapolation)",
-              "fmpy libcosim data flow": "fmpy master (libcosim's data flow, held inputs)",
-              "libcosim": "libcosim (fixed step, held inputs)",
-              "C loop": "our C loop (feedthrough, linear extrapolation)"}
+        when += (
+            f" The machine was shared (load average {g['load_before']:.1f} before, {g['load_after']:.1f} after, "
+            f"on {m.get('nproc')} CPUs): C loop, inside times and libcosim are the least of {g['repeats']} runs, "
+            "the fmpy master one run."
+        )
+    L = [
+        f"{RING_SECTION} ({st['n']} blades): the masters vs the FMUs' own compute (goal <= 2x for libcosim)",
+        "",
+        f"{st['n']} blades + {st['n']} shroud contacts, the blades making their load (built-in load, "
+        f"{g['builtin']['fmus']} FMUs), side by side with the former ring, whose {st['n']} Excitation FMUs feed "
+        f"the blades' aeroLoad ({g['excitation']['fmus']} FMUs). EO {st['engine_order']}, 5000 rpm, "
+        f"c = {st['blade']['c']:g} N s/m2, F_w0 = {st['fw0']:g} N/m, default contacts (k_n = 1e7), "
+        f"{st['stop_time']:g} s at h = {st['step']:g} s in every master. Wall = the whole run (instantiating the "
+        "FMUs included); inside = the time inside fmi2DoStep of all FMUs, measured in C around each call by the C "
+        "loop (harness/system/ring_c.py) in the same data flow: feedthrough with linear extrapolation, or "
+        "libcosim's (held inputs, the forces of the contacts' previous step). libcosim steps the FMUs on its own "
+        "worker threads (CPU counts all threads)." + when,
+        "",
+        "| ring | master | doSteps | wall | CPU | inside fmi2DoStep | wall / inside | CPU / inside | max abs q |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    labels = {
+        "fmpy feedthrough": "fmpy master (feedthrough, linear extrapolation)",
+        "fmpy libcosim data flow": "fmpy master (libcosim's data flow, held inputs)",
+        "libcosim": "libcosim (fixed step, held inputs)",
+        "C loop": "our C loop (feedthrough, linear extrapolation)",
+    }
     for load, name in RING_LOADS.items():
         for k, label in labels.items():
             if k not in g[load]:
                 continue
             v = g[load][k]
-            L.append(f"| {name} | {label} | {v['doSteps']} | {v['wall']:.2f} s | {v['cpu']:.2f} s | "
-                     f"{v['inside_doStep']:.2f} s | **{v['ratio_wall']:.2f}** | {v['ratio_cpu']:.2f} | "
-                     f"{v['max_q']:.3g} m{'' if v['finite'] else ' (NOT finite)'} |")
+            L.append(
+                f"| {name} | {label} | {v['doSteps']} | {v['wall']:.2f} s | {v['cpu']:.2f} s | "
+                f"{v['inside_doStep']:.2f} s | **{v['ratio_wall']:.2f}** | {v['ratio_cpu']:.2f} | "
+                f"{v['max_q']:.3g} m{'' if v['finite'] else ' (NOT finite)'} |"
+            )
     lc, old, cl = g["builtin"]["libcosim"], g["excitation"]["libcosim"], g["builtin"]["C loop"]
     same = all(g[x]["libcosim"]["equals_fmpy_libcosim_data_flow"] for x in RING_LOADS)
-    L += ["", f"libcosim: wall / FMU compute = **{lc['ratio_wall']:.2f}x** on the built-in load, "
-              f"{old['ratio_wall']:.2f}x on the former ring (wall {lc['wall']:.2f} s vs {old['wall']:.2f} s: "
-              f"{old['wall'] / lc['wall']:.2f}x faster); goal <= 2x {'met' if lc['ratio_wall'] <= 2 else 'not met'}; "
-              f"its stepping alone (CosimExecution.step, loading and initialization left out) {lc['step_wall']:.2f} s "
-              f"= {lc['ratio_step_wall']:.2f}x ({old['ratio_step_wall']:.2f}x on the former ring). "
-              f"libcosim's trajectory equals the C loop's in its data flow bit for bit, both rings: "
-              f"{'yes' if same else 'NO'}. One doStep costs {lc['inside_doStep'] / lc['doSteps'] * 1e6:.2f} us "
-              "inside the FMU, so a master's per-step data handling decides. Our C loop makes the fmpy master's "
-              f"calls without Python between them (q within {cl['deviation_from_fmpy']:.1e} of the fmpy master): "
-              f"**{cl['ratio_wall']:.2f}x** ({g['excitation']['C loop']['ratio_wall']:.2f}x on the former ring).", ""]
+    L += [
+        "",
+        f"libcosim: wall / FMU compute = **{lc['ratio_wall']:.2f}x** on the built-in load, "
+        f"{old['ratio_wall']:.2f}x on the former ring (wall {lc['wall']:.2f} s vs {old['wall']:.2f} s: "
+        f"{old['wall'] / lc['wall']:.2f}x faster); goal <= 2x {'met' if lc['ratio_wall'] <= 2 else 'not met'}; "
+        f"its stepping alone (CosimExecution.step, loading and initialization left out) {lc['step_wall']:.2f} s "
+        f"= {lc['ratio_step_wall']:.2f}x ({old['ratio_step_wall']:.2f}x on the former ring). "
+        f"libcosim's trajectory equals the C loop's in its data flow bit for bit, both rings: "
+        f"{'yes' if same else 'NO'}. One doStep costs {lc['inside_doStep'] / lc['doSteps'] * 1e6:.2f} us "
+        "inside the FMU, so a master's per-step data handling decides. Our C loop makes the fmpy master's "
+        f"calls without Python between them (q within {cl['deviation_from_fmpy']:.1e} of the fmpy master): "
+        f"**{cl['ratio_wall']:.2f}x** ({g['excitation']['C loop']['ratio_wall']:.2f}x on the former ring).",
+        "",
+    ]
     return L
 
 
 # `--quick`: every row once at tiny sizes (tests/project/test_bench_quick.py runs it in `make test`)
-TINY_REPRODUCE = Size("tiny", speeds=(3000.0, 4000.0), fixed_speeds=(4000.0,), hb_speeds=(3000.0, 3500.0, 4000.0),
-                      values={"gap": (2e-5,), "mass": (0.02,), "angle": (math.pi / 3,), "kn": (1e5,)},
-                      settings=SweepSettings(refine_levels=0, max_time=0.1, fixed_max_time=0.1, n_scan=4),
-                      fig45_time=0.05, coulomb=False, iteration_steps=2, speed_range=(3000.0, 4000.0),
-                      seed_step=1000.0, modes=(), campbell_modes=0)
-QUICK = BenchSize("quick", repeats=1, sim_scale=0.02, sweep_speeds=(3000.0, 3500.0),
-                  ring={**RING_BENCH, "n": 4, "stop_time": 0.005}, ring_repeats=1, hb_values=1, hb_speeds=3,
-                  jacobian_curves=2, jacobian_range=(8000.0, 9000.0), cli_repeats=1,
-                  ring_orbits=dict(repeats=1, band=(5800.0, 6400.0), seed_points=2, points=1),
-                  reproduce=TINY_REPRODUCE, extras=False, step_args=("quick",))
+TINY_REPRODUCE = Size(
+    "tiny",
+    speeds=(3000.0, 4000.0),
+    fixed_speeds=(4000.0,),
+    hb_speeds=(3000.0, 3500.0, 4000.0),
+    values={"gap": (2e-5,), "mass": (0.02,), "angle": (math.pi / 3,), "kn": (1e5,)},
+    settings=SweepSettings(refine_levels=0, max_time=0.1, fixed_max_time=0.1, n_scan=4),
+    fig45_time=0.05,
+    coulomb=False,
+    iteration_steps=2,
+    speed_range=(3000.0, 4000.0),
+    seed_step=1000.0,
+    modes=(),
+    campbell_modes=0,
+)
+QUICK = BenchSize(
+    "quick",
+    repeats=1,
+    sim_scale=0.02,
+    sweep_speeds=(3000.0, 3500.0),
+    ring={**RING_BENCH, "n": 4, "stop_time": 0.005},
+    ring_repeats=1,
+    hb_values=1,
+    hb_speeds=3,
+    jacobian_curves=2,
+    jacobian_range=(8000.0, 9000.0),
+    cli_repeats=1,
+    ring_orbits=dict(repeats=1, band=(5800.0, 6400.0), seed_points=2, points=1),
+    reproduce=TINY_REPRODUCE,
+    extras=False,
+    step_args=("quick",),
+)
 
 
-def run_bench(output_file: Path | str = BENCH_DIR / "RESULTS.md", size: str = "default", workers: int | None = None,
-              skip_reproduce: bool = False, only: str | None = None, only_modes: bool = False,
-              quick: bool = False) -> int:
+def run_bench(
+    output_file: Path | str = BENCH_DIR / "RESULTS.md",
+    size: str = "default",
+    workers: int | None = None,
+    skip_reproduce: bool = False,
+    only: str | None = None,
+    only_modes: bool = False,
+    quick: bool = False,
+) -> int:
     """Measure every section (or `only` one: "ring", "ring-orbits" or "cli"; or `only_modes`: the cost per RK4 step vs the
     number of modes) and write `output_file` (Markdown) and its .json beside it. `quick`: every row
     at the QUICK size, never written over bench/RESULTS.md (into a temporary directory instead)."""
@@ -646,8 +842,11 @@ def run_bench(output_file: Path | str = BENCH_DIR / "RESULTS.md", size: str = "d
             print("the ring's periodic steady states ...", flush=True)
             data["ring_orbits"] = ring_orbits_cost()
             heading = RING_ORBITS_SECTION
-            section = ring_orbits_section(data["ring_orbits"], _machine_text(data.get("machine") or machine(), load),
-                                          time.strftime("%Y-%m-%d %H:%M"))
+            section = ring_orbits_section(
+                data["ring_orbits"],
+                _machine_text(data.get("machine") or machine(), load),
+                time.strftime("%Y-%m-%d %H:%M"),
+            )
         else:
             print("command line start-up ...", flush=True)
             data["cli"] = cli_start()

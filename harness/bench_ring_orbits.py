@@ -2,6 +2,7 @@
 the cost of one period of the ring's period map, the tuned 6-blade study ring's branches over
 4000-9000 rpm from every seed (with stability), the cost per continuation point in periods of the
 ring, and the 24-blade ring measured on a part of one branch and extrapolated to the study's band."""
+
 from __future__ import annotations
 
 import os
@@ -44,12 +45,21 @@ def six_blades(band: tuple[float, float] = (4000.0, 9000.0), seed_points: int | 
     seed_points = seed_points or default_seed_points(band)
     r = ring_branches(Ring(n=6, **STUDY_RING), band, points=seed_points)
     cpu = time.process_time() - cpu
-    return {"band_rpm": list(band), "seed_points": seed_points, "wall_s": r.wall_time, "cpu_s": cpu,
-            "by_stage": r.stats.get("evaluations_by_stage", {}), "branches": len(r.branches),
-            "points": r.points, "periods": r.evaluations, "seed_periods": r.stats["seed_evaluations"],
-            "periods_per_point": r.evaluations / max(r.points, 1),
-            "peak_stable_amplitude_m": r.peak_stable_amplitude, "peak_stable_speed_rpm": r.peak_stable_speed,
-            "load_at_start": load}
+    return {
+        "band_rpm": list(band),
+        "seed_points": seed_points,
+        "wall_s": r.wall_time,
+        "cpu_s": cpu,
+        "by_stage": r.stats.get("evaluations_by_stage", {}),
+        "branches": len(r.branches),
+        "points": r.points,
+        "periods": r.evaluations,
+        "seed_periods": r.stats["seed_evaluations"],
+        "periods_per_point": r.evaluations / max(r.points, 1),
+        "peak_stable_amplitude_m": r.peak_stable_amplitude,
+        "peak_stable_speed_rpm": r.peak_stable_speed,
+        "load_at_start": load,
+    }
 
 
 def twenty_four_part(points: int = 6, rpm: float = 6000.0) -> dict[str, Any]:
@@ -62,16 +72,24 @@ def twenty_four_part(points: int = 6, rpm: float = 6000.0) -> dict[str, Any]:
         e0, t1 = pm.evaluations, time.perf_counter()
         br = trace(pm, o, (rpm, STUDY_BAND[1]), replace(RING_CONTINUATION, max_points=points), directions=(1,))
         wall = time.perf_counter() - t1
-        return {"seed_and_shoot_s": t1 - t0, "points": len(br.orbits) - 1, "wall_s": wall,
-                "periods": pm.evaluations - e0, "per_point_s": wall / max(len(br.orbits) - 1, 1),
-                "periods_per_point": (pm.evaluations - e0) / max(len(br.orbits) - 1, 1)}
+        return {
+            "seed_and_shoot_s": t1 - t0,
+            "points": len(br.orbits) - 1,
+            "wall_s": wall,
+            "periods": pm.evaluations - e0,
+            "per_point_s": wall / max(len(br.orbits) - 1, 1),
+            "periods_per_point": (pm.evaluations - e0) / max(len(br.orbits) - 1, 1),
+        }
 
 
-def ring_orbits_cost(repeats: int = 20, band: tuple[float, float] = (4000.0, 9000.0), seed_points: int | None = None,
-                     points: int = 6) -> dict[str, Any]:
+def ring_orbits_cost(
+    repeats: int = 20, band: tuple[float, float] = (4000.0, 9000.0), seed_points: int | None = None, points: int = 6
+) -> dict[str, Any]:
     """The section's rows (the defaults: `make bench`; smaller ones: `bench --quick`)."""
-    out: dict[str, Any] = {"period_6_s": period_cost(6, repeats=repeats),
-                           "period_24_s": period_cost(24, repeats=repeats)}
+    out: dict[str, Any] = {
+        "period_6_s": period_cost(6, repeats=repeats),
+        "period_24_s": period_cost(24, repeats=repeats),
+    }
     out["six"] = six_blades(band, seed_points)
     out["twenty_four"] = twenty_four_part(points)
     s = out["six"]
@@ -85,23 +103,28 @@ def ring_orbits_cost(repeats: int = 20, band: tuple[float, float] = (4000.0, 900
 
 def section(d: dict[str, Any], machine_text: str, date: str) -> list[str]:
     s, t = d["six"], d["twenty_four"]
-    return [SECTION, "",
-            f"`python -m harness bench --only ring-orbits` ({machine_text}; {date}). The mistuning study's tuned "
-            "ring (EO 3, c = 298 N s/m2, Fw0 = 300 N/m, extrapolation order 2, 160 steps per period).", "",
-            f"- one period of the period map (every FMU reset and initialised, 160 steps of the C loop): "
-            f"6 blades {d['period_6_s'] * 1e3:.2f} ms, 24 blades {d['period_24_s'] * 1e3:.2f} ms (least of 20)",
-            f"- 6 blades, {s['band_rpm'][0]:.0f}-{s['band_rpm'][1]:.0f} rpm, every seed ({s['seed_points']} seed "
-            f"speeds): **{s['wall_s']:.1f} s wall**, {s['cpu_s']:.1f} s CPU (target 60 s wall; the machine is shared: "
-            f"at the least period cost the same periods take {s['periods'] * d['period_6_s']:.0f} s), "
-            f"{s['branches']} branches, {s['points']} points "
-            f"with stability, {s['periods']} periods of the ring ({s['seed_periods']} of them for the seeds): "
-            f"**{s['periods_per_point']:.1f} periods per continuation point**; largest stable steady state "
-            f"{s['peak_stable_amplitude_m']:.5g} m at {s['peak_stable_speed_rpm']:.1f} rpm; load average "
-            f"{s['load_at_start']:.1f} at its start; periods by stage: "
-            + ", ".join(f"{k} {v}" for k, v in s["by_stage"].items()),
-            f"- 24 blades: measured on a part, extrapolated (not run over the band): {t['points']} continuation "
-            f"points from the travelling wave at 6000 rpm in {t['wall_s']:.1f} s ({t['per_point_s']:.2f} s and "
-            f"{t['periods_per_point']:.1f} periods per point); the study's band "
-            f"{STUDY_BAND[0]:.0f}-{STUDY_BAND[1]:.0f} rpm at the 6-blade ring's density of points "
-            f"({t['extrapolated_points']:.0f} points) would take about {t['extrapolated_s'] / 60:.1f} min "
-            "(target 15 min), if the 24-blade ring had as many branches as the 6-blade one", ""]
+    return [
+        SECTION,
+        "",
+        f"`python -m harness bench --only ring-orbits` ({machine_text}; {date}). The mistuning study's tuned "
+        "ring (EO 3, c = 298 N s/m2, Fw0 = 300 N/m, extrapolation order 2, 160 steps per period).",
+        "",
+        f"- one period of the period map (every FMU reset and initialised, 160 steps of the C loop): "
+        f"6 blades {d['period_6_s'] * 1e3:.2f} ms, 24 blades {d['period_24_s'] * 1e3:.2f} ms (least of 20)",
+        f"- 6 blades, {s['band_rpm'][0]:.0f}-{s['band_rpm'][1]:.0f} rpm, every seed ({s['seed_points']} seed "
+        f"speeds): **{s['wall_s']:.1f} s wall**, {s['cpu_s']:.1f} s CPU (target 60 s wall; the machine is shared: "
+        f"at the least period cost the same periods take {s['periods'] * d['period_6_s']:.0f} s), "
+        f"{s['branches']} branches, {s['points']} points "
+        f"with stability, {s['periods']} periods of the ring ({s['seed_periods']} of them for the seeds): "
+        f"**{s['periods_per_point']:.1f} periods per continuation point**; largest stable steady state "
+        f"{s['peak_stable_amplitude_m']:.5g} m at {s['peak_stable_speed_rpm']:.1f} rpm; load average "
+        f"{s['load_at_start']:.1f} at its start; periods by stage: "
+        + ", ".join(f"{k} {v}" for k, v in s["by_stage"].items()),
+        f"- 24 blades: measured on a part, extrapolated (not run over the band): {t['points']} continuation "
+        f"points from the travelling wave at 6000 rpm in {t['wall_s']:.1f} s ({t['per_point_s']:.2f} s and "
+        f"{t['periods_per_point']:.1f} periods per point); the study's band "
+        f"{STUDY_BAND[0]:.0f}-{STUDY_BAND[1]:.0f} rpm at the 6-blade ring's density of points "
+        f"({t['extrapolated_points']:.0f} points) would take about {t['extrapolated_s'] / 60:.1f} min "
+        "(target 15 min), if the 24-blade ring had as many branches as the 6-blade one",
+        "",
+    ]

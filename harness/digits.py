@@ -17,6 +17,7 @@ the noise of a rounding boundary can still flip its last digit.
 
 Kept outside the layers (like harness.outputs): every layer's writer shares it.
 """
+
 from __future__ import annotations
 
 import math

@@ -1,5 +1,6 @@
 """Optional dependencies (pyproject extras `cluster`, `crosscheck`): imported where they are used,
 with an error that names the extra to install instead of a bare ModuleNotFoundError."""
+
 from __future__ import annotations
 
 import importlib
@@ -16,5 +17,7 @@ def require(module: str) -> ModuleType:
         root = module.split(".")[0]
         if e.name is None or e.name.split(".")[0] != root:
             raise  # the package is there but one of its own imports failed: show that
-        raise ImportError(f"{root} is not installed: it is an optional dependency of the harness; install it with "
-                          f"pip install -e '.[{EXTRA.get(root, root)}]' (`make test` installs every extra)") from e
+        raise ImportError(
+            f"{root} is not installed: it is an optional dependency of the harness; install it with "
+            f"pip install -e '.[{EXTRA.get(root, root)}]' (`make test` installs every extra)"
+        ) from e

@@ -6,6 +6,7 @@ the output will go, so that a path under an existing file, in a read-only or vir
 (/proc) or in an unwritable directory is refused at once with `OutputPathError` naming that path,
 not after the computation with a traceback naming a temporary file.
 """
+
 from __future__ import annotations
 
 import errno

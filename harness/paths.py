@@ -2,6 +2,7 @@
 (harness/ beside CMakeLists.txt and fmu_src/; also its editable install) builds its FMUs into
 build/; an installed package (`pip install .`, a wheel) carries the FMUs CMake built at install
 time in harness/fmus/, laid out as build/ (CMakeLists.txt install rules)."""
+
 from __future__ import annotations
 
 from pathlib import Path

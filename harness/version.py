@@ -1,6 +1,7 @@
 """The harness's version, kept outside the layers (like harness.paths) and free of numpy and fmpy
 so that `harness --version` answers at once: the installed distribution's version; in a bare
 checkout (not installed) pyproject.toml's, the one source of both."""
+
 from __future__ import annotations
 
 import sys

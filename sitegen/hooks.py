@@ -8,6 +8,7 @@ every model description (variable_tables.py). MathJax (the file mkdocs.yml's ext
 names) is copied from the installed package django-static-mathjax, so the site typesets its
 equations without the network.
 """
+
 from __future__ import annotations
 
 import importlib.util
@@ -32,18 +33,24 @@ MATHJAX_SITE = "javascripts/mathjax/tex-svg.js"  # SVG output: one file, its fon
 def mathjax_script() -> Path:
     """MathJax's combined TeX-to-SVG script in the installed package (the docs extra)."""
     spec = importlib.util.find_spec("mathjax")
-    script = (Path(next(iter(spec.submodule_search_locations))) / "static" / "mathjax" / "es5" / "tex-svg.js"
-              if spec and spec.submodule_search_locations else None)
+    script = (
+        Path(next(iter(spec.submodule_search_locations))) / "static" / "mathjax" / "es5" / "tex-svg.js"
+        if spec and spec.submodule_search_locations
+        else None
+    )
     if script is None or not script.is_file():
-        raise FileNotFoundError("MathJax not installed: pip install django-static-mathjax (in the docs extra:"
-                                " pip install -e '.[docs]')")
+        raise FileNotFoundError(
+            "MathJax not installed: pip install django-static-mathjax (in the docs extra: pip install -e '.[docs]')"
+        )
     return script
 
 
 def _report_page(source: str, command: str) -> str:
     text = (REPO / source).read_text()
-    note = (f"!!! note \"Generated report\"\n    This page is `{source}` as `{command}` last wrote it; "
-            "it is included at build time, not edited here.\n\n")
+    note = (
+        f'!!! note "Generated report"\n    This page is `{source}` as `{command}` last wrote it; '
+        "it is included at build time, not edited here.\n\n"
+    )
     head, _, rest = text.partition("\n")
     return f"{head}\n\n{note}{rest}" if head.startswith("# ") else note + text
 

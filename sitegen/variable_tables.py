@@ -4,6 +4,7 @@ The descriptions are found by globbing (`DESCRIPTION_GLOBS`), so the tables foll
 they move. One table per FMU; an FMI 3.0 description of a model that also has an FMI 2.0 one is
 shown as its differences from it. `python sitegen/variable_tables.py` prints the Markdown.
 """
+
 from __future__ import annotations
 
 import sys
@@ -14,8 +15,23 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parent.parent
 DESCRIPTION_GLOBS = ("fmu_src/models/*/modelDescription*.xml",)  # one folder per FMU
 # FMI 3.0 variable elements (FMI 2.0 has ScalarVariable with one type child instead)
-FMI3_TYPES = {"Float64", "Float32", "Int64", "Int32", "Int16", "Int8", "UInt64", "UInt32", "UInt16",
-              "UInt8", "Boolean", "String", "Binary", "Enumeration", "Clock"}
+FMI3_TYPES = {
+    "Float64",
+    "Float32",
+    "Int64",
+    "Int32",
+    "Int16",
+    "Int8",
+    "UInt64",
+    "UInt32",
+    "UInt16",
+    "UInt8",
+    "Boolean",
+    "String",
+    "Binary",
+    "Enumeration",
+    "Clock",
+}
 
 
 @dataclass
@@ -45,9 +61,18 @@ class Description:
 
 def _variable(name_el: ET.Element, type_el: ET.Element, type_name: str) -> Variable:
     a, t = name_el.attrib, type_el.attrib
-    return Variable(a["name"], int(a["valueReference"]), a.get("causality", "local"),
-                    a.get("variability", "continuous"), type_name, t.get("unit", t.get("declaredType", "")),
-                    t.get("start", ""), t.get("min", ""), t.get("max", ""), a.get("description", ""))
+    return Variable(
+        a["name"],
+        int(a["valueReference"]),
+        a.get("causality", "local"),
+        a.get("variability", "continuous"),
+        type_name,
+        t.get("unit", t.get("declaredType", "")),
+        t.get("start", ""),
+        t.get("min", ""),
+        t.get("max", ""),
+        a.get("description", ""),
+    )
 
 
 def parse(path: Path) -> Description | None:
@@ -63,7 +88,7 @@ def parse(path: Path) -> Description | None:
     ob = ob if ob is not None else root.find("Annotations/Annotation/OpenBounds")
     open_low = set(ob.get("lower", "").split()) if ob is not None else set()
     open_high = set(ob.get("upper", "").split()) if ob is not None else set()
-    for el in (mv if mv is not None else []):
+    for el in mv if mv is not None else []:
         if el.tag == "ScalarVariable":
             type_el = el[0]
             v = _variable(el, type_el, type_el.tag)
@@ -106,13 +131,21 @@ def _range(v: Variable) -> str:
     return f"{lb}{v.min or '-inf'}, {v.max or 'inf'}{rb}"
 
 
-HEADER = ("| name | vr | causality, variability | type [unit] | start | range | description |\n"
-          "|---|---|---|---|---|---|---|")
+HEADER = (
+    "| name | vr | causality, variability | type [unit] | start | range | description |\n|---|---|---|---|---|---|---|"
+)
 
 
 def _row(v: Variable) -> str:
-    cells = [_code(v.name), str(v.vr), f"{v.causality}, {v.variability}",
-             f"{v.type} [{v.unit}]" if v.unit else v.type, v.start, _range(v), v.description]
+    cells = [
+        _code(v.name),
+        str(v.vr),
+        f"{v.causality}, {v.variability}",
+        f"{v.type} [{v.unit}]" if v.unit else v.type,
+        v.start,
+        _range(v),
+        v.description,
+    ]
     return "| " + " | ".join(_cell(c) for c in cells) + " |"
 
 
@@ -130,15 +163,23 @@ def differences(base: Description, other: Description) -> str:
     if only:
         lines += [f"Only in FMI {other.fmi_version}:", "", HEADER, *(_row(v) for v in only), ""]
     if gone:
-        lines += [f"Not in FMI {other.fmi_version} (its binary refuses these value references): "
-                  + ", ".join(_code(v.name) for v in gone) + ".", ""]
+        lines += [
+            f"Not in FMI {other.fmi_version} (its binary refuses these value references): "
+            + ", ".join(_code(v.name) for v in gone)
+            + ".",
+            "",
+        ]
+
     def declared(v: Variable) -> tuple:
         return v.vr, v.causality, v.variability, v.unit, v.start, v.min, v.max
 
     changed = [n for n in a if n in b and declared(a[n]) != declared(b[n])]
-    lines.append("Every other variable is declared as in FMI 2.0 (name, value reference, causality, "
-                 "variability, unit, start, range; FMI 3.0 type names)." if not changed else
-                 "Declared differently: " + ", ".join(_code(n) for n in changed) + ".")
+    lines.append(
+        "Every other variable is declared as in FMI 2.0 (name, value reference, causality, "
+        "variability, unit, start, range; FMI 3.0 type names)."
+        if not changed
+        else "Declared differently: " + ", ".join(_code(n) for n in changed) + "."
+    )
     return "\n".join(lines)
 
 
@@ -148,10 +189,15 @@ def markdown(repo: Path = REPO, level: int = 2) -> str:
     out = []
     for d in descriptions:
         rel = d.path.relative_to(repo.resolve())
-        out += [f"{'#' * level} {d.model} (FMI {d.fmi_version})", "",
-                f"From `{rel}`; interfaces: {', '.join(d.interfaces)}; {len(d.variables)} variables.", ""]
-        base = next((b for b in descriptions if b.model == d.model and b.fmi_version.startswith("2")
-                     and b is not d), None)
+        out += [
+            f"{'#' * level} {d.model} (FMI {d.fmi_version})",
+            "",
+            f"From `{rel}`; interfaces: {', '.join(d.interfaces)}; {len(d.variables)} variables.",
+            "",
+        ]
+        base = next(
+            (b for b in descriptions if b.model == d.model and b.fmi_version.startswith("2") and b is not d), None
+        )
         out += [differences(base, d) if base is not None else table(d), ""]
     return "\n".join(out)
 

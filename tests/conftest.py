@@ -1,5 +1,6 @@
 """Shared fixtures: the FMU and the physics library built once per test session; the raw FMI
 binding of the built FMU (or of $SB_FMU_BINARY, e.g. a sanitizer build) for the FMI-level tests."""
+
 from __future__ import annotations
 
 import os

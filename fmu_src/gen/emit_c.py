@@ -8,6 +8,7 @@ IntParam: ipar[]). variables.inc: the rows of the model's VarInfo table sorted b
 included by model.c inside `static const VarInfo VARS[] = { ... };` where the macros PAR(k),
 IPAR(k) and INPUT(k) give the byte offset of a slot in the model's data.
 """
+
 from __future__ import annotations
 
 import math
@@ -61,16 +62,25 @@ def _slot_enum(model: Model, store: str, prefix: str, total: str, type_name: str
 
 def header(model: Model, spec_rel: str) -> str:
     guard = f"{c_ident(model.name).upper()}_VARIABLES_H"
-    lines = [f"/* Generated from {spec_rel} by fmu_src/gen: edit the spec, not this file. */",
-             f"#ifndef {guard}", f"#define {guard}", "",
-             f"#define MODEL_IDENTIFIER {model.name}", f'#define MODEL_NAME "{model.name}"',
-             f'#define MODEL_GUID "{model.guid}"', ""]
+    lines = [
+        f"/* Generated from {spec_rel} by fmu_src/gen: edit the spec, not this file. */",
+        f"#ifndef {guard}",
+        f"#define {guard}",
+        "",
+        f"#define MODEL_IDENTIFIER {model.name}",
+        f'#define MODEL_NAME "{model.name}"',
+        f'#define MODEL_GUID "{model.guid}"',
+        "",
+    ]
     f2 = model.info.get("fmi2", {})
     if f2.get("model_exchange"):
-        lines += ["/* model exchange: the FMI 2.0 description's numberOfEventIndicators and its states (the",
-                  " * variables with a der(...)) */",
-                  f"#define MODEL_EVENT_INDICATORS {f2.get('event_indicators', 0)}",
-                  f"#define MODEL_CONTINUOUS_STATES {sum(1 for v in model.vars if v.derivative_of)}", ""]
+        lines += [
+            "/* model exchange: the FMI 2.0 description's numberOfEventIndicators and its states (the",
+            " * variables with a der(...)) */",
+            f"#define MODEL_EVENT_INDICATORS {f2.get('event_indicators', 0)}",
+            f"#define MODEL_CONTINUOUS_STATES {sum(1 for v in model.vars if v.derivative_of)}",
+            "",
+        ]
     lines.append("/* value references */")
     for v in model.vars:
         if v.count > 1 and v.elem == 0:
@@ -109,13 +119,16 @@ def _row(v: Var, slot: dict[str, str]) -> str:
     else:
         offset = "VAR_NO_OFFSET"
     output = v.output if v.output else "-1"
-    return (f'    {{.vr = {v.vr}, .name = "{v.name}", .type = {TYPE[v.type]}, .causality = {CAUS[v.causality]}, '
-            f'.unit = "{c_unit}", .start = {start}, .lo = {lo}, .hi = {hi}, .loOpen = {int(v.min_open)}, '
-            f'.hiOpen = {int(v.max_open)}, .offset = {offset}, .output = {output}, .meOnly = {int(v.me_only)}}},')
+    return (
+        f'    {{.vr = {v.vr}, .name = "{v.name}", .type = {TYPE[v.type]}, .causality = {CAUS[v.causality]}, '
+        f'.unit = "{c_unit}", .start = {start}, .lo = {lo}, .hi = {hi}, .loOpen = {int(v.min_open)}, '
+        f".hiOpen = {int(v.max_open)}, .offset = {offset}, .output = {output}, .meOnly = {int(v.me_only)}}},"
+    )
 
 
 def table(model: Model, spec_rel: str) -> str:
     slot = slots(model)
     rows = [_row(v, slot) for v in sorted(model.vars, key=lambda v: v.vr)]
-    return "\n".join([f"/* Generated from {spec_rel} by fmu_src/gen: the rows of VARS, sorted by value reference. */",
-                      *rows, ""])
+    return "\n".join(
+        [f"/* Generated from {spec_rel} by fmu_src/gen: the rows of VARS, sorted by value reference. */", *rows, ""]
+    )

@@ -7,6 +7,7 @@ states and inputs; co-simulation only, the dependencies are on inputs only. The 
 co-simulation face adds the independent variable time (value reference 0), leaves out the
 model-exchange locals (me_only) and names dependencies (inputs) by value reference.
 """
+
 from __future__ import annotations
 
 import re
@@ -51,9 +52,11 @@ def _units(model: Model, used: set[str]) -> list[str]:
 
 
 def _log(model: Model) -> list[str]:
-    return (["  <LogCategories>"] +
-            [f'    <Category name="{q(n)}" description="{q(d)}"/>' for n, d in model.log_categories.items()] +
-            ["  </LogCategories>", ""])
+    return (
+        ["  <LogCategories>"]
+        + [f'    <Category name="{q(n)}" description="{q(d)}"/>' for n, d in model.log_categories.items()]
+        + ["  </LogCategories>", ""]
+    )
 
 
 def _experiment(model: Model) -> list[str]:
@@ -95,8 +98,10 @@ def _range_attrs(v: Var) -> str:
 def _head(v: Var, index_attrs: str) -> str:
     init = f' initial="{v.initial}"' if v.initial else ""
     desc = f' description="{q(v.description)}"' if v.description else ""
-    return (f'name="{q(v.name)}" valueReference="{v.vr}" causality="{v.causality}" variability="{v.variability}"'
-            f"{init}{desc}{index_attrs}")
+    return (
+        f'name="{q(v.name)}" valueReference="{v.vr}" causality="{v.causality}" variability="{v.variability}"'
+        f"{init}{desc}{index_attrs}"
+    )
 
 
 def fmi2(model: Model, sources: list[str], spec_rel: str) -> str:
@@ -107,34 +112,69 @@ def fmi2(model: Model, sources: list[str], spec_rel: str) -> str:
     states = {v.derivative_of for v in vars_ if v.derivative_of}
     state_flag = _bool(f2.get("can_get_and_set_state", True))
     files = [f'      <File name="{q(s)}"/>' for s in c_sources(sources)]
-    lines = ['<?xml version="1.0" encoding="UTF-8"?>',
-             f"<!-- Generated from {spec_rel} by fmu_src/gen: edit the spec, not this file. -->",
-             "<fmiModelDescription", '  fmiVersion="2.0"', f'  modelName="{q(model.name)}"', f'  guid="{q(model.guid)}"',
-             f'  description="{q(model.description)}"', f'  generationTool="{GENERATION_TOOL}"',
-             f'  version="{q(model.info.get("version", "0.1.0"))}"',
-             f'  variableNamingConvention="{model.info.get("naming", "structured")}"',
-             f'  numberOfEventIndicators="{f2.get("event_indicators", 0)}">', ""]
+    lines = [
+        '<?xml version="1.0" encoding="UTF-8"?>',
+        f"<!-- Generated from {spec_rel} by fmu_src/gen: edit the spec, not this file. -->",
+        "<fmiModelDescription",
+        '  fmiVersion="2.0"',
+        f'  modelName="{q(model.name)}"',
+        f'  guid="{q(model.guid)}"',
+        f'  description="{q(model.description)}"',
+        f'  generationTool="{GENERATION_TOOL}"',
+        f'  version="{q(model.info.get("version", "0.1.0"))}"',
+        f'  variableNamingConvention="{model.info.get("naming", "structured")}"',
+        f'  numberOfEventIndicators="{f2.get("event_indicators", 0)}">',
+        "",
+    ]
     if me:
-        lines += ["  <ModelExchange", f'    modelIdentifier="{q(model.name)}"', '    needsExecutionTool="false"',
-                  '    completedIntegratorStepNotNeeded="true"', '    canBeInstantiatedOnlyOncePerProcess="false"',
-                  '    canNotUseMemoryManagementFunctions="true"', f'    canGetAndSetFMUstate="{state_flag}"',
-                  f'    canSerializeFMUstate="{state_flag}"', '    providesDirectionalDerivative="false">',
-                  "    <SourceFiles>", *files, "    </SourceFiles>", "  </ModelExchange>", ""]
-    lines += ["  <CoSimulation", f'    modelIdentifier="{q(model.name)}"', '    needsExecutionTool="false"',
-              '    canHandleVariableCommunicationStepSize="true"',
-              f'    canInterpolateInputs="{_bool(f2.get("can_interpolate_inputs", True))}"',
-              '    maxOutputDerivativeOrder="0"', '    canRunAsynchronuously="false"',
-              '    canBeInstantiatedOnlyOncePerProcess="false"', '    canNotUseMemoryManagementFunctions="true"',
-              f'    canGetAndSetFMUstate="{state_flag}"', f'    canSerializeFMUstate="{state_flag}"',
-              '    providesDirectionalDerivative="false">', "    <SourceFiles>", *files, "    </SourceFiles>",
-              "  </CoSimulation>", ""]
+        lines += [
+            "  <ModelExchange",
+            f'    modelIdentifier="{q(model.name)}"',
+            '    needsExecutionTool="false"',
+            '    completedIntegratorStepNotNeeded="true"',
+            '    canBeInstantiatedOnlyOncePerProcess="false"',
+            '    canNotUseMemoryManagementFunctions="true"',
+            f'    canGetAndSetFMUstate="{state_flag}"',
+            f'    canSerializeFMUstate="{state_flag}"',
+            '    providesDirectionalDerivative="false">',
+            "    <SourceFiles>",
+            *files,
+            "    </SourceFiles>",
+            "  </ModelExchange>",
+            "",
+        ]
+    lines += [
+        "  <CoSimulation",
+        f'    modelIdentifier="{q(model.name)}"',
+        '    needsExecutionTool="false"',
+        '    canHandleVariableCommunicationStepSize="true"',
+        f'    canInterpolateInputs="{_bool(f2.get("can_interpolate_inputs", True))}"',
+        '    maxOutputDerivativeOrder="0"',
+        '    canRunAsynchronuously="false"',
+        '    canBeInstantiatedOnlyOncePerProcess="false"',
+        '    canNotUseMemoryManagementFunctions="true"',
+        f'    canGetAndSetFMUstate="{state_flag}"',
+        f'    canSerializeFMUstate="{state_flag}"',
+        '    providesDirectionalDerivative="false">',
+        "    <SourceFiles>",
+        *files,
+        "    </SourceFiles>",
+        "  </CoSimulation>",
+        "",
+    ]
     lines += _units(model, {v.unit for v in vars_})
     lines += _log(model) + _experiment(model)
     bounds = _open_bounds(model, vars_)
     if bounds:
-        lines += ["  <VendorAnnotations>", f'    <Tool name="{TOOL}">',
-                  "      <!-- the bounds a variable's min/max exclude (the value must differ from them) -->",
-                  f"      {bounds}", "    </Tool>", "  </VendorAnnotations>", ""]
+        lines += [
+            "  <VendorAnnotations>",
+            f'    <Tool name="{TOOL}">',
+            "      <!-- the bounds a variable's min/max exclude (the value must differ from them) -->",
+            f"      {bounds}",
+            "    </Tool>",
+            "  </VendorAnnotations>",
+            "",
+        ]
     lines.append("  <ModelVariables>")
     for v in vars_:
         lines += _comment(v)
@@ -146,24 +186,36 @@ def fmi2(model: Model, sources: list[str], spec_rel: str) -> str:
     lines += ["  </ModelVariables>", ""]
 
     def deps(v: Var) -> str:
-        keep = [index[d] for d in v.depends
-                if model.var(d).causality == "input" or (me and d in states)]
+        keep = [index[d] for d in v.depends if model.var(d).causality == "input" or (me and d in states)]
         return " ".join(str(i) for i in sorted(set(keep)))
 
     outputs = [v for v in vars_ if v.causality == "output"]
     ders = [v for v in vars_ if v.derivative_of] if me else []
-    initial = [v for v in vars_ if (v.causality == "output" and v.initial == "calculated") or
-               (me and (v.derivative_of or (v.name in states and v.initial == "calculated")))]
+    initial = [
+        v
+        for v in vars_
+        if (v.causality == "output" and v.initial == "calculated")
+        or (me and (v.derivative_of or (v.name in states and v.initial == "calculated")))
+    ]
     lines += ["  <ModelStructure>"]
     if outputs:
-        lines += ["    <Outputs>", *[f'      <Unknown index="{index[v.name]}" dependencies="{deps(v)}"/>'
-                                     for v in outputs], "    </Outputs>"]
+        lines += [
+            "    <Outputs>",
+            *[f'      <Unknown index="{index[v.name]}" dependencies="{deps(v)}"/>' for v in outputs],
+            "    </Outputs>",
+        ]
     if ders:
-        lines += ["    <Derivatives>", *[f'      <Unknown index="{index[v.name]}" dependencies="{deps(v)}"/>'
-                                         for v in ders], "    </Derivatives>"]
+        lines += [
+            "    <Derivatives>",
+            *[f'      <Unknown index="{index[v.name]}" dependencies="{deps(v)}"/>' for v in ders],
+            "    </Derivatives>",
+        ]
     if initial:
-        lines += ["    <InitialUnknowns>", *[f'      <Unknown index="{index[v.name]}"/>' for v in initial],
-                  "    </InitialUnknowns>"]
+        lines += [
+            "    <InitialUnknowns>",
+            *[f'      <Unknown index="{index[v.name]}"/>' for v in initial],
+            "    </InitialUnknowns>",
+        ]
     lines += ["  </ModelStructure>", "</fmiModelDescription>", ""]
     return "\n".join(lines)
 
@@ -175,27 +227,45 @@ def fmi3(model: Model, spec_rel: str) -> str:
     vars_ = [v for v in model.vars if not v.me_only]
     f3 = model.info.get("fmi3", {})
     state_flag = _bool(f3.get("can_get_and_set_state", True))
-    lines = ['<?xml version="1.0" encoding="UTF-8"?>',
-             f"<!-- Generated from {spec_rel} by fmu_src/gen: edit the spec, not this file. The FMI 3.0",
-             "     co-simulation face (fmu_src/fmi/fmi3_cs.c): the variables of the FMI 2.0 description but the",
-             "     model-exchange locals, plus the independent variable time (value reference 0). -->",
-             "<fmiModelDescription", '  fmiVersion="3.0"', f'  modelName="{q(model.name)}"',
-             f'  instantiationToken="{q(model.guid)}"', f'  description="{q(model.description)}"',
-             f'  generationTool="{GENERATION_TOOL}"', f'  version="{q(model.info.get("version", "0.1.0"))}"',
-             f'  variableNamingConvention="{model.info.get("naming", "structured")}">', "",
-             "  <CoSimulation", f'    modelIdentifier="{q(model.name)}"', '    needsExecutionTool="false"',
-             '    canBeInstantiatedOnlyOncePerProcess="false"', f'    canGetAndSetFMUState="{state_flag}"',
-             f'    canSerializeFMUState="{state_flag}"', '    providesDirectionalDerivatives="false"',
-             '    providesAdjointDerivatives="false"', '    providesPerElementDependencies="false"',
-             '    canHandleVariableCommunicationStepSize="true"', '    maxOutputDerivativeOrder="0"',
-             '    providesIntermediateUpdate="false"', '    mightReturnEarlyFromDoStep="false"',
-             '    canReturnEarlyAfterIntermediateUpdate="false"', '    hasEventMode="false"',
-             '    providesEvaluateDiscreteStates="false"/>', ""]
+    lines = [
+        '<?xml version="1.0" encoding="UTF-8"?>',
+        f"<!-- Generated from {spec_rel} by fmu_src/gen: edit the spec, not this file. The FMI 3.0",
+        "     co-simulation face (fmu_src/fmi/fmi3_cs.c): the variables of the FMI 2.0 description but the",
+        "     model-exchange locals, plus the independent variable time (value reference 0). -->",
+        "<fmiModelDescription",
+        '  fmiVersion="3.0"',
+        f'  modelName="{q(model.name)}"',
+        f'  instantiationToken="{q(model.guid)}"',
+        f'  description="{q(model.description)}"',
+        f'  generationTool="{GENERATION_TOOL}"',
+        f'  version="{q(model.info.get("version", "0.1.0"))}"',
+        f'  variableNamingConvention="{model.info.get("naming", "structured")}">',
+        "",
+        "  <CoSimulation",
+        f'    modelIdentifier="{q(model.name)}"',
+        '    needsExecutionTool="false"',
+        '    canBeInstantiatedOnlyOncePerProcess="false"',
+        f'    canGetAndSetFMUState="{state_flag}"',
+        f'    canSerializeFMUState="{state_flag}"',
+        '    providesDirectionalDerivatives="false"',
+        '    providesAdjointDerivatives="false"',
+        '    providesPerElementDependencies="false"',
+        '    canHandleVariableCommunicationStepSize="true"',
+        '    maxOutputDerivativeOrder="0"',
+        '    providesIntermediateUpdate="false"',
+        '    mightReturnEarlyFromDoStep="false"',
+        '    canReturnEarlyAfterIntermediateUpdate="false"',
+        '    hasEventMode="false"',
+        '    providesEvaluateDiscreteStates="false"/>',
+        "",
+    ]
     lines += _units(model, {v.unit for v in vars_} | {"s"})
     lines += _log(model) + _experiment(model)
-    lines += ["  <ModelVariables>",
-              '    <Float64 name="time" valueReference="0" causality="independent" variability="continuous" '
-              'description="simulation time" unit="s"/>']
+    lines += [
+        "  <ModelVariables>",
+        '    <Float64 name="time" valueReference="0" causality="independent" variability="continuous" '
+        'description="simulation time" unit="s"/>',
+    ]
     for v in vars_:
         lines += _comment(v)
         unit = f' unit="{q(v.unit)}"' if v.unit else ""
@@ -211,20 +281,35 @@ def fmi3(model: Model, spec_rel: str) -> str:
     lines += ["  </ModelStructure>"]
     bounds = _open_bounds(model, vars_)
     if bounds:
-        lines += ["", "  <Annotations>", f'    <Annotation type="{TOOL}">',
-                  "      <!-- the bounds a variable's min/max exclude (the value must differ from them) -->",
-                  f"      {bounds}", "    </Annotation>", "  </Annotations>"]
+        lines += [
+            "",
+            "  <Annotations>",
+            f'    <Annotation type="{TOOL}">',
+            "      <!-- the bounds a variable's min/max exclude (the value must differ from them) -->",
+            f"      {bounds}",
+            "    </Annotation>",
+            "  </Annotations>",
+        ]
     lines += ["</fmiModelDescription>", ""]
     return "\n".join(lines)
 
 
 def build_description3(model: Model, sources: list[str], spec_rel: str) -> str:
     files = [f'      <SourceFile name="{q(s)}"/>' for s in c_sources(sources)]
-    return "\n".join(['<?xml version="1.0" encoding="UTF-8"?>',
-                      f"<!-- Generated from {spec_rel} by fmu_src/gen: the .c files of sources/, includes",
-                      '     relative to sources/ (e.g. "fmi/log.h"), linked with libm. -->',
-                      '<fmiBuildDescription fmiVersion="3.0">', f'  <BuildConfiguration modelIdentifier="{q(model.name)}">',
-                      '    <SourceFileSet language="C99">', *files, '      <IncludeDirectory name="."/>',
-                      "    </SourceFileSet>", '    <Library name="m"/>', "  </BuildConfiguration>",
-                      "</fmiBuildDescription>", ""])
-
+    return "\n".join(
+        [
+            '<?xml version="1.0" encoding="UTF-8"?>',
+            f"<!-- Generated from {spec_rel} by fmu_src/gen: the .c files of sources/, includes",
+            '     relative to sources/ (e.g. "fmi/log.h"), linked with libm. -->',
+            '<fmiBuildDescription fmiVersion="3.0">',
+            f'  <BuildConfiguration modelIdentifier="{q(model.name)}">',
+            '    <SourceFileSet language="C99">',
+            *files,
+            '      <IncludeDirectory name="."/>',
+            "    </SourceFileSet>",
+            '    <Library name="m"/>',
+            "  </BuildConfiguration>",
+            "</fmiBuildDescription>",
+            "",
+        ]
+    )

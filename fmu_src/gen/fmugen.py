@@ -12,6 +12,7 @@ The model descriptions are also committed next to the spec (the FMU's public con
 the Python package in a checkout before anything is built); --check compares them.
 Python 3.11 standard library only.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -103,8 +104,10 @@ def main(argv: list[str] | None = None) -> int:
         print(f"fmugen: {exc}", file=sys.stderr)
         return 2
     if drift:
-        print("fmugen: out of date with the spec (run fmu_src/gen/fmugen.py --update): " + ", ".join(drift),
-              file=sys.stderr)
+        print(
+            "fmugen: out of date with the spec (run fmu_src/gen/fmugen.py --update): " + ", ".join(drift),
+            file=sys.stderr,
+        )
         return 1
     return 0
 

@@ -24,6 +24,7 @@ output (the C expression of the model's output number, for outputs and locals), 
 the output or derivative depends on, model-exchange semantics: states and inputs), derivative_of
 (the state this local is the derivative of), me_only (a model-exchange local: no FMI 3.0 face).
 """
+
 from __future__ import annotations
 
 import tomllib
@@ -33,8 +34,28 @@ from typing import Any
 
 TYPES = ("Real", "Integer", "Boolean")
 CAUSALITIES = ("parameter", "input", "output", "local")
-KEYS = {"array", "name", "vr", "type", "causality", "variability", "unit", "start", "min", "max", "min_open", "max_open",
-        "description", "comment", "store", "slot", "output", "depends", "derivative_of", "me_only"}
+KEYS = {
+    "array",
+    "name",
+    "vr",
+    "type",
+    "causality",
+    "variability",
+    "unit",
+    "start",
+    "min",
+    "max",
+    "min_open",
+    "max_open",
+    "description",
+    "comment",
+    "store",
+    "slot",
+    "output",
+    "depends",
+    "derivative_of",
+    "me_only",
+}
 
 
 class SpecError(ValueError):
@@ -44,6 +65,7 @@ class SpecError(ValueError):
 @dataclass
 class Var:
     """One scalar variable of a model (patterns expanded)."""
+
     name: str
     vr: int
     type: str
@@ -63,9 +85,9 @@ class Var:
     depends: list[str] = field(default_factory=list)
     derivative_of: str = ""
     me_only: bool = False
-    array: str = ""   # a pattern's name for C ("modalDisplacement"; default: the name before "[")
-    elem: int = 0     # the element's number in its pattern (0-based)
-    count: int = 1    # elements of its pattern, else 1
+    array: str = ""  # a pattern's name for C ("modalDisplacement"; default: the name before "[")
+    elem: int = 0  # the element's number in its pattern (0-based)
+    count: int = 1  # elements of its pattern, else 1
 
     @property
     def initial(self) -> str:
@@ -80,6 +102,7 @@ class Var:
 @dataclass
 class Model:
     """A model spec read and expanded: identity, faces, sources and its variables in spec order."""
+
     path: Path
     name: str
     guid: str
@@ -108,7 +131,7 @@ def _template(text: str, env: dict[str, Any], where: str) -> str:
         if k < 0:
             raise SpecError(f"{where}: unclosed '{{' in {text!r}")
         out.append(text[i:j])
-        out.append(str(_eval(text[j + 1:k], env, where)))
+        out.append(str(_eval(text[j + 1 : k], env, where)))
         i = k + 1
     return "".join(out)
 
@@ -163,8 +186,14 @@ def _make(e: dict[str, Any], where: str) -> Var:
     if e["type"] not in TYPES or e["causality"] not in CAUSALITIES:
         raise SpecError(f"{where}: {e['name']!r}: type must be one of {TYPES}, causality one of {CAUSALITIES}")
     variability = e.get("variability", "fixed" if e["causality"] == "parameter" else "continuous")
-    v = Var(name=e["name"], vr=int(e["vr"]), type=e["type"], causality=e["causality"], variability=variability,
-            **{k: e[k] for k in KEYS - {"name", "vr", "type", "causality", "variability"} if k in e})
+    v = Var(
+        name=e["name"],
+        vr=int(e["vr"]),
+        type=e["type"],
+        causality=e["causality"],
+        variability=variability,
+        **{k: e[k] for k in KEYS - {"name", "vr", "type", "causality", "variability"} if k in e},
+    )
     v.elem, v.count = e.get("_elem", 0), e.get("_count", 1)
     if v.store and v.store not in ("par", "ipar", "input"):
         raise SpecError(f"{where}: {v.name!r}: store must be par, ipar or input")
@@ -215,9 +244,16 @@ def load(path: Path) -> Model:
         else:
             entries += [(x, where) for x in _expand(e, lists, where)]
     model_vars = [_make(e, where) for e, where in entries]
-    model = Model(path=path, name=info["name"], guid=info["guid"], description=info["description"], info=info,
-                  vars=model_vars, units=common["units"],
-                  log_categories=info.get("log_categories", common["log_categories"]))
+    model = Model(
+        path=path,
+        name=info["name"],
+        guid=info["guid"],
+        description=info["description"],
+        info=info,
+        vars=model_vars,
+        units=common["units"],
+        log_categories=info.get("log_categories", common["log_categories"]),
+    )
     _check(model)
     return model
 

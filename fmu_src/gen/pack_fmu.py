@@ -8,6 +8,7 @@ binaries) and no directory entries: the bytes depend only on the files' contents
 rebuild of unchanged sources gives the same .fmu (a committed FMU stays unchanged).
 Python 3.11 standard library only.
 """
+
 from __future__ import annotations
 
 import sys

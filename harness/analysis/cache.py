@@ -1,6 +1,7 @@
 """The per-point result cache: one JSON file per computed point under a directory, keyed by a hash
 of everything the point depends on (parameters, scenario, start state, code version), written
 atomically, so that an interrupted sweep or study finds its finished points and continues."""
+
 from __future__ import annotations
 
 import base64

@@ -5,6 +5,7 @@
 checks everything (parameters through harness.model.params, speeds, methods, settings, the input Taylor
 error) and raises `ConfigError` (a ParameterError: the CLI prints it as one line) naming the value.
 """
+
 from __future__ import annotations
 
 import math
@@ -53,12 +54,34 @@ class SweepSettings:
     fixed_max_time: float = 0.6  # cap per A(B) evaluation [s] (contact damping settles it fast)
 
     def plateau_key(self) -> dict:
-        return {k: getattr(self, k) for k in ("steps_per_period", "derivative_order", "input_fit", "rtol",
-                                              "min_periods", "chunk_periods", "max_time", "extend")}
+        return {
+            k: getattr(self, k)
+            for k in (
+                "steps_per_period",
+                "derivative_order",
+                "input_fit",
+                "rtol",
+                "min_periods",
+                "chunk_periods",
+                "max_time",
+                "extend",
+            )
+        }
 
     def fixed_key(self) -> dict:
-        return {k: getattr(self, k) for k in ("steps_per_period", "derivative_order", "input_fit", "rtol",
-                                              "min_periods", "chunk_periods", "fixed_max_time", "extend")}
+        return {
+            k: getattr(self, k)
+            for k in (
+                "steps_per_period",
+                "derivative_order",
+                "input_fit",
+                "rtol",
+                "min_periods",
+                "chunk_periods",
+                "fixed_max_time",
+                "extend",
+            )
+        }
 
 
 @dataclass(frozen=True)
@@ -75,8 +98,14 @@ class SweepSpec:
     settings: SweepSettings = SweepSettings()
 
 
-def _num(name: str, value: Any, low: float | None = None, high: float | None = None,
-         low_open: bool = False, integer: bool = False) -> float:
+def _num(
+    name: str,
+    value: Any,
+    low: float | None = None,
+    high: float | None = None,
+    low_open: bool = False,
+    integer: bool = False,
+) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -130,9 +159,11 @@ def validate_settings(s: SweepSettings) -> SweepSettings:
     # 8 Taylor 1.6e-4 at 4 steps per period, 2e-3 at 3; order 8 Chebyshev 6e-7 at 2, 3e-4 at 1.
     err = input_error(2 * math.pi / s.steps_per_period, int(s.derivative_order), s.input_fit)
     if err > 1e-3:
-        raise ConfigError(f"steps_per_period = {s.steps_per_period} with derivative_order = "
-                          f"{s.derivative_order} ({s.input_fit}) misrepresents the load (error {err:.2g} > 1e-3): "
-                          "use more steps per period or derivative order 8")
+        raise ConfigError(
+            f"steps_per_period = {s.steps_per_period} with derivative_order = "
+            f"{s.derivative_order} ({s.input_fit}) misrepresents the load (error {err:.2g} > 1e-3): "
+            "use more steps per period or derivative order 8"
+        )
     return s
 
 
@@ -159,8 +190,16 @@ def validate_spec(spec: SweepSpec) -> SweepSpec:
     fixed = None if spec.fixed_speeds is None else _check_speeds("fixed_speeds", spec.fixed_speeds, label)
     hb = None if spec.hb_speeds is None else _check_speeds("hb_speeds", spec.hb_speeds, label)
     settings = validate_settings(spec.settings)
-    return replace(spec, params=p, speeds=speeds, directions=dirs, methods=methods, fixed_speeds=fixed,
-                   hb_speeds=hb, settings=settings)
+    return replace(
+        spec,
+        params=p,
+        speeds=speeds,
+        directions=dirs,
+        methods=methods,
+        fixed_speeds=fixed,
+        hb_speeds=hb,
+        settings=settings,
+    )
 
 
 def parse_speed_range(text: str) -> tuple[float, ...]:
@@ -174,6 +213,7 @@ def parse_speed_range(text: str) -> tuple[float, ...]:
             return tuple(a + c * np.arange(n + 1))
         return tuple(float(x) for x in text.split(",") if x.strip())
     except ValueError:
-        raise ConfigError(f"speed range {text!r}: use start:stop:step (e.g. 2000:10000:250) or a "
-                          "comma list (e.g. 3000,5000,7000), in rpm") from None
-
+        raise ConfigError(
+            f"speed range {text!r}: use start:stop:step (e.g. 2000:10000:250) or a "
+            "comma list (e.g. 3000,5000,7000), in rpm"
+        ) from None

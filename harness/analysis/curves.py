@@ -20,6 +20,7 @@ state), so an interrupted sweep resumes without recomputing; tasks run on `execu
 chain returns PlateauPoint records, a fixed-point speed a FixedPointResult
 (harness.analysis.fixed_point); `run_sweeps` collects them into a SweepResult's tables and SweepStats.
 """
+
 from __future__ import annotations
 
 import math
@@ -35,9 +36,18 @@ from harness.analysis.cache import PointCache, decode_bytes, encode_bytes, point
 from harness.analysis.executor import Runner
 from harness.analysis.plateau import PLATEAU_OUTPUTS, PhasedSine, Start, fmu_identity, omega_of, settle  # noqa: F401
 from harness.analysis.harmonic_balance import harmonic_balance
-from harness.analysis.config import (ALGO_VERSION, DIRECTIONS, MAX_RPM, METHODS, ConfigError,  # noqa: F401
-                                     SweepSettings, SweepSpec, parse_speed_range, validate_settings,
-                                     validate_spec)
+from harness.analysis.config import (
+    ALGO_VERSION,
+    DIRECTIONS,  # noqa: F401
+    MAX_RPM,  # noqa: F401
+    METHODS,  # noqa: F401
+    ConfigError,  # noqa: F401
+    SweepSettings,
+    SweepSpec,
+    parse_speed_range,
+    validate_settings,  # noqa: F401
+    validate_spec,
+)
 from harness.analysis.fixed_point import FixedPointResult, FixedPointTask, fixed_refinement, run_fixed_point
 from harness.fmu.pool import worker_fmu
 
@@ -73,11 +83,19 @@ class PlateauPoint:
         return rec
 
 
-def plateau(fmu: Any, cache: PointCache, fmu_hash: str, params: dict, speed: float, start: Start,
-            s: SweepSettings) -> PlateauPoint:
+def plateau(
+    fmu: Any, cache: PointCache, fmu_hash: str, params: dict, speed: float, start: Start, s: SweepSettings
+) -> PlateauPoint:
     """Steady state of the tracked-amplitude model at `speed` from `start` (cached)."""
-    key = point_key(kind="plateau", v=ALGO_VERSION, fmu=fmu_hash, params=params, speed=speed,
-                    start=start.key(), settings=s.plateau_key())
+    key = point_key(
+        kind="plateau",
+        v=ALGO_VERSION,
+        fmu=fmu_hash,
+        params=params,
+        speed=speed,
+        start=start.key(),
+        settings=s.plateau_key(),
+    )
     rec = cache.get(key)
     if rec is not None:
         return PlateauPoint(**rec, cached=True)
@@ -87,13 +105,24 @@ def plateau(fmu: Any, cache: PointCache, fmu_hash: str, params: dict, speed: flo
     window = 3 * s.min_periods + 4  # periods (settle samples once per period)
     state = fmu.get_state()
     rec = PlateauPoint(
-        key=key, speed=float(speed), amplitude=float(data["amplitude"][-1]),
-        amp_lo=float(np.min(data["amplitude"][-window:])), amp_hi=float(np.max(data["amplitude"][-window:])),
-        amp_h1=float(ss.harmonic_amplitude), reached=bool(ss.reached), rel_change=float(ss.rel_change),
+        key=key,
+        speed=float(speed),
+        amplitude=float(data["amplitude"][-1]),
+        amp_lo=float(np.min(data["amplitude"][-window:])),
+        amp_hi=float(np.max(data["amplitude"][-window:])),
+        amp_h1=float(ss.harmonic_amplitude),
+        reached=bool(ss.reached),
+        rel_change=float(ss.rel_change),
         t_settle=float(ss.t_steady - start.time) if ss.reached else math.nan,
-        sim_time=float(t_end - start.time), contact=int(data["amplitude"][-1] > params["d"]),
-        t_end=t_end, phase_end=phase, state=encode_bytes(state),
-        wall=_time.perf_counter() - t0, steps=int(len(data) - 1), message=ss.message)
+        sim_time=float(t_end - start.time),
+        contact=int(data["amplitude"][-1] > params["d"]),
+        t_end=t_end,
+        phase_end=phase,
+        state=encode_bytes(state),
+        wall=_time.perf_counter() - t0,
+        steps=int(len(data) - 1),
+        message=ss.message,
+    )
     cache.put(key, rec.cache_record())
     return rec
 
@@ -241,9 +270,19 @@ def hb_stable_peak(params: Mapping[str, Any], curve: np.ndarray) -> tuple[float,
 # ---------------------------------------------------------------------------------------------
 # Whole sweeps
 # ---------------------------------------------------------------------------------------------
-TIME_DTYPE = [("speed", "f8"), ("direction", "U4"), ("amplitude", "f8"), ("amp_lo", "f8"), ("amp_hi", "f8"),
-              ("amp_h1", "f8"), ("rel_change", "f8"),
-              ("reached", "?"), ("t_settle", "f8"), ("sim_time", "f8"), ("contact", "i4")]
+TIME_DTYPE = [
+    ("speed", "f8"),
+    ("direction", "U4"),
+    ("amplitude", "f8"),
+    ("amp_lo", "f8"),
+    ("amp_hi", "f8"),
+    ("amp_h1", "f8"),
+    ("rel_change", "f8"),
+    ("reached", "?"),
+    ("t_settle", "f8"),
+    ("sim_time", "f8"),
+    ("contact", "i4"),
+]
 FIXED_DTYPE = [("speed", "f8"), ("B", "f8"), ("kind", "U7"), ("reached", "?"), ("slope", "f8")]
 
 
@@ -266,7 +305,9 @@ class SweepResult:
     spec: SweepSpec
     time: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=TIME_DTYPE))
     fixed: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=FIXED_DTYPE))
-    hb: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=[("speed", "f8"), ("B", "f8"), ("stable", "?"), ("phase", "f8")]))
+    hb: np.ndarray = field(
+        default_factory=lambda: np.zeros(0, dtype=[("speed", "f8"), ("B", "f8"), ("stable", "?"), ("phase", "f8")])
+    )
     fixed_speeds_failed: int = 0
     stats: SweepStats = field(default_factory=SweepStats)
 
@@ -292,8 +333,14 @@ def _hb_speeds(spec: SweepSpec) -> tuple[float, ...]:
     return tuple(np.linspace(min(spec.speeds), max(spec.speeds), 200))
 
 
-def run_sweeps(specs: Sequence[SweepSpec], runner: Runner | None = None, *, fmu_path: str | Path | None = None,
-               cache_dir: str | Path | None = None, desc: str = "") -> list[SweepResult]:
+def run_sweeps(
+    specs: Sequence[SweepSpec],
+    runner: Runner | None = None,
+    *,
+    fmu_path: str | Path | None = None,
+    cache_dir: str | Path | None = None,
+    desc: str = "",
+) -> list[SweepResult]:
     """Validate every spec (before any work), then map all their tasks over `runner` at once."""
     specs = [validate_spec(sp) for sp in specs]
     runner = runner or Runner(workers=1, progress=False)
@@ -309,7 +356,7 @@ def run_sweeps(specs: Sequence[SweepSpec], runner: Runner | None = None, *, fmu_
                 order = tuple(sp.speeds) if d == "up" else tuple(reversed(sp.speeds))
                 chains.append((i, ChainTask(p, order, d, sp.settings, path, fhash, cdir, sp.label)))
         if "fixed" in sp.methods:
-            for s in (sp.fixed_speeds or sp.speeds):
+            for s in sp.fixed_speeds or sp.speeds:
                 fixed.append((i, FixedPointTask(p, float(s), sp.settings, path, fhash, cdir)))
     results = [SweepResult(sp) for sp in specs]
     prefix = f"{desc}: " if desc else ""
@@ -327,8 +374,9 @@ def run_sweeps(specs: Sequence[SweepSpec], runner: Runner | None = None, *, fmu_
         extra = fixed_refinement(specs, fixed, fixed_out, level)
         if not extra:
             break
-        fixed_out += runner.map(run_fixed_point, [t for _, t in extra], desc=f"{prefix}fixed points, refined",
-                                unit="speed")
+        fixed_out += runner.map(
+            run_fixed_point, [t for _, t in extra], desc=f"{prefix}fixed points, refined", unit="speed"
+        )
         fixed += extra
     t_fixed = _time.perf_counter() - t0
     per_spec_time: dict[int, list[PlateauPoint]] = {}
@@ -336,8 +384,24 @@ def run_sweeps(specs: Sequence[SweepSpec], runner: Runner | None = None, *, fmu_
         per_spec_time.setdefault(i, []).extend(recs)
     for i, recs in per_spec_time.items():
         results[i].time = np.array(
-            [(r.speed, r.direction, r.amplitude, r.amp_lo, r.amp_hi, r.amp_h1, r.rel_change, r.reached, r.t_settle,
-              r.sim_time, r.contact) for r in recs], dtype=TIME_DTYPE)
+            [
+                (
+                    r.speed,
+                    r.direction,
+                    r.amplitude,
+                    r.amp_lo,
+                    r.amp_hi,
+                    r.amp_h1,
+                    r.rel_change,
+                    r.reached,
+                    r.t_settle,
+                    r.sim_time,
+                    r.contact,
+                )
+                for r in recs
+            ],
+            dtype=TIME_DTYPE,
+        )
         results[i].stats.plateaus = len(recs)
         results[i].stats.sim_time = float(sum(r.sim_time for r in recs))
         results[i].stats.not_reached = int(sum(not r.reached for r in recs))
@@ -359,5 +423,19 @@ def sweep(spec: SweepSpec, runner: Runner | None = None, **kw: Any) -> SweepResu
     return run_sweeps([spec], runner, **kw)[0]
 
 
-__all__ = ["ConfigError", "SweepSettings", "SweepSpec", "SweepResult", "SweepStats", "PlateauPoint", "validate_spec",
-           "sweep", "run_sweeps", "run_chain", "hb_curve", "hb_stable_peak", "parse_speed_range", "PhasedSine"]
+__all__ = [
+    "ConfigError",
+    "SweepSettings",
+    "SweepSpec",
+    "SweepResult",
+    "SweepStats",
+    "PlateauPoint",
+    "validate_spec",
+    "sweep",
+    "run_sweeps",
+    "run_chain",
+    "hb_curve",
+    "hb_stable_peak",
+    "parse_speed_range",
+    "PhasedSine",
+]

@@ -8,6 +8,7 @@ killed master) loses at most the points that were being computed: running the sa
 finds the finished points by their key and continues. A pool whose worker died is rebuilt and the
 unfinished tasks are resubmitted (they resume from the cache).
 """
+
 from __future__ import annotations
 
 import importlib
@@ -24,6 +25,7 @@ from typing import Any, Callable, Sequence
 from tqdm.auto import tqdm
 
 from harness.optional import require
+
 
 # ---------------------------------------------------------------------------------------------
 # Parallel map
@@ -109,13 +111,18 @@ class Runner:
         """A progress bar over `total` named steps done in this process (see StepBar)."""
         return StepBar(desc, total, self.progress)
 
-    def map(self, func: Callable[[Any], Any], tasks: Sequence[Any], desc: str = "",
-            unit: str = "task") -> list[Any]:
+    def map(self, func: Callable[[Any], Any], tasks: Sequence[Any], desc: str = "", unit: str = "task") -> list[Any]:
         """`[func(t) for t in tasks]`, in parallel, with a progress bar; order preserved."""
         tasks = list(tasks)
         t0 = time.perf_counter()
-        bar = tqdm(total=len(tasks), desc=desc, unit=unit, disable=not self.progress or not tasks,
-                   dynamic_ncols=True, leave=False)
+        bar = tqdm(
+            total=len(tasks),
+            desc=desc,
+            unit=unit,
+            disable=not self.progress or not tasks,
+            dynamic_ncols=True,
+            leave=False,
+        )
         try:
             if self.scheduler is not None:
                 out = self._map_dask(func, tasks, bar)
@@ -128,8 +135,10 @@ class Runner:
                 out = self._map_pool(func, tasks, bar)
         except KeyboardInterrupt:
             self.close(kill=True)
-            print("interrupted: every finished point is stored in the cache; run the same command "
-                  "again to resume", file=sys.stderr)
+            print(
+                "interrupted: every finished point is stored in the cache; run the same command again to resume",
+                file=sys.stderr,
+            )
             raise
         finally:
             bar.close()
@@ -155,9 +164,13 @@ class Runner:
                 self._pool = None
                 if attempts > self.retries:
                     raise
-                warnings.warn(f"a worker process died; restarting the pool and resuming "
-                              f"{len(tasks) - len(results)} unfinished task(s) from the cache "
-                              f"(attempt {attempts}/{self.retries})", RuntimeWarning, stacklevel=2)
+                warnings.warn(
+                    f"a worker process died; restarting the pool and resuming "
+                    f"{len(tasks) - len(results)} unfinished task(s) from the cache "
+                    f"(attempt {attempts}/{self.retries})",
+                    RuntimeWarning,
+                    stacklevel=2,
+                )
         return [results[i] for i in range(len(tasks))]
 
     def _map_dask(self, func: Callable[[Any], Any], tasks: list[Any], bar: Any) -> list[Any]:
@@ -199,4 +212,3 @@ class StepBar:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
-

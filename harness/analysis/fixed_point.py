@@ -11,6 +11,7 @@ only the evaluation in progress). `run_fixed_point` returns a FixedPointResult (
 records); `fixed_refinement` bisects the speed intervals next to a curve's largest root where it
 changes a lot (the narrow low-kn peak).
 """
+
 from __future__ import annotations
 
 import math
@@ -27,6 +28,7 @@ from harness.analysis.cache import PointCache, point_key
 from harness.analysis.plateau import PLATEAU_OUTPUTS, Start, omega_of, period_peak, settle
 from harness.model.galerkin import galerkin
 from harness.fmu.pool import worker_fmu
+
 
 @dataclass(frozen=True)
 class FixedPointTask:
@@ -60,15 +62,33 @@ class FixedPointResult:
     B_max: float  # [m] top of the scan
 
 
-def amplitude_for(fmu: Any, cache: PointCache, fmu_hash: str, params: dict, speed: float, B: float,
-                  s: SweepSettings, cap_factor: float = 1.0, tracked: bool = False) -> dict:
+def amplitude_for(
+    fmu: Any,
+    cache: PointCache,
+    fmu_hash: str,
+    params: dict,
+    speed: float,
+    B: float,
+    s: SweepSettings,
+    cap_factor: float = 1.0,
+    tracked: bool = False,
+) -> dict:
     """A(B): steady max |q| of the FMU with the amplitude fixed at B (amplitudeMode 1), from rest.
     Also `peak_all`: max |q| over the whole run, transient included (a lower bound: the samples at
     the period starts and the final period's maximum). tracked=True runs amplitudeMode 2 from B
     instead: A and peak_all are then the FMU's exact period maxima (its `amplitude` output: the
     last one, the largest one)."""
-    key = point_key(kind="A(B)", v=ALGO_VERSION, fmu=fmu_hash, params=params, speed=speed, B=B,
-                    settings=s.fixed_key(), cap_factor=cap_factor, tracked=tracked)
+    key = point_key(
+        kind="A(B)",
+        v=ALGO_VERSION,
+        fmu=fmu_hash,
+        params=params,
+        speed=speed,
+        B=B,
+        settings=s.fixed_key(),
+        cap_factor=cap_factor,
+        tracked=tracked,
+    )
     rec = cache.get(key)
     if rec is not None:
         return rec
@@ -83,9 +103,17 @@ def amplitude_for(fmu: Any, cache: PointCache, fmu_hash: str, params: dict, spee
         # once per period); peak_all then only bounds the transient's peak from below
         A = period_peak(fmu, p, speed, t_end, phase, s)
         peak = max(A, float(np.max(np.abs(data["tipDisplacement"]))))
-    rec = {"B": float(B), "A": A, "A_h1": float(ss.harmonic_amplitude),
-           "reached": bool(ss.reached), "rel_change": float(ss.rel_change), "sim_time": t_end,
-           "peak_all": peak, "wall": _time.perf_counter() - t0, "message": ss.message}
+    rec = {
+        "B": float(B),
+        "A": A,
+        "A_h1": float(ss.harmonic_amplitude),
+        "reached": bool(ss.reached),
+        "rel_change": float(ss.rel_change),
+        "sim_time": t_end,
+        "peak_all": peak,
+        "wall": _time.perf_counter() - t0,
+        "message": ss.message,
+    }
     cache.put(key, rec)
     return rec
 
@@ -169,13 +197,14 @@ def run_fixed_point(task: FixedPointTask) -> FixedPointResult:
                 ok = all(r["reached"] for r in seen) and g[i]["reached"] and g[i + 1]["reached"]
             except (RuntimeError, ValueError):
                 B, ok, kind = 0.5 * (grid[i] + grid[i + 1]), False, "jump"
-            slope = ((g[i + 1]["A"] - g[i]["A"]) / (grid[i + 1] - grid[i]))
+            slope = (g[i + 1]["A"] - g[i]["A"]) / (grid[i + 1] - grid[i])
             roots.append(FixedPointRoot(float(B), kind, bool(ok), float(slope)))
     return FixedPointResult(float(sp), roots, len(evals), all(r["reached"] for r in evals), float(B_max))
 
 
-def fixed_refinement(specs: Sequence[SweepSpec], fixed: list[tuple[int, FixedPointTask]],
-                     fixed_out: list[FixedPointResult], level: int) -> list[tuple[int, FixedPointTask]]:
+def fixed_refinement(
+    specs: Sequence[SweepSpec], fixed: list[tuple[int, FixedPointTask]], fixed_out: list[FixedPointResult], level: int
+) -> list[tuple[int, FixedPointTask]]:
     """Bisect the speed intervals next to each curve's largest fixed point where the largest root
     changes by more than refine_tol of it (the narrow low-kn peak falls between coarse speeds)."""
     extra = []
@@ -183,8 +212,11 @@ def fixed_refinement(specs: Sequence[SweepSpec], fixed: list[tuple[int, FixedPoi
         s = sp.settings
         if level >= s.refine_levels:
             continue
-        pts = sorted((o.speed, max([r.B for r in o.roots if r.kind != "jump"], default=0.0))
-                     for (j, _), o in zip(fixed, fixed_out) if j == i)
+        pts = sorted(
+            (o.speed, max([r.B for r in o.roots if r.kind != "jump"], default=0.0))
+            for (j, _), o in zip(fixed, fixed_out)
+            if j == i
+        )
         if len(pts) < 2:
             continue
         speeds, amps = [x for x, _ in pts], [a for _, a in pts]

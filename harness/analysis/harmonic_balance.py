@@ -12,6 +12,7 @@ Built on the product's Galerkin reduction and closed-form describing functions (
 the reference checks it through the FMU (shooting orbits against HB roots) and its own
 tracked-amplitude map (harness/reference/tracked.py).
 """
+
 from __future__ import annotations
 
 import math
@@ -68,8 +69,9 @@ class _HBModel:
         return B * np.hypot(re0 + K, im0 + Cw) - self.F
 
 
-def _illinois(fun, a: np.ndarray, b: np.ndarray, fa: np.ndarray, fb: np.ndarray, rtol: float = 1e-14,
-              maxiter: int = 200) -> np.ndarray:
+def _illinois(
+    fun, a: np.ndarray, b: np.ndarray, fa: np.ndarray, fb: np.ndarray, rtol: float = 1e-14, maxiter: int = 200
+) -> np.ndarray:
     """Vectorised Illinois regula falsi on brackets [a, b] with fa * fb <= 0."""
     a, b, fa, fb = (np.array(x, dtype=float) for x in (a, b, fa, fb))
     side = np.zeros(a.shape, dtype=int)
@@ -127,8 +129,12 @@ def stability(hb: _HBModel, B: np.ndarray, rpm: np.ndarray) -> np.ndarray:
     return (slope > 0) & (trace > 0)
 
 
-def harmonic_balance(params: Mapping[str, Any] | None, speed_rpm: float | Sequence[float] | np.ndarray,
-                     B_max: float | None = None, n_scan: int = 800) -> list[HBSolution] | list[list[HBSolution]]:
+def harmonic_balance(
+    params: Mapping[str, Any] | None,
+    speed_rpm: float | Sequence[float] | np.ndarray,
+    B_max: float | None = None,
+    n_scan: int = 800,
+) -> list[HBSolution] | list[list[HBSolution]]:
     """All one-harmonic solutions (gating off) at `speed_rpm` (scalar -> list[HBSolution] sorted by B;
     array -> one such list per speed). B_max defaults to F/(w C0), an upper bound of every root
     since w C_eq >= 0. Roots closer together than the scan resolution (n_scan log points of B - d

@@ -7,6 +7,7 @@ of a plateau continuing the phase of the previous one (`PhasedSine`), where a pl
 `harness.analysis.steady_state.analyze` finds the steady state (chunk lengths from the fitted decay of the
 transient), and `period_peak`: the max |q| of one more period, finely sampled.
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -53,7 +54,7 @@ class PhasedSine:
 
     def derivatives(self, t, order: int) -> np.ndarray:
         x = self.phase + self.omega * (np.atleast_1d(np.asarray(t, dtype=float)) - self.t0)
-        return np.array([self.amplitude * self.omega ** j * np.sin(x + j * math.pi / 2) for j in range(order + 1)])
+        return np.array([self.amplitude * self.omega**j * np.sin(x + j * math.pi / 2) for j in range(order + 1)])
 
 
 def omega_of(params: Mapping[str, Any], speed: float) -> float:
@@ -83,8 +84,9 @@ PLATEAU_OUTPUTS = SETTLE_OUTPUTS + ("amplitude",)  # what sweep plateaus and fix
 PEAK_STEPS = 64  # samples of the extra period of `period_peak` (Hermite error <~1e-5 with contact)
 
 
-def settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings, cap: float,
-           outputs: list[str]) -> tuple[np.ndarray, Any, float, float]:
+def settle(
+    fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings, cap: float, outputs: list[str]
+) -> tuple[np.ndarray, Any, float, float]:
     """Run chunks at constant `speed` from `start` until analyze() finds the steady state or
     `cap` seconds are simulated; a response that converges with a fitted decay fast enough to
     reach rtol within `s.extend` x cap may go on to that (an irregular one stops at the cap).
@@ -108,7 +110,6 @@ def settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings,
     h = period / spp
     aero = PhasedSine(params["Fw0"], omega, start.phase, start.time)
     if start.state is not None and not fmu.holds(start.state):  # (a chain's next plateau: held)
-
         st = FMUState(start.state)
         st.time, st.params = start.time, dict(params)
         fmu.set_state(st)
@@ -127,9 +128,20 @@ def settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings,
         t_stop = start.time + (p_done + n) * period
         fresh = first and start.state is None
         # reset=False continues with the parameters already in the FMU (None: no re-validation)
-        res = fmu.run(params if fresh else None, t_stop, h, aero=aero, speed=float(speed), outputs=outputs,
-                      derivative_order=s.derivative_order, start_time=t, reset=fresh, input_fit=s.input_fit,
-                      carry_values=True, sample_every=spp)
+        res = fmu.run(
+            params if fresh else None,
+            t_stop,
+            h,
+            aero=aero,
+            speed=float(speed),
+            outputs=outputs,
+            derivative_order=s.derivative_order,
+            start_time=t,
+            reset=fresh,
+            input_fit=s.input_fit,
+            carry_values=True,
+            sample_every=spp,
+        )
         if not first and len(res) and abs(res["time"][0] - t) <= 1e-12 * max(1.0, abs(t)):
             res = res[1:]  # the chunk's first row repeats the previous chunk's last one
         chunks.append(res)
@@ -142,8 +154,9 @@ def settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings,
         last_decision = p_done
         if p_done >= p_hard:
             break
-        reached, rel, decay = decide(w["tipDisplacement"][:-1, None], w["tipVelocity"][:-1, None],
-                                     omega, rtol=s.rtol, min_periods=s.min_periods)
+        reached, rel, decay = decide(
+            w["tipDisplacement"][:-1, None], w["tipVelocity"][:-1, None], omega, rtol=s.rtol, min_periods=s.min_periods
+        )
         if reached:
             break
         converging = math.isfinite(rel) and 0.0 < decay < 1.0
@@ -157,8 +170,9 @@ def settle(fmu: Any, params: dict, speed: float, start: Start, s: SweepSettings,
         limit = p_hard if converging and p_done + need <= p_hard else p_soft
         if p_done >= limit:
             break
-    ss = analyze(w["time"], w["tipDisplacement"], period, rtol=s.rtol, min_periods=s.min_periods,
-                 velocity=w["tipVelocity"])
+    ss = analyze(
+        w["time"], w["tipDisplacement"], period, rtol=s.rtol, min_periods=s.min_periods, velocity=w["tipVelocity"]
+    )
     data = np.concatenate(chunks)
     phase = (start.phase + omega * (t - start.time)) % (2.0 * math.pi)
     return data, ss, t, phase
@@ -175,8 +189,9 @@ def _tail(chunks: list[np.ndarray], n: int) -> np.ndarray:
     return np.concatenate(parts[::-1])[-n:]
 
 
-def period_peak(fmu: Any, params: dict, speed: float, t: float, phase: float, s: SweepSettings,
-                steps: int = PEAK_STEPS) -> float:
+def period_peak(
+    fmu: Any, params: dict, speed: float, t: float, phase: float, s: SweepSettings, steps: int = PEAK_STEPS
+) -> float:
     """max |q| over one more excitation period from the FMU's current state at time t (load phase
     `phase`), on `steps` samples with the cubic Hermite interpolant through (q, q'): relative error
     ~ (2 pi f_max / (f steps))^4 / 384 for the fastest local frequency f_max (2.5e-7 at 64 steps for
@@ -185,7 +200,17 @@ def period_peak(fmu: Any, params: dict, speed: float, t: float, phase: float, s:
     omega = omega_of(params, speed)
     period = 2.0 * math.pi / omega
     aero = PhasedSine(params["Fw0"], omega, phase, t)
-    r = fmu.run(None, t + period, period / steps, aero=aero, speed=float(speed), outputs=list(SETTLE_OUTPUTS),
-                derivative_order=s.derivative_order, start_time=t, reset=False, input_fit=s.input_fit,
-                carry_values=True)
+    r = fmu.run(
+        None,
+        t + period,
+        period / steps,
+        aero=aero,
+        speed=float(speed),
+        outputs=list(SETTLE_OUTPUTS),
+        derivative_order=s.derivative_order,
+        start_time=t,
+        reset=False,
+        input_fit=s.input_fit,
+        carry_values=True,
+    )
     return hermite_peak(r["time"], r["tipDisplacement"], r["tipVelocity"])

@@ -19,6 +19,7 @@ drivers); `analyze` adds the amplitude (max |q| of the last period: Hermite thro
 spline through q; below 3 samples per period the largest sqrt(q^2 + (q'/w)^2)), the first-harmonic
 fit and the spectrum over whole periods.
 """
+
 from __future__ import annotations
 
 import math
@@ -76,7 +77,7 @@ def _rows(time: np.ndarray, x: np.ndarray, period: float, P: int, M: int, raw: b
     (error ~ (w dt)^8: ~1e-9 of the amplitude at 14 samples per cycle of the highest harmonic; a
     signal with kinks interpolates worse and may then not be found steady)."""
     if raw:
-        return x[:P * M].reshape(P, M), time[:P * M].reshape(P, M)
+        return x[: P * M].reshape(P, M), time[: P * M].reshape(P, M)
     tt = time[0] + period * (np.arange(P)[:, None] + np.arange(M)[None, :] / M)
     return make_interp_spline(time, x, k=min(7, len(time) - 1))(tt), tt
 
@@ -86,7 +87,7 @@ def _rows(time: np.ndarray, x: np.ndarray, period: float, P: int, M: int, raw: b
 # ---------------------------------------------------------------------------------------------
 def _tr(L: np.ndarray, i0: int, k0: int, m: int) -> np.ndarray:
     """sum_{j<m} L[:, i0 + j, k0 + j]: a sum of inner products D_{i0+j} . D_{k0+j} per window."""
-    return np.einsum("bii->b", L[:, i0:i0 + m, k0:k0 + m])
+    return np.einsum("bii->b", L[:, i0 : i0 + m, k0 : k0 + m])
 
 
 def _fit_order(Dw: np.ndarray, L: np.ndarray, p: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -231,7 +232,7 @@ def _distance_few(Dw: np.ndarray, L: np.ndarray) -> tuple[np.ndarray, np.ndarray
                 if p <= 2:
                     cand = _fit_low_scalar(Dl[b], Ll[b], p)
                 else:
-                    r, d, rho = _fit_order(Dw[b:b + 1], L[b:b + 1], p)
+                    r, d, rho = _fit_order(Dw[b : b + 1], L[b : b + 1], p)
                     cand = (float(r[0]), float(d[0]), float(rho[0]))
                 if cand[0] <= FIT_OK or cand[0] < 0.5 * best[0]:
                     best = cand
@@ -241,8 +242,9 @@ def _distance_few(Dw: np.ndarray, L: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return out_d, out_rho
 
 
-def _distances(X: np.ndarray, floor: float, stop: float, first: int,
-               extend: bool = True) -> tuple[np.ndarray, np.ndarray]:
+def _distances(
+    X: np.ndarray, floor: float, stop: float, first: int, extend: bool = True
+) -> tuple[np.ndarray, np.ndarray]:
     """Estimated relative distance from the limit cycle of the periods that decide the final
     converged run (X: scaled period rows, shape (P, n)) and the fitted decay per period (nan where
     not fitted). Evaluated backwards from the last period: the last `first` periods, then (if they
@@ -295,8 +297,9 @@ def _run_length(rel: np.ndarray, rtol: float) -> int:
     return len(rel) - (int(bad[-1]) + 1 if len(bad) else 0)
 
 
-def decide(q_rows: np.ndarray, v_rows: np.ndarray | None, omega: float, *, rtol: float,
-           min_periods: int) -> tuple[bool, float, float]:
+def decide(
+    q_rows: np.ndarray, v_rows: np.ndarray | None, omega: float, *, rtol: float, min_periods: int
+) -> tuple[bool, float, float]:
     """The steady-state decision of `analyze` alone, for raw period rows (shape (P, M): M uniform
     samples per period starting at a period start; v_rows the velocity samples or None):
     (reached, the largest estimated relative distance from the limit over the last min_periods
@@ -328,7 +331,7 @@ def hermite_peak(t: np.ndarray, q: np.ndarray, v: np.ndarray) -> float:
         ok = np.isfinite(s) & (s > 0) & (s < 1)
         if np.any(ok):
             s_ = s[ok]
-            best = max(best, float(np.max(np.abs(q0[ok] + m0[ok] * s_ + c2[ok] * s_ ** 2 + c3[ok] * s_ ** 3))))
+            best = max(best, float(np.max(np.abs(q0[ok] + m0[ok] * s_ + c2[ok] * s_**2 + c3[ok] * s_**3))))
     return best
 
 
@@ -392,7 +395,7 @@ def _subharmonic_hint(w: np.ndarray, rtol: float) -> str:
     P = w.shape[0]
     for m in (2, 3, 4):
         if P >= 3 * m:
-            a, b = w[-m:], w[-2 * m:-m]
+            a, b = w[-m:], w[-2 * m : -m]
             if np.max(np.abs(a - b)) <= max(10 * rtol, 1e-3) * np.max(np.abs(a)):
                 return f" The last {2 * m} periods repeat every {m} periods: a subharmonic ({m}T) response."
     return ""
@@ -405,8 +408,9 @@ def _channel(x, n: int, name: str) -> np.ndarray:
     return x
 
 
-def analyze(time, q, period: float, *, rtol: float = 1e-4, min_periods: int = 3, velocity=None,
-            states: Sequence | None = None) -> SteadyState:
+def analyze(
+    time, q, period: float, *, rtol: float = 1e-4, min_periods: int = 3, velocity=None, states: Sequence | None = None
+) -> SteadyState:
     """Periodic steady state of q(time) at excitation period `period` [s] (see the module doc).
 
     velocity: samples of dq/dt (optional, recommended): q'/w is compared period to period with q
@@ -427,10 +431,20 @@ def analyze(time, q, period: float, *, rtol: float = 1e-4, min_periods: int = 3,
     P_avail = int(math.floor((time[-1] - time[0]) / period * (1 + 1e-12) + 1e-9))
     freq = 1.0 / period
     if P_avail < 2:
-        return SteadyState(False, math.nan, math.nan, math.nan, math.nan, math.nan, freq,
-                           (np.zeros(0), np.zeros(0)), P_avail, math.inf,
-                           f"record of {time[-1] - time[0]:.4g} s holds {P_avail} whole period(s) of {period:.4g} s;"
-                           " need at least 2: run longer")
+        return SteadyState(
+            False,
+            math.nan,
+            math.nan,
+            math.nan,
+            math.nan,
+            math.nan,
+            freq,
+            (np.zeros(0), np.zeros(0)),
+            P_avail,
+            math.inf,
+            f"record of {time[-1] - time[0]:.4g} s holds {P_avail} whole period(s) of {period:.4g} s;"
+            " need at least 2: run longer",
+        )
     P, M, raw = _layout(time, period)
     w, tt = _rows(time, q, period, P, M, raw)
     om = 2 * math.pi / period
@@ -447,14 +461,15 @@ def analyze(time, q, period: float, *, rtol: float = 1e-4, min_periods: int = 3,
     else:
         t_steady = math.nan
         n_fit = min(P, 8)
-        msg = (f"no periodic steady state at period {period:.4g} s: the record ends with {run} converged "
-               f"period(s) of {min_periods} needed (estimated distance from the limit {rel[-1]:.3g}, "
-               f"rtol {rtol:g}); run longer." + _subharmonic_hint(w, rtol))
+        msg = (
+            f"no periodic steady state at period {period:.4g} s: the record ends with {run} converged "
+            f"period(s) of {min_periods} needed (estimated distance from the limit {rel[-1]:.3g}, "
+            f"rtol {rtol:g}); run longer." + _subharmonic_hint(w, rtol)
+        )
     H, ph, a0 = _fit(w[-n_fit:], tt[-n_fit:], period, None if wv is None else wv[-n_fit:])
     spec = _spectrum(w[-n_fit:], period / M, reached)
     if M >= 3 or wv is None:
         amp = _peak_abs(time, q, v, float(tt[-1, 0]), float(tt[-1, 0] + period))
     else:  # too few samples for an interpolant: the harmonic amplitude seen at each sample
         amp = float(np.max(np.hypot(w[-1], wv[-1])))
-    return SteadyState(reached, t_steady, amp, H, ph, a0, freq, spec, P, float(rel[-1]), msg,
-                       float(decay[-1]), M)
+    return SteadyState(reached, t_steady, amp, H, ph, a0, freq, spec, P, float(rel[-1]), msg, float(decay[-1]), M)

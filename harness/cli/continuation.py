@@ -8,6 +8,7 @@ the plot draws stable parts bold and unstable parts faint. Peaks and folds are l
 refinement (harness.analysis.periodic.extrema), not read off the sampled points. The paper's studies as branches are part
 of `python -m harness run` (harness.studies.paper).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -28,17 +29,34 @@ DEFAULT_CSV = "branches.csv"
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
     add_fmu_option(p)
-    p.add_argument("--speed-range", type=float, nargs=2, default=[3000.0, 10000.0], metavar=("LO", "HI"),
-                   help="speed range [rpm] (default 3000 10000)")
+    p.add_argument(
+        "--speed-range",
+        type=float,
+        nargs=2,
+        default=[3000.0, 10000.0],
+        metavar=("LO", "HI"),
+        help="speed range [rpm] (default 3000 10000)",
+    )
     p.add_argument("--model", choices=MODELS, default="fixedPoint", help="as for `periodic` (default fixedPoint)")
     add_start_values(p)
-    p.add_argument("--seed-step", type=float, default=500.0, metavar="RPM",
-                   help="search every orbit at seed speeds this far apart (default 500 rpm)")
-    p.add_argument("--output-file", metavar="CSV",
-                   help=f"branch CSV (default {DEFAULT_CSV}; with --json: no file unless this is given)")
+    p.add_argument(
+        "--seed-step",
+        type=float,
+        default=500.0,
+        metavar="RPM",
+        help="search every orbit at seed speeds this far apart (default 500 rpm)",
+    )
+    p.add_argument(
+        "--output-file",
+        metavar="CSV",
+        help=f"branch CSV (default {DEFAULT_CSV}; with --json: no file unless this is given)",
+    )
     p.add_argument("--plot", metavar="PNG", help="also plot the branches to this PNG file (default: no plot)")
-    p.add_argument("--json", action="store_true",
-                   help="print the branches with their located peaks and folds as JSON on stdout, nothing else")
+    p.add_argument(
+        "--json",
+        action="store_true",
+        help="print the branches with their located peaks and folds as JSON on stdout, nothing else",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -59,13 +77,25 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         branches_figure(Path(args.plot), {args.model: branches}, f"{args.model}, {overrides or 'Table 1'}")
     if args.json:
-        print(json.dumps({"model": args.model, "parameters": overrides, "speed_range_rpm": [lo, hi],
-                          "periods_simulated": stats.evaluations, "output_file": args.output_file,
-                          "branches": [branch_dict(b) for b in branches]}, indent=1))
+        print(
+            json.dumps(
+                {
+                    "model": args.model,
+                    "parameters": overrides,
+                    "speed_range_rpm": [lo, hi],
+                    "periods_simulated": stats.evaluations,
+                    "output_file": args.output_file,
+                    "branches": [branch_dict(b) for b in branches],
+                },
+                indent=1,
+            )
+        )
         return 0
     n = sum(len(b.points) for b in branches)
-    print(f"{len(branches)} branch(es), {n} points, {stats.evaluations} periods simulated -> {args.output_file}"
-          + (f", {args.plot}" if args.plot else ""))
+    print(
+        f"{len(branches)} branch(es), {n} points, {stats.evaluations} periods simulated -> {args.output_file}"
+        + (f", {args.plot}" if args.plot else "")
+    )
     for i, b in enumerate(branches):
         print(f"  branch {i}: {b.speeds.min():.0f}..{b.speeds.max():.0f} rpm")
         for e in b.extrema:
@@ -89,9 +119,14 @@ def sampled_changes(b) -> list[tuple[float, float, str]]:
 
 def branch_dict(b) -> dict:
     """A branch for --json: its points and its located peaks and folds."""
-    return {"points": [{"speed_rpm": p.speed, "amplitude_m": p.amplitude, "stable": p.stable, "label": p.label}
-                       for p in b.points],
-            "peaks": [e.as_dict() for e in b.located("peak")], "folds": [e.as_dict() for e in b.located("fold")],
-            "other_stability_changes": [{"from_rpm": lo_n, "to_rpm": hi_n, "kind": k}
-                                        for lo_n, hi_n, k in sampled_changes(b)],
-            "end_reasons": b.end_reasons}
+    return {
+        "points": [
+            {"speed_rpm": p.speed, "amplitude_m": p.amplitude, "stable": p.stable, "label": p.label} for p in b.points
+        ],
+        "peaks": [e.as_dict() for e in b.located("peak")],
+        "folds": [e.as_dict() for e in b.located("fold")],
+        "other_stability_changes": [
+            {"from_rpm": lo_n, "to_rpm": hi_n, "kind": k} for lo_n, hi_n, k in sampled_changes(b)
+        ],
+        "end_reasons": b.end_reasons,
+    }

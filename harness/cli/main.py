@@ -8,6 +8,7 @@ first sentence of each module's docstring (read without importing). Known user e
 parameter, missing FMU, bad input signal, FMU failure) print one line `error: ...` saying what to
 do and exit with code 2; option names follow fmpy's command line where they overlap.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -91,8 +92,9 @@ class _Version(argparse.Action):
     """--version: the installed distribution's version, looked up only when asked (0.1 s)."""
 
     def __init__(self, option_strings: Sequence[str], dest: str = argparse.SUPPRESS, **kwargs: Any) -> None:
-        super().__init__(option_strings, dest, nargs=0, default=argparse.SUPPRESS,
-                         help="show the program's version number and exit")
+        super().__init__(
+            option_strings, dest, nargs=0, default=argparse.SUPPRESS, help="show the program's version number and exit"
+        )
 
     def __call__(self, parser: argparse.ArgumentParser, *_: Any) -> None:
         from harness.version import version
@@ -111,18 +113,19 @@ def build_parser(command: str | None) -> argparse.ArgumentParser:
     parser = _Parser(
         prog=prog,
         description="ShroudedBlade: simulate the shrouded-blade FMU (harness.fmu_path('ShroudedBlade')), sweep speeds,"
-                    " reproduce the paper's studies and validate the FMU against the Python reference."
-                    f" Run `{prog} <command> --help` for the options of one command.",
+        " reproduce the paper's studies and validate the FMU against the Python reference."
+        f" Run `{prog} <command> --help` for the options of one command.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog="examples:\n"
-               f"  {prog} simulate --plot tip.png              # 0.3 s at 5000 rpm -> CSV + PNG\n"
-               f"  {prog} simulate --speed 7000 --start-values d 4e-5 gating false\n"
-               f"  {prog} periodic --speed 7000 --json          # every periodic orbit at 7000 rpm\n"
-               f"  {prog} run --out DIR                         # the paper's studies into DIR\n"
-               "Installed (pip install .), the FMUs come with the package; in a checkout they are built into\n"
-               "build/ on first use (cmake + gcc). Results go where --out/--output-file say (default: under\n"
-               "the current directory). Parameter names and defaults are those of modelDescription.xml\n"
-               "(paper Table 1) plus Fw0 [N/m].")
+        f"  {prog} simulate --plot tip.png              # 0.3 s at 5000 rpm -> CSV + PNG\n"
+        f"  {prog} simulate --speed 7000 --start-values d 4e-5 gating false\n"
+        f"  {prog} periodic --speed 7000 --json          # every periodic orbit at 7000 rpm\n"
+        f"  {prog} run --out DIR                         # the paper's studies into DIR\n"
+        "Installed (pip install .), the FMUs come with the package; in a checkout they are built into\n"
+        "build/ on first use (cmake + gcc). Results go where --out/--output-file say (default: under\n"
+        "the current directory). Parameter names and defaults are those of modelDescription.xml\n"
+        "(paper Table 1) plus Fw0 [N/m].",
+    )
     parser.add_argument("--version", action=_Version)
     sub = parser.add_subparsers(dest="command", metavar="<command>", parser_class=_Parser)
     for name, module in COMMANDS.items():
@@ -136,8 +139,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     command = next((a for a in argv if not a.startswith("-")), None)
     if command is not None and command not in COMMANDS:
-        print(f"error: unknown command {command!r}; commands: {', '.join(COMMANDS)}"
-              f" (see `{_prog()} --help`)", file=sys.stderr)
+        print(
+            f"error: unknown command {command!r}; commands: {', '.join(COMMANDS)} (see `{_prog()} --help`)",
+            file=sys.stderr,
+        )
         return EXIT_USAGE
     parser = build_parser(command)
     args = parser.parse_args(argv)
@@ -146,8 +151,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_USAGE
     if args.command in CHECKOUT_ONLY:
         if not IN_CHECKOUT:
-            print(f"error: `{args.command}` runs in a checkout of the sources (it writes to its {args.command}/"
-                  " directory), not in an installed harness", file=sys.stderr)
+            print(
+                f"error: `{args.command}` runs in a checkout of the sources (it writes to its {args.command}/"
+                " directory), not in an installed harness",
+                file=sys.stderr,
+            )
             return EXIT_USAGE
     module = importlib.import_module(COMMANDS[args.command])
     try:

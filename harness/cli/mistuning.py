@@ -6,6 +6,7 @@
 (variant, pattern) is one sweep of the ring over the band (harness/studies/mistuning.py), cached in
 its own file, so an interrupted study resumes; the figures (PNG + CSV) go to --out.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -29,51 +30,97 @@ _S = SIZES["small"]
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
     c = SIZES["cluster"]
-    p.add_argument("--size", choices=SIZES, default="small",
-                   help=f"small (default; in make run): {_S.n} blades, levels {' '.join(map(str, _S.levels))}, "
-                        f"{_S.patterns} patterns per level, {_S.points} speeds, {' '.join(_S.variants)}; cluster: "
-                        f"{c.n} blades, {len(c.levels)} levels x {c.patterns} patterns, {c.points} speeds, "
-                        f"{' '.join(c.variants)}. The options below override it")
+    p.add_argument(
+        "--size",
+        choices=SIZES,
+        default="small",
+        help=f"small (default; in make run): {_S.n} blades, levels {' '.join(map(str, _S.levels))}, "
+        f"{_S.patterns} patterns per level, {_S.points} speeds, {' '.join(_S.variants)}; cluster: "
+        f"{c.n} blades, {len(c.levels)} levels x {c.patterns} patterns, {c.points} speeds, "
+        f"{' '.join(c.variants)}. The options below override it",
+    )
     p.add_argument("--blades", type=int, metavar="N", help=f"blades in the ring (default {_S.n})")
-    p.add_argument("--levels", type=float, nargs="+", metavar="SIGMA",
-                   help=f"relative standard deviations, in [0, 0.2] (default {' '.join(map(str, _S.levels))})")
+    p.add_argument(
+        "--levels",
+        type=float,
+        nargs="+",
+        metavar="SIGMA",
+        help=f"relative standard deviations, in [0, 0.2] (default {' '.join(map(str, _S.levels))})",
+    )
     p.add_argument("--patterns", type=int, metavar="K", help=f"random patterns per level (default {_S.patterns})")
     p.add_argument("--parameter", choices=PARAMETERS, help=f"scattered blade parameter (default {_S.parameter})")
     p.add_argument("--seed", type=int, metavar="S", help=f"pattern generator seed (default {_S.seed})")
     p.add_argument("--points", type=int, metavar="K", help=f"speeds across the band (default {_S.points})")
-    p.add_argument("--band", type=float, nargs=2, metavar=("FROM", "TO"),
-                   help=f"speed band [rpm] (default {CROSSING_BAND[0]:g}x to {CROSSING_BAND[1]:g}x the contact-free "
-                        "crossing: %.0f to %.0f rpm)" % mistuning.band(_S))
-    p.add_argument("--rtol", type=float, metavar="R",
-                   help="settled: every blade's per-period amplitude change / the largest amplitude below this over "
-                        f"5 periods (default {_S.rtol:g})")
-    p.add_argument("--max-time", type=float, metavar="S",
-                   help=f"simulated time at most at one speed [s]; a speed not settled by then is flagged "
-                        f"(default {_S.max_time:g})")
-    p.add_argument("--variants", nargs="+", choices=VARIANTS,
-                   help=f"friction (contacts as given), frictionless (mu = 0), open (d = 1 m) "
-                        f"(default {' '.join(_S.variants)})")
-    p.add_argument("--state-patterns", type=int, metavar="K",
-                   help="patterns per level also taken to the ring's periodic-orbit engine: each ring's largest "
-                        "stable steady state over the band and the amplification on it, beside the sweep's "
-                        f"(default {_S.state_patterns}; 0: the sweeps only)")
-    p.add_argument("--search", type=int, metavar="RINGS",
-                   help="search the worst pattern at the largest level on stable steady states (a compass search "
-                        "from the worst of --state-patterns, or of the sweeps if none), with this budget of rings "
-                        f"(default {_S.search_budget}, no search)")
-    p.add_argument("--out", default=str(RESULTS_DIR / "mistuning"), metavar="DIR",
-                   help=f"figures and CSVs (default ./{RESULTS_DIR / 'mistuning'})")
+    p.add_argument(
+        "--band",
+        type=float,
+        nargs=2,
+        metavar=("FROM", "TO"),
+        help=f"speed band [rpm] (default {CROSSING_BAND[0]:g}x to {CROSSING_BAND[1]:g}x the contact-free "
+        "crossing: %.0f to %.0f rpm)" % mistuning.band(_S),
+    )
+    p.add_argument(
+        "--rtol",
+        type=float,
+        metavar="R",
+        help="settled: every blade's per-period amplitude change / the largest amplitude below this over "
+        f"5 periods (default {_S.rtol:g})",
+    )
+    p.add_argument(
+        "--max-time",
+        type=float,
+        metavar="S",
+        help=f"simulated time at most at one speed [s]; a speed not settled by then is flagged "
+        f"(default {_S.max_time:g})",
+    )
+    p.add_argument(
+        "--variants",
+        nargs="+",
+        choices=VARIANTS,
+        help=f"friction (contacts as given), frictionless (mu = 0), open (d = 1 m) (default {' '.join(_S.variants)})",
+    )
+    p.add_argument(
+        "--state-patterns",
+        type=int,
+        metavar="K",
+        help="patterns per level also taken to the ring's periodic-orbit engine: each ring's largest "
+        "stable steady state over the band and the amplification on it, beside the sweep's "
+        f"(default {_S.state_patterns}; 0: the sweeps only)",
+    )
+    p.add_argument(
+        "--search",
+        type=int,
+        metavar="RINGS",
+        help="search the worst pattern at the largest level on stable steady states (a compass search "
+        "from the worst of --state-patterns, or of the sweeps if none), with this budget of rings "
+        f"(default {_S.search_budget}, no search)",
+    )
+    p.add_argument(
+        "--out",
+        default=str(RESULTS_DIR / "mistuning"),
+        metavar="DIR",
+        help=f"figures and CSVs (default ./{RESULTS_DIR / 'mistuning'})",
+    )
     p.add_argument("--json", action="store_true", help="print the study as JSON on stdout")
     add_execution_options(p, fmu=False)  # the ring's FMUs, not a --fmu of the user's
 
 
 def study_from(args: argparse.Namespace) -> mistuning.Study:
     s = SIZES[args.size]
-    given = {"n": args.blades, "levels": tuple(args.levels) if args.levels else None, "patterns": args.patterns,
-             "parameter": args.parameter, "seed": args.seed, "rtol": args.rtol, "max_time": args.max_time,
-             "points": args.points, "state_patterns": args.state_patterns, "search_budget": args.search,
-             "band": tuple(args.band) if args.band else None,
-             "variants": tuple(args.variants) if args.variants else None}
+    given = {
+        "n": args.blades,
+        "levels": tuple(args.levels) if args.levels else None,
+        "patterns": args.patterns,
+        "parameter": args.parameter,
+        "seed": args.seed,
+        "rtol": args.rtol,
+        "max_time": args.max_time,
+        "points": args.points,
+        "state_patterns": args.state_patterns,
+        "search_budget": args.search,
+        "band": tuple(args.band) if args.band else None,
+        "variants": tuple(args.variants) if args.variants else None,
+    }
     s = replace(s, **{k: v for k, v in given.items() if v is not None})
     if not 2 <= s.n <= 10000:
         raise ParameterError(f"--blades {s.n} outside [2, 10000]")
@@ -118,6 +165,7 @@ def run_and_write(study: mistuning.Study, runner: Runner, cache: Path | None, ou
     files = mistuning_plots.write(out, out_dir)
     if study.state_patterns or study.search_budget:
         from harness.studies import mistuning_states, mistuning_states_plots  # the engine: only when asked
+
         settings = mistuning_states.StatesSettings()
         cdir = cache / "states" if cache else None
         variant = "friction" if "friction" in study.variants else study.variants[0]

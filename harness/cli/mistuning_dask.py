@@ -3,6 +3,7 @@
 `python -m harness mistuning-dask [--out FILE]` runs harness.studies.mistuning_dask's measurement
 (a few minutes on 2 cores; needs the `cluster` extra) and writes it to FILE as JSON.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -13,8 +14,12 @@ from harness.studies.mistuning_dask import write_measurement
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--out", default="mistuning_dask.json", metavar="FILE",
-                   help="where the JSON goes (default ./mistuning_dask.json)")
+    p.add_argument(
+        "--out",
+        default="mistuning_dask.json",
+        metavar="FILE",
+        help="where the JSON goes (default ./mistuning_dask.json)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:

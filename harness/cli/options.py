@@ -1,6 +1,7 @@
 """Options shared by several commands, and their parsing: the FMU file, the parameter start
 values, the output files checked before any work, where the work runs (workers, a dask scheduler,
 the point cache)."""
+
 from __future__ import annotations
 
 import argparse
@@ -13,14 +14,19 @@ from harness.model.params import ParameterError
 from harness.outputs import check_file
 
 # the --start-values help of the commands on the single blade (the ring's says what it sets where)
-START_VALUES_HELP = ("parameter name-value pairs, e.g. `--start-values d 4e-5 kn 1e6 gating false` (names and units"
-                     " as in modelDescription.xml; default: none, paper Table 1)")
+START_VALUES_HELP = (
+    "parameter name-value pairs, e.g. `--start-values d 4e-5 kn 1e6 gating false` (names and units"
+    " as in modelDescription.xml; default: none, paper Table 1)"
+)
 
 
 def add_fmu_option(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--fmu", metavar="FILE",
-                   help="the FMU file (a .fmu, not a directory; default: the harness's own: the installed"
-                        " package's, or build/ShroudedBlade.fmu in a checkout, built if needed)")
+    p.add_argument(
+        "--fmu",
+        metavar="FILE",
+        help="the FMU file (a .fmu, not a directory; default: the harness's own: the installed"
+        " package's, or build/ShroudedBlade.fmu in a checkout, built if needed)",
+    )
 
 
 def add_start_values(p: argparse.ArgumentParser, help: str = START_VALUES_HELP) -> None:
@@ -46,14 +52,26 @@ def add_execution_options(p: argparse.ArgumentParser, cache: bool = True, fmu: b
     `cache`, the per-point result cache of the transient sweeps; with `fmu`, the blade FMU to use)."""
     if fmu:
         add_fmu_option(p)
-    p.add_argument("--workers", type=int, default=None, metavar="N",
-                   help="local worker processes (default: number of CPUs; 1 = in this process)")
-    p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="run on a dask.distributed cluster, e.g. tcp://10.0.0.5:8786 (one FMU per worker;"
-                        " default: none, local processes)")
+    p.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        metavar="N",
+        help="local worker processes (default: number of CPUs; 1 = in this process)",
+    )
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="run on a dask.distributed cluster, e.g. tcp://10.0.0.5:8786 (one FMU per worker;"
+        " default: none, local processes)",
+    )
     if cache:
-        p.add_argument("--cache-dir", default=str(DEFAULT_CACHE_DIR), metavar="DIR",
-                       help=f"per-point result cache, makes interrupted runs resumable (default {DEFAULT_CACHE_DIR})")
+        p.add_argument(
+            "--cache-dir",
+            default=str(DEFAULT_CACHE_DIR),
+            metavar="DIR",
+            help=f"per-point result cache, makes interrupted runs resumable (default {DEFAULT_CACHE_DIR})",
+        )
         p.add_argument("--no-cache", action="store_true", help="compute every point again, store nothing")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
 

@@ -7,6 +7,7 @@ atomically. The studies are branches of periodic orbits (harness.studies.study_b
 Fig. 2 compares the FMU's loop with the reference's: the studies come from
 harness.validation.reproduction, the validation layer below the CLI (docs/layers.md).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -18,14 +19,32 @@ from harness.studies.paper import SIZES, STUDIES
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--size", default="default", choices=list(SIZES),
-                   help="quick (a test run: extremes only, coarse grid), default (make run), full (fine grids)")
-    p.add_argument("--studies", nargs="+", choices=list(STUDIES), metavar="STUDY",
-                   help=f"parameter studies to run (default all: {' '.join(STUDIES)})")
-    p.add_argument("--no-extras", action="store_true",
-                   help="only the parameter studies (skip Fig. 2, 4/5, Campbell, Coulomb, paper iteration)")
-    p.add_argument("--out", "--output-dir", dest="output_dir", default=str(RESULTS_DIR), metavar="DIR",
-                   help=f"where to write (default ./{RESULTS_DIR})")
+    p.add_argument(
+        "--size",
+        default="default",
+        choices=list(SIZES),
+        help="quick (a test run: extremes only, coarse grid), default (make run), full (fine grids)",
+    )
+    p.add_argument(
+        "--studies",
+        nargs="+",
+        choices=list(STUDIES),
+        metavar="STUDY",
+        help=f"parameter studies to run (default all: {' '.join(STUDIES)})",
+    )
+    p.add_argument(
+        "--no-extras",
+        action="store_true",
+        help="only the parameter studies (skip Fig. 2, 4/5, Campbell, Coulomb, paper iteration)",
+    )
+    p.add_argument(
+        "--out",
+        "--output-dir",
+        dest="output_dir",
+        default=str(RESULTS_DIR),
+        metavar="DIR",
+        help=f"where to write (default ./{RESULTS_DIR})",
+    )
     add_execution_options(p, cache=False)
 
 

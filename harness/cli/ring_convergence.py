@@ -4,6 +4,7 @@
 fmpy master at orders 0-3 and libcosim), writes PATH.csv and PATH.png (default
 results/ring_convergence) and prints the errors and the measured orders.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -14,8 +15,13 @@ from harness.validation.ring_convergence import Study, errors, measured_order, w
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--out", type=Path, default=Path("results/ring_convergence"), metavar="PATH",
-                   help="the files' path without suffix (default results/ring_convergence)")
+    p.add_argument(
+        "--out",
+        type=Path,
+        default=Path("results/ring_convergence"),
+        metavar="PATH",
+        help="the files' path without suffix (default results/ring_convergence)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:

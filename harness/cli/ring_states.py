@@ -5,6 +5,7 @@ docs/findings/ring-steady-states.md (harness.validation.ring_states): a6400, a70
 c = 298, 0.3 s by default) or b (8 blades, 5000 rpm, c = 29.8, 2 s by default, one reference run
 per --rtol).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -14,10 +15,21 @@ from harness.validation.ring_states import SETTINGS, case_a, case_b
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("case", choices=[*SETTINGS], help="the case of the findings page")
-    p.add_argument("--stop", type=float, default=None, metavar="S",
-                   help="horizon [s] (default: none, the case's own: 0.3 for the a cases, 2 for b)")
-    p.add_argument("--rtol", type=float, nargs="+", default=[1e-9], metavar="R",
-                   help="the reference's tolerances, case b (default 1e-9)")
+    p.add_argument(
+        "--stop",
+        type=float,
+        default=None,
+        metavar="S",
+        help="horizon [s] (default: none, the case's own: 0.3 for the a cases, 2 for b)",
+    )
+    p.add_argument(
+        "--rtol",
+        type=float,
+        nargs="+",
+        default=[1e-9],
+        metavar="R",
+        help="the reference's tolerances, case b (default 1e-9)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:

@@ -11,6 +11,7 @@ harness/studies/mistuning.py: <out>/mistuning/, each sweep over speed cached und
 <out>/cache/mistuning, so a second run reads it back; the sweeps take 1.5-4 min on 2 cores, the three
 rings on stable steady states about 5 min more).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -30,8 +31,14 @@ from harness.studies.paper import SIZES, STUDIES, Reproduction
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--size", default="default", choices=list(SIZES), help="work size (default: default)")
-    p.add_argument("--out", "--output-dir", dest="output_dir", default=str(RESULTS_DIR), metavar="DIR",
-                   help=f"where to write (default ./{RESULTS_DIR})")
+    p.add_argument(
+        "--out",
+        "--output-dir",
+        dest="output_dir",
+        default=str(RESULTS_DIR),
+        metavar="DIR",
+        help=f"where to write (default ./{RESULTS_DIR})",
+    )
     add_execution_options(p, cache=False)
 
 
@@ -41,8 +48,7 @@ def run(args: argparse.Namespace) -> int:
     with make_runner(args) as runner:
         study = run_and_write(mistuning.SIZES["small"], runner, out / "cache" / "mistuning", out / "mistuning")
     mistuning_report(study)
-    print(f"\nresults in {out.resolve()}/ (claims.md: the paper's claims against ours; the figures *.png; "
-          "mistuning/)")
+    print(f"\nresults in {out.resolve()}/ (claims.md: the paper's claims against ours; the figures *.png; mistuning/)")
     print("what it found:")
     for line in findings(rep, study):
         print(f"  {line}")
@@ -56,15 +62,23 @@ def findings(rep: Reproduction, study: dict[str, Any]) -> list[str]:
     rest = ", ".join(f"{n} {k}" for k, n in groups.items() if k != "reproduced")
     lines = [f"the paper's claims: {groups.get('reproduced', 0)} of {total} reproduced ({rest})"]
     s = rep.summary
-    base = next(((name, r) for name, st in s.studies.items() for r in st.rows
-                 if r.value == s.base.get(STUDIES[name].param)), None)
-    crossing = (f"contact-free EO {s.base['engineOrder']} crossing at {s.campbell.eo_crossing_rpm:.0f} rpm"
-                " (one mode, printed formulation)" if s.campbell else "")
+    base = next(
+        ((name, r) for name, st in s.studies.items() for r in st.rows if r.value == s.base.get(STUDIES[name].param)),
+        None,
+    )
+    crossing = (
+        f"contact-free EO {s.base['engineOrder']} crossing at {s.campbell.eo_crossing_rpm:.0f} rpm"
+        " (one mode, printed formulation)"
+        if s.campbell
+        else ""
+    )
     if base is not None:
         r = base[1]
-        lines.append(f"base case (paper Table 1): resonance peak max|q| = {r.fp_peak * 1e3:.4f} mm at"
-                     f" {r.fp_speed:.0f} rpm (fixed point B = A(B)), the shroud contact stiffening it above the "
-                     + (crossing or "contact-free crossing"))
+        lines.append(
+            f"base case (paper Table 1): resonance peak max|q| = {r.fp_peak * 1e3:.4f} mm at"
+            f" {r.fp_speed:.0f} rpm (fixed point B = A(B)), the shroud contact stiffening it above the "
+            + (crossing or "contact-free crossing")
+        )
     elif crossing:
         lines.append(f"base case (paper Table 1): {crossing}")
     variant = "friction" if "friction" in study["variants"] else next(iter(study["variants"]))
@@ -73,8 +87,10 @@ def findings(rep: Reproduction, study: dict[str, Any]) -> list[str]:
     what = "on stable steady states" if states else "from the sweeps"
     if np.isfinite(amp).any():
         level, _ = np.unravel_index(np.nanargmax(amp), amp.shape)
-        lines.append(f"mistuned ring ({study['n']} blades, {variant}): amplification {what} up to {np.nanmax(amp):.3f}"
-                     f" (sigma = {study['levels'][level]:g}), Whitehead's bound {study['whitehead']:.3f}")
+        lines.append(
+            f"mistuned ring ({study['n']} blades, {variant}): amplification {what} up to {np.nanmax(amp):.3f}"
+            f" (sigma = {study['levels'][level]:g}), Whitehead's bound {study['whitehead']:.3f}"
+        )
     else:
         lines.append(f"mistuned ring ({study['n']} blades, {variant}): no settled response, no amplification")
     return lines

@@ -6,6 +6,7 @@ aerodynamic load is f_w = Fw0 sin(engineOrder * phase of the speed) with value a
 to --derivative-order set at every communication point. Files are written atomically (temporary
 file + rename), so an interrupted run never leaves a truncated CSV.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -29,23 +30,53 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     add_fmu_option(p)
     p.add_argument("--start-time", type=float, default=0.0, metavar="S", help="start time [s] (default 0)")
     p.add_argument("--stop-time", type=float, default=0.3, metavar="S", help="stop time [s] (default 0.3)")
-    p.add_argument("--output-interval", type=float, default=1e-4, metavar="S",
-                   help="communication step = output interval [s] (default 1e-4)")
-    add_start_values(p, help="parameter name-value pairs, e.g. `--start-values d 4e-5 kn 1e6 gating false`;"
-                             " names and units as in modelDescription.xml plus Fw0 (load amplitude fed through"
-                             " aeroLoad, N/m, default 100); default: none (paper Table 1)")
+    p.add_argument(
+        "--output-interval",
+        type=float,
+        default=1e-4,
+        metavar="S",
+        help="communication step = output interval [s] (default 1e-4)",
+    )
+    add_start_values(
+        p,
+        help="parameter name-value pairs, e.g. `--start-values d 4e-5 kn 1e6 gating false`;"
+        " names and units as in modelDescription.xml plus Fw0 (load amplitude fed through"
+        " aeroLoad, N/m, default 100); default: none (paper Table 1)",
+    )
     speed = p.add_mutually_exclusive_group()
-    speed.add_argument("--speed", type=float, default=5000.0, metavar="RPM",
-                       help="constant rotor speed [rpm] (default 5000)")
-    speed.add_argument("--run-up", type=float, nargs=4, metavar=("N0", "N1", "T0", "T1"),
-                       help="linear speed ramp: N0 rpm until T0 s, N1 rpm from T1 s on (default: none, constant --speed)")
-    p.add_argument("--derivative-order", type=int, default=8, choices=range(0, 9), metavar="K",
-                   help="input derivatives set per step, 0..8 (0 = inputs held over a step; default 8)")
+    speed.add_argument(
+        "--speed", type=float, default=5000.0, metavar="RPM", help="constant rotor speed [rpm] (default 5000)"
+    )
+    speed.add_argument(
+        "--run-up",
+        type=float,
+        nargs=4,
+        metavar=("N0", "N1", "T0", "T1"),
+        help="linear speed ramp: N0 rpm until T0 s, N1 rpm from T1 s on (default: none, constant --speed)",
+    )
+    p.add_argument(
+        "--derivative-order",
+        type=int,
+        default=8,
+        choices=range(0, 9),
+        metavar="K",
+        help="input derivatives set per step, 0..8 (0 = inputs held over a step; default 8)",
+    )
     p.add_argument("--output-variables", nargs="+", metavar="NAME", help="outputs to record (default: all)")
-    p.add_argument("--output-file", default=DEFAULT_OUTPUT, metavar="CSV",
-                   help=f"CSV file for the results (default {DEFAULT_OUTPUT})")
-    p.add_argument("--plot", metavar="PNG", help="also plot tipDisplacement and amplitude [mm] to this PNG file (default: no plot)")
-    p.add_argument("--debug-logging", action="store_true", help="print all of the FMU's log messages (default: warnings and errors only)")
+    p.add_argument(
+        "--output-file",
+        default=DEFAULT_OUTPUT,
+        metavar="CSV",
+        help=f"CSV file for the results (default {DEFAULT_OUTPUT})",
+    )
+    p.add_argument(
+        "--plot", metavar="PNG", help="also plot tipDisplacement and amplitude [mm] to this PNG file (default: no plot)"
+    )
+    p.add_argument(
+        "--debug-logging",
+        action="store_true",
+        help="print all of the FMU's log messages (default: warnings and errors only)",
+    )
     p.add_argument("--fmi-logging", action="store_true", help="print every FMI call of the step loop (slow)")
 
 
@@ -63,14 +94,22 @@ def run(args: argparse.Namespace) -> int:
         speed = Constant(args.speed)
         speed_text = f"{args.speed:g} rpm"
     lo, hi = SPEED_RANGE
-    for n in ([args.speed] if args.run_up is None else args.run_up[:2]):
+    for n in [args.speed] if args.run_up is None else args.run_up[:2]:
         if not lo <= n <= hi:
-            raise ExcitationError(f"rotorSpeed = {n:g} rpm is outside [{lo:g}, {hi:g}] rpm: choose a speed in that range")
+            raise ExcitationError(
+                f"rotorSpeed = {n:g} rpm is outside [{lo:g}, {hi:g}] rpm: choose a speed in that range"
+            )
     path = Path(args.fmu) if args.fmu else fmu_path(build=True)
     with BladeFMU(path, log=args.debug_logging, fmi_logging=args.fmi_logging) as fmu:
-        res = fmu.run(params, args.stop_time, args.output_interval, speed=speed,
-                      outputs=args.output_variables, derivative_order=args.derivative_order,
-                      start_time=args.start_time)
+        res = fmu.run(
+            params,
+            args.stop_time,
+            args.output_interval,
+            speed=speed,
+            outputs=args.output_variables,
+            derivative_order=args.derivative_order,
+            start_time=args.start_time,
+        )
         variables = fmu.variables
     write_result_csv(args.output_file, res, variables)
     columns = res.dtype.names or ()
@@ -82,11 +121,15 @@ def run(args: argparse.Namespace) -> int:
             period = 60.0 / (args.speed * params["engineOrder"])
             ss = analyze(res["time"], q, period)
             if ss.reached:
-                print(f"steady state: amplitude {ss.amplitude * 1e3:.6g} mm, first harmonic"
-                      f" {ss.harmonic_amplitude * 1e3:.6g} mm, {ss.message}")
+                print(
+                    f"steady state: amplitude {ss.amplitude * 1e3:.6g} mm, first harmonic"
+                    f" {ss.harmonic_amplitude * 1e3:.6g} mm, {ss.message}"
+                )
             else:
                 print(f"steady state: {ss.message}")
     if args.plot:
-        run_plots.simulation(args.plot, res, f"ShroudedBlade: tip response, {speed_text}, load Fw0 = {params['Fw0']:g} N/m")
+        run_plots.simulation(
+            args.plot, res, f"ShroudedBlade: tip response, {speed_text}, load Fw0 = {params['Fw0']:g} N/m"
+        )
         print(f"wrote {args.plot}")
     return 0

@@ -6,6 +6,7 @@ per FMU output (modelDescription order, integers as floats), sampled after initi
 every communication step, plus the tool's name and version and the wall time. `max_rel_diff`
 compares two runs column by column, each normalised by the reference column's largest magnitude.
 """
+
 from __future__ import annotations
 
 import time as _time

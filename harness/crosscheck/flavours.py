@@ -7,6 +7,7 @@ simply picks the co-simulation face, so whether a tool imports model exchange is
 and Ecos are tried in a child process (`probe`, which runs `child_probe` there): both crash
 (SIGSEGV) on an FMU they cannot use, which must not take the caller down.
 """
+
 from __future__ import annotations
 
 import re
@@ -76,8 +77,9 @@ def _ecos(fmu: str) -> float:
 
 def probe(tool: str, fmu: Path, timeout: float = 120.0) -> Observation:
     """Load, initialize and step `fmu` in `tool` (libcosim or ecos) in a child process."""
-    proc = subprocess.run([sys.executable, "-c", _CHILD, tool, str(fmu)],
-                          capture_output=True, text=True, timeout=timeout)
+    proc = subprocess.run(
+        [sys.executable, "-c", _CHILD, tool, str(fmu)], capture_output=True, text=True, timeout=timeout
+    )
     if proc.returncode == 0 and "tipDisplacement=" in proc.stdout:
         return Observation(True, f"ran {STEPS} steps of {STEP} s")
     if proc.returncode < 0:

@@ -8,6 +8,7 @@ the step [t_k, t_{k+1}], so the only freedom left to a tool is how it passes tim
 fmi2DoStep; that is what the cross-check measures. Order 0 (held inputs) is what importers without
 fmi2SetRealInputDerivatives can do; `input_table()` is the same held sequence as an fmpy input table.
 """
+
 from __future__ import annotations
 
 import math
@@ -65,8 +66,10 @@ class Scenario:
     def n_steps(self) -> int:
         n = round((self.stop_time - self.start_time) / self.step)
         if n < 1 or not math.isclose(self.start_time + n * self.step, self.stop_time, rel_tol=1e-12, abs_tol=1e-15):
-            raise ValueError(f"scenario {self.name!r}: (stop - start) = {self.stop_time - self.start_time} s is "
-                             f"not a whole number of steps of {self.step} s")
+            raise ValueError(
+                f"scenario {self.name!r}: (stop - start) = {self.stop_time - self.start_time} s is "
+                f"not a whole number of steps of {self.step} s"
+            )
         return n
 
     def shortened(self, stop_time: float) -> "Scenario":
@@ -76,8 +79,16 @@ class Scenario:
             n0, n1 = speed
             frac = (stop_time - self.start_time) / (self.stop_time - self.start_time)
             speed = (n0, n0 + (n1 - n0) * frac)
-        return Scenario(self.name, self.description, speed, stop_time, self.step, self.start_time, dict(self.params),
-                        self.builtin_load)
+        return Scenario(
+            self.name,
+            self.description,
+            speed,
+            stop_time,
+            self.step,
+            self.start_time,
+            dict(self.params),
+            self.builtin_load,
+        )
 
 
 #: The issue's scenarios: 5000 rpm with F_w0 = 100 N/m, f = F_w0 sin(3 Omega t), 0.3 s, h = 1e-4 s;
@@ -85,8 +96,12 @@ class Scenario:
 #: (frictionModel 3) so that the second run exercises the other contact code path and its events.
 SCENARIOS: dict[str, Scenario] = {
     "steady": Scenario("steady", "5000 rpm, Fw0 = 100 N/m, macroslip DF, tracked amplitude", 5000.0),
-    "runup": Scenario("runup", "run-up 4000 -> 6000 rpm, Fw0 = 100 N/m, time-domain macroslip element",
-                      (4000.0, 6000.0), params={"frictionModel": 3}),
+    "runup": Scenario(
+        "runup",
+        "run-up 4000 -> 6000 rpm, Fw0 = 100 N/m, time-domain macroslip element",
+        (4000.0, 6000.0),
+        params={"frictionModel": 3},
+    ),
 }
 
 
@@ -147,8 +162,10 @@ class InputPlan:
             name, _, j = c.partition("@")
             data.append(self.derivs[name][int(j) if j else 0])
         with open(path, "w", encoding="ascii") as f:
-            f.write("# ShroudedBlade cross-check input plan (harness/crosscheck/plan.py); row k: inputs for "
-                    "the step [t_k, t_{k+1}]\n")
+            f.write(
+                "# ShroudedBlade cross-check input plan (harness/crosscheck/plan.py); row k: inputs for "
+                "the step [t_k, t_{k+1}]\n"
+            )
             f.write(",".join(["time"] + cols) + "\n")
             for row in np.column_stack(data):
                 f.write(",".join(repr(float(x)) for x in row) + "\n")

@@ -11,6 +11,7 @@ very (t_k, h_k) sequence, which isolates the FMU from the tool. The static check
 (importer, version, inputs, max relative difference, wall time) and writes it to
 `crosscheck/agreement.md`; `make crosscheck` also regenerates the cross-check deliverables.
 """
+
 from __future__ import annotations
 
 import fcntl
@@ -76,8 +77,9 @@ def _attempt(importer: str, inputs: str, fn: Callable[[], Run]) -> Run:
         return Run(importer, "?", inputs, error=last)
 
 
-def run_scenario(fmu: Path, scenario: Scenario, tools: tuple[str, ...] = TOOLS,
-                 order: int = DERIVATIVE_ORDER) -> ScenarioReport:
+def run_scenario(
+    fmu: Path, scenario: Scenario, tools: tuple[str, ...] = TOOLS, order: int = DERIVATIVE_ORDER
+) -> ScenarioReport:
     """Run `scenario` in every tool of `tools`; rows hold the differences to fmpy."""
     report = ScenarioReport(scenario)
     plan = make_plan(scenario, order)
@@ -137,11 +139,13 @@ def _fmt(x: float | None) -> str:
 def table(report: ScenarioReport) -> str:
     """Markdown agreement table of one scenario."""
     sc = report.scenario
-    lines = [f"### {sc.name}: {sc.description}; {sc.stop_time:g} s, step {sc.step:g} s "
-             f"({sc.n_steps()} steps)", "",
-             "| importer | version | inputs | max rel. diff to fmpy | worst output | same (t_k, h_k) as the tool | "
-             "wall time [s] | status |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = [
+        f"### {sc.name}: {sc.description}; {sc.stop_time:g} s, step {sc.step:g} s ({sc.n_steps()} steps)",
+        "",
+        "| importer | version | inputs | max rel. diff to fmpy | worst output | same (t_k, h_k) as the tool | "
+        "wall time [s] | status |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for r in report.rows:
         run = r.run
         status = "reference" if r.compared_with.startswith("(reference") else ("ok" if r.ok else "FAIL")
@@ -149,12 +153,17 @@ def table(report: ScenarioReport) -> str:
             status = "model sensitivity"
         if run.error:
             status = f"FAILED: {run.error}"
-        lines.append(f"| {run.importer} | {run.version} | {run.inputs} | {_fmt(r.diff) if run.ok else '-'} | "
-                     f"{r.worst or '-'} | {_fmt(r.own_grid_diff)} | "
-                     f"{'-' if math.isnan(run.wall_time) else f'{run.wall_time:.3f}'} | {status} |")
-    lines += ["", f"Held inputs vs inputs with derivatives to order {DERIVATIVE_ORDER} (fmpy, same FMU): "
-              f"tipDisplacement differs by {_fmt(report.held_vs_taylor)} of its maximum: the input reconstruction, "
-              "not the importer, is what a tool without fmi2SetRealInputDerivatives changes."]
+        lines.append(
+            f"| {run.importer} | {run.version} | {run.inputs} | {_fmt(r.diff) if run.ok else '-'} | "
+            f"{r.worst or '-'} | {_fmt(r.own_grid_diff)} | "
+            f"{'-' if math.isnan(run.wall_time) else f'{run.wall_time:.3f}'} | {status} |"
+        )
+    lines += [
+        "",
+        f"Held inputs vs inputs with derivatives to order {DERIVATIVE_ORDER} (fmpy, same FMU): "
+        f"tipDisplacement differs by {_fmt(report.held_vs_taylor)} of its maximum: the input reconstruction, "
+        "not the importer, is what a tool without fmi2SetRealInputDerivatives changes.",
+    ]
     return "\n".join(lines)
 
 
@@ -178,12 +187,16 @@ def system_section(fmu: Path, stop_time: float | None) -> tuple[str, bool]:
     t2 = _time.perf_counter()
     d, worst = max_rel_diff(b, a)
     blades = ", ".join(f"{k} {dict(v) or 'Table 1'}" for k, v in system.blades.items())
-    lines = [f"### System example: Excitation FMU (run-up {system.excitation['n0']:g} -> {system.excitation['n1']:g} rpm) "
-             f"driving two blades ({blades}); {system.stop_time:g} s, step {system.step:g} s", "",
-             "| master | recorded variables | max rel. diff to the binding master | wall time [s] |", "|---|---|---|---|",
-             f"| FMI binding loop | {len(a.dtype.names) - 1} | (reference) | {t1 - t0:.3f} |",
-             f"| libcosim (libcosimpy) | {len(b.dtype.names) - 1} | {_fmt(d)}{' (' + worst + ')' if d else ''} | "
-             f"{t2 - t1:.3f} |"]
+    lines = [
+        f"### System example: Excitation FMU (run-up {system.excitation['n0']:g} -> {system.excitation['n1']:g} rpm) "
+        f"driving two blades ({blades}); {system.stop_time:g} s, step {system.step:g} s",
+        "",
+        "| master | recorded variables | max rel. diff to the binding master | wall time [s] |",
+        "|---|---|---|---|",
+        f"| FMI binding loop | {len(a.dtype.names) - 1} | (reference) | {t1 - t0:.3f} |",
+        f"| libcosim (libcosimpy) | {len(b.dtype.names) - 1} | {_fmt(d)}{' (' + worst + ')' if d else ''} | "
+        f"{t2 - t1:.3f} |",
+    ]
     return "\n".join(lines), d <= TOLERANCE
 
 
@@ -201,8 +214,14 @@ def snapshot(fmu: Path, directory: Path) -> Path:
     return out
 
 
-def crosscheck(fmu: Path | None = None, scenario: str = "all", stop_time: float | None = None,
-               tools: str = ",".join(TOOLS), deliverables: bool = False, output_file: Path = AGREEMENT_FILE) -> int:
+def crosscheck(
+    fmu: Path | None = None,
+    scenario: str = "all",
+    stop_time: float | None = None,
+    tools: str = ",".join(TOOLS),
+    deliverables: bool = False,
+    output_file: Path = AGREEMENT_FILE,
+) -> int:
     """Every scenario (or one) in the importers `tools` (comma-separated), the system example, the
     static checks and, with `deliverables`, the committed deliverables; the agreement table into
     `output_file`. Exit code: 0 all agree, 1 a disagreement, 2 an unknown tool."""
@@ -211,7 +230,9 @@ def crosscheck(fmu: Path | None = None, scenario: str = "all", stop_time: float 
         return _run(copy, scenario, stop_time, tools, deliverables, Path(output_file))
 
 
-def _run(fmu: Path, scenario: str, stop_time: float | None, tool_list: str, deliverables: bool, output_file: Path) -> int:
+def _run(
+    fmu: Path, scenario: str, stop_time: float | None, tool_list: str, deliverables: bool, output_file: Path
+) -> int:
     tools = tuple(t.strip() for t in tool_list.split(",") if t.strip())
     unknown = set(tools) - set(TOOLS)
     if unknown:
@@ -219,8 +240,12 @@ def _run(fmu: Path, scenario: str, stop_time: float | None, tool_list: str, deli
         return 2
     names = sorted(SCENARIOS) if scenario == "all" else [scenario]
     ok = True
-    parts = ["# ShroudedBlade cross-tool agreement", "",
-             "Generated by `python -m harness crosscheck` (`make crosscheck`); see docs/crosscheck.md.", ""]
+    parts = [
+        "# ShroudedBlade cross-tool agreement",
+        "",
+        "Generated by `python -m harness crosscheck` (`make crosscheck`); see docs/crosscheck.md.",
+        "",
+    ]
     for name in names:
         sc = SCENARIOS[name]
         if stop_time is not None:

@@ -6,6 +6,7 @@ ModelStructure completeness and dependencies); it exits non-zero and logs `ERROR
 violation. `fmpy.validation.validate_fmu` is fmpy's own schema + consistency check. Both are run
 as separate processes/calls and their messages are kept for the report.
 """
+
 from __future__ import annotations
 
 import shutil
@@ -53,16 +54,28 @@ def fmutool_check(fmu: Path) -> StaticResult:
     lines = [ln.rstrip() for ln in (proc.stdout + proc.stderr).splitlines() if ln.strip()]
     errors = [ln for ln in lines if ln.startswith("ERROR")]
     ok = proc.returncode == 0 and not errors
-    return StaticResult("fmu-manipulation-toolbox -check", dist_version("fmu-manipulation-toolbox"), ok, wall,
-                        errors if errors else lines, " ".join(cmd))
+    return StaticResult(
+        "fmu-manipulation-toolbox -check",
+        dist_version("fmu-manipulation-toolbox"),
+        ok,
+        wall,
+        errors if errors else lines,
+        " ".join(cmd),
+    )
 
 
 def fmpy_validate(fmu: Path) -> StaticResult:
     """fmpy.validation.validate_fmu: the list of problems must be empty."""
     t0 = _time.perf_counter()
     problems = validate_fmu(str(fmu))
-    return StaticResult("fmpy validate_fmu", fmpy.__version__, not problems, _time.perf_counter() - t0,
-                        [str(p) for p in problems], f"fmpy.validation.validate_fmu({str(fmu)!r})")
+    return StaticResult(
+        "fmpy validate_fmu",
+        fmpy.__version__,
+        not problems,
+        _time.perf_counter() - t0,
+        [str(p) for p in problems],
+        f"fmpy.validation.validate_fmu({str(fmu)!r})",
+    )
 
 
 def rebuild_from_sources(fmu: Path, out_fmu: Path, build_dir: Path | None = None) -> Path:

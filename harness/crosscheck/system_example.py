@@ -12,6 +12,7 @@ project's CMake build with the blade (build/Excitation.fmu, `build_excitation_fm
 harness crosscheck` runs both masters (its system section) and reports the largest relative
 difference.
 """
+
 from __future__ import annotations
 
 from contextlib import ExitStack
@@ -27,6 +28,7 @@ from harness.fmu.libcosim import last_error, samples
 from harness.system.time_grid import NS_PER_S, ns_time_grid, to_ns
 from harness.fmu.slave import Slave, Unpacked, variables_by_name
 from harness.optional import require
+
 EXC = "excitation"
 
 
@@ -36,7 +38,8 @@ class System:
 
     excitation: Mapping[str, Any] = field(default_factory=lambda: {"n0": 4000.0, "n1": 6000.0, "t0": 0.0, "t1": 0.3})
     blades: Mapping[str, Mapping[str, Any]] = field(
-        default_factory=lambda: {"tuned": {}, "mistuned": {"m0": 0.03, "d": 4e-5}})
+        default_factory=lambda: {"tuned": {}, "mistuned": {"m0": 0.03, "d": 4e-5}}
+    )
     stop_time: float = 0.3  # [s]
     step: float = 1e-4  # [s]
 
@@ -120,9 +123,11 @@ def run_libcosim(blade_fmu: Path, exc_fmu: Path, system: System) -> np.ndarray:
         vars_[name] = variables_by_name(path)
         for var, v in params[name].items():
             vr, typ = vars_[name][var]
-            ok = {"Real": lambda: execution.real_initial_value(idx[name], vr, float(v)),
-                  "Integer": lambda: execution.integer_initial_value(idx[name], vr, int(v)),
-                  "Boolean": lambda: execution.boolean_initial_value(idx[name], vr, bool(v))}[typ]()
+            ok = {
+                "Real": lambda: execution.real_initial_value(idx[name], vr, float(v)),
+                "Integer": lambda: execution.integer_initial_value(idx[name], vr, int(v)),
+                "Boolean": lambda: execution.boolean_initial_value(idx[name], vr, bool(v)),
+            }[typ]()
             if not ok:
                 raise RuntimeError(f"libcosim refused {name}.{var} = {v}: {last_error()}")
     for b in system.blades:

@@ -1,5 +1,6 @@
 """Files written atomically: readers see either the old file or the complete new one (a temporary
 file beside the target, then `os.replace`), so an interrupted run never leaves a truncated result."""
+
 from __future__ import annotations
 
 import os

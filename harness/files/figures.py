@@ -1,6 +1,7 @@
 """matplotlib, set up once for every figure of the harness: the Agg backend (figures go straight to
 PNG files, nothing is shown on screen), and a PNG written atomically (readers see the old file or
 the complete new one)."""
+
 from __future__ import annotations
 
 import io

@@ -2,6 +2,7 @@
 leaves a truncated table): `write_csv` / `read_csv` for the studies' structured arrays (floats at
 harness.digits' significant digits of their column), `write_result_csv` for a simulation result
 (time + FMU outputs) in fmpy's format, each column named with its unit from the model description."""
+
 from __future__ import annotations
 
 import os
@@ -21,17 +22,23 @@ def with_units(result: np.ndarray, variables: Mapping[str, Any]) -> np.ndarray:
     """`result` (time + FMU outputs) with each column named with its unit from the model description
     (`variables`: name -> fmpy ModelVariable): `time_s`, `tipDisplacement_m`, ..., as every command's
     CSV and JSON names its quantities."""
+
     def unit(name: str) -> str | None:
         if name == "time":
             return "s"
         v = variables.get(name)
         return None if v is None else (v.unit or (v.declaredType.unit if v.declaredType else None))
+
     names = result.dtype.names or ()
     fields: Mapping[str, Any] = result.dtype.fields or {}
-    named: np.dtype[Any] = np.dtype({"names": [with_unit(n, unit(n)) for n in names],
-                                     "formats": [fields[n][0] for n in names],
-                                     "offsets": [fields[n][1] for n in names],
-                                     "itemsize": result.dtype.itemsize})
+    named: np.dtype[Any] = np.dtype(
+        {
+            "names": [with_unit(n, unit(n)) for n in names],
+            "formats": [fields[n][0] for n in names],
+            "offsets": [fields[n][1] for n in names],
+            "itemsize": result.dtype.itemsize,
+        }
+    )
     out: np.ndarray = result.view(named).copy()  # a new dtype: the caller's array keeps its names
     return out
 

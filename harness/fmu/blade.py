@@ -12,6 +12,7 @@ fmi2DoStep, and fmi2GetReal into a preallocated array on sampled steps. An FMU s
 Discard/Error becomes `FMUError` carrying the FMU's log messages, the time reached and the partial
 result. The instance is always terminated and freed, and the extracted directory removed.
 """
+
 from __future__ import annotations
 
 import collections
@@ -44,8 +45,16 @@ class FMUError(RuntimeError):
     """The FMU returned Discard/Error/Fatal. Carries `time` (last communication point reached),
     `partial` (results up to it), `messages` (the FMU's log) and `status`."""
 
-    def __init__(self, message: str, *, time: float = math.nan, partial: np.ndarray | None = None,
-                 messages: Sequence[str] = (), status: int = 3, function: str = ""):
+    def __init__(
+        self,
+        message: str,
+        *,
+        time: float = math.nan,
+        partial: np.ndarray | None = None,
+        messages: Sequence[str] = (),
+        status: int = 3,
+        function: str = "",
+    ):
         super().__init__(message)
         self.time, self.partial, self.messages = time, partial, list(messages)
         self.status, self.function = status, function
@@ -53,6 +62,7 @@ class FMUError(RuntimeError):
 
 class FMUState(bytes):
     """A serialized FMU state (the bytes of fmi2SerializeFMUstate) that remembers its time."""
+
     time: float | None = None
     params: dict[str, Any] | None = None
 
@@ -66,12 +76,14 @@ def fmu_path(build: bool = True) -> Path:
             return _build.build(("fmu",))
         except _build.BuildError as exc:
             first = str(exc).splitlines()[0] if str(exc) else "cmake failed"
-            raise FMUNotFoundError(f"building {_build.FMU_PATH} failed ({first}): run `make fmu` to see the"
-                                   " compiler output") from exc
+            raise FMUNotFoundError(
+                f"building {_build.FMU_PATH} failed ({first}): run `make fmu` to see the compiler output"
+            ) from exc
     if not _build.FMU_PATH.is_file():
         how = "build it with `make fmu`" if _build.IN_CHECKOUT else "reinstall the harness with `pip install`"
-        raise FMUNotFoundError(f"{_build.FMU_PATH} not found: {how}"
-                               " (needs cmake and a C compiler) or pass the path of an FMU")
+        raise FMUNotFoundError(
+            f"{_build.FMU_PATH} not found: {how} (needs cmake and a C compiler) or pass the path of an FMU"
+        )
     return _build.FMU_PATH
 
 
@@ -86,8 +98,7 @@ def _missing_file_message(path: Path) -> str:
         inside = sorted(path.glob("*.fmu"))
         hint = f"did you mean {inside[0]}?" if inside else "it holds no .fmu file"
         return f"FMU path {path} is a directory, not an FMU file: pass the .fmu file itself ({hint})"
-    return (f"FMU file {path} not found: check the path, or leave the path out to use the harness's own FMU"
-            f" ({OWN_FMU})")
+    return f"FMU file {path} not found: check the path, or leave the path out to use the harness's own FMU ({OWN_FMU})"
 
 
 INPUT_FITS = ("taylor", "chebyshev")
@@ -177,10 +188,12 @@ class _Recorder:
         row_real, row_int = 8 * self.out_real.shape[1], 4 * self.out_int.shape[1]  # bytes per row
         row_after = np.cumsum(sampled[1:])  # the row written after step k (if sampled)
         self.rows_before = np.concatenate([[1], 1 + row_after]).tolist()  # rows filled before step k
-        self.real_addr = (np.where(sampled[1:], self.out_real.ctypes.data + row_real * row_after, 0).tolist()
-                          if real else [0] * n)
-        self.int_addr = (np.where(sampled[1:], self.out_int.ctypes.data + row_int * row_after, 0).tolist()
-                         if ints else [0] * n)
+        self.real_addr = (
+            np.where(sampled[1:], self.out_real.ctypes.data + row_real * row_after, 0).tolist() if real else [0] * n
+        )
+        self.int_addr = (
+            np.where(sampled[1:], self.out_int.ctypes.data + row_int * row_after, 0).tolist() if ints else [0] * n
+        )
         self._vr_real = (ctypes.c_uint * max(len(real), 1))(*[fmu.variables[v].valueReference for v in real])
         self._vr_int = (ctypes.c_uint * max(len(ints), 1))(*[fmu.variables[v].valueReference for v in ints])
         self.a_vr_real, self.a_vr_int = ctypes.addressof(self._vr_real), ctypes.addressof(self._vr_int)
@@ -221,8 +234,10 @@ class BladeFMU:
         try:
             self.md = read_model_description(str(self.path))
         except Exception as exc:  # not a zip, no or bad modelDescription.xml
-            raise FMUNotFoundError(f"{self.path} is not a readable FMU ({exc}): pass a .fmu file, or leave the path"
-                                   f" out to use the harness's own FMU ({OWN_FMU})") from None
+            raise FMUNotFoundError(
+                f"{self.path} is not a readable FMU ({exc}): pass a .fmu file, or leave the path"
+                f" out to use the harness's own FMU ({OWN_FMU})"
+            ) from None
         self.variables = {v.name: v for v in self.md.modelVariables}
         self.output_names = [v.name for v in self.md.modelVariables if v.causality == "output"]
         self._unzip: str | None = extract(str(self.path))
@@ -241,9 +256,16 @@ class BladeFMU:
     def _instantiate(self) -> None:
         lib = fmi2.load(fmi2.binary_path(self._unzip, self.md.coSimulation.modelIdentifier))
         # the binding's per-instance logger: several instances in one process keep their messages apart
-        self._slave = fmi2.Fmi2Instance(lib, "blade", self.md.guid, fmi2.resource_uri(self._unzip), logging_on=True,
-                                        log_limit=200, on_log=self._on_log,
-                                        on_call=None)
+        self._slave = fmi2.Fmi2Instance(
+            lib,
+            "blade",
+            self.md.guid,
+            fmi2.resource_uri(self._unzip),
+            logging_on=True,
+            log_limit=200,
+            on_log=self._on_log,
+            on_call=None,
+        )
         self._phase = "instantiated"
         if not self.log:  # loggingOn enabled every category: keep only the status ones
             self._slave.set_debug_logging(False, [])
@@ -295,8 +317,14 @@ class BladeFMU:
         self._phase = "fatal" if status >= 4 else "failed"
         msgs = list(self._run_messages)
         detail = ("; FMU log: " + " | ".join(msgs[-5:])) if msgs else " (the FMU logged nothing)"
-        return FMUError(f"{what} returned {STATUS[status] if 0 <= status < 6 else status} at t = {t:.9g} s{detail}",
-                        time=t, partial=partial, messages=msgs, status=status, function=what)
+        return FMUError(
+            f"{what} returned {STATUS[status] if 0 <= status < 6 else status} at t = {t:.9g} s{detail}",
+            time=t,
+            partial=partial,
+            messages=msgs,
+            status=status,
+            function=what,
+        )
 
     def _guard(self, what: str, t: float, fn, *args):
         try:
@@ -315,8 +343,9 @@ class BladeFMU:
         reals = Values(by_type["Real"][0], [float(x) for x in by_type["Real"][1]])
         ints = Values(by_type["Integer"][0], [int(x) for x in by_type["Integer"][1]], ctypes.c_int)
         bools = Values(by_type["Boolean"][0], [int(x) for x in by_type["Boolean"][1]], ctypes.c_int)
-        st, call = self._stepper.start(reals, ints, bools, Values([VR_AERO, VR_SPEED], u0), start,
-                                       reset=self._phase != "instantiated")
+        st, call = self._stepper.start(
+            reals, ints, bools, Values([VR_AERO, VR_SPEED], u0), start, reset=self._phase != "instantiated"
+        )
         if st > 1:
             raise self._fail(call, st, start, None)
         self._phase = "stepping"
@@ -348,11 +377,22 @@ class BladeFMU:
         return real, ints
 
     # ---- the run ----
-    def run(self, params: Mapping[str, Any] | None, stop_time: float, step: float, *,
-            aero: Signal | None = None, speed: float | Signal = 5000.0,
-            outputs: Sequence[str] | None = None, derivative_order: int = MAX_ORDER,
-            start_time: float | None = None, reset: bool = True, sample_every: int = 1,
-            input_fit: str = "taylor", carry_values: bool = False) -> np.ndarray:
+    def run(
+        self,
+        params: Mapping[str, Any] | None,
+        stop_time: float,
+        step: float,
+        *,
+        aero: Signal | None = None,
+        speed: float | Signal = 5000.0,
+        outputs: Sequence[str] | None = None,
+        derivative_order: int = MAX_ORDER,
+        start_time: float | None = None,
+        reset: bool = True,
+        sample_every: int = 1,
+        input_fit: str = "taylor",
+        carry_values: bool = False,
+    ) -> np.ndarray:
         """Simulate from start_time (default 0, or the current FMU time when reset=False) to
         stop_time with communication step `step`; returns a structured array ('time' + outputs)
         sampled every `sample_every` steps (plus the start and the end).
@@ -384,11 +424,17 @@ class BladeFMU:
         speed_sig = as_speed(speed)
         aero_sig = aero if aero is not None else AeroLoad(p["Fw0"], p["engineOrder"], speed_sig)
         if carry_values:
-            inner = [b for sig in (aero_sig, speed_sig) for b in np.atleast_1d(getattr(sig, "breakpoints", []))
-                     if grid[0] < b < grid[-1]]
+            inner = [
+                b
+                for sig in (aero_sig, speed_sig)
+                for b in np.atleast_1d(getattr(sig, "breakpoints", []))
+                if grid[0] < b < grid[-1]
+            ]
             if inner or order == 0:
-                raise ParameterError("carry_values needs inputs without breakpoints inside the run and "
-                                     "derivative_order >= 1" + (f" (breakpoint at t = {inner[0]:.9g} s)" if inner else ""))
+                raise ParameterError(
+                    "carry_values needs inputs without breakpoints inside the run and "
+                    "derivative_order >= 1" + (f" (breakpoint at t = {inner[0]:.9g} s)" if inner else "")
+                )
         inputs = _InputTable(grid, aero_sig, speed_sig, order, input_fit, self._check_inputs)
 
         self._run_messages.clear()
@@ -403,15 +449,18 @@ class BladeFMU:
         self._time = float(grid[-1])
         return rec.result(rec.rows_before[-1])
 
-    def _run_start(self, params: Mapping[str, Any] | None, reset: bool, start_time: float | None
-                   ) -> tuple[dict[str, Any], float]:
+    def _run_start(
+        self, params: Mapping[str, Any] | None, reset: bool, start_time: float | None
+    ) -> tuple[dict[str, Any], float]:
         """(validated parameters, start time) of a run: fresh ones with a reset, else the running
         FMU's (parameters cannot change without a reset; the start must be the FMU's time)."""
         if reset:
             return validate(params or {}, source="BladeFMU.run"), 0.0 if start_time is None else float(start_time)
         if self._phase != "stepping":
-            raise RuntimeError("reset=False needs an FMU in stepping mode (run once with reset=True or"
-                               " set_state first; after an FMU error, reset)")
+            raise RuntimeError(
+                "reset=False needs an FMU in stepping mode (run once with reset=True or"
+                " set_state first; after an FMU error, reset)"
+            )
         p = dict(self._params or validate({}))
         if params is not None and validate(params, source="BladeFMU.run") != p:
             raise ParameterError("parameters cannot change without a reset (they are fixed during a run)")
@@ -429,12 +478,20 @@ class BladeFMU:
         makes only the raw FMI calls). Per step: the input values (only before the first step when
         carried), their derivatives, fmi2DoStep, and the outputs where the step is sampled."""
         fmi = self._stepper
-        c, setReal, setDer, doStep, getReal, getInt = fmi.c, fmi.setReal, fmi.setDer, fmi.doStep, fmi.getReal, fmi.getInteger
+        c, setReal, setDer, doStep, getReal, getInt = (
+            fmi.c,
+            fmi.setReal,
+            fmi.setDer,
+            fmi.doStep,
+            fmi.getReal,
+            fmi.getInteger,
+        )
         n_der, a_vr_der, a_order = inputs.n_derivatives, inputs.a_vr_der, inputs.a_order
         a_vr_in = inputs.a_vr_in
         n_real, n_int, a_vr_real, a_vr_int = len(rec.real), len(rec.ints), rec.a_vr_real, rec.a_vr_int
         t_start, h = grid[:-1].tolist(), np.diff(grid).tolist()
         if not n_der:
+
             def setDer(*_):  # noqa: N802 (held inputs: no derivatives to set)
                 return 0
 
@@ -466,8 +523,9 @@ class BladeFMU:
             if lean:
                 break
         if lean:
-            for k, tk, hk, a_der, a_real in zip(range(1, len(t_start)), t_start[1:], h[1:], inputs.deriv_addr[1:],
-                                                 rec.real_addr[1:]):
+            for k, tk, hk, a_der, a_real in zip(
+                range(1, len(t_start)), t_start[1:], h[1:], inputs.deriv_addr[1:], rec.real_addr[1:]
+            ):
                 st = setDer(c, a_vr_der, n_der, a_order, a_der)
                 if st > 1:
                     raise fail(k, inputs_call, st, tk)
@@ -489,8 +547,9 @@ class BladeFMU:
         bad = np.nonzero((us[0] < lo) | (us[0] > hi))[0]
         if len(bad):
             k = int(bad[0])
-            raise ExcitationError(f"rotorSpeed = {us[0, k]:g} rpm at t = {grid[k]:.9g} s is outside"
-                                  f" [{lo:g}, {hi:g}] rpm")
+            raise ExcitationError(
+                f"rotorSpeed = {us[0, k]:g} rpm at t = {grid[k]:.9g} s is outside [{lo:g}, {hi:g}] rpm"
+            )
 
     # ---- the stepper, for drivers with their own hot loop (harness.analysis.periodic) ----
     @property

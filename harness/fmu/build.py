@@ -4,6 +4,7 @@ Used by `harness.fmu.blade` (build-if-needed) and the test session fixture. CMak
 of date; the lock keeps concurrent processes (pytest workers, sweeps) from building at once. An
 installed package has its FMUs already (harness/paths.py): there `build` only checks that they are.
 """
+
 from __future__ import annotations
 
 import fcntl
@@ -18,9 +19,14 @@ FMU3_PATH = BUILD_DIR / "fmi3" / "ShroudedBlade.fmu"  # FMI 3.0 co-simulation, C
 EXCITATION_FMU = BUILD_DIR / "Excitation.fmu"
 PHYSICS_LIB = BUILD_DIR / "libsbphysics.so"
 # CMake target -> its file under BUILD_DIR (those an installed package carries; sbphysics is for tests)
-TARGET_FILES = {"fmu": "ShroudedBlade.fmu", "fmu3": "fmi3/ShroudedBlade.fmu", "excitation_fmu": "Excitation.fmu",
-                "blade_external_fmu": "BladeExternalContact.fmu", "shroud_contact_fmu": "ShroudContact.fmu",
-                "ring_master": "libring_master.so"}
+TARGET_FILES = {
+    "fmu": "ShroudedBlade.fmu",
+    "fmu3": "fmi3/ShroudedBlade.fmu",
+    "excitation_fmu": "Excitation.fmu",
+    "blade_external_fmu": "BladeExternalContact.fmu",
+    "shroud_contact_fmu": "ShroudContact.fmu",
+    "ring_master": "libring_master.so",
+}
 
 
 class BuildError(RuntimeError):
@@ -37,8 +43,17 @@ def build(targets: tuple[str, ...] = ("fmu", "excitation_fmu", "sbphysics"), bui
         fcntl.flock(lock, fcntl.LOCK_EX)
         cmds = []
         if not (build_dir / "CMakeCache.txt").exists():
-            cmds.append(["cmake", "-S", str(REPO_ROOT), "-B", str(build_dir), "-DCMAKE_BUILD_TYPE=Release",
-                         f"-DPython3_EXECUTABLE={sys.executable}"])
+            cmds.append(
+                [
+                    "cmake",
+                    "-S",
+                    str(REPO_ROOT),
+                    "-B",
+                    str(build_dir),
+                    "-DCMAKE_BUILD_TYPE=Release",
+                    f"-DPython3_EXECUTABLE={sys.executable}",
+                ]
+            )
         cmds.append(["cmake", "--build", str(build_dir), "-j", "2", "--target", *targets])
         for cmd in cmds:
             proc = subprocess.run(cmd, capture_output=True, text=True)
@@ -64,8 +79,10 @@ def _installed(targets: tuple[str, ...]) -> Path:
     for t in targets:
         path = INSTALLED_DIR / TARGET_FILES.get(t, t)
         if not path.is_file():
-            raise BuildError(f"{path} is not installed (CMake target {t!r}): the installed harness carries only"
-                             f" {', '.join(TARGET_FILES.values())}; reinstall it with `pip install` from the sources")
+            raise BuildError(
+                f"{path} is not installed (CMake target {t!r}): the installed harness carries only"
+                f" {', '.join(TARGET_FILES.values())}; reinstall it with `pip install` from the sources"
+            )
     return INSTALLED_DIR / TARGET_FILES["fmu"]
 
 
@@ -79,8 +96,10 @@ REBUILD_CMAKE_OPTIONS = {"CMAKE_C_STANDARD_LIBRARIES:STRING": "-lm"}
 def rebuild_binary(unzipdir: Path, build_dir: Path) -> None:
     """Compile an extracted FMU's `sources/` into its binaries/ with fmpy.build.build_platform_binary
     (+ REBUILD_CMAKE_OPTIONS), in a subprocess so CMake's output is captured (shown on failure)."""
-    code = ("import sys; from fmpy.build import build_platform_binary; "
-            f"build_platform_binary(sys.argv[1], build_dir=sys.argv[2], cmake_options={REBUILD_CMAKE_OPTIONS!r})")
+    code = (
+        "import sys; from fmpy.build import build_platform_binary; "
+        f"build_platform_binary(sys.argv[1], build_dir=sys.argv[2], cmake_options={REBUILD_CMAKE_OPTIONS!r})"
+    )
     proc = subprocess.run([sys.executable, "-c", code, str(unzipdir), str(build_dir)], capture_output=True, text=True)
     if proc.returncode != 0:
         raise BuildError(f"fmpy.build.build_platform_binary failed:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")

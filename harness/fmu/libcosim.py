@@ -1,9 +1,11 @@
 """libcosim's C API where libcosimpy does not reach, shared by every libcosim master (the ring, the
 SSP runner, the cross-check importer): observer samples from step 0 on, the last error. Its
 integer-nanosecond time is harness.system.time_grid."""
+
 from __future__ import annotations
 
 import ctypes
+
 
 def samples(observer, idx: int, vr: int, typ: str, n: int) -> tuple[list[int], list[int], list[float]]:
     """All n samples of one variable from step 0 (initialization) on: (time [ns], step, value).
@@ -13,14 +15,24 @@ def samples(observer, idx: int, vr: int, typ: str, n: int) -> tuple[list[int], l
     from libcosimpy._internal import libcosimc  # optional dependency (extra `crosscheck`): only when libcosim runs
 
     ctype = ctypes.c_double if typ == "Real" else ctypes.c_int
-    fn = getattr(libcosimc(), "cosim_observer_slave_get_real_samples" if typ == "Real"
-                 else "cosim_observer_slave_get_integer_samples")
+    fn = getattr(
+        libcosimc(),
+        "cosim_observer_slave_get_real_samples" if typ == "Real" else "cosim_observer_slave_get_integer_samples",
+    )
     fn.restype = ctypes.c_int64
     vals = (ctype * n)()
     steps = (ctypes.c_int64 * n)()
     times = (ctypes.c_int64 * n)()
-    got = fn(observer.ptr(), ctypes.c_int(idx), ctypes.c_uint32(vr), ctypes.c_int64(0), ctypes.c_size_t(n),
-             vals, steps, times)
+    got = fn(
+        observer.ptr(),
+        ctypes.c_int(idx),
+        ctypes.c_uint32(vr),
+        ctypes.c_int64(0),
+        ctypes.c_size_t(n),
+        vals,
+        steps,
+        times,
+    )
     if got != n:
         raise RuntimeError(f"libcosim returned {got} samples of vr {vr}, expected {n}: {last_error()}")
     return list(times), list(steps), [float(v) for v in vals]

@@ -5,6 +5,7 @@ an m-mode blade.
 Rows r = 1..15: modalDisplacement[1..6], modalVelocity[1..6], jenkinsForce, runningMaximum,
 amplitude. Columns c = 1..14: the start values of modalDisplacement[1..6], modalVelocity[1..6],
 jenkinsForce, and the parameter B. Entries of modes above m are 0."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -14,8 +15,11 @@ from harness.model import params
 
 def _shape() -> tuple[int, int]:
     """(rows, columns) of the sensitivity[r,c] the model description declares."""
-    rc = [tuple(map(int, n[len("sensitivity["):-1].split(","))) for n in params.value_references()
-          if n.startswith("sensitivity[")]
+    rc = [
+        tuple(map(int, n[len("sensitivity[") : -1].split(",")))
+        for n in params.value_references()
+        if n.startswith("sensitivity[")
+    ]
     return max(r for r, _ in rc), max(c for _, c in rc)
 
 

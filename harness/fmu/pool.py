@@ -2,6 +2,7 @@
 first use (extract, load, instantiate: 10-20 ms) and closed at exit. Every run resets what it uses,
 so tasks sharing a worker's FMU cannot see each other. Per thread, because an FMU instance is not
 to be called from two threads at once."""
+
 from __future__ import annotations
 
 import atexit

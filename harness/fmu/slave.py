@@ -4,6 +4,7 @@ binary once, instantiate, set parameters by name, set inputs with their time der
 (fmi2SetRealInputDerivatives), step, read outputs. Used by the ring master
 (harness/system/ring.py) and the tests of the new FMUs; `Slave.s` is the binding's instance
 (checked mode: a refused call raises FmiError)."""
+
 from __future__ import annotations
 
 import shutil
@@ -42,9 +43,15 @@ class Unpacked:
         self.vars = {v.name: v for v in self.md.modelVariables}
         self.lib = fmi2.load(fmi2.binary_path(self.dir, self.md.coSimulation.modelIdentifier))
 
-    def instance(self, name: str, params: Mapping[str, Any] | None = None, start_time: float = 0.0,
-                 initialize: bool = True, inputs: Mapping[str, float] | None = None,
-                 stop_time: float | None = None) -> "Slave":
+    def instance(
+        self,
+        name: str,
+        params: Mapping[str, Any] | None = None,
+        start_time: float = 0.0,
+        initialize: bool = True,
+        inputs: Mapping[str, float] | None = None,
+        stop_time: float | None = None,
+    ) -> "Slave":
         """inputs: values set before the end of initialization (the start state follows them)."""
         return Slave(self, name, params or {}, start_time, initialize, inputs or {}, stop_time)
 
@@ -63,12 +70,21 @@ class Slave:
     status messages (logStatus* categories) are collected in `messages` through the binding's
     per-instance logger."""
 
-    def __init__(self, u: Unpacked, name: str, params: Mapping[str, Any], start_time: float, initialize: bool,
-                 inputs: Mapping[str, float], stop_time: float | None = None):
+    def __init__(
+        self,
+        u: Unpacked,
+        name: str,
+        params: Mapping[str, Any],
+        start_time: float,
+        initialize: bool,
+        inputs: Mapping[str, float],
+        stop_time: float | None = None,
+    ):
         self.u = u
         self.messages: list[str] = []
-        self.s = fmi2.Fmi2Instance(u.lib, name, u.md.guid, fmi2.resource_uri(u.dir), logging_on=True, log_limit=100,
-                                   on_log=self._on_log)
+        self.s = fmi2.Fmi2Instance(
+            u.lib, name, u.md.guid, fmi2.resource_uri(u.dir), logging_on=True, log_limit=100, on_log=self._on_log
+        )
         self.s.set_debug_logging(False, [])
         self.s.set_debug_logging(True, ["logStatusWarning", "logStatusDiscard", "logStatusError", "logStatusFatal"])
         self.s.setup_experiment(start_time, stop_time)

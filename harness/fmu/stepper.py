@@ -9,6 +9,7 @@ the call, and the caller raises its own error (BladeFMU's runs, harness.fmu.blad
 evaluations, harness.analysis.periodic.period_map). With `trace`, every call is printed to stderr
 with its values (`simulate --fmi-logging`).
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -61,24 +62,38 @@ class Stepper:
         self.getReal, self.getInteger = lib.fmi2GetReal, lib.fmi2GetInteger
         self.setDer, self.doStep = lib.fmi2SetRealInputDerivatives, lib.fmi2DoStep
         if trace:
-            for name in ("reset", "setupExperiment", "enterInitializationMode", "exitInitializationMode", "setReal",
-                         "setInteger", "setBoolean", "getReal", "getInteger", "setDer", "doStep"):
+            for name in (
+                "reset",
+                "setupExperiment",
+                "enterInitializationMode",
+                "exitInitializationMode",
+                "setReal",
+                "setInteger",
+                "setBoolean",
+                "getReal",
+                "getInteger",
+                "setDer",
+                "doStep",
+            ):
                 setattr(self, name, _traced(name, getattr(self, name)))
 
-    def start(self, reals: Values, ints: Values, bools: Values, inputs: Values, start_time: float = 0.0,
-              reset: bool = True) -> tuple[int, str]:
+    def start(
+        self, reals: Values, ints: Values, bools: Values, inputs: Values, start_time: float = 0.0, reset: bool = True
+    ) -> tuple[int, str]:
         """fmi2Reset (with `reset`), the parameters and start values (Real, Integer, Boolean),
         fmi2SetupExperiment at `start_time`, fmi2EnterInitializationMode, the inputs' start values,
         fmi2ExitInitializationMode. Returns (status, call): the first status > fmi2Warning and its
         call (nothing after it is called), else (the worst status, "")."""
         c = self.c
-        calls = [(self.setReal, (c, reals.a_vr, reals.n, reals.a_value), "fmi2SetReal (parameters, start values)"),
-                 (self.setInteger, (c, ints.a_vr, ints.n, ints.a_value), "fmi2SetInteger (parameters)"),
-                 (self.setBoolean, (c, bools.a_vr, bools.n, bools.a_value), "fmi2SetBoolean (parameters)"),
-                 (self.setupExperiment, (c, 0, 0.0, start_time, 0, 0.0), "fmi2SetupExperiment"),
-                 (self.enterInitializationMode, (c,), "fmi2EnterInitializationMode"),
-                 (self.setReal, (c, inputs.a_vr, inputs.n, inputs.a_value), "fmi2SetReal (inputs)"),
-                 (self.exitInitializationMode, (c,), "fmi2ExitInitializationMode")]
+        calls = [
+            (self.setReal, (c, reals.a_vr, reals.n, reals.a_value), "fmi2SetReal (parameters, start values)"),
+            (self.setInteger, (c, ints.a_vr, ints.n, ints.a_value), "fmi2SetInteger (parameters)"),
+            (self.setBoolean, (c, bools.a_vr, bools.n, bools.a_value), "fmi2SetBoolean (parameters)"),
+            (self.setupExperiment, (c, 0, 0.0, start_time, 0, 0.0), "fmi2SetupExperiment"),
+            (self.enterInitializationMode, (c,), "fmi2EnterInitializationMode"),
+            (self.setReal, (c, inputs.a_vr, inputs.n, inputs.a_value), "fmi2SetReal (inputs)"),
+            (self.exitInitializationMode, (c,), "fmi2ExitInitializationMode"),
+        ]
         if reset:
             calls.insert(0, (self.reset, (c,), "fmi2Reset"))
         worst = 0
@@ -123,8 +138,10 @@ def _traced(name: str, f: Callable[..., int]) -> Callable[..., int]:
             shown = f"t={args[1]:.17g}, h={args[2]:.17g}"
         elif name == "setDer":
             n = args[2]
-            shown = (f"vr={arr(_U, args[1], n)}, order={arr(_I, args[3], n)}, "
-                     f"value={[float(f'{v:.6g}') for v in arr(_D, args[4], n)]}")
+            shown = (
+                f"vr={arr(_U, args[1], n)}, order={arr(_I, args[3], n)}, "
+                f"value={[float(f'{v:.6g}') for v in arr(_D, args[4], n)]}"
+            )
         elif name in ("setReal", "getReal", "setInteger", "getInteger", "setBoolean"):
             n = args[2]
             vals = arr(_D if name.endswith("Real") else _I, args[3], n)
@@ -133,4 +150,5 @@ def _traced(name: str, f: Callable[..., int]) -> Callable[..., int]:
             shown = ""
         print(f"{label}({shown}) -> {status_name(st)}", file=sys.stderr)
         return st
+
     return call

@@ -9,6 +9,7 @@ expanded analytically, so they stay accurate as B -> d+. All per unit v (the con
 f_c carries 1/omega. The reference (harness/reference/contact.py) integrates the friction loop of
 eq. 4 numerically, with its own loop angles; the tests compare the two and the C.
 """
+
 from __future__ import annotations
 
 import math
@@ -53,8 +54,9 @@ class ContactConsts:
 def contact_consts(params: Mapping[str, Any]) -> ContactConsts:
     p = validate(params)
     kn = float(p["kn"])
-    return ContactConsts(kn=kn, kd=float(p["kdRatio"]) * kn, mu=float(p["mu"]), gamma=float(p["gamma"]),
-                         d=float(p["d"]))
+    return ContactConsts(
+        kn=kn, kd=float(p["kdRatio"]) * kn, mu=float(p["mu"]), gamma=float(p["gamma"]), d=float(p["d"])
+    )
 
 
 @dataclass
@@ -191,19 +193,24 @@ def _df_closed(cc: ContactConsts, B: np.ndarray, model: int) -> tuple[np.ndarray
     pk = kn * cg * _x_minus_sin(2.0 * ang.t2) / math.pi  # eq. 10
     if model == COULOMB_DF:  # model-notes s.5: 4 N* (1 - d/B) / (pi B)
         fk = np.zeros_like(Bs)
-        fcw = 4.0 * b * ang.ver2 ** 2 / math.pi
+        fcw = 4.0 * b * ang.ver2**2 / math.pi
     elif cc.full_stick:  # docs/model.md s.3: elastic, no dissipation
         fk = cc.kd * math.tan(cc.gamma) / kn * pk
         fcw = np.zeros_like(Bs)
     else:
         Ns_B = b * ang.ver2  # N* / B [N/m]
         D = 2.0 * np.arcsin(np.minimum(ang.d23 / (2.0 * np.sin(0.5 * (ang.t2 + ang.phi3))), 1.0))  # theta2 - phi3
-        fk = 2.0 / math.pi * (  # eq. 7
-            0.5 * (a + b) * _x_minus_sin(ang.t1)
-            - Ns_B * ang.d21 / np.tan(0.5 * (ang.t1 + ang.t2))
-            + a * _cos_moment(ang.t2, D)
-            + Ns_B * np.sin(ang.phi3))
-        fcw = 2.0 * b * ang.ver2 ** 2 / math.pi * ((a - b) / (a + b) + (2.0 * a - b) / (2.0 * a))  # eq. 8 fixed
+        fk = (
+            2.0
+            / math.pi
+            * (  # eq. 7
+                0.5 * (a + b) * _x_minus_sin(ang.t1)
+                - Ns_B * ang.d21 / np.tan(0.5 * (ang.t1 + ang.t2))
+                + a * _cos_moment(ang.t2, D)
+                + Ns_B * np.sin(ang.phi3)
+            )
+        )
+        fcw = 2.0 * b * ang.ver2**2 / math.pi * ((a - b) / (a + b) + (2.0 * a - b) / (2.0 * a))  # eq. 8 fixed
     fk, fcw, pk = (np.where(on, x, 0.0) for x in (fk, fcw, pk))
     angles = tuple(np.where(on, t, 0.0) for t in (ang.t1, ang.t2, math.pi - ang.phi3))
     return fk, fcw, pk, angles
@@ -219,8 +226,18 @@ def df_model(model: int, projection: int) -> int:
     return MACROSLIP_DF if model == MACROSLIP_TD else model
 
 
-def pack_df(B: Any, omega: float, sin_gamma: float, fk: np.ndarray, fcw: np.ndarray, pk: np.ndarray,
-            Keq: np.ndarray, Cw: np.ndarray, reg: np.ndarray, angles: tuple) -> DF:
+def pack_df(
+    B: Any,
+    omega: float,
+    sin_gamma: float,
+    fk: np.ndarray,
+    fcw: np.ndarray,
+    pk: np.ndarray,
+    Keq: np.ndarray,
+    Cw: np.ndarray,
+    reg: np.ndarray,
+    angles: tuple,
+) -> DF:
     """The DF record in B's shape (scalars for scalar B) from per-amplitude arrays; f_c = (f_c omega)
     / omega and C_eq = f_c sin(gamma) (inf where omega = 0 and the loop dissipates)."""
     Bv = np.asarray(B, dtype=float)
@@ -235,8 +252,9 @@ def pack_df(B: Any, omega: float, sin_gamma: float, fk: np.ndarray, fcw: np.ndar
     return DF(*out)
 
 
-def describing_function(params: Mapping[str, Any] | ContactConsts, B: Any, omega: float, model: int = MACROSLIP_DF,
-                        projection: int = 1) -> DF:
+def describing_function(
+    params: Mapping[str, Any] | ContactConsts, B: Any, omega: float, model: int = MACROSLIP_DF, projection: int = 1
+) -> DF:
     """Describing function of the macroslip (model 1) or Coulomb (model 2) loop at amplitude B [m]
     (scalar or array) and excitation frequency omega [rad/s] (> 0 needed for f_c, C_eq; with
     omega = 0 they are inf where the loop dissipates). model 3 (time-domain element) reports the

@@ -11,6 +11,7 @@ the piecewise Taylor polynomial the FMU reconstructs when the master sets value 
 to `order` at each communication point (docs/model-notes.md section 1); it feeds the reference
 exactly what the FMU saw.
 """
+
 from __future__ import annotations
 
 import math
@@ -99,8 +100,9 @@ class Piecewise:
         if self._prim is None:
             widths = np.diff(self.knots)
             js = np.arange(self.coeffs.shape[1])
-            piece_int = np.array([np.sum(self.coeffs[i] * widths[i] ** (js + 1) / (js + 1))
-                                  for i in range(len(widths))])
+            piece_int = np.array(
+                [np.sum(self.coeffs[i] * widths[i] ** (js + 1) / (js + 1)) for i in range(len(widths))]
+            )
             self._prim = np.concatenate(([0.0], np.cumsum(piece_int)))
         scalar = np.ndim(t) == 0
         tt = np.atleast_1d(np.asarray(t, dtype=float))
@@ -136,8 +138,7 @@ class LinearRamp(Piecewise):
             raise ExcitationError(f"ramp end time t1 = {t1} must be after its start t0 = {t0}")
         self.v0, self.v1, self.t0, self.t1 = float(v0), float(v1), float(t0), float(t1)
         slope = (self.v1 - self.v0) / (self.t1 - self.t0)
-        super().__init__([self.t0 - 1.0, self.t0, self.t1],
-                         [[self.v0, 0.0], [self.v0, slope], [self.v1, 0.0]])
+        super().__init__([self.t0 - 1.0, self.t0, self.t1], [[self.v0, 0.0], [self.v0, slope], [self.v1, 0.0]])
 
     def __repr__(self) -> str:
         return f"LinearRamp({self.v0!r}, {self.v1!r}, {self.t0!r}, {self.t1!r})"
@@ -150,8 +151,7 @@ class Stepped(Piecewise):
     the new plateau (no jump in speed), so every duration must exceed `ramp`.
     """
 
-    def __init__(self, levels: Sequence[float], durations: Sequence[float], start: float = 0.0,
-                 ramp: float = 0.0):
+    def __init__(self, levels: Sequence[float], durations: Sequence[float], start: float = 0.0, ramp: float = 0.0):
         levels = [float(v) for v in levels]
         durations = [float(d) for d in durations]
         _check_finite("plateau level", *levels)
@@ -199,7 +199,7 @@ def sin_series(p: np.ndarray) -> np.ndarray:
     S[0], C[0] = np.sin(p[0]), np.cos(p[0])
     for k in range(1, n):
         js = np.arange(1, k + 1)
-        jp = js[:, None] * p[1:k + 1]
+        jp = js[:, None] * p[1 : k + 1]
         S[k] = np.sum(jp * C[k - js], axis=0) / k
         C[k] = -np.sum(jp * S[k - js], axis=0) / k
     return S

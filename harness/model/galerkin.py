@@ -10,6 +10,7 @@ constants its own way (Chebyshev series, Newton), the tests compare the two and 
 Formulation 1 (`printed`) follows eq. 26 with U2 = lambda^4 U1 (docs/model.md fixes the printed
 U2 = int phi^5); formulation 2 (`consistent`) is the energy form with phi(l) = 1.
 """
+
 from __future__ import annotations
 
 import math
@@ -92,11 +93,11 @@ class ModeShape:
         if order == 1:
             return lam * (S * (sh + s) + c - ch)
         if order == 2:
-            return lam ** 2 * (S * (ch + c) - s - sh)
+            return lam**2 * (S * (ch + c) - s - sh)
         if order == 3:
-            return lam ** 3 * (S * (sh - s) - c - ch)
+            return lam**3 * (S * (sh - s) - c - ch)
         if order == 4:
-            return lam ** 4 * (S * (ch - c) + s - sh)
+            return lam**4 * (S * (ch - c) + s - sh)
         raise ValueError("order must be 0..4")
 
 
@@ -136,5 +137,19 @@ def galerkin(params: Mapping[str, Any] | None, formulation: int | None = None) -
         K0s = EI * _quad(lambda x: phi(x, 2) ** 2, l) / n2
         K0w = _quad(lambda x: (0.5 * rho * A * (l * l - x * x) + m0 * l) * phi(x, 1) ** 2, l) / n2
         G = intPhi / u2
-    return Galerkin(formulation=form, lambdaL=lamL, U1=U1, U2=U2, U3=U3, U4=U4, U5=U5, intPhi=intPhi,
-                    u2=u2, M=M, C0=C0, K0static=K0s, K0omega2=K0w, loadGain=G)
+    return Galerkin(
+        formulation=form,
+        lambdaL=lamL,
+        U1=U1,
+        U2=U2,
+        U3=U3,
+        U4=U4,
+        U5=U5,
+        intPhi=intPhi,
+        u2=u2,
+        M=M,
+        C0=C0,
+        K0static=K0s,
+        K0omega2=K0w,
+        loadGain=G,
+    )

@@ -13,6 +13,7 @@ given, so a parameter set without them is what it always was (a run from rest). 
 rules (jenkinsForce inside the friction cone, frictionModel 3 only) are checked by the FMU, whose
 message `BladeFMU` raises.
 """
+
 from __future__ import annotations
 
 import math
@@ -62,8 +63,9 @@ _TOOL = "ShroudedBlade"
 
 # Harness-only parameters (docs/model.md section 1: F_w0 is applied by the harness through aeroLoad).
 _HARNESS_ONLY = [
-    ParamSpec("Fw0", "Real", 100.0, "N/m", 0.0, None, description="aerodynamic load amplitude (eq. 17)",
-              harness_only=True),
+    ParamSpec(
+        "Fw0", "Real", 100.0, "N/m", 0.0, None, description="aerodynamic load amplitude (eq. 17)", harness_only=True
+    ),
 ]
 
 
@@ -123,10 +125,17 @@ def specs() -> dict[str, ParamSpec]:
         lo = typ.get("min")
         hi = typ.get("max")
         out[name] = ParamSpec(
-            name=name, type=kind, default=default, unit=typ.get("unit", ""),
-            low=None if lo is None else float(lo), high=None if hi is None else float(hi),
-            low_open=name in open_low, high_open=name in open_high,
-            description=sv.get("description", ""), start_value=start_value)
+            name=name,
+            type=kind,
+            default=default,
+            unit=typ.get("unit", ""),
+            low=None if lo is None else float(lo),
+            high=None if hi is None else float(hi),
+            low_open=name in open_low,
+            high_open=name in open_high,
+            description=sv.get("description", ""),
+            start_value=start_value,
+        )
     for s in _HARNESS_ONLY:
         out[s.name] = s
     return out
@@ -211,8 +220,9 @@ def _check_one(spec: ParamSpec, value: Any, source: str) -> Any:
         bad = True
     if bad:
         unit = f" {spec.unit}" if spec.unit and spec.unit != "1" else ""
-        raise ParameterError(f"{spec.name} = {value!r}{unit}{where} is out of range; accepted: {spec.range_text()}"
-                             f" ({spec.description})")
+        raise ParameterError(
+            f"{spec.name} = {value!r}{unit}{where} is out of range; accepted: {spec.range_text()} ({spec.description})"
+        )
     return num
 
 

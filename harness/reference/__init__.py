@@ -10,21 +10,59 @@ force, friction loop, describing functions by quadrature), `dynamics` (time simu
 events), `fixedpoint` (the paper's fixed point A(B) = B and the naive iteration's 2-cycle) and
 `tracked` (the tracked-amplitude map at a harmonic-balance root).
 """
+
 from __future__ import annotations
 
 from harness.reference.blade import galerkin
-from harness.reference.contact import (DF, ContactConsts, contact_consts, describing_function,
-                                       jenkins_cycle_dissipation, loop_angles, loop_friction, loop_state, normal_force,
-                                       regime)
+from harness.reference.contact import (
+    DF,
+    ContactConsts,
+    contact_consts,
+    describing_function,
+    jenkins_cycle_dissipation,
+    loop_angles,
+    loop_friction,
+    loop_state,
+    normal_force,
+    regime,
+)
 from harness.reference.dynamics import OUTPUT_DTYPE, SimulationError, jenkins_prescribed, simulate
-from harness.reference.fixedpoint import (FixedPointResult, FixedPointRoot, PiecewiseStepper, SteadyState,
-                                          finite_horizon_amplitude, fixed_point, naive_iteration, steady_amplitude)
+from harness.reference.fixedpoint import (
+    FixedPointResult,
+    FixedPointRoot,
+    PiecewiseStepper,
+    SteadyState,
+    finite_horizon_amplitude,
+    fixed_point,
+    naive_iteration,
+    steady_amplitude,
+)
 from harness.reference.tracked import tracked_map_radius, tracked_radii
 
 __all__ = [
-    "galerkin", "DF", "ContactConsts", "contact_consts", "describing_function", "jenkins_cycle_dissipation", "loop_angles",
-    "loop_friction", "loop_state", "normal_force", "regime", "OUTPUT_DTYPE", "SimulationError",
-    "jenkins_prescribed", "simulate", "FixedPointResult", "FixedPointRoot",
-    "SteadyState", "finite_horizon_amplitude", "fixed_point", "naive_iteration", "steady_amplitude",
-    "PiecewiseStepper", "tracked_map_radius", "tracked_radii",
+    "galerkin",
+    "DF",
+    "ContactConsts",
+    "contact_consts",
+    "describing_function",
+    "jenkins_cycle_dissipation",
+    "loop_angles",
+    "loop_friction",
+    "loop_state",
+    "normal_force",
+    "regime",
+    "OUTPUT_DTYPE",
+    "SimulationError",
+    "jenkins_prescribed",
+    "simulate",
+    "FixedPointResult",
+    "FixedPointRoot",
+    "SteadyState",
+    "finite_horizon_amplitude",
+    "fixed_point",
+    "naive_iteration",
+    "steady_amplitude",
+    "PiecewiseStepper",
+    "tracked_map_radius",
+    "tracked_radii",
 ]

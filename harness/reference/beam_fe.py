@@ -10,6 +10,7 @@ with n (like h^4), so enough elements bound the Galerkin error from the same sid
 frequencies are the generalized eigenvalues of (K, M) (scipy.linalg.eigh); the forced response to a
 uniform load f_w (per unit length) a linear solve. Nothing here comes from eq. 20 or eq. 21.
 """
+
 from __future__ import annotations
 
 import math
@@ -28,7 +29,7 @@ def _hermite(xi: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray, np.ndarr
     """Hermite cubics on an element of length h at xi in [0, 1]: values, d/dx, d2/dx2, each (4, len(xi));
     DOFs (w_a, w'_a, w_b, w'_b)."""
     x = np.asarray(xi, dtype=float)
-    N = np.array([1 - 3 * x**2 + 2 * x**3, h * (x - 2 * x**2 + x**3), 3 * x**2 - 2 * x**3, h * (-x**2 + x**3)])
+    N = np.array([1 - 3 * x**2 + 2 * x**3, h * (x - 2 * x**2 + x**3), 3 * x**2 - 2 * x**3, h * (-(x**2) + x**3)])
     dN = np.array([-6 * x + 6 * x**2, h * (1 - 4 * x + 3 * x**2), 6 * x - 6 * x**2, h * (-2 * x + 3 * x**2)]) / h
     d2N = np.array([-6 + 12 * x, h * (-4 + 6 * x), 6 - 12 * x, h * (-2 + 6 * x)]) / h**2
     return N, dN, d2N

@@ -9,6 +9,7 @@ roundoff (below 1e-13 of the largest). The result is the product's `Galerkin` re
 Formulation 1 (`printed`) follows eq. 26 with U2 = lambda^4 U1; formulation 2 (`consistent`) is
 the energy form with phi(l) = 1.
 """
+
 from __future__ import annotations
 
 import math
@@ -63,7 +64,7 @@ def mode(lambdaL: float, l: float, x: np.ndarray, order: int) -> np.ndarray:
     trig = (np.cos(z), -np.sin(z), -np.cos(z), np.sin(z))  # k-th derivative of cos z
     # phi = S cosh - S cos + sin - sinh, with sin = d/dz(-cos) shifted by one in the cycle
     val = S * hyp[order % 2] - S * trig[order % 4] - trig[(order + 1) % 4] - hyp[(order + 1) % 2]
-    return lam ** order * val
+    return lam**order * val
 
 
 def integral(f: Callable[[np.ndarray], np.ndarray], l: float) -> float:
@@ -104,5 +105,19 @@ def galerkin(params: Mapping[str, Any] | None, formulation: int | None = None) -
         M, C0 = rho * A * U1 / n2 + m0, c * U1 / n2
         K0s = EI * integral(lambda x: phi(2)(x) ** 2, l) / n2
         K0w = integral(lambda x: (0.5 * rho * A * (l * l - x * x) + m0 * l) * phi(1)(x) ** 2, l) / n2
-    return Galerkin(formulation=form, lambdaL=lamL, U1=U1, U2=U2, U3=U3, U4=U4, U5=U5, intPhi=intPhi,
-                    u2=u2, M=M, C0=C0, K0static=K0s, K0omega2=K0w, loadGain=intPhi / u2)
+    return Galerkin(
+        formulation=form,
+        lambdaL=lamL,
+        U1=U1,
+        U2=U2,
+        U3=U3,
+        U4=U4,
+        U5=U5,
+        intPhi=intPhi,
+        u2=u2,
+        M=M,
+        C0=C0,
+        K0static=K0s,
+        K0omega2=K0w,
+        loadGain=intPhi / u2,
+    )

@@ -12,6 +12,7 @@ time-domain Jenkins element driven by a prescribed harmonic motion (model-notes 
 the paper's loop: see `jenkins_cycle_dissipation`. The contact constants (`ContactConsts`: the
 parameters k_n, k_d, mu, gamma, d and their combinations a, b) are the model's definitions.
 """
+
 from __future__ import annotations
 
 import math
@@ -21,7 +22,19 @@ from typing import Any, Mapping
 import numpy as np
 from scipy.optimize import brentq
 
-from harness.model.contact import (COULOMB_DF, DF, FULL_STICK, MACROSLIP_DF, OPEN, STICK_SLIP, ContactConsts, contact_consts, df_model, pack_df)
+from harness.model.contact import (
+    COULOMB_DF,
+    DF,
+    FULL_STICK,
+    MACROSLIP_DF,
+    OPEN,
+    STICK_SLIP,
+    ContactConsts,
+    contact_consts,
+    df_model,
+    pack_df,
+)
+
 
 def normal_force(params: Mapping[str, Any] | ContactConsts, v: Any) -> Any:
     """F_n(v) [N], eq. 3 (vectorised)."""
@@ -114,8 +127,9 @@ def loop_friction(params: Mapping[str, Any] | ContactConsts, B: float, theta: An
     return out[()] if out.ndim == 0 else out
 
 
-def loop_interval(cc: ContactConsts, B: float, theta: Any, model: int = MACROSLIP_DF,
-                  angles: tuple[float, float, float] | None = None) -> np.ndarray:
+def loop_interval(
+    cc: ContactConsts, B: float, theta: Any, model: int = MACROSLIP_DF, angles: tuple[float, float, float] | None = None
+) -> np.ndarray:
     """Number 1..10 of the eq.-4 interval that holds theta in [0, 2 pi) (empty intervals are skipped)."""
     t1, t2, t3 = angles if angles is not None else loop_angles(cc, B, model)
     pi = math.pi
@@ -179,8 +193,9 @@ def _df_quadrature(cc: ContactConsts, B: float, model: int) -> tuple[float, floa
     return float(res[64][0]), float(res[64][1]), float(res[64][2])
 
 
-def describing_function(params: Mapping[str, Any] | ContactConsts, B: Any, omega: float, model: int = MACROSLIP_DF,
-                        projection: int = 1) -> DF:
+def describing_function(
+    params: Mapping[str, Any] | ContactConsts, B: Any, omega: float, model: int = MACROSLIP_DF, projection: int = 1
+) -> DF:
     """Describing function of the macroslip (model 1) or Coulomb (model 2) loop at amplitude B [m]
     (scalar or array) and excitation frequency omega [rad/s] (> 0 needed for f_c, C_eq). model 3
     (time-domain element) reports the macroslip DF. By quadrature of the loop (`_df_quadrature`),
@@ -192,8 +207,18 @@ def describing_function(params: Mapping[str, Any] | ContactConsts, B: Any, omega
     fk, fcw, pk = res[:, 0], res[:, 1], res[:, 2]
     sg = math.sin(cc.gamma)
     Keq = (fk + pk) * sg if projection == 1 else fk * sg + pk * math.cos(cc.gamma)  # eq. 12 / 2nd projection
-    return pack_df(B, omega, sg, fk, fcw, pk, Keq, fcw * sg, np.atleast_1d(regime(cc, B1, model)),
-                   tuple(np.atleast_1d(t) for t in loop_angles(cc, B1, model)))
+    return pack_df(
+        B,
+        omega,
+        sg,
+        fk,
+        fcw,
+        pk,
+        Keq,
+        fcw * sg,
+        np.atleast_1d(regime(cc, B1, model)),
+        tuple(np.atleast_1d(t) for t in loop_angles(cc, B1, model)),
+    )
 
 
 def jenkins_cycle_dissipation(params: Mapping[str, Any] | ContactConsts, B: float) -> float:
@@ -215,4 +240,4 @@ def jenkins_cycle_dissipation(params: Mapping[str, Any] | ContactConsts, B: floa
         return 0.0
     e = B - d
     Bv1 = 2.0 * b * e / (a + b)  # B - v1 = B (1 - cos theta1) (eq. 5, half-angle form); v1 - d = e - Bv1
-    return a * Bv1 ** 2 + b * (e - Bv1) ** 2 + b * e ** 2 - 2 * b * e * Bv1
+    return a * Bv1**2 + b * (e - Bv1) ** 2 + b * e**2 - 2 * b * e * Bv1

@@ -11,6 +11,7 @@ it is fed piecewise Taylor polynomials): integration restarts there. Output: a n
 array, `time` first, fields named like the FMU outputs. `jenkins_prescribed` drives the Jenkins
 element alone with a prescribed harmonic motion (loop and cycle dissipation checks).
 """
+
 from __future__ import annotations
 
 import math
@@ -24,15 +25,32 @@ from harness.model.params import ParameterError, start_values, validate
 from harness.model.galerkin import Galerkin
 from harness.reference.blade import galerkin
 from harness.model.contact import MACROSLIP_TD
-from harness.reference.contact import (COULOMB_DF, MACROSLIP_DF, ContactConsts, contact_consts,
-                                       describing_function, loop_state)
+from harness.reference.contact import (
+    COULOMB_DF,
+    MACROSLIP_DF,
+    ContactConsts,
+    contact_consts,
+    describing_function,
+    loop_state,
+)
 from harness.reference.modes import modal_galerkin, split_modes
 
-OUTPUT_DTYPE = np.dtype([
-    ("time", "f8"), ("tipDisplacement", "f8"), ("tipVelocity", "f8"), ("normalForce", "f8"),
-    ("frictionForce", "f8"), ("Keq", "f8"), ("Ceq", "f8"), ("amplitude", "f8"), ("dissipatedEnergy", "f8"),
-    ("naturalFrequency", "f8"), ("regime", "i4"), ("contactState", "i4"),
-])
+OUTPUT_DTYPE = np.dtype(
+    [
+        ("time", "f8"),
+        ("tipDisplacement", "f8"),
+        ("tipVelocity", "f8"),
+        ("normalForce", "f8"),
+        ("frictionForce", "f8"),
+        ("Keq", "f8"),
+        ("Ceq", "f8"),
+        ("amplitude", "f8"),
+        ("dissipatedEnergy", "f8"),
+        ("naturalFrequency", "f8"),
+        ("regime", "i4"),
+        ("contactState", "i4"),
+    ]
+)
 
 
 def modal_dtype(m: int) -> np.dtype:
@@ -40,8 +58,11 @@ def modal_dtype(m: int) -> np.dtype:
     1..m at the current speed and the root bending moment (named like the FMU's outputs)."""
     if m == 1:
         return OUTPUT_DTYPE
-    extra = [(f"{name}[{i}]", "f8") for name in ("modalDisplacement", "modalVelocity", "modeFrequency")
-             for i in range(1, m + 1)]
+    extra = [
+        (f"{name}[{i}]", "f8")
+        for name in ("modalDisplacement", "modalVelocity", "modeFrequency")
+        for i in range(1, m + 1)
+    ]
     return np.dtype(OUTPUT_DTYPE.descr + extra + [("rootMoment", "f8")])
 
 
@@ -102,10 +123,18 @@ class Jenkins:
         out.append((_event(lambda t, y: side * (y[qi] - side * d), -1.0), lambda y: self._set(OPEN, 0, 0)))
         if self.mode == STICK:
             sg, kd, b = self.sg, cc.kd, self.b
-            out.append((_event(lambda t, y: kd * (sg * y[qi] - y[wi]) - b * (side * y[qi] - d), 1.0),
-                        lambda y: self._set(SLIP, side, +1)))
-            out.append((_event(lambda t, y: -kd * (sg * y[qi] - y[wi]) - b * (side * y[qi] - d), 1.0),
-                        lambda y: self._set(SLIP, side, -1)))
+            out.append(
+                (
+                    _event(lambda t, y: kd * (sg * y[qi] - y[wi]) - b * (side * y[qi] - d), 1.0),
+                    lambda y: self._set(SLIP, side, +1),
+                )
+            )
+            out.append(
+                (
+                    _event(lambda t, y: -kd * (sg * y[qi] - y[wi]) - b * (side * y[qi] - d), 1.0),
+                    lambda y: self._set(SLIP, side, -1),
+                )
+            )
         else:
             coef = self.s * cc.kd * self.sg - self.b * side  # s k_d sin g q' - L'
             out.append((_event(lambda t, y: coef * y[vi], -1.0), lambda y: self._set(STICK, side, 0)))
@@ -140,11 +169,20 @@ class _Discrete:
     extra: dict = field(default_factory=dict)
 
 
-def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[[float], float],
-             speed: Callable[[float], float], t_eval: Sequence[float] | np.ndarray, rtol: float = 1e-11,
-             atol: Sequence[float] | float | None = None, start_time: float = 0.0,
-             breakpoints: Sequence[float] | None = None, max_step: float = np.inf,
-             initial: tuple[Any, Any] | None = None, modes: int | None = None) -> np.ndarray:
+def simulate(
+    params: Mapping[str, Any] | None,
+    stop_time: float,
+    aero: Callable[[float], float],
+    speed: Callable[[float], float],
+    t_eval: Sequence[float] | np.ndarray,
+    rtol: float = 1e-11,
+    atol: Sequence[float] | float | None = None,
+    start_time: float = 0.0,
+    breakpoints: Sequence[float] | None = None,
+    max_step: float = np.inf,
+    initial: tuple[Any, Any] | None = None,
+    modes: int | None = None,
+) -> np.ndarray:
     """Simulate the FMU's model (model-notes s.1-4) from rest at `start_time` to `stop_time`.
 
     aero(t) -> f_w [N/m], speed(t) -> n [rpm]; `t_eval` output times in [start_time, stop_time];
@@ -164,8 +202,10 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
     p, m = split_modes(params, modes)
     moved = {k: v for k, v in start_values(p).items() if v != 0}
     if moved:  # not modelled here: refuse rather than silently start at rest
-        raise ParameterError(f"start values {moved} are not supported by the reference, which starts at rest"
-                             " (use initial=(q0, q'0) for a displaced start)")
+        raise ParameterError(
+            f"start values {moved} are not supported by the reference, which starts at rest"
+            " (use initial=(q0, q'0) for a displaced start)"
+        )
     cc = contact_consts(p)
     model, proj, gating = int(p["frictionModel"]), int(p["projection"]), bool(p["gating"])
     tracked = int(p["amplitudeMode"]) == 2
@@ -183,7 +223,8 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
         return y[0] if m == 1 else float(np.sum(y[:m]))
 
     def tv(y: np.ndarray) -> float:
-        return y[1] if m == 1 else float(np.sum(y[m:2 * m]))
+        return y[1] if m == 1 else float(np.sum(y[m : 2 * m]))
+
     jen = Jenkins(cc) if model == MACROSLIP_TD else None
     dfmodel = COULOMB_DF if model == COULOMB_DF else MACROSLIP_DF
 
@@ -209,8 +250,9 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
             if ds.g:
                 df = ds.df
                 if om == 0.0 and ds.B > d:  # model-notes s.2: the FMU discards such a step
-                    raise SimulationError(f"omega = 0 at t = {t:g} s while the contact force is needed"
-                                          f" (B = {ds.B:g} m > d)")
+                    raise SimulationError(
+                        f"omega = 0 at t = {t:g} s while the contact force is needed (B = {ds.B:g} m > d)"
+                    )
                 Ceq = df.CeqOmega / om if df.CeqOmega != 0.0 else 0.0
                 Fc = df.Keq * q + Ceq * v
                 P = Ceq * v * v
@@ -221,7 +263,7 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
             Fn, Ff, wdot, P = jen.forces(q, v, y[iW])
             Fc = Fn * jen.cg + Ff * jen.sg  # eq. 14
         if m > 1:  # M qm'' + C0 qm' + K0 qm = G f_w - Fc psi(l), psi_i(l) = 1
-            qm, vm = y[:m], y[m:2 * m]
+            qm, vm = y[:m], y[m : 2 * m]
             Cv = mg.C0 @ vm
             acc_m = Minv @ (mg.loadGain * aero(t) - Cv - mg.K0(Om) @ qm - Fc)
             return np.concatenate([vm, acc_m, [om, float(vm @ Cv) + P, wdot]])
@@ -258,9 +300,9 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
                     row[f"modalDisplacement[{i + 1}]"], row[f"modalVelocity[{i + 1}]"] = y[i], y[m + i]
                     row[f"modeFrequency[{i + 1}]"] = freqs[i]
                 row["rootMoment"] = float(mg.root_moment(y[:m]))
-            Ceq_full = (df.CeqOmega / om if om > 0 else (0.0 if df.CeqOmega == 0 else math.nan))
+            Ceq_full = df.CeqOmega / om if om > 0 else (0.0 if df.CeqOmega == 0 else math.nan)
             if jen is None:
-                fc = (df.fcOmega / om if om > 0 else (0.0 if df.fcOmega == 0 else math.nan))
+                fc = df.fcOmega / om if om > 0 else (0.0 if df.fcOmega == 0 else math.nan)
                 g = ds.g
                 row["normalForce"] = g * df.pk * q
                 row["frictionForce"] = g * (df.fk * q + fc * v) if g else 0.0
@@ -279,7 +321,7 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
 
     y = np.zeros(2 * m + 3)
     if initial is not None:
-        y[:m], y[m:2 * m] = np.ravel(initial[0]), np.ravel(initial[1])
+        y[:m], y[m : 2 * m] = np.ravel(initial[0]), np.ravel(initial[1])
         q0 = tq(y)
         y[iW] = sg * q0
         if gating and abs(q0) > d:
@@ -294,7 +336,7 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
         view = lambda y: y  # noqa: E731  (events and transitions read q, q', w at 0, 1, 4)
         jidx = (0, 1, 4)
     else:
-        qv = lambda ts, Y: (Y[:m].sum(axis=0), Y[m:2 * m].sum(axis=0))  # noqa: E731
+        qv = lambda ts, Y: (Y[:m].sum(axis=0), Y[m : 2 * m].sum(axis=0))  # noqa: E731
         view = lambda y: np.array([tq(y), tv(y), y[iW]])  # noqa: E731
         jidx = (0, 1, 2)
     for seg_i in range(len(edges) - 1):
@@ -320,8 +362,20 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
                 evs.append((lambda t, y, k=ds.k: y[iP] - TWO_PI * k, 1.0))
                 acts.append(None)  # period end, handled below
             idx = np.nonzero((t_eval >= t) & ((t_eval < t_end) | (last_edge & (t_eval <= t_end))))[0]
-            res = run_segment(rhs, t, y, t_end, evs, qv, rtol, atol, max_step, t_eval[idx],
-                              lambda m, ts, Y, idx=idx: outputs(idx[m], ts, Y), track_qmax=tracked)
+            res = run_segment(
+                rhs,
+                t,
+                y,
+                t_end,
+                evs,
+                qv,
+                rtol,
+                atol,
+                max_step,
+                t_eval[idx],
+                lambda m, ts, Y, idx=idx: outputs(idx[m], ts, Y),
+                track_qmax=tracked,
+            )
             y = np.array(res.y, dtype=float)
             if tracked:
                 ds.qmax = max(ds.qmax, res.qmax)
@@ -349,8 +403,14 @@ def simulate(params: Mapping[str, Any] | None, stop_time: float, aero: Callable[
     return out
 
 
-def jenkins_prescribed(params: Mapping[str, Any] | None, B: float, omega: float, n_cycles: int = 2,
-                       rtol: float = 1e-12, samples_per_cycle: int = 0) -> dict[str, Any]:
+def jenkins_prescribed(
+    params: Mapping[str, Any] | None,
+    B: float,
+    omega: float,
+    n_cycles: int = 2,
+    rtol: float = 1e-12,
+    samples_per_cycle: int = 0,
+) -> dict[str, Any]:
     """Drive the Jenkins element alone with a prescribed q(t) = B cos(omega t), t in
     [0, n_cycles 2 pi / omega]. q starts at B in contact (B > d) with an unloaded spring, so the
     element starts in stick with w = B sin g; from the second cycle on the loop is periodic.
@@ -385,8 +445,11 @@ def jenkins_prescribed(params: Mapping[str, Any] | None, B: float, omega: float,
     for c in range(n_cycles):
         c_end = (c + 1) * T
         E_start = y[0]
-        ts = np.linspace(c * T, c_end, samples_per_cycle, endpoint=False) if samples_per_cycle and c == n_cycles - 1 \
+        ts = (
+            np.linspace(c * T, c_end, samples_per_cycle, endpoint=False)
+            if samples_per_cycle and c == n_cycles - 1
             else np.array([])
+        )
 
         def record(m: np.ndarray, tt: np.ndarray, Y: np.ndarray) -> None:
             for ti, wi in zip(tt, Y[1]):
@@ -398,8 +461,18 @@ def jenkins_prescribed(params: Mapping[str, Any] | None, B: float, omega: float,
             pairs = jen.events(0, 1, 2)
             evs = [(lambda tt, yy, f=f: f(tt, full(tt, yy)), f.direction) for f, _ in pairs]
             sel = ts[(ts >= t) & (ts < c_end)]
-            res = run_segment(rhs, t, y, c_end, evs, lambda tt, Y: qv_t(tt), rtol, rtol * np.array([1e-6, B]),
-                              t_eval=sel, on_output=record)
+            res = run_segment(
+                rhs,
+                t,
+                y,
+                c_end,
+                evs,
+                lambda tt, Y: qv_t(tt),
+                rtol,
+                rtol * np.array([1e-6, B]),
+                t_eval=sel,
+                on_output=record,
+            )
             y = np.array(res.y, dtype=float)
             t = res.t
             if res.fired is None:

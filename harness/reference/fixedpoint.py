@@ -13,6 +13,7 @@ periods then agree; otherwise the plain simulation continues. `fixed_point` brac
 scan over (d, B_max] and refines every root with brentq; `naive_iteration` runs the paper's
 procedure B <- A(B) and reports its fixed point or 2-cycle.
 """
+
 from __future__ import annotations
 
 import cmath
@@ -85,8 +86,7 @@ class PiecewiseStepper:
         K0 = gal.K0static + gal.K0omega2 * Om * Om
         df = describing_function(cc, B, self.w, model, int(p["projection"]))
         self.gating = bool(p["gating"])
-        self.modes = (_Mode(gal.M, gal.C0, K0, F, self.w),
-                      _Mode(gal.M, gal.C0 + df.Ceq, K0 + df.Keq, F, self.w))
+        self.modes = (_Mode(gal.M, gal.C0, K0, F, self.w), _Mode(gal.M, gal.C0 + df.Ceq, K0 + df.Keq, F, self.w))
         self.switching = self.gating and (df.Keq != 0.0 or df.Ceq != 0.0)
 
     def initial_g(self, q: float) -> int:
@@ -98,8 +98,10 @@ class PiecewiseStepper:
         n = int(math.ceil(24.0 * pc.m.fast * (tb - ta) / TWO_PI)) + 2
         ts = np.linspace(ta, tb, n)
         _, v = pc.qv(ts)
-        ext = [brentq(lambda t: float(pc.qv(t)[1]), ts[i], ts[i + 1], xtol=1e-16, rtol=4 * np.finfo(float).eps)
-               for i in np.nonzero((v[1:] * v[:-1]) < 0)[0]]
+        ext = [
+            brentq(lambda t: float(pc.qv(t)[1]), ts[i], ts[i + 1], xtol=1e-16, rtol=4 * np.finfo(float).eps)
+            for i in np.nonzero((v[1:] * v[:-1]) < 0)[0]
+        ]
         return np.sort(np.concatenate([ts, ext])) if ext else ts
 
     def _first_event(self, pc: _Piece, g: int, side: int, ta: float, tb: float) -> float | None:
@@ -117,8 +119,7 @@ class PiecewiseStepper:
                 continue
             i = int(hit[0])
             f = lambda t: c * float(pc.qv(t)[0]) + off  # noqa: E731
-            t = knots[i] if val[i] == 0 else brentq(f, knots[i], knots[i + 1], xtol=1e-16,
-                                                    rtol=4 * np.finfo(float).eps)
+            t = knots[i] if val[i] == 0 else brentq(f, knots[i], knots[i + 1], xtol=1e-16, rtol=4 * np.finfo(float).eps)
             for _ in range(4):  # land on the post-switch side
                 if f(t) > 0 or t >= knots[i + 1]:
                     break
@@ -132,8 +133,9 @@ class PiecewiseStepper:
         q, _ = pc.qv(self._knots(pc, ta, tb))
         return float(np.max(np.abs(q)))
 
-    def advance(self, t: float, q: float, v: float, g: int, t_end: float, track: bool = True
-                ) -> tuple[float, float, int, float]:
+    def advance(
+        self, t: float, q: float, v: float, g: int, t_end: float, track: bool = True
+    ) -> tuple[float, float, int, float]:
         """Integrate exactly from t to t_end: returns (q, v, g, max |q| over [t, t_end])."""
         qmax = abs(q)
         for _ in range(100000):
@@ -174,9 +176,16 @@ class SteadyState:
     subharmonic: int = 1  # steady state period in excitation periods (1: T-periodic)
 
 
-def steady_amplitude(params: Mapping[str, Any], speed_rpm: float, B: float, rtol: float = 1e-9,
-                     transient_periods: int = 50, max_periods: int = 6000, window: int = 20,
-                     max_sub: int = 8) -> SteadyState:
+def steady_amplitude(
+    params: Mapping[str, Any],
+    speed_rpm: float,
+    B: float,
+    rtol: float = 1e-9,
+    transient_periods: int = 50,
+    max_periods: int = 6000,
+    window: int = 20,
+    max_sub: int = 8,
+) -> SteadyState:
     """A(B): steady max |q| over a period of the fixed-B run started from rest (see module doc).
 
     Plain simulation, period by period. With D_k = the change of the period-start state (q, q'/w)
@@ -220,7 +229,7 @@ def steady_amplitude(params: Mapping[str, Any], speed_rpm: float, B: float, rtol
             rho = min((Dk / Dold) ** (1.0 / window), 0.999999) if Dold > 0 and Dk > 0 else 0.0
             est = Dk * rho / (1.0 - rho) if Dk > 0 else 0.0
             floor = Dk <= 1e-10 and max(Dp(i) for i in range(n - window, n + 1)) <= 1e-10
-            streak[per] = streak[per] + 1 if (est <= rtol or floor) and Dk <= 1e-3 * rtol ** 0.5 else 0
+            streak[per] = streak[per] + 1 if (est <= rtol or floor) and Dk <= 1e-3 * rtol**0.5 else 0
             if streak[per] >= 3:
                 # report the smallest divisor period that is as converged (a p-periodic orbit is
                 # also 2p-periodic and the two tests need not fire in order)
@@ -245,8 +254,9 @@ def steady_amplitude(params: Mapping[str, Any], speed_rpm: float, B: float, rtol
                 xx, mj, _ = pmap(xx, k + j)
                 mv.append(mj)
             k += 3
-            if max(mv) - min(mv) <= rtol * max(mv) and np.allclose(xx, x, rtol=0.0,
-                                                                   atol=rtol * max(mv) * np.array([1.0, w])):
+            if max(mv) - min(mv) <= rtol * max(mv) and np.allclose(
+                xx, x, rtol=0.0, atol=rtol * max(mv) * np.array([1.0, w])
+            ):
                 return SteadyState(max(mv), True, k, rho_j, float(x[0]), float(x[1]))
             failures += 1
     return SteadyState(ms[-1] if ms else 0.0, False, k, math.nan, q, v)
@@ -299,9 +309,16 @@ class FixedPointResult:
     naive: dict = field(default_factory=dict)  # naive iteration: 'sequence', 'fixed' or 'cycle' (or None)
 
 
-def fixed_point(params: Mapping[str, Any] | None, speed_rpm: float, B_max: float | None = None, n_scan: int = 24,
-                naive_start: float | None = None, naive_iter: int = 30, rtol: float = 1e-9,
-                horizon: float | None = None) -> FixedPointResult:
+def fixed_point(
+    params: Mapping[str, Any] | None,
+    speed_rpm: float,
+    B_max: float | None = None,
+    n_scan: int = 24,
+    naive_start: float | None = None,
+    naive_iter: int = 30,
+    rtol: float = 1e-9,
+    horizon: float | None = None,
+) -> FixedPointResult:
     """All roots of A(B) = B over (d, B_max] (scan + brentq) plus the open root when the linear
     amplitude is <= d; and the naive iteration B <- A(B) from `naive_start` (default params B),
     with the steady-state A (horizon None) or the paper's literal finite-horizon A (horizon [s])."""
@@ -344,13 +361,17 @@ def fixed_point(params: Mapping[str, Any] | None, speed_rpm: float, B_max: float
     if horizon is None:
         res.naive = naive_iteration(A, float(p["B"]) if naive_start is None else naive_start, naive_iter)
     else:
-        res.naive = naive_iteration(lambda b: finite_horizon_amplitude(p, speed_rpm, b, horizon),
-                                    float(p["B"]) if naive_start is None else naive_start, naive_iter)
+        res.naive = naive_iteration(
+            lambda b: finite_horizon_amplitude(p, speed_rpm, b, horizon),
+            float(p["B"]) if naive_start is None else naive_start,
+            naive_iter,
+        )
     return res
 
 
-def finite_horizon_amplitude(params: Mapping[str, Any], speed_rpm: float, B: float, horizon: float = 0.2
-                             ) -> SteadyState:
+def finite_horizon_amplitude(
+    params: Mapping[str, Any], speed_rpm: float, B: float, horizon: float = 0.2
+) -> SteadyState:
     """The paper's literal A(B): max |q| over the last full excitation period ending at or before
     `horizon` seconds of the fixed-B run from rest ('integrate 0.2 s, take the amplitude')."""
     st = PiecewiseStepper(params, speed_rpm, B)

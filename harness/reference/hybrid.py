@@ -9,6 +9,7 @@ fixed discrete state, or psi, or proportional to q'), so a crossing cannot hide 
 first crossing is located by brentq on the interpolant; the segment stops there so that the caller
 can update the discrete state and restart.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -37,11 +38,21 @@ def _crossed(a: float, b: float, direction: float) -> bool:
     return (a <= 0.0 < b) or (a >= 0.0 > b)
 
 
-def run_segment(rhs: Callable, t0: float, y0: np.ndarray, t_end: float, events: Sequence[Event],
-                qv: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]], rtol: float, atol,
-                max_step: float = np.inf, t_eval: np.ndarray | None = None,
-                on_output: Callable[[np.ndarray, np.ndarray, np.ndarray], None] | None = None, n_sub: int = 4,
-                track_qmax: bool = False) -> SegmentResult:
+def run_segment(
+    rhs: Callable,
+    t0: float,
+    y0: np.ndarray,
+    t_end: float,
+    events: Sequence[Event],
+    qv: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]],
+    rtol: float,
+    atol,
+    max_step: float = np.inf,
+    t_eval: np.ndarray | None = None,
+    on_output: Callable[[np.ndarray, np.ndarray, np.ndarray], None] | None = None,
+    n_sub: int = 4,
+    track_qmax: bool = False,
+) -> SegmentResult:
     """Integrate from t0 until t_end or the first event. qv(ts, Y) -> (q, q') at times ts for states
     Y (columns). Outputs: on_output(mask, ts, Y) (mask over t_eval) for the t_eval points in
     [t0, stop) (and t_end itself if the segment runs through and t_eval contains it)."""
@@ -79,8 +90,9 @@ def run_segment(rhs: Callable, t0: float, y0: np.ndarray, t_end: float, events: 
                     if vals[j] == 0.0:
                         tr = knots[j]
                     else:
-                        tr = brentq(lambda t: g(t, sol(t)), knots[j], knots[j + 1], xtol=1e-16,
-                                    rtol=4 * np.finfo(float).eps)
+                        tr = brentq(
+                            lambda t: g(t, sol(t)), knots[j], knots[j + 1], xtol=1e-16, rtol=4 * np.finfo(float).eps
+                        )
                         # the root must lie on the post-crossing side (sign of the new value)
                         if not _crossed(vals[j], g(tr, sol(tr)), direction):
                             tr = np.nextafter(tr, knots[j + 1])

@@ -17,6 +17,7 @@ because S -> 1 and cosh z ~ 1e7 for the sixth mode; every integral is the exact 
 Chebyshev interpolant whose tail must be roundoff. The printed formulation (eq. 26) treats q as
 the tip displacement of one mode and has no consistent m-mode form: m > 1 refuses it.
 """
+
 from __future__ import annotations
 
 import math
@@ -95,7 +96,7 @@ def shape(lambdaL: float, l: float, x: Any, order: int) -> np.ndarray:
     # derivatives of cos z and sin z cycle with period 4
     dcos = (np.cos(z), -np.sin(z), -np.cos(z), np.sin(z))[order % 4]
     dsin = (np.sin(z), np.cos(z), -np.sin(z), -np.cos(z))[order % 4]
-    return lam ** order * (Sm1 * hyp + (-1) ** order * np.exp(-z) - S * dcos + dsin)
+    return lam**order * (Sm1 * hyp + (-1) ** order * np.exp(-z) - S * dcos + dsin)
 
 
 def _integral(f: Any, l: float) -> float:
@@ -144,8 +145,10 @@ def modal_galerkin(params: Mapping[str, Any] | None, modes: int | None = None) -
     """The m-mode consistent reduction (module doc) for params (m from `modes` or params["modes"])."""
     p, m = split_modes(params, modes)
     if int(p["formulation"]) != 2 and m > 1:
-        raise ParameterError(f"formulation = {p['formulation']} (printed) with modes = {m}: the printed eq. 26 treats"
-                             " q as the tip displacement of one mode; use formulation 2 (consistent) for modes > 1")
+        raise ParameterError(
+            f"formulation = {p['formulation']} (printed) with modes = {m}: the printed eq. 26 treats"
+            " q as the tip displacement of one mode; use formulation 2 (consistent) for modes > 1"
+        )
     EI, rho, A, l, c, m0 = (float(p[k]) for k in ("EI", "rho", "A", "l", "c", "m0"))
     R = m0 / (rho * A * l)
     lams = np.array([root_k(R, k) for k in range(1, m + 1)])
@@ -162,7 +165,8 @@ def modal_galerkin(params: Mapping[str, Any] | None, modes: int | None = None) -
             C0[i, j] = C0[j, i] = c * mass
             Ks[i, j] = Ks[j, i] = EI * _integral(lambda x: psi(i, 2)(x) * psi(j, 2)(x), l)
             Kw[i, j] = Kw[j, i] = _integral(
-                lambda x: (0.5 * rho * A * (l * l - x * x) + m0 * l) * psi(i, 1)(x) * psi(j, 1)(x), l)
+                lambda x: (0.5 * rho * A * (l * l - x * x) + m0 * l) * psi(i, 1)(x) * psi(j, 1)(x), l
+            )
     G = np.array([_integral(psi(i, 0), l) for i in range(m)])
     curv = np.array([float(psi(i, 2)(0.0)) for i in range(m)])
     return ModalGalerkin(lams, M, C0, Ks, Kw, G, curv, EI)

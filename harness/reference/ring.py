@@ -10,6 +10,7 @@ harness.reference.shroud_contact written on the ODE state (friction force F_f as
 F_c = F_n cos g + F_f sin g, eq. 14). Extra states: the friction energy of every contact, and per
 blade the viscous dissipation int C0 q'^2 and the aero work int G f q' (energy balance).
 """
+
 from __future__ import annotations
 
 import math
@@ -73,8 +74,10 @@ class MonolithicRing:
         if spec.blade_each and len(spec.blade_each) != self.N:
             raise ValueError(f"blade_each has {len(spec.blade_each)} entries for {self.N} blades")
         Omega = 2 * math.pi * spec.speed / 60
-        gs = [galerkin(validate({**dict(spec.blade), **(dict(spec.blade_each[i]) if spec.blade_each else {})}))
-              for i in range(self.N)]
+        gs = [
+            galerkin(validate({**dict(spec.blade), **(dict(spec.blade_each[i]) if spec.blade_each else {})}))
+            for i in range(self.N)
+        ]
         # per blade (arrays of N; equal for a tuned ring)
         self.M, self.C0, self.G = (np.array([getattr(g, a) for g in gs]) for a in ("M", "C0", "loadGain"))
         self.K0 = np.array([float(g.K0(Omega)) for g in gs])
@@ -87,7 +90,7 @@ class MonolithicRing:
 
     # state y = [q (N), v (N), Efric (N), Evisc (N), Waero (N)]
     def _u(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        q, v = y[: self.N], y[self.N: 2 * self.N]
+        q, v = y[: self.N], y[self.N : 2 * self.N]
         return q - np.roll(q, -1), v - np.roll(v, -1)
 
     def _friction(self, c: _Contact, u: float) -> float:
@@ -113,7 +116,7 @@ class MonolithicRing:
 
     def rhs(self, t: float, y: np.ndarray, cs: list[_Contact]) -> np.ndarray:
         N = self.N
-        q, v = y[:N], y[N: 2 * N]
+        q, v = y[:N], y[N : 2 * N]
         Fc, _, P = self.forces(cs, y)
         f = self.spec.fw0 * np.sin(self.omega * t + self.lead)
         F = -Fc + np.roll(Fc, 1)  # side A of contact i, side B of contact i-1
@@ -125,9 +128,11 @@ class MonolithicRing:
         evs = []
         d = self.cc.d
         for j, c in enumerate(cs):
+
             def mk(fun, tag):
                 fun.terminal, fun.direction, fun.tag = True, -1, tag
                 evs.append(fun)
+
             if c.mode == STATE_OPEN:
                 mk(lambda t, y, *_, j=j: d - self._u(y)[0][j], (j, "enter+"))
                 mk(lambda t, y, *_, j=j: d + self._u(y)[0][j], (j, "enter-"))
@@ -135,8 +140,12 @@ class MonolithicRing:
                 mk(lambda t, y, *_, j=j, c=c: c.side * self._u(y)[0][j] - d, (j, "leave"))
             if c.mode == STATE_STICK:
                 for sgn in (1, -1):
-                    mk(lambda t, y, *_, j=j, c=c, sgn=sgn: self.b * (c.side * self._u(y)[0][j] - d)
-                       - sgn * self._friction(c, self._u(y)[0][j]), (j, "slip+" if sgn > 0 else "slip-"))
+                    mk(
+                        lambda t, y, *_, j=j, c=c, sgn=sgn: (
+                            self.b * (c.side * self._u(y)[0][j] - d) - sgn * self._friction(c, self._u(y)[0][j])
+                        ),
+                        (j, "slip+" if sgn > 0 else "slip-"),
+                    )
             elif c.mode == STATE_SLIP:
                 cs_ = c.s * self.a - c.side * self.b  # slip goes on while cs u' >= 0
                 if cs_ != 0:
@@ -213,8 +222,17 @@ class MonolithicRing:
         switches = [(t0, [replace(c) for c in cs])]  # the contacts' discrete states from each event on
         while t0 < t_end:
             evs = self._events(cs)
-            sol = solve_ivp(self.rhs, (t0, t_end), y, method="DOP853", rtol=self.rtol, atol=1e-15,
-                            events=evs, dense_output=True, args=(cs,))
+            sol = solve_ivp(
+                self.rhs,
+                (t0, t_end),
+                y,
+                method="DOP853",
+                rtol=self.rtol,
+                atol=1e-15,
+                events=evs,
+                dense_output=True,
+                args=(cs,),
+            )
             if sol.status < 0:
                 raise RuntimeError(sol.message)
             t1 = sol.t[-1]
@@ -242,7 +260,7 @@ class MonolithicRing:
                 y = sol.y[:, -1]
             t0 = t1
         names = ("q", "v", "Efric", "Evisc", "Waero")
-        res = {k: out[:, i * N:(i + 1) * N] for i, k in enumerate(names)}
+        res = {k: out[:, i * N : (i + 1) * N] for i, k in enumerate(names)}
         res["time"] = np.asarray(t_eval)
         res["events"] = np.array(n_events)
         res["end"] = RingState(t0, np.array(y, dtype=float), cs)

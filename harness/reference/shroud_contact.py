@@ -11,6 +11,7 @@ variant (frictionModel 1, 2) is F_c = K_eq u + C_eq u' while |u| > d (gating), w
 harness.reference.contact and its energy the quadrature of C_eq u'^2 over the gate-on pieces.
 Force on the contact coordinate F_c = F_n cos g + F_f sin g (eq. 14); side A gets -F_c, B +F_c.
 """
+
 from __future__ import annotations
 
 import math
@@ -94,8 +95,9 @@ class JenkinsPair:
         side = 1 if u0 >= 0 else -1
         closed = abs(u0) > cc.d
         s0 = (1 if self.F_start > 0 else -1) if closed and self.F_start != 0.0 else side
-        p = _Piece(0.0, t_end, STATE_STICK if closed else STATE_OPEN, side, s0, self.F_start if closed else 0.0,
-                   u0, 0.0)
+        p = _Piece(
+            0.0, t_end, STATE_STICK if closed else STATE_OPEN, side, s0, self.F_start if closed else 0.0, u0, 0.0
+        )
         out = []
         scale = self.b * cc.d + self.a * cc.d + 1e-300
         for _ in range(100000):
@@ -112,14 +114,14 @@ class JenkinsPair:
                     cands.append((t, name))
             if p.mode == STATE_STICK:
                 for name, sgn in (("slip+", 1), ("slip-", -1)):
-                    g = (lambda t, sgn=sgn, p=p: self.b * (p.side * m.u(t) - cc.d) - sgn * self._friction(p, m.u(t)))
+                    g = lambda t, sgn=sgn, p=p: self.b * (p.side * m.u(t) - cc.d) - sgn * self._friction(p, m.u(t))
                     t = _first_crossing(g, p.t0, t_end, dt_scan, 1e-12 * scale)
                     if t is not None:
                         cands.append((t, name))
             elif p.mode == STATE_SLIP:
                 cs = p.s * self.a - p.side * self.b  # slip goes on while cs u' >= 0
                 if cs != 0:
-                    g = (lambda t, c=math.copysign(1.0, cs): c * m.du(t))
+                    g = lambda t, c=math.copysign(1.0, cs): c * m.du(t)
                     t = _first_crossing(g, p.t0, t_end, dt_scan, 1e-13 * abs(m.du(p.t0)) + 1e-18)
                     if t is not None:
                         cands.append((t, "stick"))
@@ -130,8 +132,11 @@ class JenkinsPair:
             te, name = min(cands, key=lambda c: c[0])  # leave is listed first: wins ties
             p.t1 = te
             out.append(p)
-            E = p.E0 + (quad(lambda t, p=p: self._power(m, p, t), p.t0, te, epsabs=0, epsrel=1e-13, limit=200)[0]
-                        if p.mode == STATE_SLIP and te > p.t0 else 0.0)
+            E = p.E0 + (
+                quad(lambda t, p=p: self._power(m, p, t), p.t0, te, epsabs=0, epsrel=1e-13, limit=200)[0]
+                if p.mode == STATE_SLIP and te > p.t0
+                else 0.0
+            )
             ue = m.u(te)
             Ff = self._friction(p, ue)
             if name.startswith("enter"):
@@ -153,8 +158,10 @@ class JenkinsPair:
     def evaluate(self, m: Motion, t_out: np.ndarray, dt_scan: float) -> dict[str, np.ndarray]:
         """forceA, forceB, normalForce, frictionForce, contactState, dissipatedEnergy at t_out."""
         ps = self.pieces(m, float(t_out[-1]), dt_scan)
-        res = {k: np.zeros(len(t_out)) for k in ("forceA", "forceB", "normalForce", "frictionForce",
-                                                 "contactState", "dissipatedEnergy")}
+        res = {
+            k: np.zeros(len(t_out))
+            for k in ("forceA", "forceB", "normalForce", "frictionForce", "contactState", "dissipatedEnergy")
+        }
         j = 0
         for i, t in enumerate(t_out):
             while j + 1 < len(ps) and t > ps[j].t1:
@@ -173,8 +180,17 @@ class JenkinsPair:
         return res
 
 
-def df_pair(params: Mapping[str, Any], m: Motion, t_out: np.ndarray, omega: float, model: int, B: float,
-            projection: int = 1, gating: bool = True, dt_scan: float = 1e-5) -> dict[str, np.ndarray]:
+def df_pair(
+    params: Mapping[str, Any],
+    m: Motion,
+    t_out: np.ndarray,
+    omega: float,
+    model: int,
+    B: float,
+    projection: int = 1,
+    gating: bool = True,
+    dt_scan: float = 1e-5,
+) -> dict[str, np.ndarray]:
     """The describing-function variant at the fixed amplitude B and frequency omega [rad/s]."""
     if model == MACROSLIP_TD:
         raise ValueError("df_pair is for frictionModel 1 and 2")

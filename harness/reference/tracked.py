@@ -5,6 +5,7 @@ The harmonic balance is the product's (harness/analysis/harmonic_balance.py, slo
 this map is the reference's own check of it: built on the reference's Galerkin reduction (blade),
 describing functions by quadrature (contact) and the exact piecewise-linear solution of fixedpoint.
 """
+
 from __future__ import annotations
 
 import math

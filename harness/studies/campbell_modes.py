@@ -8,6 +8,7 @@ the FMU's frequency at that speed (to 1e-6 rpm), not read off the grid. More tha
 the consistent formulation (the printed eq. 26 has one mode): `campbell_params` sets formulation 2
 for m > 1 unless the caller chose one.
 """
+
 from __future__ import annotations
 
 import math
@@ -43,8 +44,12 @@ class CampbellModes:
     crossings: list[Crossing]
 
     def as_dict(self) -> dict:
-        return {"modes": self.modes, "speeds_rpm": self.speeds.tolist(),
-                "frequencies_hz": self.frequencies.tolist(), "crossings": [asdict(c) for c in self.crossings]}
+        return {
+            "modes": self.modes,
+            "speeds_rpm": self.speeds.tolist(),
+            "frequencies_hz": self.frequencies.tolist(),
+            "crossings": [asdict(c) for c in self.crossings],
+        }
 
 
 def check_modes(m: Any) -> int:
@@ -77,8 +82,9 @@ def mode_frequencies(fmu: Any, params: Mapping[str, Any], speed: float) -> np.nd
     return np.array([float(r[k][0]) for k in names])
 
 
-def campbell(fmu: Any, params: Mapping[str, Any], speeds: Sequence[float],
-             orders: Sequence[int] = ORDERS) -> CampbellModes:
+def campbell(
+    fmu: Any, params: Mapping[str, Any], speeds: Sequence[float], orders: Sequence[int] = ORDERS
+) -> CampbellModes:
     """The frequencies on the speed grid and every crossing of a mode with an engine-order line inside it."""
     speeds = np.array([check_speed(float(n)) for n in speeds])
     freqs = np.array([mode_frequencies(fmu, params, n) for n in speeds])
@@ -98,8 +104,14 @@ def campbell(fmu: Any, params: Mapping[str, Any], speeds: Sequence[float],
     return CampbellModes(m, speeds, freqs, found)
 
 
-def campbell_study(fmu: Any, out: Path, params: Mapping[str, Any], modes: int = 3,
-                   speed_range: tuple[float, float] = (0.0, 30000.0), points: int = 301) -> CampbellModes:
+def campbell_study(
+    fmu: Any,
+    out: Path,
+    params: Mapping[str, Any],
+    modes: int = 3,
+    speed_range: tuple[float, float] = (0.0, 30000.0),
+    points: int = 301,
+) -> CampbellModes:
     """results/campbell_modes.csv (frequencies per speed, crossings in the header) and .png:
     modes 1..m (consistent formulation for m > 1, whatever params say), engine orders 1..8, over the
     FMU's whole speed range by default."""
@@ -109,9 +121,13 @@ def campbell_study(fmu: Any, out: Path, params: Mapping[str, Any], modes: int = 
     tab["speed"] = data.speeds
     for i in range(data.modes):
         tab[f"f{i + 1}"] = data.frequencies[:, i]
-    lines = [f"Campbell diagram, {data.modes} modes: FMU modeFrequency[i] [Hz] (contact-free) per speed [rpm];",
-             "crossings f_i(n) = EO n / 60 (brentq on the FMU's frequencies):"]
-    lines += [f"mode {c.mode} EO {c.engine_order}: {c.speed_rpm:.4f} rpm, {c.frequency_hz:.4f} Hz" for c in data.crossings]
+    lines = [
+        f"Campbell diagram, {data.modes} modes: FMU modeFrequency[i] [Hz] (contact-free) per speed [rpm];",
+        "crossings f_i(n) = EO n / 60 (brentq on the FMU's frequencies):",
+    ]
+    lines += [
+        f"mode {c.mode} EO {c.engine_order}: {c.speed_rpm:.4f} rpm, {c.frequency_hz:.4f} Hz" for c in data.crossings
+    ]
     write_csv(out / "campbell_modes.csv", tab, "\n".join(lines))
     plot(out / "campbell_modes.png", data, int(p["engineOrder"]))
     return data
@@ -119,7 +135,14 @@ def campbell_study(fmu: Any, out: Path, params: Mapping[str, Any], modes: int = 
 
 def plot(path: Path | str, data: CampbellModes, eo: int) -> Path:
     """The diagram (harness.studies.plots.campbell with every located crossing marked)."""
-    return plots.campbell(path, data.speeds, data.frequencies, ORDERS, eo, math.nan,
-                          crossings=[(c.speed_rpm, c.frequency_hz, f"{c.speed_rpm:.0f}") for c in data.crossings],
-                          title=f"Campbell diagram: bending modes 1..{data.modes} (contact-free) and engine orders "
-                                f"{ORDERS[0]}..{ORDERS[-1]}, crossings located")
+    return plots.campbell(
+        path,
+        data.speeds,
+        data.frequencies,
+        ORDERS,
+        eo,
+        math.nan,
+        crossings=[(c.speed_rpm, c.frequency_hz, f"{c.speed_rpm:.0f}") for c in data.crossings],
+        title=f"Campbell diagram: bending modes 1..{data.modes} (contact-free) and engine orders "
+        f"{ORDERS[0]}..{ORDERS[-1]}, crossings located",
+    )

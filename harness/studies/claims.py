@@ -12,6 +12,7 @@ trend holds for every step), "trend only" (the direction agrees, the number does
 "not reproduced", "not computed" (the study was not part of the run), "new check" (a question the
 paper does not ask: how far the describing function agrees with the Jenkins element).
 """
+
 from __future__ import annotations
 
 import math
@@ -24,6 +25,7 @@ from harness.files.atomic import atomic_write_text
 if TYPE_CHECKING:
     from harness.studies.paper import Fig45Summary, PaperIteration, Summary
     from harness.studies.study_branches import CoulombComparison, StudySummary
+
 
 @dataclass(frozen=True)
 class PaperClaim:
@@ -50,47 +52,92 @@ class ClaimRow:
 
 
 CLAIMS: dict[str, PaperClaim] = {
-    "settle": PaperClaim("Fig. 4: steady state after about 0.2 s at 5000 rpm", "~0.2 s", 0.2, 0.5,
-                         rule="settling within +-50 % of 0.2 s"),
+    "settle": PaperClaim(
+        "Fig. 4: steady state after about 0.2 s at 5000 rpm", "~0.2 s", 0.2, 0.5, rule="settling within +-50 % of 0.2 s"
+    ),
     "contact": PaperClaim("Fig. 4: the response exceeds the gap 0.03 mm (shrouds in contact)", "> 0.03 mm"),
-    "line": PaperClaim("Fig. 5: the largest spectral line is at 250 Hz at 5000 rpm", "250 Hz", 250.0, 0.01,
-                       rule="spectral line within 1 % of 250 Hz"),
+    "line": PaperClaim(
+        "Fig. 5: the largest spectral line is at 250 Hz at 5000 rpm",
+        "250 Hz",
+        250.0,
+        0.01,
+        rule="spectral line within 1 % of 250 Hz",
+    ),
     "fig45": PaperClaim("Fig. 4/5: settling ~0.2 s, 250 Hz line", "~0.2 s, 250 Hz"),
-    "resonance": PaperClaim("Resonance near 5000 rpm (250 Hz)", "~5000 rpm", 5000.0, 0.02, 0.05,
-                            rule="resonance within 2 % (contact-free) / 5 % (with contact) of 5000 rpm"),
-    "gap_ratio": PaperClaim("Fig. 6: peak amplitude at d = 0.06 mm is 3.3 x that at d = 0.02 mm", "3.3", 3.3, 0.15,
-                            rule="ratio 3.3 within 15 %"),
+    "resonance": PaperClaim(
+        "Resonance near 5000 rpm (250 Hz)",
+        "~5000 rpm",
+        5000.0,
+        0.02,
+        0.05,
+        rule="resonance within 2 % (contact-free) / 5 % (with contact) of 5000 rpm",
+    ),
+    "gap_ratio": PaperClaim(
+        "Fig. 6: peak amplitude at d = 0.06 mm is 3.3 x that at d = 0.02 mm",
+        "3.3",
+        3.3,
+        0.15,
+        rule="ratio 3.3 within 15 %",
+    ),
     "gap_amplitude": PaperClaim("Fig. 6: amplitude increases with the gap (0.02..0.06 mm)", "increases"),
     "gap_speed": PaperClaim("Fig. 6: resonant speed decreases as the gap increases", "decreases"),
     "gap": PaperClaim("Fig. 6: gap ratio 3.3, resonant speed vs gap", "3.3, decreasing"),
-    "mass_amplitude": PaperClaim("Fig. 7: peak amplitude floats around 0.73 mm for m0 = 0.02..0.1 kg", "~0.73 mm",
-                                 0.73e-3, 0.2, rule="0.73 mm within 20 %"),
-    "mass_iteration": PaperClaim("Fig. 7: ~0.73 mm, from the paper's own iteration B <- A(B) with 0.2 s runs",
-                                 "~0.73 mm", 0.73e-3, 0.2),
-    "mass_speed": PaperClaim("Fig. 7: the shroud mass does not affect the resonant speed", "unchanged", tol=0.05,
-                             rule="the mass leaves the resonant speed unchanged if the spread is <= 5 %"),
+    "mass_amplitude": PaperClaim(
+        "Fig. 7: peak amplitude floats around 0.73 mm for m0 = 0.02..0.1 kg",
+        "~0.73 mm",
+        0.73e-3,
+        0.2,
+        rule="0.73 mm within 20 %",
+    ),
+    "mass_iteration": PaperClaim(
+        "Fig. 7: ~0.73 mm, from the paper's own iteration B <- A(B) with 0.2 s runs", "~0.73 mm", 0.73e-3, 0.2
+    ),
+    "mass_speed": PaperClaim(
+        "Fig. 7: the shroud mass does not affect the resonant speed",
+        "unchanged",
+        tol=0.05,
+        rule="the mass leaves the resonant speed unchanged if the spread is <= 5 %",
+    ),
     "mass": PaperClaim("Fig. 7: ~0.73 mm, mass does not move the resonance", "~0.73 mm"),
-    "angle_amplitude": PaperClaim("Fig. 8: amplitude decreases as the contact angle increases (pi/7 -> pi/3)",
-                                  "decreases"),
+    "angle_amplitude": PaperClaim(
+        "Fig. 8: amplitude decreases as the contact angle increases (pi/7 -> pi/3)", "decreases"
+    ),
     "angle": PaperClaim("Fig. 8: amplitude falls with the contact angle", "decreases"),
-    "kn_drop": PaperClaim("Fig. 9: amplitude drops by 62.8 % from kn = 1e5 to 1e7 N/m", "-62.8 %", 62.8, 10.0,
-                          rule="62.8 % within 10 points"),
+    "kn_drop": PaperClaim(
+        "Fig. 9: amplitude drops by 62.8 % from kn = 1e5 to 1e7 N/m",
+        "-62.8 %",
+        62.8,
+        10.0,
+        rule="62.8 % within 10 points",
+    ),
     "kn_speed": PaperClaim("Fig. 9: resonant speed increases with kn", "increases"),
     "kn": PaperClaim("Fig. 9: 62.8 % drop, resonant speed rises with kn", "-62.8 %, rising"),
-    "s4_kn": PaperClaim("Section 4: with increasing kn the resonant speed rises and the peak falls ({})",
-                        "rises / falls"),
-    "s4_angle": PaperClaim("Section 4: the contact angle changes the amplitude markedly ({})", "obvious influence",
-                           tol=0.1),
-    "modes": PaperClaim("One bending mode suffices (eq. 19 truncated to its first term)", "m = 1", tol=0.05,
-                        rule="one mode suffices if m = 1 is within 5 % of the most modes computed (peak amplitude, "
-                             "peak speed and root moment at the peak, Jenkins element and fixed point)"),
-    "df_vs_jenkins": PaperClaim("{}: describing function (fixed point) vs Jenkins element, largest difference",
-                                "not studied"),
+    "s4_kn": PaperClaim(
+        "Section 4: with increasing kn the resonant speed rises and the peak falls ({})", "rises / falls"
+    ),
+    "s4_angle": PaperClaim(
+        "Section 4: the contact angle changes the amplitude markedly ({})", "obvious influence", tol=0.1
+    ),
+    "modes": PaperClaim(
+        "One bending mode suffices (eq. 19 truncated to its first term)",
+        "m = 1",
+        tol=0.05,
+        rule="one mode suffices if m = 1 is within 5 % of the most modes computed (peak amplitude, "
+        "peak speed and root moment at the peak, Jenkins element and fixed point)",
+    ),
+    "df_vs_jenkins": PaperClaim(
+        "{}: describing function (fixed point) vs Jenkins element, largest difference", "not studied"
+    ),
 }
-TREND_RULE = ("trends must hold at every step of the study (\"trend only\": the end points agree, a step does "
-              "not, or the direction agrees but the number does not)")
-RULES = [CLAIMS[k].rule for k in ("settle", "line", "resonance", "gap_ratio", "mass_amplitude", "kn_drop")] + \
-    [TREND_RULE, CLAIMS["mass_speed"].rule, CLAIMS["modes"].rule]
+TREND_RULE = (
+    'trends must hold at every step of the study ("trend only": the end points agree, a step does '
+    "not, or the direction agrees but the number does not)"
+)
+RULES = [CLAIMS[k].rule for k in ("settle", "line", "resonance", "gap_ratio", "mass_amplitude", "kn_drop")] + [
+    TREND_RULE,
+    CLAIMS["mass_speed"].rule,
+    CLAIMS["modes"].rule,
+]
 
 
 MM = 1e3
@@ -108,8 +155,10 @@ def _fmt_rpm(x: float) -> str:
 
 
 def _model(base: Mapping[str, Any]) -> str:
-    return (f"{FORMULATION.get(base.get('formulation'), '?')} formulation, {PROJECTION.get(base.get('projection'), '?')} "
-            f"projection, {FRICTION.get(base.get('frictionModel'), '?')}, gating {'on' if base.get('gating') else 'off'}")
+    return (
+        f"{FORMULATION.get(base.get('formulation'), '?')} formulation, {PROJECTION.get(base.get('projection'), '?')} "
+        f"projection, {FRICTION.get(base.get('frictionModel'), '?')}, gating {'on' if base.get('gating') else 'off'}"
+    )
 
 
 def _monotone(xs: Sequence[float], ys: Sequence[float], increasing: bool, tol: float = 0.0) -> bool | None:
@@ -133,15 +182,23 @@ def _col(study: StudySummary, column: str) -> tuple[list[float], list[float]]:
 
 
 # the StudyRow fields of each method's peak [m] and resonant speed [rpm]
-METHODS = (("fp_peak", "fixed point B = A(B): periodic orbits of the FMU (tracked amplitude), largest stable"),
-           ("jenkins_peak", "Jenkins element (FMU frictionModel 3): periodic orbits, largest stable"),
-           ("hb_peak", "harmonic balance (reference, gating off, stable branches)"))
-SPEED_METHODS = (("fp_speed", "fixed point: speed of the largest stable orbit"),
-                 ("fp_jump", "fixed point: end of the stable upper branch at a fold (a run-up jumps down)"),
-                 ("jenkins_speed", "Jenkins element: speed of the largest stable orbit"),
-                 ("hb_speed", "harmonic balance: speed of the stable peak"))
-STUDY_NAMES = {"gap": "Fig. 6 (gap)", "mass": "Fig. 7 (shroud mass)", "angle": "Fig. 8 (contact angle)",
-               "kn": "Fig. 9 (normal stiffness)"}
+METHODS = (
+    ("fp_peak", "fixed point B = A(B): periodic orbits of the FMU (tracked amplitude), largest stable"),
+    ("jenkins_peak", "Jenkins element (FMU frictionModel 3): periodic orbits, largest stable"),
+    ("hb_peak", "harmonic balance (reference, gating off, stable branches)"),
+)
+SPEED_METHODS = (
+    ("fp_speed", "fixed point: speed of the largest stable orbit"),
+    ("fp_jump", "fixed point: end of the stable upper branch at a fold (a run-up jumps down)"),
+    ("jenkins_speed", "Jenkins element: speed of the largest stable orbit"),
+    ("hb_speed", "harmonic balance: speed of the stable peak"),
+)
+STUDY_NAMES = {
+    "gap": "Fig. 6 (gap)",
+    "mass": "Fig. 7 (shroud mass)",
+    "angle": "Fig. 8 (contact angle)",
+    "kn": "Fig. 9 (normal stiffness)",
+}
 
 
 def _row(key: str, ours: str, setting: str, verdict: str, *fill: str) -> ClaimRow:
@@ -166,19 +223,37 @@ def _fig45(f45: Fig45Summary | None, model: str) -> list[ClaimRow]:
     if not f45:
         return [_missing("fig45")]
     rows, fe = [], f45.f_expected
-    for r, lab in ((f45.paper, f"paper's formulation: B fixed at the fixed-point root {_fmt_mm(f45.B_root)}"),
-                   (f45.tracked, "tracked amplitude (amplitudeMode 2)")):
+    for r, lab in (
+        (f45.paper, f"paper's formulation: B fixed at the fixed-point root {_fmt_mm(f45.B_root)}"),
+        (f45.tracked, "tracked amplitude (amplitudeMode 2)"),
+    ):
         t = r.t_settle_2pct
         lo, hi = r.band_last_fifth
-        ours = (f"{t:.3f} s (period maximum of abs(q) within 2 % of its final value)" if math.isfinite(t) else
-                f"never settles: the period maximum of abs(q) keeps wandering over {_fmt_mm(lo)} .. {_fmt_mm(hi)}")
-        rows.append(_row("settle", ours, f"{lab}; {model}", "reproduced" if _within(t, CLAIMS["settle"]) else "not reproduced"))
-        rows.append(_row("contact", f"final period amplitude {_fmt_mm(r.amplitude)}", lab,
-                         "reproduced" if r.amplitude > f45.d else "not reproduced"))
+        ours = (
+            f"{t:.3f} s (period maximum of abs(q) within 2 % of its final value)"
+            if math.isfinite(t)
+            else f"never settles: the period maximum of abs(q) keeps wandering over {_fmt_mm(lo)} .. {_fmt_mm(hi)}"
+        )
+        rows.append(
+            _row("settle", ours, f"{lab}; {model}", "reproduced" if _within(t, CLAIMS["settle"]) else "not reproduced")
+        )
+        rows.append(
+            _row(
+                "contact",
+                f"final period amplitude {_fmt_mm(r.amplitude)}",
+                lab,
+                "reproduced" if r.amplitude > f45.d else "not reproduced",
+            )
+        )
         fp = r.f_peak
-        rows.append(_row("line", f"{fp:.1f} Hz (line at {fe:g} Hz: {_fmt_mm(r.line_at_f_expected)}, largest "
-                                 f"{_fmt_mm(r.largest_line)})", f"{lab}; Hann spectrum of the second half",
-                         "reproduced" if abs(fp - fe) <= CLAIMS["line"].tol * fe else "not reproduced"))
+        rows.append(
+            _row(
+                "line",
+                f"{fp:.1f} Hz (line at {fe:g} Hz: {_fmt_mm(r.line_at_f_expected)}, largest {_fmt_mm(r.largest_line)})",
+                f"{lab}; Hann spectrum of the second half",
+                "reproduced" if abs(fp - fe) <= CLAIMS["line"].tol * fe else "not reproduced",
+            )
+        )
     return rows
 
 
@@ -192,13 +267,20 @@ def _resonance(summary: Summary, base: Mapping[str, Any], model: str) -> list[Cl
     cross = camp.eo_crossing_rpm
     ours = f"contact-free EO {base.get('engineOrder', 3)} crossing {_fmt_rpm(cross)}"
     if base_row:
-        ours += (f"; with contact the largest stable orbit is at {_fmt_rpm(base_row.fp_speed)} (fixed point, "
-                 f"its branch ends at a fold at {_fmt_rpm(base_row.fp_jump)}), "
-                 f"{_fmt_rpm(base_row.jenkins_speed)} (Jenkins element), {_fmt_rpm(base_row.hb_speed)} (HB)")
+        ours += (
+            f"; with contact the largest stable orbit is at {_fmt_rpm(base_row.fp_speed)} (fixed point, "
+            f"its branch ends at a fold at {_fmt_rpm(base_row.fp_jump)}), "
+            f"{_fmt_rpm(base_row.jenkins_speed)} (Jenkins element), {_fmt_rpm(base_row.hb_speed)} (HB)"
+        )
     ok_free = _within(cross, c)
     ok_contact = base_row is not None and _within(base_row.fp_speed, c, c.tol_contact)
-    verdict = ("reproduced" if ok_free and ok_contact else
-               "reproduced for the contact-free blade only" if ok_free else "not reproduced")
+    verdict = (
+        "reproduced"
+        if ok_free and ok_contact
+        else "reproduced for the contact-free blade only"
+        if ok_free
+        else "not reproduced"
+    )
     return [_row("resonance", ours, f"Campbell diagram (FMU naturalFrequency); {model}", verdict)]
 
 
@@ -207,18 +289,36 @@ def _gap(g: StudySummary) -> list[ClaimRow]:
     for m, mname in METHODS:
         lo, hi = _ends(*_col(g, m))
         ratio = hi / lo if lo > 0 else math.nan
-        rows.append(_row("gap_ratio", f"{ratio:.2f} ({_fmt_mm(hi)} / {_fmt_mm(lo)})", mname,
-                         "reproduced" if _within(ratio, c) else "trend only" if ratio > 1 else "not reproduced"))
+        rows.append(
+            _row(
+                "gap_ratio",
+                f"{ratio:.2f} ({_fmt_mm(hi)} / {_fmt_mm(lo)})",
+                mname,
+                "reproduced" if _within(ratio, c) else "trend only" if ratio > 1 else "not reproduced",
+            )
+        )
     for m, mname in METHODS:
         xs, ys = _col(g, m)
         mono = _monotone(xs, ys, True)
-        rows.append(_row("gap_amplitude", ", ".join(_fmt_mm(y) for _, y in sorted(zip(xs, ys))), mname,
-                         "reproduced" if mono else "not reproduced" if mono is False else "not computed"))
+        rows.append(
+            _row(
+                "gap_amplitude",
+                ", ".join(_fmt_mm(y) for _, y in sorted(zip(xs, ys))),
+                mname,
+                "reproduced" if mono else "not reproduced" if mono is False else "not computed",
+            )
+        )
     for m, mname in SPEED_METHODS:
         xs, ys = _col(g, m)
         lo, hi = _ends(xs, ys)
-        rows.append(_row("gap_speed", ", ".join(_fmt_rpm(y) for _, y in sorted(zip(xs, ys))), mname,
-                         _trend(_monotone(xs, ys, False), hi < lo)))
+        rows.append(
+            _row(
+                "gap_speed",
+                ", ".join(_fmt_rpm(y) for _, y in sorted(zip(xs, ys))),
+                mname,
+                _trend(_monotone(xs, ys, False), hi < lo),
+            )
+        )
     return rows
 
 
@@ -227,23 +327,38 @@ def _mass(ms: StudySummary, iteration: PaperIteration | None) -> list[ClaimRow]:
     for m, mname in METHODS:
         fin = [y for y in _col(ms, m)[1] if math.isfinite(y)]
         mean = sum(fin) / len(fin) if fin else math.nan
-        rows.append(_row("mass_amplitude", f"{_fmt_mm(min(fin) if fin else math.nan)} .. "
-                                           f"{_fmt_mm(max(fin) if fin else math.nan)}", mname,
-                         "reproduced" if _within(mean, c) else "not reproduced"))
+        rows.append(
+            _row(
+                "mass_amplitude",
+                f"{_fmt_mm(min(fin) if fin else math.nan)} .. {_fmt_mm(max(fin) if fin else math.nan)}",
+                mname,
+                "reproduced" if _within(mean, c) else "not reproduced",
+            )
+        )
     if iteration:
         tail = iteration.B[-4:]
-        rows.append(_row("mass_iteration", "the iteration at 5000 rpm does not converge; its last values: "
-                         + ", ".join(_fmt_mm(b) for b in tail),
-                         "FMU amplitudeMode 1, 0.2 s runs from rest, B0 = 2 d (docs/model.md s.4)",
-                         "reproduced, as the upper value of a non-converged 2-cycle"
-                         if any(_within(b, CLAIMS["mass_iteration"]) for b in tail) else "not reproduced"))
+        rows.append(
+            _row(
+                "mass_iteration",
+                "the iteration at 5000 rpm does not converge; its last values: " + ", ".join(_fmt_mm(b) for b in tail),
+                "FMU amplitudeMode 1, 0.2 s runs from rest, B0 = 2 d (docs/model.md s.4)",
+                "reproduced, as the upper value of a non-converged 2-cycle"
+                if any(_within(b, CLAIMS["mass_iteration"]) for b in tail)
+                else "not reproduced",
+            )
+        )
     for m, mname in SPEED_METHODS:
         fin = [y for y in _col(ms, m)[1] if math.isfinite(y)]
         spread = (max(fin) - min(fin)) / (sum(fin) / len(fin)) if fin else math.nan
-        rows.append(_row("mass_speed", f"{_fmt_rpm(min(fin) if fin else math.nan)} .. "
-                                       f"{_fmt_rpm(max(fin) if fin else math.nan)} (spread {spread * 100:.1f} %)", mname,
-                         "reproduced" if math.isfinite(spread) and spread <= CLAIMS["mass_speed"].tol
-                         else "not reproduced"))
+        rows.append(
+            _row(
+                "mass_speed",
+                f"{_fmt_rpm(min(fin) if fin else math.nan)} .. "
+                f"{_fmt_rpm(max(fin) if fin else math.nan)} (spread {spread * 100:.1f} %)",
+                mname,
+                "reproduced" if math.isfinite(spread) and spread <= CLAIMS["mass_speed"].tol else "not reproduced",
+            )
+        )
     return rows
 
 
@@ -252,10 +367,14 @@ def _angle(an: StudySummary, base: Mapping[str, Any]) -> list[ClaimRow]:
     for m, mname in METHODS:
         xs, ys = _col(an, m)
         lo, hi = _ends(xs, ys)  # lo: smallest angle (pi/7), hi: largest (pi/3)
-        rows.append(_row("angle_amplitude", ", ".join(f"pi/{math.pi / x:.0f}: {_fmt_mm(y)}"
-                                                      for x, y in sorted(zip(xs, ys), reverse=True)),
-                         f"{mname}, projection {PROJECTION.get(base.get('projection'), '?')}",
-                         _trend(_monotone(xs, ys, False), hi < lo)))
+        rows.append(
+            _row(
+                "angle_amplitude",
+                ", ".join(f"pi/{math.pi / x:.0f}: {_fmt_mm(y)}" for x, y in sorted(zip(xs, ys), reverse=True)),
+                f"{mname}, projection {PROJECTION.get(base.get('projection'), '?')}",
+                _trend(_monotone(xs, ys, False), hi < lo),
+            )
+        )
     return rows
 
 
@@ -264,14 +383,29 @@ def _kn(kn: StudySummary) -> list[ClaimRow]:
     for m, mname in METHODS:
         lo_kn, hi_kn = _ends(*_col(kn, m))  # amplitude at the smallest / largest kn
         drop = (lo_kn - hi_kn) / lo_kn * 100 if lo_kn > 0 else math.nan
-        rows.append(_row("kn_drop", f"{-drop:+.1f} % ({_fmt_mm(lo_kn)} -> {_fmt_mm(hi_kn)})", mname,
-                         "reproduced" if math.isfinite(drop) and abs(drop - c.value) <= c.tol else
-                         "trend only" if drop > 0 else "not reproduced"))
+        rows.append(
+            _row(
+                "kn_drop",
+                f"{-drop:+.1f} % ({_fmt_mm(lo_kn)} -> {_fmt_mm(hi_kn)})",
+                mname,
+                "reproduced"
+                if math.isfinite(drop) and abs(drop - c.value) <= c.tol
+                else "trend only"
+                if drop > 0
+                else "not reproduced",
+            )
+        )
     for m, mname in SPEED_METHODS:
         xs, ys = _col(kn, m)
         lo, hi = _ends(xs, ys)
-        rows.append(_row("kn_speed", ", ".join(f"{x:.0e}: {_fmt_rpm(y)}" for x, y in sorted(zip(xs, ys))), mname,
-                         _trend(_monotone(xs, ys, True), hi > lo)))
+        rows.append(
+            _row(
+                "kn_speed",
+                ", ".join(f"{x:.0e}: {_fmt_rpm(y)}" for x, y in sorted(zip(xs, ys))),
+                mname,
+                _trend(_monotone(xs, ys, True), hi > lo),
+            )
+        )
     return rows
 
 
@@ -282,17 +416,29 @@ def _section4(co: Mapping[str, CoulombComparison]) -> list[ClaimRow]:
         for series, lab in ((r.macroslip, "macroslip"), (r.coulomb, "Coulomb")):
             sp, pk = series.speed, series.peak
             up, down = _monotone(r.x, sp, True), _monotone(r.x, pk, False)
-            rows.append(_row("s4_kn", f"speeds {', '.join(_fmt_rpm(s) for s in sp)}; peaks "
-                                      f"{', '.join(_fmt_mm(p) for p in pk)}", f"fixed point (periodic orbits), {lab}",
-                             "reproduced" if up and down else "trend only" if up or down else "not reproduced", lab))
+            rows.append(
+                _row(
+                    "s4_kn",
+                    f"speeds {', '.join(_fmt_rpm(s) for s in sp)}; peaks {', '.join(_fmt_mm(p) for p in pk)}",
+                    f"fixed point (periodic orbits), {lab}",
+                    "reproduced" if up and down else "trend only" if up or down else "not reproduced",
+                    lab,
+                )
+            )
     if "angle" in co:
         r = co["angle"]
         for series, lab in ((r.macroslip, "macroslip"), (r.coulomb, "Coulomb")):
             pk = series.peak
             rel = (max(pk) - min(pk)) / max(pk) if pk and max(pk) > 0 else math.nan
-            rows.append(_row("s4_angle", f"peak varies by {rel * 100:.0f} % over pi/7..pi/3",
-                             f"fixed point (periodic orbits), {lab}",
-                             "reproduced" if rel >= CLAIMS["s4_angle"].tol else "not reproduced", lab))
+            rows.append(
+                _row(
+                    "s4_angle",
+                    f"peak varies by {rel * 100:.0f} % over pi/7..pi/3",
+                    f"fixed point (periodic orbits), {lab}",
+                    "reproduced" if rel >= CLAIMS["s4_angle"].tol else "not reproduced",
+                    lab,
+                )
+            )
     return rows
 
 
@@ -305,13 +451,18 @@ def _df_vs_jenkins(st: Mapping[str, StudySummary]) -> list[ClaimRow]:
             continue
         wa = max(rs, key=lambda r: abs(r.df_vs_jenkins_peak))
         ws = max(rs, key=lambda r: abs(r.df_vs_jenkins_speed))
-        rows.append(_row("df_vs_jenkins",
-                         f"peak amplitude {wa.df_vs_jenkins_peak * 100:+.1f} % at {name} = {wa.value:.3g} "
-                         f"({_fmt_mm(wa.fp_peak)} vs {_fmt_mm(wa.jenkins_peak)}); peak speed "
-                         f"{ws.df_vs_jenkins_speed:+.0f} rpm at {name} = {ws.value:.3g} "
-                         f"({_fmt_rpm(ws.fp_speed)} vs {_fmt_rpm(ws.jenkins_speed)})",
-                         "largest stable orbit of each model (periodic orbits of the FMU); (DF - Jenkins) / Jenkins",
-                         "new check", STUDY_NAMES.get(name, name)))
+        rows.append(
+            _row(
+                "df_vs_jenkins",
+                f"peak amplitude {wa.df_vs_jenkins_peak * 100:+.1f} % at {name} = {wa.value:.3g} "
+                f"({_fmt_mm(wa.fp_peak)} vs {_fmt_mm(wa.jenkins_peak)}); peak speed "
+                f"{ws.df_vs_jenkins_speed:+.0f} rpm at {name} = {ws.value:.3g} "
+                f"({_fmt_rpm(ws.fp_speed)} vs {_fmt_rpm(ws.jenkins_speed)})",
+                "largest stable orbit of each model (periodic orbits of the FMU); (DF - Jenkins) / Jenkins",
+                "new check",
+                STUDY_NAMES.get(name, name),
+            )
+        )
     return rows
 
 
@@ -326,17 +477,26 @@ def _modes(mc: Any) -> list[ClaimRow]:
         if r.modes == 1:
             ref = mc.reference(r.model)
             dp, dn, dm = mc.differences(r)
-            parts.append(f"{r.model}: m = 1 vs m = {ref.modes}: peak {_fmt_mm(r.peak)} vs {_fmt_mm(ref.peak)} "
-                         f"({dp * 100:+.1f} %) at {_fmt_rpm(r.speed)} vs {_fmt_rpm(ref.speed)} ({dn * 100:+.1f} %), "
-                         f"root moment {r.root_moment:.3g} vs {ref.root_moment:.3g} N m ({dm * 100:+.1f} %)")
+            parts.append(
+                f"{r.model}: m = 1 vs m = {ref.modes}: peak {_fmt_mm(r.peak)} vs {_fmt_mm(ref.peak)} "
+                f"({dp * 100:+.1f} %) at {_fmt_rpm(r.speed)} vs {_fmt_rpm(ref.speed)} ({dn * 100:+.1f} %), "
+                f"root moment {r.root_moment:.3g} vs {ref.root_moment:.3g} N m ({dm * 100:+.1f} %)"
+            )
     if not math.isfinite(err):
         verdict = f"not computed ({what})"
     elif err <= c.tol:
         verdict = f"one mode suffices within {err * 100:.1f} %"
     else:
         verdict = f"one mode does not suffice: {err * 100:.1f} % ({what})"
-    return [_row("modes", "; ".join(parts), "base case, consistent formulation (m > 1 needs it), periodic orbits, "
-                 "located peaks (results/modes_convergence.csv)", verdict)]
+    return [
+        _row(
+            "modes",
+            "; ".join(parts),
+            "base case, consistent formulation (m > 1 needs it), periodic orbits, "
+            "located peaks (results/modes_convergence.csv)",
+            verdict,
+        )
+    ]
 
 
 def build_claims(summary: Summary) -> list[ClaimRow]:
@@ -392,11 +552,16 @@ def verdict_counts(rows: Sequence[ClaimRow]) -> dict[str, int]:
     return out
 
 
-
 # the verdicts a one-line tally names; a verdict with a qualification after "reproduced" counts as
 # one, any other (a finding stated in words) as "other"
-TALLY_ORDER = ("reproduced", "reproduced with a qualification", "trend only", "not reproduced", "not computed",
-               "other (see claims.md)")
+TALLY_ORDER = (
+    "reproduced",
+    "reproduced with a qualification",
+    "trend only",
+    "not reproduced",
+    "not computed",
+    "other (see claims.md)",
+)
 
 
 def tally_group(verdict: str) -> str:

@@ -25,6 +25,7 @@ reference), every blade settled when its per-period amplitude changes by less th
 largest over 5 periods (at most `max_time` s per speed, else flagged), and the peak located by
 refinement to `speed_tol` rpm.
 """
+
 from __future__ import annotations
 
 import functools
@@ -82,8 +83,9 @@ SIZES = {
     # ring and the first pattern of each level also on stable steady states (3 rings of the engine)
     "small": Study(state_patterns=1),
     # a cluster: 24 blades, 4 levels x 100 patterns, the frictionless and open rings too, 45 speeds
-    "cluster": Study(n=24, levels=(0.005, 0.01, 0.02, 0.05), patterns=100, points=45,
-                     variants=("friction", "frictionless", "open")),
+    "cluster": Study(
+        n=24, levels=(0.005, 0.01, 0.02, 0.05), patterns=100, points=45, variants=("friction", "frictionless", "open")
+    ),
 }
 
 
@@ -105,7 +107,7 @@ def resonance_speed(blade: dict, engine_order: int) -> float:
     """Speed [rpm] where engine_order n / 60 equals the contact-free first bending frequency:
     Omega^2 (EO^2 M - K0omega2) = K0static (Galerkin reduction, harness/model/galerkin.py)."""
     g = galerkin({k: v for k, v in blade.items() if k in ("EI", "rho", "A", "l", "c", "m0", "formulation")})
-    return math.sqrt(g.K0static / (engine_order ** 2 * g.M - g.K0omega2)) * 60 / (2 * math.pi)
+    return math.sqrt(g.K0static / (engine_order**2 * g.M - g.K0omega2)) * 60 / (2 * math.pi)
 
 
 def band(study: Study) -> tuple[float, float]:
@@ -146,8 +148,15 @@ def mistuned(ring: Ring, parameter: str, f: Sequence[float]) -> Ring:
 
 def tuned_ring(study: Study, variant: str) -> Ring:
     """The tuned ring of `variant` (the sweep sets its speed and step at each point)."""
-    return Ring(n=study.n, engine_order=study.engine_order, speed=band(study)[0], fw0=study.fw0,
-                blade=dict(study.blade), contact={**study.contact, **VARIANTS[variant]}, order=study.order)
+    return Ring(
+        n=study.n,
+        engine_order=study.engine_order,
+        speed=band(study)[0],
+        fw0=study.fw0,
+        blade=dict(study.blade),
+        contact={**study.contact, **VARIANTS[variant]},
+        order=study.order,
+    )
 
 
 def _fmu_digest() -> str:
@@ -169,6 +178,7 @@ def larger_state(sw: ring_sweep.RingSweep) -> tuple[np.ndarray, np.ndarray, np.n
 
     def take(field: dict) -> np.ndarray:
         return np.array([field[dirs[p]][j] for j, p in enumerate(pick)])
+
     return take(sw.amplitudes_m), take(sw.settled), take(sw.movement), [dirs[p] for p in pick]
 
 
@@ -178,19 +188,33 @@ def sweep(ring: Ring, speeds_rpm: Sequence[float], study: Study) -> dict:
     steady state at each speed and its direction; the located peak over both directions
     (peak_amplitude_m, peak_speed_rpm, peak_direction; NaN if no speed settled; peak_blades_m:
     every blade there), simulated time."""
-    sw = ring_sweep.sweep(ring, speeds_rpm, "both", rtol=study.rtol, max_time=study.max_time,
-                          steps_per_period=study.steps_per_period, speed_tol=study.speed_tol)
+    sw = ring_sweep.sweep(
+        ring,
+        speeds_rpm,
+        "both",
+        rtol=study.rtol,
+        max_time=study.max_time,
+        steps_per_period=study.steps_per_period,
+        speed_tol=study.speed_tol,
+    )
     amps, settled, moved, dirs = larger_state(sw)
     d = sw.peak_direction
     at_peak = [e["amplitudes_m"] for e in sw.refinement if e["direction"] == d and e["speed_rpm"] == sw.peak_speed_rpm]
     if d:
         at_peak += [a.tolist() for s, a in zip(sw.speeds_rpm, sw.amplitudes_m[d]) if s == sw.peak_speed_rpm]
-    return {"speeds_rpm": sw.speeds_rpm.tolist(), "amplitudes_m": amps.tolist(), "settled": settled.tolist(),
-            "movement": moved.tolist(), "direction": dirs,
-            "peak_amplitude_m": float(sw.peak_amplitude_m), "peak_speed_rpm": float(sw.peak_speed_rpm),
-            "peak_direction": d, "peak_at_band_edge": bool(sw.peak_at_band_edge),
-            "peak_blades_m": at_peak[0] if at_peak else None,
-            "simulated_s": float(sum(t.sum() for t in sw.time_at_speed_s.values()))}
+    return {
+        "speeds_rpm": sw.speeds_rpm.tolist(),
+        "amplitudes_m": amps.tolist(),
+        "settled": settled.tolist(),
+        "movement": moved.tolist(),
+        "direction": dirs,
+        "peak_amplitude_m": float(sw.peak_amplitude_m),
+        "peak_speed_rpm": float(sw.peak_speed_rpm),
+        "peak_direction": d,
+        "peak_at_band_edge": bool(sw.peak_at_band_edge),
+        "peak_blades_m": at_peak[0] if at_peak else None,
+        "simulated_s": float(sum(t.sum() for t in sw.time_at_speed_s.values())),
+    }
 
 
 def _task(job: tuple[Ring, list[float], Study, str, str | None]) -> dict:
@@ -202,8 +226,7 @@ def _task(job: tuple[Ring, list[float], Study, str, str | None]) -> dict:
     rec = cache.get(key)
     if rec is None:
         t0, c0 = time.perf_counter(), time.process_time()
-        rec = {**sweep(ring, sp, study), "wall_s": time.perf_counter() - t0,
-               "cpu_s": time.process_time() - c0}
+        rec = {**sweep(ring, sp, study), "wall_s": time.perf_counter() - t0, "cpu_s": time.process_time() - c0}
         cache.put(key, rec)
     return rec
 
@@ -225,15 +248,23 @@ def _variant(study: Study, recs: list[tuple[int, int, dict]]) -> dict:
             peaks[li, k], peak_speeds[li, k] = r["peak_amplitude_m"], r["peak_speed_rpm"]
             if r["peak_blades_m"] is not None:
                 at_peak[li, k] = r["peak_blades_m"]
-    return {"tuned": tuned["amplitudes_m"], "tuned_settled": tuned["settled"],
-            "tuned_peak_m": ref, "tuned_peak_rpm": tuned["peak_speed_rpm"],
-            "tuned_peak_at_edge": bool(tuned["peak_at_band_edge"]), "tuned_peak_direction": tuned["peak_direction"], "tuned_peak_blades": tuned["peak_blades_m"],
-            "amplitudes": curves.tolist(), "peak_m": peaks.tolist(), "peak_rpm": peak_speeds.tolist(),
-            "peak_blades": at_peak.tolist(),
-            "amplification": (peaks / ref).tolist(),
-            "unsettled_points": int(sum((~np.array(r["settled"])).any(axis=1).sum() for *_, r in recs)),
-            "points": len(recs) * K,
-            "movement_max": max(float(np.max(r["movement"])) for *_, r in recs)}
+    return {
+        "tuned": tuned["amplitudes_m"],
+        "tuned_settled": tuned["settled"],
+        "tuned_peak_m": ref,
+        "tuned_peak_rpm": tuned["peak_speed_rpm"],
+        "tuned_peak_at_edge": bool(tuned["peak_at_band_edge"]),
+        "tuned_peak_direction": tuned["peak_direction"],
+        "tuned_peak_blades": tuned["peak_blades_m"],
+        "amplitudes": curves.tolist(),
+        "peak_m": peaks.tolist(),
+        "peak_rpm": peak_speeds.tolist(),
+        "peak_blades": at_peak.tolist(),
+        "amplification": (peaks / ref).tolist(),
+        "unsettled_points": int(sum((~np.array(r["settled"])).any(axis=1).sum() for *_, r in recs)),
+        "points": len(recs) * K,
+        "movement_max": max(float(np.max(r["movement"])) for *_, r in recs),
+    }
 
 
 def jobs(study: Study) -> list[tuple[str, int, int, Ring]]:
@@ -257,8 +288,12 @@ def run_study(study: Study, runner: Any, cache_dir: Path | None, task: Any = Non
     sp = [float(s) for s in speeds(study)]
     todo_jobs = jobs(study)
     numerics = {k: getattr(study, k) for k in ("rtol", "max_time", "speed_tol", "steps_per_period")}
-    keys = [point_key(kind="ring-mistuning-sweep", version=CACHE_VERSION, fmus=digest, ring=asdict(r), speeds=sp,
-                      **numerics) for *_, r in todo_jobs]
+    keys = [
+        point_key(
+            kind="ring-mistuning-sweep", version=CACHE_VERSION, fmus=digest, ring=asdict(r), speeds=sp, **numerics
+        )
+        for *_, r in todo_jobs
+    ]
     records: dict[int, dict] = {}
     for i, key in enumerate(keys):
         rec = cache.get(key)
@@ -267,16 +302,29 @@ def run_study(study: Study, runner: Any, cache_dir: Path | None, task: Any = Non
     todo = [i for i in range(len(todo_jobs)) if i not in records]
     cdir = str(cache_dir) if cache_dir else None
     t0 = time.perf_counter()
-    for i, rec in zip(todo, runner.map(task or _task, [(todo_jobs[i][3], sp, study, keys[i], cdir)
-                                               for i in todo], desc="mistuning", unit="sweep")):
+    for i, rec in zip(
+        todo,
+        runner.map(
+            task or _task, [(todo_jobs[i][3], sp, study, keys[i], cdir) for i in todo], desc="mistuning", unit="sweep"
+        ),
+    ):
         records[i] = rec
-    out: dict[str, Any] = {"n": study.n, "levels": list(study.levels), "patterns": study.patterns,
-                           "parameter": study.parameter, "seed": study.seed, "whitehead": whitehead(study.n),
-                           "speeds_rpm": sp, "crossing_rpm": resonance_speed(study.blade, study.engine_order),
-                           "computed": len(todo), "cached": len(todo_jobs) - len(todo),
-                           "wall_s": time.perf_counter() - t0,
-                           "task_wall_s": sum(records[i]["wall_s"] for i in todo),
-                           "task_cpu_s": sum(records[i].get("cpu_s", math.nan) for i in todo), "variants": {}}
+    out: dict[str, Any] = {
+        "n": study.n,
+        "levels": list(study.levels),
+        "patterns": study.patterns,
+        "parameter": study.parameter,
+        "seed": study.seed,
+        "whitehead": whitehead(study.n),
+        "speeds_rpm": sp,
+        "crossing_rpm": resonance_speed(study.blade, study.engine_order),
+        "computed": len(todo),
+        "cached": len(todo_jobs) - len(todo),
+        "wall_s": time.perf_counter() - t0,
+        "task_wall_s": sum(records[i]["wall_s"] for i in todo),
+        "task_cpu_s": sum(records[i].get("cpu_s", math.nan) for i in todo),
+        "variants": {},
+    }
     for v in study.variants:
         out["variants"][v] = _variant(study, [(j[1], j[2], records[i]) for i, j in enumerate(todo_jobs) if j[0] == v])
     return out

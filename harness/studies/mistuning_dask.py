@@ -12,6 +12,7 @@ task that worker was computing; the study must complete with every record, and t
 seen to start twice (each start leaves a marker file `<cache>/starts/<key>.<pid>`; the worker
 killed is one that has started a sweep not yet in the cache).
 """
+
 from __future__ import annotations
 
 import json
@@ -72,16 +73,25 @@ def timed(study: Study, workers: int) -> dict:
     finally:
         client.close()
         lc.close()
-    return {"workers": workers, "wall_s": wall, "sweeps": out["computed"], "task_s": out["task_wall_s"],
-            "task_cpu_s": out["task_cpu_s"], "busy": out["task_wall_s"] / (workers * wall),
-            "amplification": out["variants"]["friction"]["amplification"]}
+    return {
+        "workers": workers,
+        "wall_s": wall,
+        "sweeps": out["computed"],
+        "task_s": out["task_wall_s"],
+        "task_cpu_s": out["task_cpu_s"],
+        "busy": out["task_wall_s"] / (workers * wall),
+        "amplification": out["variants"]["friction"]["amplification"],
+    }
 
 
 def sweep_cpu(study: Study, n: int) -> float:
     """CPU seconds of one n-blade ring's sweep over `study`'s band (friction, the study's largest
     level, pattern 0, the peak refined as in the study)."""
-    ring = mistuning.mistuned(mistuning.tuned_ring(replace(study, n=n), "friction"), study.parameter,
-                              mistuning.factors(n, study.levels[-1], study.seed, 0))
+    ring = mistuning.mistuned(
+        mistuning.tuned_ring(replace(study, n=n), "friction"),
+        study.parameter,
+        mistuning.factors(n, study.levels[-1], study.seed, 0),
+    )
     c0 = time.process_time()
     mistuning.sweep(ring, mistuning.speeds(study), study)
     return time.process_time() - c0
@@ -95,8 +105,13 @@ def cost(m: dict, size: Study, workers: int) -> dict:
     sweeps = len(mistuning.jobs(size))
     per_sweep = m["sweep_cpu_s"][str(size.n)] * size.points / m["sweep_points"]
     wall = math.ceil(sweeps / workers) * per_sweep / m["two_workers"]["busy"]
-    return {"workers": workers, "sweeps": sweeps, "sweep_cpu_s": per_sweep, "wall_h": wall / 3600,
-            "worker_hours": workers * wall / 3600}
+    return {
+        "workers": workers,
+        "sweeps": sweeps,
+        "sweep_cpu_s": per_sweep,
+        "wall_h": wall / 3600,
+        "worker_hours": workers * wall / 3600,
+    }
 
 
 def killed(study: Study, cache_dir: Path, wait_s: float = 600.0) -> dict:
@@ -106,8 +121,9 @@ def killed(study: Study, cache_dir: Path, wait_s: float = 600.0) -> dict:
     try:
         pids = client.run(os.getpid)  # worker address -> pid
         with Runner(scheduler=client, progress=False) as r:
-            th = threading.Thread(target=lambda: result.update(
-                out=mistuning.run_study(study, r, cache_dir, task=traced_task)))
+            th = threading.Thread(
+                target=lambda: result.update(out=mistuning.run_study(study, r, cache_dir, task=traced_task))
+            )
             t0 = time.perf_counter()
             th.start()
             cache = PointCache(cache_dir)
@@ -115,8 +131,12 @@ def killed(study: Study, cache_dir: Path, wait_s: float = 600.0) -> dict:
             while not running and time.perf_counter() - t0 < wait_s:
                 time.sleep(0.02)
                 if cache.count() >= 1:  # a sweep finished: kill a worker inside another one
-                    running = [(k, p) for k, ps in starts(cache_dir).items() for p in ps
-                               if cache.get(k) is None and p in pids.values()]
+                    running = [
+                        (k, p)
+                        for k, ps in starts(cache_dir).items()
+                        for p in ps
+                        if cache.get(k) is None and p in pids.values()
+                    ]
             lost, victim_pid = running[0]
             done_before = cache.count()
             os.kill(victim_pid, signal.SIGKILL)
@@ -129,11 +149,18 @@ def killed(study: Study, cache_dir: Path, wait_s: float = 600.0) -> dict:
     marks = starts(cache_dir)
     rerun = sorted(k for k, p in marks.items() if victim_pid in p and len(p) > 1)
     out = result.get("out")
-    return {"completed": out is not None and out["computed"] + out["cached"] == len(mistuning.jobs(study)),
-            "records": PointCache(cache_dir).count(), "sweeps": len(mistuning.jobs(study)),
-            "finished_before_kill": done_before, "killed_at_s": killed_at, "wall_s": wall,
-            "victim_pid": victim_pid, "lost": lost, "started_twice": rerun,
-            "amplification": out["variants"]["friction"]["amplification"] if out else None}
+    return {
+        "completed": out is not None and out["computed"] + out["cached"] == len(mistuning.jobs(study)),
+        "records": PointCache(cache_dir).count(),
+        "sweeps": len(mistuning.jobs(study)),
+        "finished_before_kill": done_before,
+        "killed_at_s": killed_at,
+        "wall_s": wall,
+        "victim_pid": victim_pid,
+        "lost": lost,
+        "started_twice": rerun,
+        "amplification": out["variants"]["friction"]["amplification"] if out else None,
+    }
 
 
 def measure(study: Study = MEASURED) -> dict:
@@ -142,14 +169,24 @@ def measure(study: Study = MEASURED) -> dict:
         kill = killed(study, Path(d))
     per_sweep = one["task_s"] / one["sweeps"]
     small = mistuning.SIZES["small"]  # the band and grid of make run's study
-    m = {"sweep_points": small.points,
-         "sweep_cpu_s": {str(n): sweep_cpu(small, n) for n in (small.n, mistuning.SIZES["cluster"].n)}}
+    m = {
+        "sweep_points": small.points,
+        "sweep_cpu_s": {str(n): sweep_cpu(small, n) for n in (small.n, mistuning.SIZES["cluster"].n)},
+    }
     m["two_workers"] = two
     m["cluster_cost"] = [cost(m, mistuning.SIZES["cluster"], k) for k in (1, 2, 8, 32, 128)]
-    return {**m, "study": {"n": study.n, "levels": list(study.levels), "patterns": study.patterns, "points": study.points},
-            "one_worker": one, "two_workers": two, "speed_up": one["wall_s"] / two["wall_s"],
-            "efficiency": one["wall_s"] / (2 * two["wall_s"]), "sweep_s": per_sweep, "killed_worker": kill,
-            "cpus": os.cpu_count(), "load_average": os.getloadavg()}
+    return {
+        **m,
+        "study": {"n": study.n, "levels": list(study.levels), "patterns": study.patterns, "points": study.points},
+        "one_worker": one,
+        "two_workers": two,
+        "speed_up": one["wall_s"] / two["wall_s"],
+        "efficiency": one["wall_s"] / (2 * two["wall_s"]),
+        "sweep_s": per_sweep,
+        "killed_worker": kill,
+        "cpus": os.cpu_count(),
+        "load_average": os.getloadavg(),
+    }
 
 
 def write_measurement(path: str | Path) -> dict:

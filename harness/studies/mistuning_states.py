@@ -9,6 +9,7 @@ it landed on, not the largest one there is, and it is kept beside this one as "w
 Each ring is one task on the Runner, cached in its own file (PointCache) under a key of the ring,
 the band, the engine's settings and the FMUs' bytes, so a killed study resumes.
 """
+
 from __future__ import annotations
 
 import math
@@ -45,23 +46,46 @@ def branches_record(ring: Ring, band: tuple[float, float], settings: StatesSetti
     per branch its speeds, largest blade amplitude and stability per point, its bifurcations, and
     the cost (periods of the ring simulated, wall and CPU seconds)."""
     t0, c0 = time.perf_counter(), time.process_time()
-    rb = ring_branches(ring, band, points=settings.seed_points,
-                       settings=RingShootingSettings(steps_per_period=settings.steps_per_period),
-                       switch_branches=settings.switch_branches, max_branches=settings.max_branches)
+    rb = ring_branches(
+        ring,
+        band,
+        points=settings.seed_points,
+        settings=RingShootingSettings(steps_per_period=settings.steps_per_period),
+        switch_branches=settings.switch_branches,
+        max_branches=settings.max_branches,
+    )
     d = rb.as_dict()
-    branches = [{"speeds_rpm": b["speeds_rpm"], "largest_m": [float(np.max(a)) for a in b["amplitudes_m"]],
-                 "stable": b["stable"], "bifurcations": b.get("bifurcations", [])} for b in d["branches"]]
+    branches = [
+        {
+            "speeds_rpm": b["speeds_rpm"],
+            "largest_m": [float(np.max(a)) for a in b["amplitudes_m"]],
+            "stable": b["stable"],
+            "bifurcations": b.get("bifurcations", []),
+        }
+        for b in d["branches"]
+    ]
     nan = math.nan
-    return {"peak_stable_amplitude_m": d["peak_stable_amplitude_m"] if d["peak_stable_amplitude_m"] is not None else nan,
-            "peak_stable_speed_rpm": d["peak_stable_speed_rpm"] if d["peak_stable_speed_rpm"] is not None else nan,
-            "peak_stable_blade": d["peak_stable_blade"] if d["peak_stable_blade"] is not None else -1,
-            "branches": branches, "evaluations": int(d["evaluations"]), "seeds": int(d["seeds"]),
-            "wall_s": time.perf_counter() - t0, "cpu_s": time.process_time() - c0}
+    return {
+        "peak_stable_amplitude_m": d["peak_stable_amplitude_m"] if d["peak_stable_amplitude_m"] is not None else nan,
+        "peak_stable_speed_rpm": d["peak_stable_speed_rpm"] if d["peak_stable_speed_rpm"] is not None else nan,
+        "peak_stable_blade": d["peak_stable_blade"] if d["peak_stable_blade"] is not None else -1,
+        "branches": branches,
+        "evaluations": int(d["evaluations"]),
+        "seeds": int(d["seeds"]),
+        "wall_s": time.perf_counter() - t0,
+        "cpu_s": time.process_time() - c0,
+    }
 
 
 def _key(ring: Ring, band: tuple[float, float], settings: StatesSettings, digest: str) -> str:
-    return point_key(kind="ring-mistuning-states", version=CACHE_VERSION, fmus=digest, ring=asdict(ring),
-                     band=[float(b) for b in band], settings=asdict(settings))
+    return point_key(
+        kind="ring-mistuning-states",
+        version=CACHE_VERSION,
+        fmus=digest,
+        ring=asdict(ring),
+        band=[float(b) for b in band],
+        settings=asdict(settings),
+    )
 
 
 def _task(job: tuple[Ring, tuple[float, float], StatesSettings, str, str | None]) -> dict:
@@ -75,8 +99,14 @@ def _task(job: tuple[Ring, tuple[float, float], StatesSettings, str, str | None]
     return rec
 
 
-def evaluate(rings: Sequence[Ring], band: tuple[float, float], settings: StatesSettings, runner: Any,
-             cache_dir: Path | None, desc: str = "steady states") -> list[dict]:
+def evaluate(
+    rings: Sequence[Ring],
+    band: tuple[float, float],
+    settings: StatesSettings,
+    runner: Any,
+    cache_dir: Path | None,
+    desc: str = "steady states",
+) -> list[dict]:
     """Every ring's branches record (cached ones read, the rest on `runner`)."""
     digest = mistuning._fmu_digest()
     cache = PointCache(cache_dir)
@@ -84,16 +114,18 @@ def evaluate(rings: Sequence[Ring], band: tuple[float, float], settings: StatesS
     out: list[dict | None] = [cache.get(k) for k in keys]
     todo = [i for i, r in enumerate(out) if r is None]
     cdir = str(cache_dir) if cache_dir else None
-    for i, rec in zip(todo, runner.map(_task, [(rings[i], band, settings, keys[i], cdir) for i in todo],
-                                       desc=desc, unit="ring")):
+    for i, rec in zip(
+        todo, runner.map(_task, [(rings[i], band, settings, keys[i], cdir) for i in todo], desc=desc, unit="ring")
+    ):
         out[i] = rec
     for i, r in enumerate(out):
         r["computed"] = i in todo  # type: ignore[index]
     return out  # type: ignore[return-value]
 
 
-def run_states(study: Study, settings: StatesSettings, runner: Any, cache_dir: Path | None,
-               variant: str = "friction") -> dict:
+def run_states(
+    study: Study, settings: StatesSettings, runner: Any, cache_dir: Path | None, variant: str = "friction"
+) -> dict:
     """The tuned ring and the first `study.state_patterns` patterns of every level on their stable
     steady states: their largest stable response, the amplification on that definition, the cost."""
     band = mistuning.band(study)
@@ -108,15 +140,24 @@ def run_states(study: Study, settings: StatesSettings, runner: Any, cache_dir: P
     speeds = np.full_like(peaks, np.nan)
     for (lvl, k, _), rec in zip(rings[1:], recs[1:]):
         peaks[lvl, k], speeds[lvl, k] = rec["peak_stable_amplitude_m"], rec["peak_stable_speed_rpm"]
-    return {"band_rpm": list(band), "settings": asdict(settings), "variant": variant,
-            "tuned": tuned, "patterns": [r for r in recs[1:]],
-            "tuned_peak_m": ref, "tuned_peak_rpm": tuned["peak_stable_speed_rpm"],
-            "peak_m": peaks.tolist(), "peak_rpm": speeds.tolist(), "amplification": (peaks / ref).tolist(),
-            "rings": len(recs), "computed": sum(r["computed"] for r in recs),
-            "wall_s": time.perf_counter() - t0,
-            "task_wall_s": sum(r["wall_s"] for r in recs if r["computed"]),
-            "task_cpu_s": sum(r["cpu_s"] for r in recs if r["computed"]),
-            "evaluations": sum(r["evaluations"] for r in recs)}
+    return {
+        "band_rpm": list(band),
+        "settings": asdict(settings),
+        "variant": variant,
+        "tuned": tuned,
+        "patterns": [r for r in recs[1:]],
+        "tuned_peak_m": ref,
+        "tuned_peak_rpm": tuned["peak_stable_speed_rpm"],
+        "peak_m": peaks.tolist(),
+        "peak_rpm": speeds.tolist(),
+        "amplification": (peaks / ref).tolist(),
+        "rings": len(recs),
+        "computed": sum(r["computed"] for r in recs),
+        "wall_s": time.perf_counter() - t0,
+        "task_wall_s": sum(r["wall_s"] for r in recs if r["computed"]),
+        "task_cpu_s": sum(r["cpu_s"] for r in recs if r["computed"]),
+        "evaluations": sum(r["evaluations"] for r in recs),
+    }
 
 
 # ---------------------------------------------------------------------------------------------
@@ -137,8 +178,9 @@ class Search:
     z_max: float = 2.0
 
 
-def search_worst(study: Study, search: Search, start: Sequence[float], objective: Callable[[list[np.ndarray]], list[float]]
-                 ) -> dict:
+def search_worst(
+    study: Study, search: Search, start: Sequence[float], objective: Callable[[list[np.ndarray]], list[float]]
+) -> dict:
     """The compass search of `search` from z = `start`; `objective(zs)` returns the amplification of
     every z (one ring each). Returns the best z, its factors and amplification, and the history."""
     z = np.clip(np.asarray(start, dtype=float), -search.z_max, search.z_max)
@@ -167,12 +209,26 @@ def search_worst(study: Study, search: Search, start: Sequence[float], objective
             z, best = polls[k], values[k]
         elif len(values):
             step /= 2
-    return {"sigma": search.sigma, "z": z.tolist(), "factors": (1 + search.sigma * z).tolist(),
-            "amplification": best, "rings": used, "budget": search.budget, "final_step": step, "history": history}
+    return {
+        "sigma": search.sigma,
+        "z": z.tolist(),
+        "factors": (1 + search.sigma * z).tolist(),
+        "amplification": best,
+        "rings": used,
+        "budget": search.budget,
+        "final_step": step,
+        "history": history,
+    }
 
 
-def run_search(study: Study, states: dict, settings: StatesSettings, runner: Any, cache_dir: Path | None,
-               sweep_amplification: Sequence[float] | None = None) -> dict:
+def run_search(
+    study: Study,
+    states: dict,
+    settings: StatesSettings,
+    runner: Any,
+    cache_dir: Path | None,
+    sweep_amplification: Sequence[float] | None = None,
+) -> dict:
     """The worst pattern at the study's largest level on stable steady states: a compass search
     (Search) of `study.search_budget` rings from the worst pattern at that level on steady states
     (`states`), or, when no pattern was taken there, from the sweeps' worst (`sweep_amplification`
@@ -194,11 +250,19 @@ def run_search(study: Study, states: dict, settings: StatesSettings, runner: Any
         rings = [mistuning.mistuned(base, study.parameter, 1 + sigma * np.asarray(z)) for z in zs]
         recs = evaluate(rings, band, settings, runner, cache_dir, desc="worst-pattern search")
         seen.update({np.asarray(z, dtype=float).tobytes(): r for z, r in zip(zs, recs)})
-        return [r["peak_stable_amplitude_m"] / tuned if np.isfinite(r["peak_stable_amplitude_m"]) else -np.inf
-                for r in recs]
+        return [
+            r["peak_stable_amplitude_m"] / tuned if np.isfinite(r["peak_stable_amplitude_m"]) else -np.inf for r in recs
+        ]
 
     t0 = time.perf_counter()
     out = search_worst(study, Search(sigma=sigma, budget=study.search_budget), start, objective)
     best = seen[np.asarray(out["z"], dtype=float).tobytes()]
-    return {**out, "record": best, "start_pattern": k0, "start_from": origin, "start_amplification": out["history"][0][1],
-            "wall_s": time.perf_counter() - t0, "whitehead": mistuning.whitehead(study.n)}
+    return {
+        **out,
+        "record": best,
+        "start_pattern": k0,
+        "start_from": origin,
+        "start_amplification": out["history"][0][1],
+        "wall_s": time.perf_counter() - t0,
+        "whitehead": mistuning.whitehead(study.n),
+    }

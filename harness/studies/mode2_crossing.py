@@ -6,6 +6,7 @@ results/campbell_modes.csv): the branches of the Jenkins element and of the fixe
 over a window around the crossing, their located peaks and jumps (harness.analysis.periodic), and
 where the contact moves the resonance from the contact-free crossing (harness.studies.campbell_modes).
 """
+
 from __future__ import annotations
 
 import math
@@ -38,8 +39,9 @@ class Mode2Crossing:
     branches: list[CrossingBranch]
 
 
-def mode2_crossing(fmu: Any, out: Path, base: Mapping[str, Any], engine_order: int = 8,
-                   window: float = 0.15, seed_step: float = 500.0) -> Mode2Crossing:
+def mode2_crossing(
+    fmu: Any, out: Path, base: Mapping[str, Any], engine_order: int = 8, window: float = 0.15, seed_step: float = 500.0
+) -> Mode2Crossing:
     """results/mode2_crossing_branches.csv and .png: the branches over [1 - window, 1 + window]
     times the contact-free crossing speed."""
     p = campbell_params(dict(base, formulation=2, engineOrder=engine_order), 2)
@@ -58,7 +60,10 @@ def mode2_crossing(fmu: Any, out: Path, base: Mapping[str, Any], engine_order: i
         rows.append(CrossingBranch(model, a, n, jump_speed(br, a, n)))
     every = [(m, b) for m in MODELS for b in traced[m]]
     write_branches_csv(out / "mode2_crossing_branches.csv", [b for _, b in every], {"model_set": [m for m, _ in every]})
-    plots.branches_figure(out / "mode2_crossing.png", {m: traced[m] for m in MODELS},
-                          f"Base case, m = 2 (consistent), EO {engine_order}: the second mode's crossing "
-                          f"(contact-free {free:.0f} rpm) with the contact")
+    plots.branches_figure(
+        out / "mode2_crossing.png",
+        {m: traced[m] for m in MODELS},
+        f"Base case, m = 2 (consistent), EO {engine_order}: the second mode's crossing "
+        f"(contact-free {free:.0f} rpm) with the contact",
+    )
     return Mode2Crossing(engine_order, free, rows)

@@ -10,6 +10,7 @@ per period: a sampled maximum falls short of the true one by at most (2 pi / 102
 it). Each is compared with the largest m: relative differences, and the verdict of the claims row
 (harness.studies.claims) "one mode suffices within X %", X the largest difference of m = 1.
 """
+
 from __future__ import annotations
 
 import math
@@ -70,26 +71,50 @@ class ModesConvergence:
         return worst, what
 
     def as_dict(self) -> dict:
-        return {"speed_range": list(self.speed_range),
-                "rows": [{**{k: v for k, v in r.__dict__.items() if k != "evaluations"},
-                          "d_peak": d[0], "d_speed": d[1], "d_root_moment": d[2]}
-                         for r in self.rows for d in [self.differences(r)]]}
+        return {
+            "speed_range": list(self.speed_range),
+            "rows": [
+                {
+                    **{k: v for k, v in r.__dict__.items() if k != "evaluations"},
+                    "d_peak": d[0],
+                    "d_speed": d[1],
+                    "d_root_moment": d[2],
+                }
+                for r in self.rows
+                for d in [self.differences(r)]
+            ],
+        }
 
 
-def modes_tasks(base: Mapping[str, Any], speed_range: tuple[float, float], seed_step: float,
-                fmu_path: str | None, modes: Sequence[int] = (1, 2, 3, 4)) -> list[CurveTask]:
+def modes_tasks(
+    base: Mapping[str, Any],
+    speed_range: tuple[float, float],
+    seed_step: float,
+    fmu_path: str | None,
+    modes: Sequence[int] = (1, 2, 3, 4),
+) -> list[CurveTask]:
     """One curve per (model, m), consistent formulation, the base case otherwise."""
     settings = BranchSettings(seed_step=seed_step)
-    return [CurveTask("modes", float(m), model, dict(base, formulation=2, modes=int(m)), speed_range, fmu_path,
-                      settings) for model in MODELS for m in modes]
+    return [
+        CurveTask("modes", float(m), model, dict(base, formulation=2, modes=int(m)), speed_range, fmu_path, settings)
+        for model in MODELS
+        for m in modes
+    ]
 
 
 def root_moment(fmu: Any, curve: Curve, orbit: Any) -> float:
     """max |rootMoment| [N m] over one period of the orbit (the FMU started on it at load phase 0)."""
     pm = PeriodMap(fmu, curve.task.params, curve.task.model)
     T = 2.0 * math.pi / (int(pm.p["engineOrder"]) * 2.0 * math.pi * orbit.speed / 60.0)
-    r = fmu.run(dict(pm.p, **pm.start_values(orbit.x)), T, T / SAMPLES, speed=orbit.speed, outputs=["rootMoment"],
-                input_fit="chebyshev", carry_values=True)
+    r = fmu.run(
+        dict(pm.p, **pm.start_values(orbit.x)),
+        T,
+        T / SAMPLES,
+        speed=orbit.speed,
+        outputs=["rootMoment"],
+        input_fit="chebyshev",
+        carry_values=True,
+    )
     return float(np.max(np.abs(r["rootMoment"])))
 
 
@@ -104,22 +129,38 @@ def modes_convergence(fmu: Any, out: Path, curves: Sequence[Curve]) -> ModesConv
         a, n = (math.nan, math.nan) if o is None else (o.amplitude, o.speed)
         rows.append(ModesRow(c.task.model, int(c.task.value), a, n, rm, len(c.branches), c.stats.evaluations))
     conv = ModesConvergence(rows, rng)
-    tab = np.zeros(len(rows), dtype=[("model", "U12"), ("modes", "i4"), ("peak_m", "f8"), ("speed_rpm", "f8"),
-                                     ("root_moment_Nm", "f8"), ("d_peak", "f8"), ("d_speed", "f8"),
-                                     ("d_root_moment", "f8"), ("branches", "i4")])
+    tab = np.zeros(
+        len(rows),
+        dtype=[
+            ("model", "U12"),
+            ("modes", "i4"),
+            ("peak_m", "f8"),
+            ("speed_rpm", "f8"),
+            ("root_moment_Nm", "f8"),
+            ("d_peak", "f8"),
+            ("d_speed", "f8"),
+            ("d_root_moment", "f8"),
+            ("branches", "i4"),
+        ],
+    )
     for i, r in enumerate(rows):
         # without the period-map counts: for m > 1 they differ from run to run by up to 0.2 % (which
         # worker traced which curve before), the numbers do not; the files stay the same on a rerun
         tab[i] = (r.model, r.modes, r.peak, r.speed, r.root_moment, *conv.differences(r), r.branches)
-    write_csv(out / "modes_convergence.csv", tab,
-              f"Convergence in the number of modes m of the base case (consistent formulation), branches of periodic "
-              f"orbits over {rng[0]:g}..{rng[1]:g} rpm: peak = largest max|q| of a stable orbit (located) [m], its "
-              f"speed [rpm], root moment = max|rootMoment| over the peak orbit's period [N m]; d_* = relative "
-              f"difference from the largest m of the same model")
+    write_csv(
+        out / "modes_convergence.csv",
+        tab,
+        f"Convergence in the number of modes m of the base case (consistent formulation), branches of periodic "
+        f"orbits over {rng[0]:g}..{rng[1]:g} rpm: peak = largest max|q| of a stable orbit (located) [m], its "
+        f"speed [rpm], root moment = max|rootMoment| over the peak orbit's period [N m]; d_* = relative "
+        f"difference from the largest m of the same model",
+    )
     for model in MODELS:
         mc = sorted((c for c in curves if c.task.model == model), key=lambda c: c.task.value)
         if mc:
-            plots.branches_figure(out / f"modes_convergence_{model}.png",
-                                  {f"m = {int(c.task.value)}": c.branches for c in mc},
-                                  f"Base case (consistent formulation), {LABEL[model]}: m = 1..{int(mc[-1].task.value)} modes")
+            plots.branches_figure(
+                out / f"modes_convergence_{model}.png",
+                {f"m = {int(c.task.value)}": c.branches for c in mc},
+                f"Base case (consistent formulation), {LABEL[model]}: m = 1..{int(mc[-1].task.value)} modes",
+            )
     return conv

@@ -14,6 +14,7 @@ compares the FMU with the reference: harness.validation.reproduction runs it wit
 `study_specs` gives the former transient path (time-domain up/down sweeps + fixed points from
 transients + HB) that `make bench` times side by side.
 """
+
 from __future__ import annotations
 
 import json
@@ -26,8 +27,15 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 import numpy as np
 
 from harness import digits
-from harness.analysis.curves import (ConfigError, SweepSettings, SweepSpec, fmu_identity, hb_curve, hb_stable_peak,
-                                     omega_of)
+from harness.analysis.curves import (
+    ConfigError,
+    SweepSettings,
+    SweepSpec,
+    fmu_identity,
+    hb_curve,
+    hb_stable_peak,
+    omega_of,
+)
 from harness.paths import RESULTS_DIR
 from harness.analysis.executor import Runner
 from harness.files.tables import write_csv
@@ -74,7 +82,9 @@ class Study:
 STUDIES: dict[str, Study] = {
     "gap": Study("gap", "fig6", "d", (2e-5, 3e-5, 4e-5, 5e-5, 6e-5), "gap d [mm]", 1e3, "mm"),
     "mass": Study("mass", "fig7", "m0", (0.02, 0.04, 0.06, 0.08, 0.1), "shroud mass m0 [kg]", 1.0, "kg"),
-    "angle": Study("angle", "fig8", "gamma", (PI / 3, PI / 4, PI / 5, PI / 6, PI / 7), "contact angle [rad]", 1.0, "rad"),
+    "angle": Study(
+        "angle", "fig8", "gamma", (PI / 3, PI / 4, PI / 5, PI / 6, PI / 7), "contact angle [rad]", 1.0, "rad"
+    ),
     "kn": Study("kn", "fig9", "kn", (1e5, 3e5, 1e6, 3e6, 1e7), "normal stiffness kn [N/m]", 1.0, "N/m"),
 }
 
@@ -103,24 +113,43 @@ def _grid(a: float, b: float, step: float) -> tuple[float, ...]:
 
 
 SIZES: dict[str, Size] = {
-    "quick": Size("quick", speeds=_grid(3000, 10000, 1000), fixed_speeds=_grid(4000, 9000, 500),
-                  hb_speeds=_grid(3000, 10000, 100),
-                  values={"gap": (2e-5, 6e-5), "mass": (0.02, 0.1), "angle": (PI / 3, PI / 7), "kn": (1e5, 1e7)},
-                  settings=SweepSettings(refine_levels=3, min_dn=60.0, max_time=0.5, fixed_max_time=0.4,
-                                         n_scan=10),
-                  fig45_time=0.6, coulomb=False, iteration_steps=6, seed_step=1000.0, modes=(), campbell_modes=0),
+    "quick": Size(
+        "quick",
+        speeds=_grid(3000, 10000, 1000),
+        fixed_speeds=_grid(4000, 9000, 500),
+        hb_speeds=_grid(3000, 10000, 100),
+        values={"gap": (2e-5, 6e-5), "mass": (0.02, 0.1), "angle": (PI / 3, PI / 7), "kn": (1e5, 1e7)},
+        settings=SweepSettings(refine_levels=3, min_dn=60.0, max_time=0.5, fixed_max_time=0.4, n_scan=10),
+        fig45_time=0.6,
+        coulomb=False,
+        iteration_steps=6,
+        seed_step=1000.0,
+        modes=(),
+        campbell_modes=0,
+    ),
     # branches to 12000 rpm: with kn = 1e7 the stable contact branches of the fixed point end in
     # their fold above 10000 rpm for d = 0.02 mm and gamma = pi/6..pi/4 (a peak at the range end
     # would be a missed solution); the transient path (bench) keeps its 3000..10000 rpm grid.
     # Seeds every 1000 rpm: the 50 curves traced with seeds every 500 rpm have the same branches
     # (docs/periodic.md; tests/analysis/test_continuation.py checks two of them)
-    "default": Size("default", speeds=_grid(3000, 10000, 500), fixed_speeds=_grid(3000, 10000, 500),
-                    hb_speeds=_grid(2000, 12000, 40), speed_range=(3000.0, 12000.0), seed_step=1000.0),
-    "full": Size("full", speeds=_grid(2000, 10000, 250), fixed_speeds=_grid(2000, 10000, 250),
-                 hb_speeds=_grid(100, 12000, 20),
-                 settings=SweepSettings(rtol=1e-3, max_time=2.5, refine_levels=6, min_dn=5.0, n_scan=20,
-                                        fixed_max_time=1.5),
-                 fig45_time=2.0, speed_range=(2000.0, 12000.0), seed_step=250.0),
+    "default": Size(
+        "default",
+        speeds=_grid(3000, 10000, 500),
+        fixed_speeds=_grid(3000, 10000, 500),
+        hb_speeds=_grid(2000, 12000, 40),
+        speed_range=(3000.0, 12000.0),
+        seed_step=1000.0,
+    ),
+    "full": Size(
+        "full",
+        speeds=_grid(2000, 10000, 250),
+        fixed_speeds=_grid(2000, 10000, 250),
+        hb_speeds=_grid(100, 12000, 20),
+        settings=SweepSettings(rtol=1e-3, max_time=2.5, refine_levels=6, min_dn=5.0, n_scan=20, fixed_max_time=1.5),
+        fig45_time=2.0,
+        speed_range=(2000.0, 12000.0),
+        seed_step=250.0,
+    ),
 }
 
 
@@ -140,9 +169,21 @@ def study_specs(size: Size, names: Sequence[str], base: Mapping[str, Any]) -> li
         vals = (size.values or {}).get(name, st.values)
         for v in vals:
             p = dict(base, **{st.param: v})
-            out.append((name, v, SweepSpec(p, size.speeds, label=f"{st.figure} {st.label(v)}",
-                                           methods=("time", "fixed", "hb"), fixed_speeds=size.fixed_speeds,
-                                           hb_speeds=size.hb_speeds, settings=size.settings)))
+            out.append(
+                (
+                    name,
+                    v,
+                    SweepSpec(
+                        p,
+                        size.speeds,
+                        label=f"{st.figure} {st.label(v)}",
+                        methods=("time", "fixed", "hb"),
+                        fixed_speeds=size.fixed_speeds,
+                        hb_speeds=size.hb_speeds,
+                        settings=size.settings,
+                    ),
+                )
+            )
     return out
 
 
@@ -174,14 +215,23 @@ def _response(fmu: Any, p: Mapping[str, Any], speed: float, t_stop: float) -> di
     per_max = np.abs(q[1:]).reshape(P, n_per).max(axis=1)
     t_per = T * (np.arange(P) + 1)
     ss = analyze(res["time"], q, T, rtol=1e-3, min_periods=3)
-    half = q[-(P // 2) * n_per:]
+    half = q[-(P // 2) * n_per :]
     win = np.hanning(len(half))
     amp = np.abs(np.fft.rfft(half * win)) * 2.0 / np.sum(win)
     freq = np.fft.rfftfreq(len(half), T / n_per)
     k = int(np.argmax(amp[1:])) + 1
-    return {"res": res, "per_max": per_max, "t_per": t_per, "ss": ss, "freq": freq, "amp": amp,
-            "t_settle": settling_time(t_per, per_max, 0.02), "f_peak": float(freq[k]),
-            "final": float(per_max[-1]), "band": (float(per_max[-P // 5:].min()), float(per_max[-P // 5:].max()))}
+    return {
+        "res": res,
+        "per_max": per_max,
+        "t_per": t_per,
+        "ss": ss,
+        "freq": freq,
+        "amp": amp,
+        "t_settle": settling_time(t_per, per_max, 0.02),
+        "f_peak": float(freq[k]),
+        "final": float(per_max[-1]),
+        "band": (float(per_max[-P // 5 :].min()), float(per_max[-P // 5 :].max())),
+    }
 
 
 @dataclass(frozen=True)
@@ -222,28 +272,51 @@ def fig45(fmu: Any, out: Path, params: Mapping[str, Any], speed: float, t_stop: 
     paper's formulation (amplitude fixed at the fixed-point root B_root, amplitudeMode 1) and for the
     tracked amplitude (amplitudeMode 2)."""
     p = dict(params)
-    runs = {"paper": _response(fmu, dict(p, amplitudeMode=1, B=B_root), speed, t_stop),
-            "tracked": _response(fmu, dict(p, amplitudeMode=2), speed, t_stop)}
+    runs = {
+        "paper": _response(fmu, dict(p, amplitudeMode=1, B=B_root), speed, t_stop),
+        "tracked": _response(fmu, dict(p, amplitudeMode=2), speed, t_stop),
+    }
     a, b = runs["paper"], runs["tracked"]
     tab = np.zeros(len(a["res"]), dtype=[("time", "f8"), ("q_paper", "f8"), ("q_tracked", "f8")])
-    tab["time"], tab["q_paper"], tab["q_tracked"] = a["res"]["time"], a["res"]["tipDisplacement"], b["res"]["tipDisplacement"]
-    write_csv(out / "fig4_time_response.csv", tab,
-              f"Fig. 4: FMU tip displacement q [m] from rest at {speed:g} rpm; paper = amplitude fixed at the "
-              f"fixed-point root B = {B_root:.6g} m (amplitudeMode 1), tracked = amplitudeMode 2")
+    tab["time"], tab["q_paper"], tab["q_tracked"] = (
+        a["res"]["time"],
+        a["res"]["tipDisplacement"],
+        b["res"]["tipDisplacement"],
+    )
+    write_csv(
+        out / "fig4_time_response.csv",
+        tab,
+        f"Fig. 4: FMU tip displacement q [m] from rest at {speed:g} rpm; paper = amplitude fixed at the "
+        f"fixed-point root B = {B_root:.6g} m (amplitudeMode 1), tracked = amplitudeMode 2",
+    )
     spec = np.zeros(len(a["freq"]), dtype=[("frequency", "f8"), ("amp_paper", "f8"), ("amp_tracked", "f8")])
     spec["frequency"], spec["amp_paper"], spec["amp_tracked"] = a["freq"], a["amp"], b["amp"]
-    write_csv(out / "fig5_spectrum.csv", spec, f"Fig. 5: single-sided amplitude spectrum [m] (Hann window) of the "
-              f"second half of the runs at {speed:g} rpm")
-    plots.time_response(out / "fig4_5_time_spectrum.png",
-                        f"Paper Fig. 4/5 at {speed:g} rpm, d = {p['d'] * 1e3:g} mm",
-                        [("paper: B fixed at the fixed-point root", a), ("tracked amplitude", b)], p["d"],
-                        p["engineOrder"] * speed / 60)
+    write_csv(
+        out / "fig5_spectrum.csv",
+        spec,
+        f"Fig. 5: single-sided amplitude spectrum [m] (Hann window) of the second half of the runs at {speed:g} rpm",
+    )
+    plots.time_response(
+        out / "fig4_5_time_spectrum.png",
+        f"Paper Fig. 4/5 at {speed:g} rpm, d = {p['d'] * 1e3:g} mm",
+        [("paper: B fixed at the fixed-point root", a), ("tracked amplitude", b)],
+        p["d"],
+        p["engineOrder"] * speed / 60,
+    )
     f_exp = p["engineOrder"] * speed / 60.0
 
     def summary(r: dict[str, Any]) -> ResponseSummary:
-        return ResponseSummary(r["t_settle"], bool(r["ss"].reached), r["ss"].t_steady, r["f_peak"], r["final"],
-                               r["band"], float(np.max(np.abs(r["res"]["tipDisplacement"]))),
-                               float(r["amp"][int(np.argmin(np.abs(r["freq"] - f_exp)))]), float(np.max(r["amp"][1:])))
+        return ResponseSummary(
+            r["t_settle"],
+            bool(r["ss"].reached),
+            r["ss"].t_steady,
+            r["f_peak"],
+            r["final"],
+            r["band"],
+            float(np.max(np.abs(r["res"]["tipDisplacement"]))),
+            float(r["amp"][int(np.argmin(np.abs(r["freq"] - f_exp)))]),
+            float(np.max(r["amp"][1:])),
+        )
 
     return Fig45Summary(speed, p["d"], f_exp, B_root, summary(a), summary(b))
 
@@ -257,18 +330,34 @@ def hb_vs_orbit(fmu: Any, out: Path, params: Mapping[str, Any], curves: Sequence
         base = [c for c in curves if c.task.model == model and dict(c.task.params) == dict(params)]
         if base:
             rows += branch_harmonics(fmu, params, model, base[0].branches)
-    names = ["model", "speed", "stable", "amplitude", "a1", "higher", "a3", "hb", "higher_rel", "hb_vs_a1",
-             "hb_vs_amplitude"]
-    tab = np.zeros(len(rows), dtype=[("model", "U10"), ("stable", "i4")] + [(n, "f8") for n in names
-                                                                              if n not in ("model", "stable")])
+    names = [
+        "model",
+        "speed",
+        "stable",
+        "amplitude",
+        "a1",
+        "higher",
+        "a3",
+        "hb",
+        "higher_rel",
+        "hb_vs_a1",
+        "hb_vs_amplitude",
+    ]
+    tab = np.zeros(
+        len(rows),
+        dtype=[("model", "U10"), ("stable", "i4")] + [(n, "f8") for n in names if n not in ("model", "stable")],
+    )
     for i, r in enumerate(rows):
         for n, v in r.as_dict().items():
             tab[n][i] = v
-    write_csv(out / "hb_vs_orbit.csv", tab[names],
-              "base case: exact periodic orbits (contact, >= 250 rpm apart along each branch) vs the one-harmonic "
-              "balance (reference, gating off)\namplitude = max|q| [m]; a1, a3 = first, third harmonic [m]; higher = "
-              "sqrt(sum_k>=2 a_k^2) [m]; hb = HB contact root nearest a1 [m] (nan: HB has none at that speed); higher_rel = higher / amplitude; "
-              "hb_vs_a1 = (hb - a1) / a1; hb_vs_amplitude = (hb - amplitude) / amplitude")
+    write_csv(
+        out / "hb_vs_orbit.csv",
+        tab[names],
+        "base case: exact periodic orbits (contact, >= 250 rpm apart along each branch) vs the one-harmonic "
+        "balance (reference, gating off)\namplitude = max|q| [m]; a1, a3 = first, third harmonic [m]; higher = "
+        "sqrt(sum_k>=2 a_k^2) [m]; hb = HB contact root nearest a1 [m] (nan: HB has none at that speed); higher_rel = higher / amplitude; "
+        "hb_vs_a1 = (hb - a1) / a1; hb_vs_amplitude = (hb - amplitude) / amplitude",
+    )
     return summarize(rows)
 
 
@@ -279,8 +368,9 @@ def _root_at(params: Mapping[str, Any], speed: float, fmu: Any) -> float:
     return max((o.B for o in orbits), default=2.0 * float(params["d"]))
 
 
-def paper_iteration(fmu: Any, params: Mapping[str, Any], speed: float, B0: float, steps: int,
-                    t_int: float = 0.2) -> list[float]:
+def paper_iteration(
+    fmu: Any, params: Mapping[str, Any], speed: float, B0: float, steps: int, t_int: float = 0.2
+) -> list[float]:
     """The paper's section-3 procedure: B_{k+1} = max |q| over the last period of a t_int run from
     rest with the amplitude fixed at B_k (docs/model.md s.4: it falls into a 2-cycle near resonance)."""
     om = omega_of(params, speed)
@@ -316,11 +406,18 @@ class CampbellSummary:
     f_at_crossing_hz: float  # [Hz]
 
 
-def campbell(fmu: Any, out: Path, params: Mapping[str, Any],
-             peaks: Sequence[tuple[float, float, str]] = ()) -> CampbellSummary:
+def campbell(
+    fmu: Any, out: Path, params: Mapping[str, Any], peaks: Sequence[tuple[float, float, str]] = ()
+) -> CampbellSummary:
     """naturalFrequency of the FMU along a 0..10000 rpm run-up (no load) with the EO lines."""
-    r = fmu.run(dict(params), 1.0, 1e-3, speed=LinearRamp(0.0, 10000.0, 0.0, 1.0),
-                aero=LinearRamp(0.0, 0.0, 0.0, 1.0), outputs=["naturalFrequency"])
+    r = fmu.run(
+        dict(params),
+        1.0,
+        1e-3,
+        speed=LinearRamp(0.0, 10000.0, 0.0, 1.0),
+        aero=LinearRamp(0.0, 0.0, 0.0, 1.0),
+        outputs=["naturalFrequency"],
+    )
     n = 10000.0 * r["time"]
     f = r["naturalFrequency"]
     eo = int(params["engineOrder"])
@@ -330,8 +427,10 @@ def campbell(fmu: Any, out: Path, params: Mapping[str, Any],
     if len(idx):
         i = int(idx[0])
         cross = float(n[i] - g[i] * (n[i + 1] - n[i]) / (g[i + 1] - g[i]))
-    tab = np.zeros(len(n), dtype=[("time", "f8"), ("speed", "f8"), ("naturalFrequency", "f8")] +
-                   [(f"EO{k}", "f8") for k in range(1, 7)])
+    tab = np.zeros(
+        len(n),
+        dtype=[("time", "f8"), ("speed", "f8"), ("naturalFrequency", "f8")] + [(f"EO{k}", "f8") for k in range(1, 7)],
+    )
     tab["time"], tab["speed"], tab["naturalFrequency"] = r["time"], n, f
     for k in range(1, 7):
         tab[f"EO{k}"] = k * n / 60.0
@@ -431,9 +530,15 @@ def validate_request(size: str | Size, studies: Sequence[str] | None) -> tuple[S
     return size, names
 
 
-def reproduce(out: Path | str = RESULTS_DIR, size: str | Size = "default", studies: Sequence[str] | None = None,
-              runner: Runner | None = None, fmu_path: Path | str | None = None, extras: bool = True,
-              base: Mapping[str, Any] | None = None) -> Reproduction:
+def reproduce(
+    out: Path | str = RESULTS_DIR,
+    size: str | Size = "default",
+    studies: Sequence[str] | None = None,
+    runner: Runner | None = None,
+    fmu_path: Path | str | None = None,
+    extras: bool = True,
+    base: Mapping[str, Any] | None = None,
+) -> Reproduction:
     """`run_studies`, then summary.json into `out`. Without Fig. 2, which compares the FMU's
     friction loop with the reference's: harness.validation.reproduction adds it."""
     rep = run_studies(out, size, studies, runner, fmu_path, extras, base)
@@ -446,13 +551,20 @@ def write_summary(out: Path, summary: Summary) -> None:
     digits (harness/digits.py), without the wall times (`timing`: they differ from run to run; `make
     bench` measures them), so that a rerun writes the same file."""
     d = {k: v for k, v in summary.as_dict().items() if k != "timing"}
-    atomic_write_text(out / "summary.json", json.dumps(digits.rounded(d), indent=1, sort_keys=True,
-                                                       default=_json_default))
+    atomic_write_text(
+        out / "summary.json", json.dumps(digits.rounded(d), indent=1, sort_keys=True, default=_json_default)
+    )
 
 
-def run_studies(out: Path | str = RESULTS_DIR, size: str | Size = "default", studies: Sequence[str] | None = None,
-                runner: Runner | None = None, fmu_path: Path | str | None = None, extras: bool = True,
-                base: Mapping[str, Any] | None = None) -> Reproduction:
+def run_studies(
+    out: Path | str = RESULTS_DIR,
+    size: str | Size = "default",
+    studies: Sequence[str] | None = None,
+    runner: Runner | None = None,
+    fmu_path: Path | str | None = None,
+    extras: bool = True,
+    base: Mapping[str, Any] | None = None,
+) -> Reproduction:
     """Run the studies as branches of periodic orbits over the harmonic-balance branches (and, with
     `extras`, the Coulomb comparison, Fig. 4/5, Campbell, the m-mode Campbell diagram and the
     convergence in the number of modes, the paper's iteration), writing their files into `out`
@@ -504,8 +616,13 @@ def run_studies(out: Path | str = RESULTS_DIR, size: str | Size = "default", stu
                 if "kn" in summary.studies:
                     for row in summary.studies["kn"].rows:
                         if math.isfinite(row.fp_speed):
-                            peaks.append((row.fp_speed, base_p["engineOrder"] * row.fp_speed / 60,
-                                          f"fixed-point peak, kn = {row.value:.0e} N/m"))
+                            peaks.append(
+                                (
+                                    row.fp_speed,
+                                    base_p["engineOrder"] * row.fp_speed / 60,
+                                    f"fixed-point peak, kn = {row.value:.0e} N/m",
+                                )
+                            )
                 step("Campbell diagram")
                 summary.campbell = campbell(fmu, out, base_p, peaks)
                 step("Campbell diagram with more modes")
@@ -515,24 +632,38 @@ def run_studies(out: Path | str = RESULTS_DIR, size: str | Size = "default", stu
                     summary.mode2_crossing = mode2_crossing(fmu, out, base_p)
                 step("convergence in the number of modes")
                 if size.modes:
-                    mc = runner.map(trace_curve, modes_tasks(base_p, size.speed_range, size.seed_step, path, size.modes),
-                                    desc="branches in the number of modes", unit="curve")
+                    mc = runner.map(
+                        trace_curve,
+                        modes_tasks(base_p, size.speed_range, size.seed_step, path, size.modes),
+                        desc="branches in the number of modes",
+                        unit="curve",
+                    )
                     summary.modes = modes_convergence(fmu, out, mc)
                 step("the paper's iteration")
                 seq = paper_iteration(fmu, base_p, 5000.0, 2 * base_p["d"], size.iteration_steps)
                 summary.paper_iteration = PaperIteration(5000.0, 0.2, seq)
                 it = np.zeros(len(seq), dtype=[("iteration", "i4"), ("B", "f8")])
                 it["iteration"], it["B"] = np.arange(len(seq)), seq
-                write_csv(out / "paper_iteration.csv", it,
-                          "the paper's section-3 iteration B <- max|q| of a 0.2 s run with B fixed, 5000 rpm, base case")
+                write_csv(
+                    out / "paper_iteration.csv",
+                    it,
+                    "the paper's section-3 iteration B <- max|q| of a 0.2 s run with B fixed, 5000 rpm, base case",
+                )
             extras_wall = _time.perf_counter() - t0
     finally:
         if own_runner:
             runner.close()
     stats = [c.stats for c in done]  # the branches_* timings are sums over the curves
-    summary.timing = Timing(hb_wall, branches_wall, float(len(done)), float(sum(s.evaluations for s in stats)),
-                            float(sum(s.simulated_s for s in stats)), float(sum(s.fmi_s for s in stats)),
-                            float(sum(s.wall for s in stats)), extras_wall)
+    summary.timing = Timing(
+        hb_wall,
+        branches_wall,
+        float(len(done)),
+        float(sum(s.evaluations for s in stats)),
+        float(sum(s.simulated_s for s in stats)),
+        float(sum(s.fmi_s for s in stats)),
+        float(sum(s.wall for s in stats)),
+        extras_wall,
+    )
     return rep
 
 
@@ -544,6 +675,17 @@ def _json_default(o: Any) -> Any:
     raise TypeError(type(o).__name__)
 
 
-__all__ = ["STUDIES", "SIZES", "Size", "Study", "Summary", "Reproduction", "reproduce", "run_studies", "write_summary",
-           "study_specs",
-           "settling_time", "paper_iteration"]
+__all__ = [
+    "STUDIES",
+    "SIZES",
+    "Size",
+    "Study",
+    "Summary",
+    "Reproduction",
+    "reproduce",
+    "run_studies",
+    "write_summary",
+    "study_specs",
+    "settling_time",
+    "paper_iteration",
+]

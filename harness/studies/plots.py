@@ -5,6 +5,7 @@ with stability over the harmonic-balance branches), the time response and spectr
 (paper Fig. 4/5), the hysteresis loop (Fig. 2), the Coulomb comparison (section 4) and the
 Campbell diagram. Nothing is ever shown on screen; every function returns the path it wrote.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -41,10 +42,16 @@ def study_branches(path: Path | str, title: str, curves: Sequence[dict]) -> Path
                 ax.plot(st["speed"], st["B"] * MM, ".", color=col, ms=1.2, alpha=0.7)
                 ax.plot(un["speed"], un["B"] * MM, ".", color=col, ms=0.6, alpha=0.25)
             ax.axhline(c["d"] * MM, color=col, lw=0.6, ls=":")
-    axes[0].set_title("fixed point B = A(B): periodic orbits of the tracked-amplitude FMU\n"
-                      "bold stable, faint unstable; dots: harmonic balance (gating off); dotted: gap d", fontsize=8)
-    axes[1].set_title("time-domain Jenkins element (frictionModel 3): periodic orbits of the FMU\n"
-                      "bold stable, faint unstable; dots: harmonic balance of the describing function", fontsize=8)
+    axes[0].set_title(
+        "fixed point B = A(B): periodic orbits of the tracked-amplitude FMU\n"
+        "bold stable, faint unstable; dots: harmonic balance (gating off); dotted: gap d",
+        fontsize=8,
+    )
+    axes[1].set_title(
+        "time-domain Jenkins element (frictionModel 3): periodic orbits of the FMU\n"
+        "bold stable, faint unstable; dots: harmonic balance of the describing function",
+        fontsize=8,
+    )
     for ax in axes:
         ax.set_xlabel("rotor speed n [rpm]")
         ax.grid(alpha=0.3)
@@ -69,8 +76,14 @@ def study_curves(path: Path | str, title: str, curves: Sequence[dict], gap: Sequ
                 b = t[t["direction"] == direction]
                 b = b[np.argsort(b["speed"])]
                 if len(b):
-                    axes[0].plot(b["speed"], b["amp_hi"] * MM, ls, color=col, lw=1.3,
-                                 label=f"{c['label']}" if direction == "up" else None)
+                    axes[0].plot(
+                        b["speed"],
+                        b["amp_hi"] * MM,
+                        ls,
+                        color=col,
+                        lw=1.3,
+                        label=f"{c['label']}" if direction == "up" else None,
+                    )
                     axes[0].fill_between(b["speed"], b["amp_lo"] * MM, b["amp_hi"] * MM, color=col, alpha=0.12, lw=0)
                     nr = b[~b["reached"]]
                     if len(nr):
@@ -91,11 +104,24 @@ def study_curves(path: Path | str, title: str, curves: Sequence[dict], gap: Sequ
     if gap:
         for i, g in enumerate(sorted(set(gap))):
             for ax in axes:
-                ax.axhline(g * MM, color="0.6", lw=0.8, ls=":", label="gap d (contact closes above)" if i == 0 else None)
-                ax.annotate(f"gap d = {g * MM:g} mm", (1.0, g * MM), xycoords=("axes fraction", "data"),
-                            xytext=(-3, 3), textcoords="offset points", ha="right", fontsize=7, color="0.4")
-    axes[0].set_title("FMU: up (solid) / down (dashed) sweeps, band = amplitude range of the final periods;\n"
-                      "o not steady within the cap, x fixed points A(B) = B, + not converged", fontsize=8)
+                ax.axhline(
+                    g * MM, color="0.6", lw=0.8, ls=":", label="gap d (contact closes above)" if i == 0 else None
+                )
+                ax.annotate(
+                    f"gap d = {g * MM:g} mm",
+                    (1.0, g * MM),
+                    xycoords=("axes fraction", "data"),
+                    xytext=(-3, 3),
+                    textcoords="offset points",
+                    ha="right",
+                    fontsize=7,
+                    color="0.4",
+                )
+    axes[0].set_title(
+        "FMU: up (solid) / down (dashed) sweeps, band = amplitude range of the final periods;\n"
+        "o not steady within the cap, x fixed points A(B) = B, + not converged",
+        fontsize=8,
+    )
     if has_hb:
         axes[1].set_title("harmonic balance (reference): stable (bold), unstable (faint)")
         axes[1].legend(fontsize=7, loc="upper left", markerscale=4)
@@ -121,8 +147,12 @@ def time_response(path: Path | str, title: str, runs: Sequence[tuple[str, dict]]
         a.axhline(d * MM, color="0.5", ls=":", lw=0.8, label="gap d")
         a.axhline(-d * MM, color="0.5", ls=":", lw=0.8)
         ts = r["t_settle"]
-        a.axvline(ts if np.isfinite(ts) else res["time"][-1], color="red", lw=0.8,
-                  label=f"settled (2 %) at {ts:.3f} s" if np.isfinite(ts) else "never settles (irregular)")
+        a.axvline(
+            ts if np.isfinite(ts) else res["time"][-1],
+            color="red",
+            lw=0.8,
+            label=f"settled (2 %) at {ts:.3f} s" if np.isfinite(ts) else "never settles (irregular)",
+        )
         a.set_xlabel("time [s]")
         a.set_ylabel("tip displacement q [mm]")
         a.set_title(label, fontsize=9)
@@ -147,13 +177,31 @@ def hysteresis(path: Path | str, panels: Sequence[dict]) -> Path:
     for ax, p in zip(axes, panels):
         E = p.get("energy", {})
         du, F = p["eq4"]
-        ax.plot(du * 1e6, F, "-", lw=1.6, label=f"eq. 4 closed form, v = B cos(theta); loop {E.get('eq4', np.nan) * 1e6:.1f} µJ")
+        ax.plot(
+            du * 1e6,
+            F,
+            "-",
+            lw=1.6,
+            label=f"eq. 4 closed form, v = B cos(theta); loop {E.get('eq4', np.nan) * 1e6:.1f} µJ",
+        )
         if p.get("jenkins") is not None:
             du3, F3 = p["jenkins"]
-            ax.plot(du3 * 1e6, F3, ":", lw=1.8, label=f"reference Jenkins element, v = B cos(theta); {E.get('jenkins', np.nan) * 1e6:.1f} µJ")
+            ax.plot(
+                du3 * 1e6,
+                F3,
+                ":",
+                lw=1.8,
+                label=f"reference Jenkins element, v = B cos(theta); {E.get('jenkins', np.nan) * 1e6:.1f} µJ",
+            )
         if p.get("fmu") is not None:
             du2, F2 = p["fmu"]
-            ax.plot(du2 * 1e6, F2, "--", lw=1.1, label=f"FMU element (frictionModel 3) in a steady run; {E.get('fmu', np.nan) * 1e6:.1f} µJ")
+            ax.plot(
+                du2 * 1e6,
+                F2,
+                "--",
+                lw=1.1,
+                label=f"FMU element (frictionModel 3) in a steady run; {E.get('fmu', np.nan) * 1e6:.1f} µJ",
+            )
         ax.set_xlabel("tangential displacement Δu [µm]")
         ax.set_ylabel("friction force F_f [N]")
         ax.set_title(p["title"], fontsize=9)
@@ -187,9 +235,17 @@ def coulomb(path: Path | str, rows: Mapping[str, Any]) -> Path:
     return _save(fig, path)
 
 
-def campbell(path: Path | str, speed: np.ndarray, fnat: np.ndarray, orders: Sequence[int], eo: int,
-             crossing: float, peaks: Sequence[tuple[float, float, str]] = (),
-             crossings: Sequence[tuple[float, float, str]] = (), title: str | None = None) -> Path:
+def campbell(
+    path: Path | str,
+    speed: np.ndarray,
+    fnat: np.ndarray,
+    orders: Sequence[int],
+    eo: int,
+    crossing: float,
+    peaks: Sequence[tuple[float, float, str]] = (),
+    crossings: Sequence[tuple[float, float, str]] = (),
+    title: str | None = None,
+) -> Path:
     """Campbell diagram: the contact-free bending frequencies vs speed (`fnat`: one column per mode,
     or a vector for one mode) with the engine-order lines, each labelled at its end, the EO `eo`
     crossing marked; the legend sits beside the axes so that it covers no crossing. `crossings`
@@ -198,8 +254,16 @@ def campbell(path: Path | str, speed: np.ndarray, fnat: np.ndarray, orders: Sequ
     fig, ax = plt.subplots(figsize=(9.5, 5))
     top = max([float(np.max(f)) * 1.6, 1.0] + [1.05 * fr for _, fr, _ in peaks])
     for m in range(f.shape[1]):
-        ax.plot(speed, f[:, m], ("-", "--", "-.")[m % 3], color="k", lw=1.6, label=f"bending mode {m + 1} (contact-free), FMU" if f.shape[1] > 1
-                else "first bending (contact-free), FMU naturalFrequency")
+        ax.plot(
+            speed,
+            f[:, m],
+            ("-", "--", "-.")[m % 3],
+            color="k",
+            lw=1.6,
+            label=f"bending mode {m + 1} (contact-free), FMU"
+            if f.shape[1] > 1
+            else "first bending (contact-free), FMU naturalFrequency",
+        )
     _engine_order_lines(ax, speed, orders, eo, top)
     if np.isfinite(crossing):
         ax.plot([crossing], [eo * crossing / 60.0], "ro", ms=7, label=f"EO {eo} crossing {crossing:.0f} rpm")
@@ -218,8 +282,11 @@ def campbell(path: Path | str, speed: np.ndarray, fnat: np.ndarray, orders: Sequ
     ax.set_ylim(0, top)
     ax.set_xlim(float(speed[0]), float(speed[-1]) * 1.04)
     ax.grid(alpha=0.3)
-    ax.set_title(title or f"Campbell diagram: bending frequency and engine orders 1-{max(orders)}; resonance where "
-                 f"EO {eo} crosses it", fontsize=10)
+    ax.set_title(
+        title
+        or f"Campbell diagram: bending frequency and engine orders 1-{max(orders)}; resonance where EO {eo} crosses it",
+        fontsize=10,
+    )
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     fig.tight_layout()
     return _save(fig, path)
@@ -234,8 +301,16 @@ def _engine_order_lines(ax: Any, speed: np.ndarray, orders: Sequence[int], eo: i
         inside = np.nonzero(line <= top)[0]
         j = int(inside[-1]) if len(inside) else 0
         at_top = line[j] >= 0.97 * top
-        ax.annotate(f"EO {k}", (speed[j], line[j]), xytext=(-3, -10 if at_top else 2), textcoords="offset points",
-                    ha="right", va="bottom", fontsize=7, color=h.get_color())
+        ax.annotate(
+            f"EO {k}",
+            (speed[j], line[j]),
+            xytext=(-3, -10 if at_top else 2),
+            textcoords="offset points",
+            ha="right",
+            va="bottom",
+            fontsize=7,
+            color=h.get_color(),
+        )
 
 
 def _stable_runs(stable: np.ndarray) -> list[tuple[int, int, bool]]:
@@ -257,8 +332,15 @@ def _draw_branches(ax: Any, branches: Sequence[Any], color: Any, label: str, ls:
     for b in branches:
         n, a = b.speeds, b.amplitudes * MM
         for i0, i1, s in _stable_runs(b.stable):
-            ax.plot(n[i0:i1], a[i0:i1], color=color, lw=2.0 if s else 0.8, alpha=1.0 if s else 0.4, ls=ls,
-                    label=label if s else None)
+            ax.plot(
+                n[i0:i1],
+                a[i0:i1],
+                color=color,
+                lw=2.0 if s else 0.8,
+                alpha=1.0 if s else 0.4,
+                ls=ls,
+                label=label if s else None,
+            )
             if s:
                 label = None
         for e in b.extrema:
@@ -271,8 +353,12 @@ def _extrema_legend(ax: Any) -> None:
     ax.plot([], [], marker="x", color="0.35", ms=5, ls="none", label="fold (located)")
 
 
-def branches_figure(path: Path | str, models: dict[str, Sequence[Any]], title: str,
-                    hb: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None) -> Path:
+def branches_figure(
+    path: Path | str,
+    models: dict[str, Sequence[Any]],
+    title: str,
+    hb: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None,
+) -> Path:
     """Periodic-orbit branches (harness.analysis.periodic.continuation.Branch) per model: max |q| [mm] over
     speed, stable parts bold, unstable parts faint; optional HB branches (speed, B, stable) dashed."""
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
@@ -288,4 +374,3 @@ def branches_figure(path: Path | str, models: dict[str, Sequence[Any]], title: s
     _extrema_legend(ax)
     ax.legend(fontsize=8, title="bold: stable, faint: unstable", title_fontsize=8)
     return _save(fig, path)
-

@@ -1,6 +1,7 @@
 """Figures of one command's run, each written atomically to a PNG: a simulation's tip response
 over time (`simulate --plot`), a ring's blade amplitudes over a speed band (`ring --speeds ...
 --plot`) and its branches of periodic steady states (`ring --speeds ... --branches --plot`)."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -39,24 +40,56 @@ def ring_sweep(path: str | Path, r: Any, tuned: Any, title: str) -> Path:
     for d, a in r.amplitudes_m.items():
         N = a.shape[1]
         for i in range(N):
-            ax.plot(r.speeds_rpm, a[:, i] * 1e3, styles[d], marker=".", lw=1, color=colors(i / max(N - 1, 1)),
-                    label=f"blade {i}" if d == next(iter(r.amplitudes_m)) and (N <= 10 or i in (0, N - 1)) else None)
+            ax.plot(
+                r.speeds_rpm,
+                a[:, i] * 1e3,
+                styles[d],
+                marker=".",
+                lw=1,
+                color=colors(i / max(N - 1, 1)),
+                label=f"blade {i}" if d == next(iter(r.amplitudes_m)) and (N <= 10 or i in (0, N - 1)) else None,
+            )
         bad = ~r.settled[d].all(axis=1)
         if bad.any():
-            ax.plot(r.speeds_rpm[bad], a[bad].max(axis=1) * 1e3, "x", color="k", ms=7,
-                    label="not settled" if d == next(iter(r.amplitudes_m)) else None)
+            ax.plot(
+                r.speeds_rpm[bad],
+                a[bad].max(axis=1) * 1e3,
+                "x",
+                color="k",
+                ms=7,
+                label="not settled" if d == next(iter(r.amplitudes_m)) else None,
+            )
     for d in r.amplitudes_m:
         pts = [(x["speed_rpm"], max(x["amplitudes_m"])) for x in r.refinement if x["direction"] == d and x["settled"]]
         if pts:
-            ax.plot(*np.array(pts).T * [[1], [1e3]], "o" if d == "up" else "s", ms=3, mfc="none", color="r",
-                    label=f"peak refinement ({d}), largest blade")
+            ax.plot(
+                *np.array(pts).T * [[1], [1e3]],
+                "o" if d == "up" else "s",
+                ms=3,
+                mfc="none",
+                color="r",
+                label=f"peak refinement ({d}), largest blade",
+            )
     if tuned is not None:
         for d, a in tuned.amplitudes_m.items():
-            ax.plot(tuned.speeds_rpm, a.max(axis=1) * 1e3, styles[d], color="0.4", lw=2.5, alpha=0.6,
-                    label=f"tuned ring, largest blade ({d})")
+            ax.plot(
+                tuned.speeds_rpm,
+                a.max(axis=1) * 1e3,
+                styles[d],
+                color="0.4",
+                lw=2.5,
+                alpha=0.6,
+                label=f"tuned ring, largest blade ({d})",
+            )
     if r.peak_direction:
-        ax.plot([r.peak_speed_rpm], [r.peak_amplitude_m * 1e3], "*", color="red", ms=14,
-                label=f"peak {r.peak_amplitude_m * 1e3:.4f} mm at {r.peak_speed_rpm:.0f} rpm ({r.peak_direction})")
+        ax.plot(
+            [r.peak_speed_rpm],
+            [r.peak_amplitude_m * 1e3],
+            "*",
+            color="red",
+            ms=14,
+            label=f"peak {r.peak_amplitude_m * 1e3:.4f} mm at {r.peak_speed_rpm:.0f} rpm ({r.peak_direction})",
+        )
     if len(r.amplitudes_m) > 1:
         ax.plot([], [], "k-", label="sweep up")
         ax.plot([], [], "k--", label="sweep down")
@@ -81,17 +114,30 @@ def ring_branches(path: str | Path, out: dict[str, Any], title: str) -> Path:
         c = colors(k % 10)
         for i in range(len(S) - 1):
             both = bool(st[i] and st[i + 1])
-            ax.plot(S[i:i + 2], A[i:i + 2], "-" if both else "--", color=c, lw=1.8 if both else 0.9)
+            ax.plot(S[i : i + 2], A[i : i + 2], "-" if both else "--", color=c, lw=1.8 if both else 0.9)
         for x in b["bifurcations"]:
-            ax.plot([x["speed_rpm"]], [x["amplitude_m"] * 1e3], "o" if x["kind"] == "fold" else "d", ms=4,
-                    mfc="none", color=c)
+            ax.plot(
+                [x["speed_rpm"]],
+                [x["amplitude_m"] * 1e3],
+                "o" if x["kind"] == "fold" else "d",
+                ms=4,
+                mfc="none",
+                color=c,
+            )
     sw = out.get("sweep")
     if sw:
         S = np.array(sw["speeds_rpm"])
         for d, a in sw["amplitudes_m"].items():
             a, ok = np.array(a), np.array(sw["settled"][d]).all(axis=1)
-            ax.plot(S[ok], a[ok].max(axis=1) * 1e3, "^" if d == "up" else "v", ms=6, color="k", mfc="none",
-                    label=f"sweep {d}: settled, largest blade")
+            ax.plot(
+                S[ok],
+                a[ok].max(axis=1) * 1e3,
+                "^" if d == "up" else "v",
+                ms=6,
+                color="k",
+                mfc="none",
+                label=f"sweep {d}: settled, largest blade",
+            )
     if out.get("peak_stable_amplitude_m") is not None:
         a, s = out["peak_stable_amplitude_m"], out["peak_stable_speed_rpm"]
         ax.plot([s], [a * 1e3], "*", color="red", ms=14, label=f"largest stable: {a * 1e3:.4f} mm at {s:.0f} rpm")

@@ -10,6 +10,7 @@ point (section 4). Written per study: `<fig>_<key>_branches.csv` (one row per or
 value, a StudySummary per study and a CoulombComparison per section-4 study (results/summary.json,
 the claims table).
 """
+
 from __future__ import annotations
 
 import math
@@ -28,9 +29,15 @@ MODELS = ("fixedPoint", "jenkins")  # drawn for every study
 COULOMB_STUDIES = ("kn", "angle")  # section 4: + the Coulomb DF's fixed point
 
 
-def curve_tasks(studies: Mapping[str, Any], values: Mapping[str, Sequence[float]], base: Mapping[str, Any],
-                speed_range: tuple[float, float], seed_step: float, fmu_path: str | None,
-                coulomb: bool) -> list[CurveTask]:
+def curve_tasks(
+    studies: Mapping[str, Any],
+    values: Mapping[str, Sequence[float]],
+    base: Mapping[str, Any],
+    speed_range: tuple[float, float],
+    seed_step: float,
+    fmu_path: str | None,
+    coulomb: bool,
+) -> list[CurveTask]:
     """One task per (study, value, model)."""
     out = []
     settings = BranchSettings(seed_step=seed_step)
@@ -49,9 +56,9 @@ def _stack(rows: list[tuple[float, np.ndarray]]) -> np.ndarray:
     out = np.zeros(sum(len(a) for _, a in rows), dtype=dt)
     i = 0
     for v, a in rows:
-        out["value"][i:i + len(a)] = v
+        out["value"][i : i + len(a)] = v
         for n in a.dtype.names:
-            out[n][i:i + len(a)] = a[n]
+            out[n][i : i + len(a)] = a[n]
         i += len(a)
     return out
 
@@ -108,8 +115,15 @@ def study_row(value: float, curves: Mapping[str, Curve], hb_peak: tuple[float, f
     `curves` holds the fixed point and the Jenkins element, and the Coulomb DF if it was traced."""
     fp, jk = curve_summary(curves["fixedPoint"]), curve_summary(curves["jenkins"])
     co = _model_numbers(curve_summary(curves["coulomb"])) if "coulomb" in curves else ()
-    return StudyRow(value, *_model_numbers(fp), *_model_numbers(jk), *hb_peak,
-                    (fp.peak - jk.peak) / jk.peak if jk.peak > 0 else math.nan, fp.speed - jk.speed, *co)
+    return StudyRow(
+        value,
+        *_model_numbers(fp),
+        *_model_numbers(jk),
+        *hb_peak,
+        (fp.peak - jk.peak) / jk.peak if jk.peak > 0 else math.nan,
+        fp.speed - jk.speed,
+        *co,
+    )
 
 
 @dataclass(frozen=True)
@@ -141,35 +155,68 @@ class CoulombComparison:
     coulomb: PeakSeries
 
 
-SUMMARY_KEYS = ("value", "fp_peak", "fp_speed", "fp_jump", "fp_peak_any", "jenkins_peak", "jenkins_speed",
-                "jenkins_jump", "hb_peak", "hb_speed", "df_vs_jenkins_peak", "df_vs_jenkins_speed")
+SUMMARY_KEYS = (
+    "value",
+    "fp_peak",
+    "fp_speed",
+    "fp_jump",
+    "fp_peak_any",
+    "jenkins_peak",
+    "jenkins_speed",
+    "jenkins_jump",
+    "hb_peak",
+    "hb_speed",
+    "df_vs_jenkins_peak",
+    "df_vs_jenkins_speed",
+)
 
 
-def write_study(out: Any, st: Any, curves: Mapping[float, Mapping[str, Curve]],
-                hb: Mapping[float, np.ndarray], hb_peaks: Mapping[float, tuple[float, float]]) -> StudySummary:
+def write_study(
+    out: Any,
+    st: Any,
+    curves: Mapping[float, Mapping[str, Curve]],
+    hb: Mapping[float, np.ndarray],
+    hb_peaks: Mapping[float, tuple[float, float]],
+) -> StudySummary:
     """CSV + PNG of one study; returns its summary (rows per value). hb_peaks: the located stable
     HB peak (B [m], speed [rpm]) per value (harness.analysis.curves.hb_stable_peak)."""
     stem = f"{st.figure}_{st.key}"
     values = sorted(curves)
     flat = [(v, m, b) for v in values for m in MODELS for b in curves[v][m].branches]
     write_branches_csv(out / f"{stem}_branches.csv", [b for _, _, b in flat], {"value": [v for v, _, _ in flat]})
-    write_csv(out / f"{stem}_hb.csv", _stack([(v, hb[v]) for v in values]),
-              f"{st.figure}: harmonic balance (reference, gating off), every branch; value = {st.param}; B [m]")
+    write_csv(
+        out / f"{stem}_hb.csv",
+        _stack([(v, hb[v]) for v in values]),
+        f"{st.figure}: harmonic balance (reference, gating off), every branch; value = {st.param}; B [m]",
+    )
     rows = [study_row(v, curves[v], hb_peaks[v]) for v in values]
-    tab = np.array([tuple(getattr(r, k) for k in SUMMARY_KEYS) for r in rows],
-                   dtype=[(k, "f8") for k in SUMMARY_KEYS])
-    write_csv(out / f"{stem}_summary.csv", tab,
-              f"{st.figure}: per {st.param}: largest stable max|q| [m] and its speed [rpm] of the fixed point "
-              "B = A(B) (fp) and the Jenkins element, the speed where that stable branch ends in a fold (jump), "
-              "the largest orbit stable or not (peak_any), the HB peak, and (fp - jenkins) / jenkins")
-    plots.study_branches(out / f"{stem}.png", f"Paper {st.figure.replace('fig', 'Fig. ')}: {st.xlabel}",
-                         [{"label": st.label(v), "branches": {m: curves[v][m].branches for m in MODELS},
-                           "hb": hb[v], "d": float(curves[v][MODELS[0]].task.params["d"])} for v in values])
+    tab = np.array([tuple(getattr(r, k) for k in SUMMARY_KEYS) for r in rows], dtype=[(k, "f8") for k in SUMMARY_KEYS])
+    write_csv(
+        out / f"{stem}_summary.csv",
+        tab,
+        f"{st.figure}: per {st.param}: largest stable max|q| [m] and its speed [rpm] of the fixed point "
+        "B = A(B) (fp) and the Jenkins element, the speed where that stable branch ends in a fold (jump), "
+        "the largest orbit stable or not (peak_any), the HB peak, and (fp - jenkins) / jenkins",
+    )
+    plots.study_branches(
+        out / f"{stem}.png",
+        f"Paper {st.figure.replace('fig', 'Fig. ')}: {st.xlabel}",
+        [
+            {
+                "label": st.label(v),
+                "branches": {m: curves[v][m].branches for m in MODELS},
+                "hb": hb[v],
+                "d": float(curves[v][MODELS[0]].task.params["d"]),
+            }
+            for v in values
+        ],
+    )
     return StudySummary(st.param, st.figure, values, rows)
 
 
-def write_coulomb(out: Any, studies: Mapping[str, Any],
-                  summaries: Mapping[str, StudySummary]) -> dict[str, CoulombComparison]:
+def write_coulomb(
+    out: Any, studies: Mapping[str, Any], summaries: Mapping[str, StudySummary]
+) -> dict[str, CoulombComparison]:
     """Section 4: peak and resonant speed of the macroslip and the Coulomb fixed point (branches),
     from the study summaries of the section-4 studies that were run."""
     rows: dict[str, CoulombComparison] = {}
@@ -183,15 +230,30 @@ def write_coulomb(out: Any, studies: Mapping[str, Any],
         xs = sorted(mac)
         rows[name] = CoulombComparison(
             x=xs if name == "kn" else [math.pi / v for v in xs],
-            xlabel=st.xlabel if name == "kn" else "contact angle = pi / x", log=name == "kn",
+            xlabel=st.xlabel if name == "kn" else "contact angle = pi / x",
+            log=name == "kn",
             macroslip=PeakSeries([mac[v].fp_peak for v in xs], [mac[v].fp_speed for v in xs]),
-            coulomb=PeakSeries([mac[v].coulomb_peak for v in xs], [mac[v].coulomb_speed for v in xs]))
+            coulomb=PeakSeries([mac[v].coulomb_peak for v in xs], [mac[v].coulomb_speed for v in xs]),
+        )
         for v in xs:
             table.append((name, v, mac[v].fp_peak, mac[v].fp_speed, mac[v].coulomb_peak, mac[v].coulomb_speed))
-    tab = np.array(table, dtype=[("study", "U5"), ("value", "f8"), ("macroslip_peak", "f8"),
-                                 ("macroslip_speed", "f8"), ("coulomb_peak", "f8"), ("coulomb_speed", "f8")])
-    write_csv(out / "section4_coulomb.csv", tab, "Section 4: largest stable max|q| [m] and its speed [rpm] of the "
-              "fixed point B = A(B) (periodic orbits of the FMU), macroslip vs Coulomb describing function")
+    tab = np.array(
+        table,
+        dtype=[
+            ("study", "U5"),
+            ("value", "f8"),
+            ("macroslip_peak", "f8"),
+            ("macroslip_speed", "f8"),
+            ("coulomb_peak", "f8"),
+            ("coulomb_speed", "f8"),
+        ],
+    )
+    write_csv(
+        out / "section4_coulomb.csv",
+        tab,
+        "Section 4: largest stable max|q| [m] and its speed [rpm] of the "
+        "fixed point B = A(B) (periodic orbits of the FMU), macroslip vs Coulomb describing function",
+    )
     if rows:
         plots.coulomb(out / "section4_coulomb.png", rows)
     return rows

@@ -1,5 +1,6 @@
 """The contact's stored energy in a ring of Jenkins contacts: the piece of the energy books that both
 the balance (energy.py) and the energy-conserving master (ring_conserving.py) need."""
+
 from __future__ import annotations
 
 import math
@@ -24,4 +25,4 @@ def spring_energy(cc: ContactConsts, q: np.ndarray, force_b: np.ndarray) -> np.n
     pen = np.maximum(np.abs(u) - cc.d, 0.0)
     fn = cc.kn * cg * np.sign(u) * pen  # eq. 3 (0 when open)
     ff = (force_b - fn * cg) / sg  # F_c = F_n cos g + F_f sin g (eq. 14), forceB = +F_c
-    return (0.5 * cc.kn * cg * cg * pen ** 2 + ff ** 2 / (2 * cc.kd)).sum(axis=1)
+    return (0.5 * cc.kn * cg * cg * pen**2 + ff**2 / (2 * cc.kd)).sum(axis=1)

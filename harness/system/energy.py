@@ -18,6 +18,7 @@ the acceptance residual; over a steady period dS, dU -> 0 and residual = -coupli
 `python -m harness ring-energy [--conserving]` prints both, relative to the aero work, vs h and
 order, for the plain master or the energy-conserving one (harness/system/ring_conserving.py).
 """
+
 from __future__ import annotations
 
 import math
@@ -60,8 +61,9 @@ class PeriodBalance:
         return self.aero - self.viscous - self.friction
 
 
-def balance(ring: Ring, res: Mapping[str, np.ndarray], periods: int = 1, shift: int = 0,
-            stride: int = 1) -> PeriodBalance:
+def balance(
+    ring: Ring, res: Mapping[str, np.ndarray], periods: int = 1, shift: int = 0, stride: int = 1
+) -> PeriodBalance:
     """The balance terms over `periods` excitation periods of a run(ring) result, ending `shift`
     recorded points before the run's end (a steady state is periodic: any phase will do); stride:
     the result keeps every stride-th communication point (harness/system/ring_c.py record_every)."""
@@ -72,21 +74,30 @@ def balance(ring: Ring, res: Mapping[str, np.ndarray], periods: int = 1, shift: 
     h = ring.step * stride  # spacing of the recorded points
     n = round(periods * T / h)  # recorded intervals in the window
     if abs(n * h - periods * T) > 1e-9 * T or 2 * n + shift > ring.n_steps // stride:
-        raise ValueError(f"the window ({periods} periods of {T:g} s) must be a whole number of recorded"
-                         f" intervals {h:g} s and the run at least two windows long")
+        raise ValueError(
+            f"the window ({periods} periods of {T:g} s) must be a whole number of recorded"
+            f" intervals {h:g} s and the run at least two windows long"
+        )
     b = ring.n_steps // stride - shift
     a = b - n
     g = galerkin(validate(dict(ring.blade)))
     K0 = g.K0(2 * math.pi * ring.speed / 60)
     q, v = res["q"], res["v"]
-    S = (0.5 * g.M * v ** 2 + 0.5 * K0 * q ** 2).sum(axis=1)
+    S = (0.5 * g.M * v**2 + 0.5 * K0 * q**2).sum(axis=1)
     U = spring_energy(contact_consts(dict(ring.contact)), q, res["forceB"])
     d = lambda x: float(np.sum(x[b]) - np.sum(x[a]))  # noqa: E731
-    amp = lambda k0, k1: np.abs(q[k0:k1 + 1]).max(axis=0)  # noqa: E731
+    amp = lambda k0, k1: np.abs(q[k0 : k1 + 1]).max(axis=0)  # noqa: E731
     A1, A0 = amp(a, b), amp(a - n, a)
     dS, dE, dW = d(S), d(res["E"]), d(res["W"])
-    return PeriodBalance(aero=dS + dE - dW, viscous=dE, friction=d(res["Ec"]), contact_work=dW, stored=dS,
-                         springs=d(U), amplitude_change=float(np.max(np.abs(A1 - A0) / A1)))
+    return PeriodBalance(
+        aero=dS + dE - dW,
+        viscous=dE,
+        friction=d(res["Ec"]),
+        contact_work=dW,
+        stored=dS,
+        springs=d(U),
+        amplitude_change=float(np.max(np.abs(A1 - A0) / A1)),
+    )
 
 
 def measure(ring: Ring, periods: int = 1, conserving: bool = False) -> tuple[PeriodBalance, float]:
@@ -97,8 +108,9 @@ def measure(ring: Ring, periods: int = 1, conserving: bool = False) -> tuple[Per
     return balance(ring, res, periods), time.perf_counter() - t0
 
 
-def step_study(stop: float, orders: Sequence[int], steps: Sequence[float], conserving: bool = False
-               ) -> Iterator[tuple[int, float, PeriodBalance | None, float]]:
+def step_study(
+    stop: float, orders: Sequence[int], steps: Sequence[float], conserving: bool = False
+) -> Iterator[tuple[int, float, PeriodBalance | None, float]]:
     """The study ring (STUDY_RING) run to `stop` at every extrapolation order and communication
     step: (order, step, balance over the last period or None where an FMU refused a step (the run
     diverged), wall time [s])."""

@@ -11,6 +11,7 @@ Blade i (one-mode Galerkin constants of harness.model.galerkin, constant speed O
     (diag(K_i - omega^2 M_i + i omega C_i) + k_c L) Q = (G_i F_w0 e^{i phi_i}),  L the ring's Laplacian,
 and the blade amplitudes are |Q_i|.
 """
+
 from __future__ import annotations
 
 import math
@@ -42,8 +43,9 @@ def kn_for(k_c: float, contact: Mapping[str, Any] | None = None) -> float:
 
 def blade_constants(ring: Ring) -> list:
     """The Galerkin constants (harness.model.galerkin.Galerkin) of every blade of the ring."""
-    return [galerkin(validate({k: v for k, v in ring.blade_params(i).items() if k in BLADE_KEYS}))
-            for i in range(ring.n)]
+    return [
+        galerkin(validate({k: v for k, v in ring.blade_params(i).items() if k in BLADE_KEYS})) for i in range(ring.n)
+    ]
 
 
 class LinearRing:
@@ -56,11 +58,16 @@ class LinearRing:
             raise ValueError(f"the closed form needs the linear contact {LINEAR_CONTACT}, the ring has {bad}")
         N, self.eo = ring.n, ring.engine_order
         gs = blade_constants(ring)
-        self.M, self.C, self.Ks, self.Kw = (np.array([getattr(g, a) for g in gs]) for a in
-                                            ("M", "C0", "K0static", "K0omega2"))
+        self.M, self.C, self.Ks, self.Kw = (
+            np.array([getattr(g, a) for g in gs]) for a in ("M", "C0", "K0static", "K0omega2")
+        )
         eye = np.eye(N)
-        self.KL = coupling_stiffness(c) * (2 * eye - np.roll(eye, 1, axis=1) - np.roll(eye, -1, axis=1))  # N = 2: two contacts
-        self.force = np.array([g.loadGain * ring.fw0 * np.exp(2j * math.pi * self.eo * i / N) for i, g in enumerate(gs)])
+        self.KL = coupling_stiffness(c) * (
+            2 * eye - np.roll(eye, 1, axis=1) - np.roll(eye, -1, axis=1)
+        )  # N = 2: two contacts
+        self.force = np.array(
+            [g.loadGain * ring.fw0 * np.exp(2j * math.pi * self.eo * i / N) for i, g in enumerate(gs)]
+        )
 
     def amplitudes(self, speeds: Sequence[float] | np.ndarray) -> np.ndarray:
         """|Q_i| [m] per speed [rpm] (rows) and blade (columns)."""
@@ -77,8 +84,9 @@ class LinearRing:
         a = self.amplitudes(speeds).max(axis=1)
         k = int(np.argmax(a))
         lo, hi = speeds[max(k - 1, 0)], speeds[min(k + 1, points - 1)]
-        r = minimize_scalar(lambda n: -self.amplitudes(n).max(), bounds=(lo, hi), method="bounded",
-                            options={"xatol": 1e-6})
+        r = minimize_scalar(
+            lambda n: -self.amplitudes(n).max(), bounds=(lo, hi), method="bounded", options={"xatol": 1e-6}
+        )
         return -float(r.fun), float(r.x)
 
 
@@ -88,8 +96,9 @@ def response(ring: Ring, speeds: Sequence[float] | np.ndarray) -> np.ndarray:
     return LinearRing(ring).amplitudes(speeds)
 
 
-def worst_mistuning(ring: Ring, band: tuple[float, float], spread: float = 0.1, seed: int = 1,
-                    maxiter: int = 60, popsize: int = 15) -> tuple[float, np.ndarray]:
+def worst_mistuning(
+    ring: Ring, band: tuple[float, float], spread: float = 0.1, seed: int = 1, maxiter: int = 60, popsize: int = 15
+) -> tuple[float, np.ndarray]:
     """The largest amplification over zero-mean stiffness patterns EI_i = EI (1 + d_i), |d_i| <=
     spread (before removing the mean), found by differential evolution (scipy): (amplification =
     the mistuned ring's peak over `band` / the tuned ring's, d). Zero mean, as in Whitehead's
@@ -104,6 +113,13 @@ def worst_mistuning(ring: Ring, band: tuple[float, float], spread: float = 0.1, 
         lin.Ks = Ks0 * (1 + x - np.mean(x))
         return -lin.peak(band, 600)[0] / tuned
 
-    best = differential_evolution(negative_amplification, [(-spread, spread)] * ring.n, maxiter=maxiter,
-                                  popsize=popsize, seed=seed, tol=1e-8, polish=True)
+    best = differential_evolution(
+        negative_amplification,
+        [(-spread, spread)] * ring.n,
+        maxiter=maxiter,
+        popsize=popsize,
+        seed=seed,
+        tol=1e-8,
+        polish=True,
+    )
     return -float(best.fun), best.x - np.mean(best.x)

@@ -26,6 +26,7 @@ held velocities), read before its inputs are set to the new q, v. The FMUs then 
 libcosim's work (tests/system/test_ring_libcosim.py: equal to libcosim and Ecos).
 The command is `python -m harness ring` (harness/cli/ring.py).
 """
+
 from __future__ import annotations
 
 import math
@@ -90,8 +91,13 @@ class Ring:
         0 when Excitation FMUs feed aeroLoad: the FMU's default would add a second load)."""
         if self.load == "excitation":
             return {**self.blade_params(i), "Fw0": 0.0}
-        return {**self.blade_params(i), "Fw0": float(self.fw0), "bladeIndex": i, "bladeCount": self.n,
-                "engineOrder": int(self.engine_order)}
+        return {
+            **self.blade_params(i),
+            "Fw0": float(self.fw0),
+            "bladeIndex": i,
+            "bladeCount": self.n,
+            "engineOrder": int(self.engine_order),
+        }
 
     @property
     def omega(self) -> float:
@@ -119,7 +125,7 @@ class _History:
     def push(self, y: np.ndarray) -> np.ndarray:
         """Adds y (at t_k); returns derivatives 1..p at t_k, shape (p, size) (lower order at the start)."""
         self.buf.insert(0, np.array(y, dtype=float))
-        del self.buf[self.p + 1:]
+        del self.buf[self.p + 1 :]
         q = len(self.buf) - 1
         out = np.zeros((self.p, len(y)))
         if q > 0:
@@ -129,15 +135,21 @@ class _History:
 
 def diverged_message(ring: Ring, k: int, t: float, blade: int, q: float, master: str) -> str:
     """One line: where the ring blew up and what to change."""
-    hint = ("raise --order (the input derivatives' extrapolation, now 0) or " if ring.order == 0 and
-            ring.coupling == "feedthrough" and master in ("fmpy", "c") else "")  # libcosim, Ecos hold inputs
-    return (f"ring ({master}) diverged at step {k} (t = {t:.6g} s): blade {blade} |q| = {abs(q):.3g} m > "
-            f"{ring.q_limit:g} m; {hint}reduce --step (now {ring.step:g} s; the Jacobi coupling of "
-            f"stiff contacts is stable only below a step that depends on kn and the extrapolation order)")
+    hint = (
+        "raise --order (the input derivatives' extrapolation, now 0) or "
+        if ring.order == 0 and ring.coupling == "feedthrough" and master in ("fmpy", "c")
+        else ""
+    )  # libcosim, Ecos hold inputs
+    return (
+        f"ring ({master}) diverged at step {k} (t = {t:.6g} s): blade {blade} |q| = {abs(q):.3g} m > "
+        f"{ring.q_limit:g} m; {hint}reduce --step (now {ring.step:g} s; the Jacobi coupling of "
+        f"stiff contacts is stable only below a step that depends on kn and the extrapolation order)"
+    )
 
 
-def run(ring: Ring, record_inputs: bool = False, correction: Callable[..., float] | None = None
-        ) -> dict[str, np.ndarray]:
+def run(
+    ring: Ring, record_inputs: bool = False, correction: Callable[..., float] | None = None
+) -> dict[str, np.ndarray]:
     """Runs the ring from rest; returns time [s] and, per blade (columns), q, v, dissipatedEnergy,
     contactWork, contactForce (the input set at t_k), the contacts' forceA, forceB, dissipatedEnergy,
     contactState, all at the communication points t_0..t_K (inputs and forces: those set/read at t_k,
@@ -175,8 +187,11 @@ def run(ring: Ring, record_inputs: bool = False, correction: Callable[..., float
             bad = np.flatnonzero(~(np.abs(q) <= ring.q_limit))
             if bad.size:
                 raise RingDiverged(diverged_message(ring, k, t, int(bad[0]), float(q[bad[0]]), "fmpy"))
-            ex = (np.array([e.s.get_real(ev) for e in excs]) if excs
-                  else np.column_stack([np.zeros(N), np.full(N, ring.speed)]))
+            ex = (
+                np.array([e.s.get_real(ev) for e in excs])
+                if excs
+                else np.column_stack([np.zeros(N), np.full(N, ring.speed)])
+            )
             dv = hv.push(v)
             da = ha.push(ex[:, 0]) if excs else None
             fA, fB = np.zeros(N), np.zeros(N)
@@ -187,8 +202,9 @@ def run(ring: Ring, record_inputs: bool = False, correction: Callable[..., float
                     res["state"][k, j] = c.s.get_integer([c_state])[0]
                 c.s.set_real(c_in, [q[a], v[a], q[b], v[b], ex[a, 1]])
                 if p > 0:
-                    _set_derivatives(c, [c_in[1]] * p + [c_in[3]] * p, list(range(1, p + 1)) * 2,
-                                     list(dv[:, a]) + list(dv[:, b]))
+                    _set_derivatives(
+                        c, [c_in[1]] * p + [c_in[3]] * p, list(range(1, p + 1)) * 2, list(dv[:, a]) + list(dv[:, b])
+                    )
                 if not (after_step and k > 0):  # feedthrough at the q, v just set
                     fA[j], fB[j], res["Ec"][k, j] = c.s.get_real(c_out)
                     res["state"][k, j] = c.s.get_integer([c_state])[0]
@@ -208,8 +224,12 @@ def run(ring: Ring, record_inputs: bool = False, correction: Callable[..., float
                 if excs:
                     bl.s.set_real(b_in, [ex[i, 0], ex[i, 1], force[i]])
                     if p > 0:
-                        _set_derivatives(bl, [b_in[0]] * p + [b_in[2]] * p, list(range(1, p + 1)) * 2,
-                                         list(da[:, i]) + list(df[:, i]))
+                        _set_derivatives(
+                            bl,
+                            [b_in[0]] * p + [b_in[2]] * p,
+                            list(range(1, p + 1)) * 2,
+                            list(da[:, i]) + list(df[:, i]),
+                        )
                 else:
                     bl.s.set_real(b_in, [ring.speed, force[i]])
                     if p > 0:

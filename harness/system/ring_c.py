@@ -8,6 +8,7 @@ of steps at a rotor speed (a speed sweep steps rotorSpeed between calls; built-i
 restarts, as at t_0), `save`/`restore` keep and put back the whole state (FMU states and the
 master's histories).
 """
+
 from __future__ import annotations
 
 import ctypes as C
@@ -25,8 +26,13 @@ from harness.system.ring_instances import open_ring
 LIBRARY = BUILD_DIR / "libring_master.so"
 MAX_ORDER = 4  # RING_MAX_ORDER
 _FUNCTIONS = ("fmi2GetReal", "fmi2SetReal", "fmi2GetInteger", "fmi2SetRealInputDerivatives", "fmi2DoStep")
-_FAILED = {1: "a bad setup", 2: "an fmi2Get call", 3: "an fmi2SetReal call", 4: "fmi2SetRealInputDerivatives",
-           5: "fmi2DoStep"}
+_FAILED = {
+    1: "a bad setup",
+    2: "an fmi2Get call",
+    3: "an fmi2SetReal call",
+    4: "fmi2SetRealInputDerivatives",
+    5: "fmi2DoStep",
+}
 _DIVERGED = 6
 _RECORDS = ("q", "v", "E", "W", "contactForce", "forceA", "forceB", "Ec", "state")
 
@@ -36,15 +42,35 @@ class _Api(C.Structure):
 
 
 class _Setup(C.Structure):
-    _fields_ = [("n", C.c_int), ("first", C.c_int), ("last", C.c_int), ("finish", C.c_int), ("order", C.c_int),
-                ("afterStep", C.c_int), ("timeDoSteps", C.c_int), ("recordEvery", C.c_int),
-                ("stepNs", C.c_longlong), ("baseNs", C.c_longlong), ("baseK", C.c_int), ("rpm", C.c_double),
-                ("qLimit", C.c_double),
-                ("weights", C.POINTER(C.c_double)), ("blade", _Api), ("contact", _Api), ("excitation", _Api),
-                ("blades", C.POINTER(C.c_void_p)), ("contacts", C.POINTER(C.c_void_p)),
-                ("excitations", C.POINTER(C.c_void_p)), ("bladeOut", C.c_uint * 4), ("excitationOut", C.c_uint * 2),
-                ("contactIn", C.c_uint * 5), ("contactOut", C.c_uint * 3), ("contactState", C.c_uint),
-                ("bladeIn", C.c_uint * 3), ("exactStep", C.c_double)]
+    _fields_ = [
+        ("n", C.c_int),
+        ("first", C.c_int),
+        ("last", C.c_int),
+        ("finish", C.c_int),
+        ("order", C.c_int),
+        ("afterStep", C.c_int),
+        ("timeDoSteps", C.c_int),
+        ("recordEvery", C.c_int),
+        ("stepNs", C.c_longlong),
+        ("baseNs", C.c_longlong),
+        ("baseK", C.c_int),
+        ("rpm", C.c_double),
+        ("qLimit", C.c_double),
+        ("weights", C.POINTER(C.c_double)),
+        ("blade", _Api),
+        ("contact", _Api),
+        ("excitation", _Api),
+        ("blades", C.POINTER(C.c_void_p)),
+        ("contacts", C.POINTER(C.c_void_p)),
+        ("excitations", C.POINTER(C.c_void_p)),
+        ("bladeOut", C.c_uint * 4),
+        ("excitationOut", C.c_uint * 2),
+        ("contactIn", C.c_uint * 5),
+        ("contactOut", C.c_uint * 3),
+        ("contactState", C.c_uint),
+        ("bladeIn", C.c_uint * 3),
+        ("exactStep", C.c_double),
+    ]
 
 
 class _Record(C.Structure):
@@ -59,8 +85,15 @@ def _library() -> C.CDLL:
     if _lib is None:
         build(("ring_master",))
         _lib = C.CDLL(str(LIBRARY))
-        _lib.ringRun.argtypes = [C.POINTER(_Setup), C.POINTER(_Record), C.POINTER(C.c_double), C.POINTER(C.c_int),
-                                 C.POINTER(C.c_int), C.POINTER(C.c_int), C.POINTER(C.c_double)]
+        _lib.ringRun.argtypes = [
+            C.POINTER(_Setup),
+            C.POINTER(_Record),
+            C.POINTER(C.c_double),
+            C.POINTER(C.c_int),
+            C.POINTER(C.c_int),
+            C.POINTER(C.c_int),
+            C.POINTER(C.c_double),
+        ]
         _lib.ringRun.restype = C.c_int
     return _lib
 
@@ -97,10 +130,19 @@ class CRing:
         self._W = np.ascontiguousarray(weights(p, ring.step))
         groups = (self.blades, self.contacts, self.excs)
         self._handles = [(C.c_void_p * N)(*(x.s.c for x in g)) if g else None for g in groups]
-        s = self.setup = _Setup(n=N, order=p, afterStep=int(ring.coupling == "libcosim"),
-                                timeDoSteps=int(time_dosteps), stepNs=to_ns(ring.step), qLimit=ring.q_limit,
-                                weights=_ptr(self._W), blade=_api(b0), contact=_api(c0),
-                                blades=self._handles[0], contacts=self._handles[1])
+        s = self.setup = _Setup(
+            n=N,
+            order=p,
+            afterStep=int(ring.coupling == "libcosim"),
+            timeDoSteps=int(time_dosteps),
+            stepNs=to_ns(ring.step),
+            qLimit=ring.q_limit,
+            weights=_ptr(self._W),
+            blade=_api(b0),
+            contact=_api(c0),
+            blades=self._handles[0],
+            contacts=self._handles[1],
+        )
         if self.excs:
             e0 = self.excs[0]
             s.excitation, s.excitations = _api(e0), self._handles[2]
@@ -155,8 +197,9 @@ class CRing:
         self._W[:] = weights(self.ring.order, h)
         self._filled[:] = (0, 0, 0)
 
-    def advance(self, steps: int, rpm: float | None = None, record_every: int = 1, finish: bool = False
-                ) -> dict[str, np.ndarray]:
+    def advance(
+        self, steps: int, rpm: float | None = None, record_every: int = 1, finish: bool = False
+    ) -> dict[str, np.ndarray]:
         """Runs points k..k+steps-1 with their steps (and point k+steps, not stepped, with finish)
         at rotor speed rpm (built-in load; default: the last one); returns the records of the kept
         points (every record_every-th from k) and their times; raises RingDiverged or RuntimeError."""
@@ -173,8 +216,9 @@ class CRing:
         s.first, s.last, s.finish, s.recordEvery, s.rpm = k0, k0 + steps, int(finish), record_every, self.rpm
         rec = _Record(*(_ptr(res[k]) for k in _RECORDS))
         step, fmu, inside = C.c_int(0), C.c_int(-1), C.c_double(0.0)
-        rc = self._lib.ringRun(C.byref(s), C.byref(rec), _ptr(self._work), self._filled, C.byref(step),
-                               C.byref(fmu), C.byref(inside))
+        rc = self._lib.ringRun(
+            C.byref(s), C.byref(rec), _ptr(self._work), self._filled, C.byref(step), C.byref(fmu), C.byref(inside)
+        )
         self.inside += inside.value
         if rc == _DIVERGED:
             row = (step.value - k0) // record_every
@@ -186,8 +230,10 @@ class CRing:
             who = [*self.blades, *self.contacts, *self.excs][fmu.value] if fmu.value >= 0 else None
             name = who.s.name if who else "the setup"
             said = "; ".join(who.messages) if who and who.messages else "no message"
-            raise RuntimeError(f"ring (C loop): {_FAILED.get(rc, rc)} failed for {name} at t = "
-                               f"{self.time(step.value):.9g} s (step {step.value}): {said}")
+            raise RuntimeError(
+                f"ring (C loop): {_FAILED.get(rc, rc)} failed for {name} at t = "
+                f"{self.time(step.value):.9g} s (step {step.value}): {said}"
+            )
         self.k = k0 + steps
         res["time"] = np.array([self.time(k) for k in range(k0, k0 + steps + int(finish), record_every)][:rows])
         return res
@@ -200,8 +246,16 @@ class CRing:
         for x, h in zip((*self.blades, *self.contacts), fmus):
             self._stack.callback(x.s.free_fmu_state, h)
         s = self.setup
-        return (self.k, self.rpm, fmus, self._work.copy(), tuple(self._filled), (s.stepNs, s.baseNs, s.baseK),
-                self.ring, self._W.copy())
+        return (
+            self.k,
+            self.rpm,
+            fmus,
+            self._work.copy(),
+            tuple(self._filled),
+            (s.stepNs, s.baseNs, s.baseK),
+            self.ring,
+            self._W.copy(),
+        )
 
     def restore(self, state: tuple) -> None:
         self.k, self.rpm, fmus, work, filled, (step_ns, base_ns, base_k), self.ring, W = state

@@ -19,6 +19,7 @@ coefficient C0 (the correction never exceeds the blade's own damping; the cap is
 The corrections are not equal and opposite pairs: the blades' contact forces no longer sum to 0.
 Everything else is ring.run's loop (it calls `correction` after reading the forces).
 """
+
 from __future__ import annotations
 
 from math import factorial

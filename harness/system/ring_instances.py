@@ -2,6 +2,7 @@
 travelling wave: bladeIndex i of bladeCount N), N ShroudContact contacts (and, with load
 "excitation", N Excitation instances making the load instead), initialised and freed together,
 with the communication points both masters use (libcosim's integer nanoseconds)."""
+
 from __future__ import annotations
 
 from contextlib import contextmanager
@@ -50,15 +51,28 @@ def open_ring(ring) -> Iterator[tuple[np.ndarray, list[Slave], list[Slave], list
     try:
         blades = [BX.instance(f"blade{i}", ring.blade_instance_params(i), inputs=speed) for i in range(N)]
         made += blades
-        contacts = [SC.instance(f"contact{j}", {**dict(ring.contact), "engineOrder": ring.engine_order}, inputs=speed)
-                    for j in range(N)]
+        contacts = [
+            SC.instance(f"contact{j}", {**dict(ring.contact), "engineOrder": ring.engine_order}, inputs=speed)
+            for j in range(N)
+        ]
         made += contacts
         excs = []
         if excited:
             EX = worker_unpacked(EXCITATION_FMU)
-            excs = [EX.instance(f"exc{i}", {"Fw0": ring.fw0, "n0": ring.speed, "n1": ring.speed,
-                                            "engineOrder": ring.engine_order, "bladeIndex": i, "bladeCount": N})
-                    for i in range(N)]
+            excs = [
+                EX.instance(
+                    f"exc{i}",
+                    {
+                        "Fw0": ring.fw0,
+                        "n0": ring.speed,
+                        "n1": ring.speed,
+                        "engineOrder": ring.engine_order,
+                        "bladeIndex": i,
+                        "bladeCount": N,
+                    },
+                )
+                for i in range(N)
+            ]
         made += excs
         yield ns_time_grid(0.0, ring.step, ring.n_steps), blades, contacts, excs
     finally:

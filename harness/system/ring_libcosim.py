@@ -11,6 +11,7 @@ ring): excitation i -> blade i (aeroLoad, rotorSpeed), excitation j rotorSpeed -
 After a step the contact's outputs are those at the end of its step (u moved along the held
 velocities, harness/system/ring.py docs), so the blades get the force of the extrapolated u.
 """
+
 from __future__ import annotations
 
 import time
@@ -49,8 +50,10 @@ def run(ring: Ring) -> dict[str, np.ndarray]:
     }
     if excited:
         build(("excitation_fmu",))
-        params["exc"] = (EXCITATION_FMU, {"Fw0": ring.fw0, "n0": ring.speed, "n1": ring.speed,
-                                          "engineOrder": ring.engine_order, "bladeCount": N})
+        params["exc"] = (
+            EXCITATION_FMU,
+            {"Fw0": ring.fw0, "n0": ring.speed, "n1": ring.speed, "engineOrder": ring.engine_order, "bladeCount": N},
+        )
     var = {p: variables_by_name(p) for p, _ in params.values()}
     idx: dict[tuple[str, int], int] = {}
     keep = []
@@ -62,13 +65,20 @@ def run(ring: Ring) -> dict[str, np.ndarray]:
             if k < 0:
                 raise RuntimeError(f"libcosim could not load {path}: {last_error()}")
             idx[kind, i] = k
-            vals = ({**p, "bladeIndex": i} if kind == "exc" else {**ring.blade_instance_params(i), **speed}
-                    if kind == "blade" else p)
+            vals = (
+                {**p, "bladeIndex": i}
+                if kind == "exc"
+                else {**ring.blade_instance_params(i), **speed}
+                if kind == "blade"
+                else p
+            )
             for name, v in vals.items():
                 vr, typ = var[path][name]
-                ok = {"Real": lambda: ex.real_initial_value(k, vr, float(v)),
-                      "Integer": lambda: ex.integer_initial_value(k, vr, int(v)),
-                      "Boolean": lambda: ex.boolean_initial_value(k, vr, bool(v))}[typ]()
+                ok = {
+                    "Real": lambda: ex.real_initial_value(k, vr, float(v)),
+                    "Integer": lambda: ex.integer_initial_value(k, vr, int(v)),
+                    "Boolean": lambda: ex.boolean_initial_value(k, vr, bool(v)),
+                }[typ]()
                 if not ok:
                     raise RuntimeError(f"libcosim refused {kind}{i}.{name} = {v}: {last_error()}")
 
@@ -91,8 +101,12 @@ def run(ring: Ring) -> dict[str, np.ndarray]:
         connect(("contact", i), "forceB", ("blade", j), "contactForce")
     obs = CosimObserver.create_time_series(buffer_size=K + 16)
     ex.add_observer(observer=obs)
-    series = [("blade", "q", "tipDisplacement"), ("blade", "v", "tipVelocity"),
-              ("contact", "forceA", "forceA"), ("contact", "forceB", "forceB")]
+    series = [
+        ("blade", "q", "tipDisplacement"),
+        ("blade", "v", "tipVelocity"),
+        ("contact", "forceA", "forceA"),
+        ("contact", "forceB", "forceB"),
+    ]
     for kind, _, name in series:
         for i in range(N):
             if not obs.start_time_series(idx[kind, i], var[params[kind][0]][name][0], CosimVariableType.REAL):

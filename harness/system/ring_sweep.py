@@ -23,6 +23,7 @@ those, until the speeds are at most `speed_tol` rpm apart; the peak is the large
 then (no parabola: the tuned ring's peak is a cusp, steeper on one side, where a parabola's vertex
 overshoots). A largest sample at the band's edge is reported as it is (peak_at_band_edge).
 """
+
 from __future__ import annotations
 
 import math
@@ -83,7 +84,7 @@ class Settling:
     def add(self, amp: np.ndarray) -> None:
         if self.last is not None:
             r = np.abs(amp - self.last) / max(float(amp.max()), 1e-300)
-            self.changes = (self.changes + [r])[-self.periods:]
+            self.changes = (self.changes + [r])[-self.periods :]
             self.run = np.where(r < self.rtol, self.run + 1, 0)
         else:
             self.run = np.zeros(len(amp), dtype=int)
@@ -98,8 +99,9 @@ class Settling:
         return np.max(self.changes, axis=0) if self.changes else np.full(len(self.last), np.inf)
 
 
-def per_period_settling(time_s: np.ndarray, q: np.ndarray, omega: float, rtol: float = 1e-4,
-                        periods: int = 5) -> Settling:
+def per_period_settling(
+    time_s: np.ndarray, q: np.ndarray, omega: float, rtol: float = 1e-4, periods: int = 5
+) -> Settling:
     """The settle rule on a finished run (time, q per blade): the last `periods` + 1 whole windows
     of m = round(T / h) points before the last point; fewer if the run is shorter."""
     h = float(time_s[1] - time_s[0])
@@ -108,7 +110,7 @@ def per_period_settling(time_s: np.ndarray, q: np.ndarray, omega: float, rtol: f
     count = min(periods + 1, (len(q) - 2) // m)
     for w in range(count, 0, -1):
         end = len(q) - 1 - (w - 1) * m  # the window ends at row end - 1; row end is its right neighbour
-        st.add(window_amplitude(q[end - m - 1:end + 1]))
+        st.add(window_amplitude(q[end - m - 1 : end + 1]))
     return st
 
 
@@ -136,17 +138,29 @@ class _Sweeper:
             q = cr.advance(m, rpm)["q"]
             buf = q if prev is None else np.vstack([prev, q])
             if len(buf) >= m + 2:
-                st.add(window_amplitude(buf[-m - 2:]))  # window: rows -m-1 .. -2
+                st.add(window_amplitude(buf[-m - 2 :]))  # window: rows -m-1 .. -2
             prev = buf[-2:]
             spent = cr.time(cr.k) - t0
             if st.last is not None and (st.settled.all() or spent >= self.max_time):
                 return st.last, st.settled.copy(), st.movement, spent
 
 
-def sweep(ring: Ring, speeds_rpm: Sequence[float], direction: str = "up", master: str = "c", *,
-          rtol: float = 1e-4, periods: int = 5, max_time: float = 1.0, steps_per_period: int = 160,
-          step: float | None = None, refine: bool = True, speed_tol: float = 1.0, refine_points: int = 3,
-          on_settled: Callable[[CRing, str, float, float], None] | None = None) -> RingSweep:
+def sweep(
+    ring: Ring,
+    speeds_rpm: Sequence[float],
+    direction: str = "up",
+    master: str = "c",
+    *,
+    rtol: float = 1e-4,
+    periods: int = 5,
+    max_time: float = 1.0,
+    steps_per_period: int = 160,
+    step: float | None = None,
+    refine: bool = True,
+    speed_tol: float = 1.0,
+    refine_points: int = 3,
+    on_settled: Callable[[CRing, str, float, float], None] | None = None,
+) -> RingSweep:
     """Forced response of `ring` (its blades, contacts, load, order, coupling; its speed, step and
     stop time are replaced) at speeds_rpm, swept `direction` ("up", "down" or "both": up from rest
     at the lowest speed, then down from where it ended; "down" alone starts from rest at the
@@ -193,20 +207,42 @@ def sweep(ring: Ring, speeds_rpm: Sequence[float], direction: str = "up", master
             cand = (float(ok.max()), float(speeds[int(np.argmax(ok))]), d, int(np.argmax(amps[d][int(np.argmax(ok))])))
             at_edge = int(np.argmax(ok)) in (0, K - 1)
             if refine and not at_edge:
-                cand = _locate(sw, speeds, d, ok, np.argmax(amps[d], axis=1), saved[d], speed_tol,
-                               refine_points, refinement) or cand
+                cand = (
+                    _locate(
+                        sw, speeds, d, ok, np.argmax(amps[d], axis=1), saved[d], speed_tol, refine_points, refinement
+                    )
+                    or cand
+                )
             if cand[0] > best[0]:
                 best, edge = cand, at_edge
-    return RingSweep(speeds_rpm=speeds, amplitudes_m=amps, settled=settled, movement=movement,
-                     peak_amplitude_m=best[0] if best[2] else math.nan, peak_speed_rpm=best[1],
-                     wall_time_s=time.perf_counter() - t_start, peak_direction=best[2], peak_blade=best[3],
-                     peak_at_band_edge=edge,
-                     time_at_speed_s=spent, refinement=refinement,
-                     step_s=np.array([h if step is not None else period_step(ring, s, steps_per_period) for s in speeds]))
+    return RingSweep(
+        speeds_rpm=speeds,
+        amplitudes_m=amps,
+        settled=settled,
+        movement=movement,
+        peak_amplitude_m=best[0] if best[2] else math.nan,
+        peak_speed_rpm=best[1],
+        wall_time_s=time.perf_counter() - t_start,
+        peak_direction=best[2],
+        peak_blade=best[3],
+        peak_at_band_edge=edge,
+        time_at_speed_s=spent,
+        refinement=refinement,
+        step_s=np.array([h if step is not None else period_step(ring, s, steps_per_period) for s in speeds]),
+    )
 
 
-def _locate(sw: _Sweeper, speeds: np.ndarray, d: str, ok: np.ndarray, blades: np.ndarray, saved: list,
-            speed_tol: float, points: int, log: list) -> tuple | None:
+def _locate(
+    sw: _Sweeper,
+    speeds: np.ndarray,
+    d: str,
+    ok: np.ndarray,
+    blades: np.ndarray,
+    saved: list,
+    speed_tol: float,
+    points: int,
+    log: list,
+) -> tuple | None:
     """Refines the largest settled sample of direction d (ok: the largest blade amplitude per
     speed, -inf where not settled; blades: which blade), not at the band's edge; returns
     (amplitude, speed, d, blade)."""
@@ -225,8 +261,15 @@ def _locate(sw: _Sweeper, speeds: np.ndarray, d: str, ok: np.ndarray, blades: np
             amp, st, mv, spent = sw.settle(float(s))
             states[float(s)] = sw.cr.save()
             known[float(s)] = (float(amp.max()) if st.all() else -math.inf, int(np.argmax(amp)))
-            log.append({"direction": d, "speed_rpm": float(s), "amplitudes_m": amp.tolist(),
-                        "settled": bool(st.all()), "movement": float(mv.max())})
+            log.append(
+                {
+                    "direction": d,
+                    "speed_rpm": float(s),
+                    "amplitudes_m": amp.tolist(),
+                    "settled": bool(st.all()),
+                    "movement": float(mv.max()),
+                }
+            )
         seq = [a, *map(float, fine), b]  # visiting order
         i = int(np.argmax([known[s][0] for s in seq]))
         a, b = seq[max(i - 1, 0)], seq[min(i + 1, len(seq) - 1)]

@@ -5,6 +5,7 @@ error would surface as an unexplained fmi2Error in the middle of a run). The loa
 engineOrder are the ring's (every blade and contact gets them); its bladeIndex and bladeCount are
 set by the ring itself.
 """
+
 from __future__ import annotations
 
 import math
@@ -20,8 +21,15 @@ from harness.model.params import ParameterError
 from harness.system.ring import Ring
 
 # load parameters that the ring sets itself (constant speed, the blade's place in the ring)
-RING_OWNED = {"n0": "--speed", "n1": "--speed", "t0": "--speed (constant)", "t1": "--speed (constant)",
-              "bladeIndex": "the ring (blade i)", "bladeCount": "--blades", "rotorSpeed": "--speed"}
+RING_OWNED = {
+    "n0": "--speed",
+    "n1": "--speed",
+    "t0": "--speed (constant)",
+    "t1": "--speed (constant)",
+    "bladeIndex": "the ring (blade i)",
+    "bladeCount": "--blades",
+    "rotorSpeed": "--speed",
+}
 
 
 @lru_cache(maxsize=None)
@@ -33,10 +41,15 @@ def settable() -> dict[str, dict[str, tuple[str, float, float]]]:
     out: dict[str, dict[str, tuple[str, float, float]]] = {}
     for kind, path in (("blade", bx), ("contact", sc), ("excitation", EXCITATION_FMU)):
         md = read_model_description(str(path))
-        out[kind] = {v.name: (v.type, float(v.min) if v.min is not None else -math.inf,
-                              float(v.max) if v.max is not None else math.inf)
-                     for v in md.modelVariables
-                     if v.causality == "parameter" or (v.causality == "output" and v.initial == "exact")}
+        out[kind] = {
+            v.name: (
+                v.type,
+                float(v.min) if v.min is not None else -math.inf,
+                float(v.max) if v.max is not None else math.inf,
+            )
+            for v in md.modelVariables
+            if v.causality == "parameter" or (v.causality == "output" and v.initial == "exact")
+        }
     return out
 
 

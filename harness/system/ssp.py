@@ -9,6 +9,7 @@ load it. Every parameter set is named "initial": libcosim applies inline paramet
 whatever their name, Ecos only the set named at init.
 `python -m harness ring --blades 36 --write-ssp build/ring36` writes one.
 """
+
 from __future__ import annotations
 
 import shutil
@@ -30,12 +31,28 @@ SSD = "http://ssp-standard.org/SSP1/SystemStructureDescription"
 SSC = "http://ssp-standard.org/SSP1/SystemStructureCommon"
 SSV = "http://ssp-standard.org/SSP1/SystemStructureParameterValues"
 
-BLADE_IO = {"aeroLoad": "input", "rotorSpeed": "input", "contactForce": "input", "contactForce2": "input",
-            "tipDisplacement": "output", "tipVelocity": "output", "dissipatedEnergy": "output",
-            "contactWork": "output"}
-CONTACT_IO = {"displacementA": "input", "velocityA": "input", "displacementB": "input", "velocityB": "input",
-              "rotorSpeed": "input", "forceA": "output", "forceB": "output", "normalForce": "output",
-              "frictionForce": "output", "dissipatedEnergy": "output"}
+BLADE_IO = {
+    "aeroLoad": "input",
+    "rotorSpeed": "input",
+    "contactForce": "input",
+    "contactForce2": "input",
+    "tipDisplacement": "output",
+    "tipVelocity": "output",
+    "dissipatedEnergy": "output",
+    "contactWork": "output",
+}
+CONTACT_IO = {
+    "displacementA": "input",
+    "velocityA": "input",
+    "displacementB": "input",
+    "velocityB": "input",
+    "rotorSpeed": "input",
+    "forceA": "output",
+    "forceB": "output",
+    "normalForce": "output",
+    "frictionForce": "output",
+    "dissipatedEnergy": "output",
+}
 EXC_IO = {"aeroLoad": "output", "rotorSpeed": "output"}
 
 
@@ -45,15 +62,19 @@ def connections(n: int, excited: bool = False) -> list[tuple[str, str, str, str]
     for i in range(n):
         j = (i + 1) % n
         if excited:
-            out += [(f"exc{i}", "aeroLoad", f"blade{i}", "aeroLoad"),
-                    (f"exc{i}", "rotorSpeed", f"blade{i}", "rotorSpeed"),
-                    (f"exc{i}", "rotorSpeed", f"contact{i}", "rotorSpeed")]
-        out += [(f"blade{i}", "tipDisplacement", f"contact{i}", "displacementA"),
-                (f"blade{i}", "tipVelocity", f"contact{i}", "velocityA"),
-                (f"blade{j}", "tipDisplacement", f"contact{i}", "displacementB"),
-                (f"blade{j}", "tipVelocity", f"contact{i}", "velocityB"),
-                (f"contact{i}", "forceA", f"blade{i}", "contactForce2"),
-                (f"contact{i}", "forceB", f"blade{j}", "contactForce")]
+            out += [
+                (f"exc{i}", "aeroLoad", f"blade{i}", "aeroLoad"),
+                (f"exc{i}", "rotorSpeed", f"blade{i}", "rotorSpeed"),
+                (f"exc{i}", "rotorSpeed", f"contact{i}", "rotorSpeed"),
+            ]
+        out += [
+            (f"blade{i}", "tipDisplacement", f"contact{i}", "displacementA"),
+            (f"blade{i}", "tipVelocity", f"contact{i}", "velocityA"),
+            (f"blade{j}", "tipDisplacement", f"contact{i}", "displacementB"),
+            (f"blade{j}", "tipVelocity", f"contact{i}", "velocityB"),
+            (f"contact{i}", "forceA", f"blade{i}", "contactForce2"),
+            (f"contact{i}", "forceB", f"blade{j}", "contactForce"),
+        ]
     return out
 
 
@@ -66,17 +87,30 @@ def _value(v: Any) -> str:
 
 
 def _component(name: str, source: str, io: Mapping[str, str], params: Mapping[str, Any]) -> str:
-    conns = "".join(f'<ssd:Connector name={quoteattr(k)} kind="{kind}"><ssc:Real/></ssd:Connector>'
-                    for k, kind in io.items())
-    conns += "".join(f'<ssd:Connector name={quoteattr(k)} kind="parameter">'
-                     f'{"<ssc:Real/>" if isinstance(v, float) else ("<ssc:Boolean/>" if isinstance(v, bool) else "<ssc:Integer/>")}'
-                     f'</ssd:Connector>' for k, v in params.items() if k not in io)
-    pars = "".join(f'<ssv:Parameter name={quoteattr(k)}>{_value(v)}</ssv:Parameter>' for k, v in params.items())
-    binding = (f'<ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues>'
-               f'<ssv:ParameterSet version="1.0" name="initial"><ssv:Parameters>{pars}</ssv:Parameters></ssv:ParameterSet>'
-               f'</ssd:ParameterValues></ssd:ParameterBinding></ssd:ParameterBindings>') if params else ""
-    return (f'<ssd:Component name="{name}" source="{source}" type="application/x-fmu-sharedlibrary">'
-            f'<ssd:Connectors>{conns}</ssd:Connectors>{binding}</ssd:Component>')
+    conns = "".join(
+        f'<ssd:Connector name={quoteattr(k)} kind="{kind}"><ssc:Real/></ssd:Connector>' for k, kind in io.items()
+    )
+    conns += "".join(
+        f'<ssd:Connector name={quoteattr(k)} kind="parameter">'
+        f"{'<ssc:Real/>' if isinstance(v, float) else ('<ssc:Boolean/>' if isinstance(v, bool) else '<ssc:Integer/>')}"
+        f"</ssd:Connector>"
+        for k, v in params.items()
+        if k not in io
+    )
+    pars = "".join(f"<ssv:Parameter name={quoteattr(k)}>{_value(v)}</ssv:Parameter>" for k, v in params.items())
+    binding = (
+        (
+            f"<ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues>"
+            f'<ssv:ParameterSet version="1.0" name="initial"><ssv:Parameters>{pars}</ssv:Parameters></ssv:ParameterSet>'
+            f"</ssd:ParameterValues></ssd:ParameterBinding></ssd:ParameterBindings>"
+        )
+        if params
+        else ""
+    )
+    return (
+        f'<ssd:Component name="{name}" source="{source}" type="application/x-fmu-sharedlibrary">'
+        f"<ssd:Connectors>{conns}</ssd:Connectors>{binding}</ssd:Component>"
+    )
 
 
 def ssd(ring: Ring) -> str:
@@ -86,21 +120,46 @@ def ssd(ring: Ring) -> str:
     comps = []
     for i in range(n):
         if excited:
-            comps.append(_component(f"exc{i}", "resources/Excitation.fmu", EXC_IO, {
-                "Fw0": float(ring.fw0), "n0": float(ring.speed), "n1": float(ring.speed),
-                "engineOrder": int(ring.engine_order), "bladeIndex": i, "bladeCount": n}))
-        comps.append(_component(f"blade{i}", "resources/BladeExternalContact.fmu", BLADE_IO,
-                                {**ring.blade_instance_params(i), **speed}))
-        comps.append(_component(f"contact{i}", "resources/ShroudContact.fmu", CONTACT_IO,
-                                {**dict(ring.contact), "engineOrder": int(ring.engine_order), **speed}))
-    conns = "".join(f'<ssd:Connection startElement="{a}" startConnector="{b}" endElement="{c}" endConnector="{d}"/>'
-                    for a, b, c, d in connections(n, excited))
-    return (f'<?xml version="1.0" encoding="UTF-8"?>\n'
-            f'<ssd:SystemStructureDescription xmlns:ssd="{SSD}" xmlns:ssc="{SSC}" xmlns:ssv="{SSV}" '
-            f'version="1.0" name="ring{n}">\n<ssd:System name="ring{n}"><ssd:Elements>{"".join(comps)}</ssd:Elements>'
-            f'<ssd:Connections>{conns}</ssd:Connections></ssd:System>\n'
-            f'<ssd:DefaultExperiment startTime="0" stopTime="{ring.stop_time!r}"/>\n'
-            f'</ssd:SystemStructureDescription>\n')
+            comps.append(
+                _component(
+                    f"exc{i}",
+                    "resources/Excitation.fmu",
+                    EXC_IO,
+                    {
+                        "Fw0": float(ring.fw0),
+                        "n0": float(ring.speed),
+                        "n1": float(ring.speed),
+                        "engineOrder": int(ring.engine_order),
+                        "bladeIndex": i,
+                        "bladeCount": n,
+                    },
+                )
+            )
+        comps.append(
+            _component(
+                f"blade{i}", "resources/BladeExternalContact.fmu", BLADE_IO, {**ring.blade_instance_params(i), **speed}
+            )
+        )
+        comps.append(
+            _component(
+                f"contact{i}",
+                "resources/ShroudContact.fmu",
+                CONTACT_IO,
+                {**dict(ring.contact), "engineOrder": int(ring.engine_order), **speed},
+            )
+        )
+    conns = "".join(
+        f'<ssd:Connection startElement="{a}" startConnector="{b}" endElement="{c}" endConnector="{d}"/>'
+        for a, b, c, d in connections(n, excited)
+    )
+    return (
+        f'<?xml version="1.0" encoding="UTF-8"?>\n'
+        f'<ssd:SystemStructureDescription xmlns:ssd="{SSD}" xmlns:ssc="{SSC}" xmlns:ssv="{SSV}" '
+        f'version="1.0" name="ring{n}">\n<ssd:System name="ring{n}"><ssd:Elements>{"".join(comps)}</ssd:Elements>'
+        f"<ssd:Connections>{conns}</ssd:Connections></ssd:System>\n"
+        f'<ssd:DefaultExperiment startTime="0" stopTime="{ring.stop_time!r}"/>\n'
+        f"</ssd:SystemStructureDescription>\n"
+    )
 
 
 def write(ring: Ring, out: Path) -> Path:

@@ -4,6 +4,7 @@ libcosim keeps time as integer nanoseconds: the communication point passed to fm
 double(start_ns + k * step_ns) / 1e9, so neither the time nor the step accumulates rounding. The
 fmpy master and the C loop step on the same points, so that all masters see the same inputs.
 """
+
 from __future__ import annotations
 
 import numpy as np

@@ -5,6 +5,7 @@ reference Jenkins element driven by v = B cos(theta) (harness.reference.dynamics
 time-domain element (frictionModel 3) in a steady run. harness.validation.reproduction runs it
 with the paper's other studies.
 """
+
 from __future__ import annotations
 
 import math
@@ -39,8 +40,13 @@ def hysteresis(fmu: Any, out: Path, base: Mapping[str, Any]) -> dict[str, Hyster
         p = _params.validate(dict(base, kn=kn, frictionModel=3))
         om = omega_of(p, speed)
         T = 2 * PI / om
-        r = fmu.run(p, T * math.ceil(0.6 / T), T / 256, speed=speed,
-                    outputs=["tipDisplacement", "frictionForce", "normalForce", "dissipatedEnergy", "tipVelocity"])
+        r = fmu.run(
+            p,
+            T * math.ceil(0.6 / T),
+            T / 256,
+            speed=speed,
+            outputs=["tipDisplacement", "frictionForce", "normalForce", "dissipatedEnergy", "tipVelocity"],
+        )
         last = r[r["time"] >= r["time"][-1] - T * (1 + 1e-9)]
         B = float(np.max(np.abs(last["tipDisplacement"])))
         sg = math.sin(p["gamma"])
@@ -53,8 +59,13 @@ def hysteresis(fmu: Any, out: Path, base: Mapping[str, Any]) -> dict[str, Hyster
         E_df = float(PI * om * B * B * float(df.fc))
         jp = ref.jenkins_prescribed(p, B, om, n_cycles=2, samples_per_cycle=720)
         du_j = B * sg * np.cos(jp["theta"])
-        panels.append({"title": f"{label}, {speed:g} rpm, B = {B * 1e3:.4f} mm (FMU steady amplitude)",
-                       "eq4": (du_eq4, Ff_eq4), "fmu": (du_fmu, last["frictionForce"])})
+        panels.append(
+            {
+                "title": f"{label}, {speed:g} rpm, B = {B * 1e3:.4f} mm (FMU steady amplitude)",
+                "eq4": (du_eq4, Ff_eq4),
+                "fmu": (du_fmu, last["frictionForce"]),
+            }
+        )
         order = np.argsort(jp["theta"])
         panels[-1]["jenkins"] = (du_j[order], jp["Ff"][order])
         panels[-1]["energy"] = {"eq4": E_eq4, "jenkins": float(jp["cycle_work"][-1]), "fmu": E_fmu}
@@ -66,8 +77,11 @@ def hysteresis(fmu: Any, out: Path, base: Mapping[str, Any]) -> dict[str, Hyster
         for th, du, F in zip(jp["theta"], du_j, jp["Ff"]):
             rows.append((kn, 2, th, du, F))
     tab = np.array(rows, dtype=[("kn", "f8"), ("source", "i4"), ("theta", "f8"), ("du", "f8"), ("Ff", "f8")])
-    write_csv(out / "fig2_hysteresis.csv", tab,
-              "Fig. 2: friction loop; source 0 = eq. 4 closed form, 1 = FMU frictionModel 3 (last period of a "
-              "steady run), 2 = reference Jenkins element driven by v = B cos(theta); du [m], Ff [N]")
+    write_csv(
+        out / "fig2_hysteresis.csv",
+        tab,
+        "Fig. 2: friction loop; source 0 = eq. 4 closed form, 1 = FMU frictionModel 3 (last period of a "
+        "steady run), 2 = reference Jenkins element driven by v = B cos(theta); du [m], Ff [N]",
+    )
     plots.hysteresis(out / "fig2_hysteresis.png", panels)
     return info

@@ -4,6 +4,7 @@ Fig. 2 (the FMU's friction loop against the reference's, `hysteresis`), then sum
 What the `reproduce` and `run` commands run. Fig. 2 is the one figure that needs the reference,
 which is why it is added here, above the studies, and not inside them.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -19,9 +20,15 @@ from harness.studies import paper
 from harness.validation.hysteresis import hysteresis
 
 
-def reproduce(out: Path | str = RESULTS_DIR, size: str | paper.Size = "default", studies: Sequence[str] | None = None,
-              runner: Runner | None = None, fmu_path: Path | str | None = None, extras: bool = True,
-              base: Mapping[str, Any] | None = None) -> paper.Reproduction:
+def reproduce(
+    out: Path | str = RESULTS_DIR,
+    size: str | paper.Size = "default",
+    studies: Sequence[str] | None = None,
+    runner: Runner | None = None,
+    fmu_path: Path | str | None = None,
+    extras: bool = True,
+    base: Mapping[str, Any] | None = None,
+) -> paper.Reproduction:
     """harness.studies.paper.run_studies, with `extras` also Fig. 2 (its time counted in the extras'
     wall time), then summary.json."""
     out = Path(out)
@@ -33,6 +40,7 @@ def reproduce(out: Path | str = RESULTS_DIR, size: str | paper.Size = "default",
             summary.hysteresis = hysteresis(fmu, out, summary.base)
         if summary.timing is not None and summary.timing.extras_wall is not None:
             summary.timing = dataclasses.replace(
-                summary.timing, extras_wall=summary.timing.extras_wall + time.perf_counter() - t0)
+                summary.timing, extras_wall=summary.timing.extras_wall + time.perf_counter() - t0
+            )
     paper.write_summary(out, summary)
     return rep

@@ -7,6 +7,7 @@ Error: max over blades and over the reference's output grid (every 1e-4 s up to 
 |q_cosim - q_ref|, relative to max |q_ref|. `python -m harness ring-convergence` writes
 results/ring_convergence.csv and .png (log-log; also libcosim) and prints the table.
 """
+
 from __future__ import annotations
 
 import csv
@@ -39,8 +40,15 @@ class Study:
         return RingSpec(n=self.n, engine_order=self.engine_order, fw0=self.fw0, blade={"c": self.c})
 
     def ring(self, h: float, order: int) -> Ring:
-        return Ring(n=self.n, engine_order=self.engine_order, fw0=self.fw0, blade={"c": self.c}, step=h,
-                    stop_time=self.stop_time, order=order)
+        return Ring(
+            n=self.n,
+            engine_order=self.engine_order,
+            fw0=self.fw0,
+            blade={"c": self.c},
+            step=h,
+            stop_time=self.stop_time,
+            order=order,
+        )
 
 
 def errors(study: Study, libcosim: bool = False) -> list[tuple[int | str, float, float]]:

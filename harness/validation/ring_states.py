@@ -16,6 +16,7 @@ every period).
 
 `python -m harness ring-states CASE` prints the numbers of one case of the findings page.
 """
+
 from __future__ import annotations
 
 import math
@@ -39,17 +40,31 @@ def period(speed: float, eo: int = 3) -> float:
     return 60 / (eo * speed)
 
 
-def cosim_ring(n: int, speed: float, c: float, stop_time: float, steps_per_period: int = 160,
-               order: int = 2, fw0: float = 300.0, eo: int = 3) -> Ring:
+def cosim_ring(
+    n: int,
+    speed: float,
+    c: float,
+    stop_time: float,
+    steps_per_period: int = 160,
+    order: int = 2,
+    fw0: float = 300.0,
+    eo: int = 3,
+) -> Ring:
     """The ring as the mistuning study runs it: h = T / steps_per_period in whole nanoseconds."""
     step = round(period(speed, eo) / steps_per_period * 1e9) * 1e-9
-    return Ring(n=n, engine_order=eo, speed=speed, fw0=fw0, blade={"c": c}, step=step, stop_time=stop_time,
-                order=order)
+    return Ring(n=n, engine_order=eo, speed=speed, fw0=fw0, blade={"c": c}, step=step, stop_time=stop_time, order=order)
 
 
 def spec_of(ring: Ring) -> RingSpec:
-    return RingSpec(n=ring.n, engine_order=ring.engine_order, speed=ring.speed, fw0=ring.fw0, blade=ring.blade,
-                    contact=ring.contact, blade_each=ring.blade_each)
+    return RingSpec(
+        n=ring.n,
+        engine_order=ring.engine_order,
+        speed=ring.speed,
+        fw0=ring.fw0,
+        blade=ring.blade,
+        contact=ring.contact,
+        blade_each=ring.blade_each,
+    )
 
 
 def cosim(ring: Ring) -> tuple[np.ndarray, np.ndarray]:
@@ -58,8 +73,9 @@ def cosim(ring: Ring) -> tuple[np.ndarray, np.ndarray]:
     return res["time"], res["q"]
 
 
-def reference(spec: RingSpec, t_end: float, samples_per_period: int, rtol: float = 1e-9,
-              start: RingState | None = None) -> dict:
+def reference(
+    spec: RingSpec, t_end: float, samples_per_period: int, rtol: float = 1e-9, start: RingState | None = None
+) -> dict:
     """MonolithicRing.solve on a grid of T / samples_per_period from start (or rest) to t_end."""
     T = period(spec.speed, spec.engine_order)
     t0 = start.t if start is not None else 0.0
@@ -70,8 +86,10 @@ def reference(spec: RingSpec, t_end: float, samples_per_period: int, rtol: float
 def _periods(t: np.ndarray, T: float) -> list[np.ndarray]:
     """Sample indices of each whole excitation period [t0 + k T, t0 + (k + 1) T]."""
     k = np.floor((t - t[0]) / T * (1 + 1e-12)).astype(int)
-    return [np.nonzero((k == j) | ((k == j + 1) & np.isclose(t, t[0] + (j + 1) * T, rtol=0, atol=1e-12)))[0]
-            for j in range(int(k[-1]))]
+    return [
+        np.nonzero((k == j) | ((k == j + 1) & np.isclose(t, t[0] + (j + 1) * T, rtol=0, atol=1e-12)))[0]
+        for j in range(int(k[-1]))
+    ]
 
 
 def period_amplitudes(t: np.ndarray, q: np.ndarray, T: float) -> np.ndarray:
@@ -124,7 +142,7 @@ def mirrored(state: RingState) -> RingState:
     s = state.copy()
     N = len(s.contacts)
     sign = (-1.0) ** np.arange(N)
-    s.y[:N], s.y[N:2 * N] = sign * s.y[0], sign * s.y[N]
+    s.y[:N], s.y[N : 2 * N] = sign * s.y[0], sign * s.y[N]
     c0 = s.contacts[0]
     s.contacts = [replace(c0, side=int(g) * c0.side, s=int(g) * c0.s, F0=g * c0.F0, u0=g * c0.u0) for g in sign]
     return s
@@ -148,8 +166,9 @@ def wave_copy(res: dict, samples_per_period: int, eo: int) -> RingState:
     return s
 
 
-def on_wave(spec: RingSpec, periods: int, rtol: float = 1e-9, samples_per_period: int = 160
-            ) -> tuple[RingState, np.ndarray]:
+def on_wave(
+    spec: RingSpec, periods: int, rtol: float = 1e-9, samples_per_period: int = 160
+) -> tuple[RingState, np.ndarray]:
     """The symmetric computation: from rest, one excitation period at a time, the state made an
     exact TW after each (`mirrored` where 2 EO = N, else `wave_copy`); returns the state after
     `periods` periods and blade 0's max |q| per period (its convergence shows the TW is a periodic
@@ -159,8 +178,11 @@ def on_wave(spec: RingSpec, periods: int, rtol: float = 1e-9, samples_per_period
     for _ in range(periods):
         r = reference(spec, state.t + T, samples_per_period, rtol, start=state)
         amp.append(np.abs(r["q"][:, 0]).max())
-        state = mirrored(r["end"]) if 2 * spec.engine_order == spec.n else wave_copy(r, samples_per_period,
-                                                                                      spec.engine_order)
+        state = (
+            mirrored(r["end"])
+            if 2 * spec.engine_order == spec.n
+            else wave_copy(r, samples_per_period, spec.engine_order)
+        )
     return state, np.array(amp)
 
 
@@ -221,12 +243,13 @@ def spectrum_lines(a: np.ndarray, lines: int = 3) -> tuple[list[float], float]:
             break
     near = np.zeros(len(p), dtype=bool)
     for k in top:
-        near[max(k - 1, 0):k + 2] = True
+        near[max(k - 1, 0) : k + 2] = True
     return [float(f[k]) for k in top], float(p[near].sum() / p.sum())
 
 
-def case_b(t_end: float = 2.0, rtols: tuple[float, ...] = (1e-9,), wave_periods: int = 150,
-           kick_periods: int = 60) -> None:
+def case_b(
+    t_end: float = 2.0, rtols: tuple[float, ...] = (1e-9,), wave_periods: int = 150, kick_periods: int = 60
+) -> None:
     """The 8-blade ring at the default damping: co-sim at h = T/160, T/320, T/640 and the reference
     at each rtol, from rest to t_end; amplitudes, wave defect, spectra, how far runs drift apart; then
     the symmetric computation and the kick."""
@@ -250,17 +273,25 @@ def case_b(t_end: float = 2.0, rtols: tuple[float, ...] = (1e-9,), wave_periods:
         late = a[-half:]
         lines, share = spectrum_lines(late[:, 0])
         print(f"{name}: last period " + " ".join(f"{x:.3e}" for x in a[-1]))
-        print(f"  last {half} periods: blade max |q| from {late.min():.3e} to {late.max():.3e}; "
-              f"wave defect from {d[-half:].min():.2f} to {d[-half:].max():.2f}; "
-              f"|q_(i+4) + q_i| / max |q| = {np.abs(q + np.roll(q, 4, axis=1)).max() / np.abs(q).max():.1e}")
-        print("  blade 0 amplitude spectrum: lines at " + ", ".join(f"{x:.4f}" for x in lines)
-              + f" per period, {share:.2f} of the power within +-1 bin")
+        print(
+            f"  last {half} periods: blade max |q| from {late.min():.3e} to {late.max():.3e}; "
+            f"wave defect from {d[-half:].min():.2f} to {d[-half:].max():.2f}; "
+            f"|q_(i+4) + q_i| / max |q| = {np.abs(q + np.roll(q, 4, axis=1)).max() / np.abs(q).max():.1e}"
+        )
+        print(
+            "  blade 0 amplitude spectrum: lines at "
+            + ", ".join(f"{x:.4f}" for x in lines)
+            + f" per period, {share:.2f} of the power within +-1 bin"
+        )
     names = list(amps)
     y = names[3]  # the reference at the first rtol
     for x in (n for n in names if n != y):
         diff = np.abs(amps[x] - amps[y]).max(axis=1) / amps[y].max()
-        print(f"{x} vs {y}: per-period max |diff| / max every 50 periods " + " ".join(f"{v:.0e}" for v in diff[::50])
-              + f" (max {diff.max():.1e})")
+        print(
+            f"{x} vs {y}: per-period max |diff| / max every 50 periods "
+            + " ".join(f"{v:.0e}" for v in diff[::50])
+            + f" (max {diff.max():.1e})"
+        )
     _kick(spec_of(ring), wave_periods, kick_periods)
 
 
@@ -270,8 +301,10 @@ def _kick(spec: RingSpec, wave_periods: int, kick_periods: int, lo: float = 1e-7
     T = period(spec.speed, spec.engine_order)
     mirror = 2 * spec.engine_order == spec.n
     state, amp = on_wave(spec, wave_periods)
-    print(f"on the wave at t = {state.t:.4f} s: blade max |q| {amp[-1]:.6e}, change over the last period "
-          f"{abs(amp[-1] - amp[-2]) / amp[-1]:.1e}")
+    print(
+        f"on the wave at t = {state.t:.4f} s: blade max |q| {amp[-1]:.6e}, change over the last period "
+        f"{abs(amp[-1] - amp[-2]) / amp[-1]:.1e}"
+    )
     for name, s in (("kicked", kicked(state)), ("not kicked", state)):
         r = reference(spec, state.t + kick_periods * T, 160, start=s)
         d = mirror_defect(r["time"], r["q"], T) if mirror else wave_defect(r["time"], r["q"], T, spec.engine_order)

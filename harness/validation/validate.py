@@ -14,6 +14,7 @@ reference's tracked map, harness.reference.tracked), amplitude and phase to
 1e-4; where the reference says no root is reachable (the tracked-B period map has spectral radius
 > 1) the FMU must not settle. Exit code 1 if any row fails.
 """
+
 from __future__ import annotations
 
 import csv
@@ -93,8 +94,16 @@ def _label(o: dict[str, Any]) -> str:
 def _option_sets(quick: bool) -> list[dict[str, Any]]:
     base = dict(frictionModel=1, formulation=1, projection=1, gating=True, amplitudeMode=2)
     if quick:  # one factor at a time around the paper's setting
-        variants = [{}, {"frictionModel": 2}, {"frictionModel": 3}, {"formulation": 2}, {"projection": 2},
-                    {"gating": False}, {"amplitudeMode": 1}, {"gating": False, "amplitudeMode": 1}]
+        variants = [
+            {},
+            {"frictionModel": 2},
+            {"frictionModel": 3},
+            {"formulation": 2},
+            {"projection": 2},
+            {"gating": False},
+            {"amplitudeMode": 1},
+            {"gating": False, "amplitudeMode": 1},
+        ]
         return [{**base, **v} for v in variants]
     out = []
     for fm, form, proj, gat, am in itertools.product((1, 2), (1, 2), (1, 2), (True, False), (1, 2)):
@@ -114,8 +123,11 @@ def cases(quick: bool = False) -> list[Case]:
     out = [Case(f"{_label(o)}@{sn}", o, sp, stop) for o in _option_sets(quick) for sn, sp in speeds]
     stiff = dict(frictionModel=1, formulation=2, projection=1, gating=True, amplitudeMode=2)
     out.append(Case(f"{_label(stiff)}@5000rpm", stiff, Constant(5000.0), 0.1, kind="order"))
-    hb = [(dict(frictionModel=fm, formulation=form, projection=proj, gating=False, amplitudeMode=2), n)
-          for fm, form, proj in itertools.product((1, 2), (1, 2), (1, 2)) for n in HB_SPEEDS]
+    hb = [
+        (dict(frictionModel=fm, formulation=form, projection=proj, gating=False, amplitudeMode=2), n)
+        for fm, form, proj in itertools.product((1, 2), (1, 2), (1, 2))
+        for n in HB_SPEEDS
+    ]
     if quick:  # open branch, unstable tracked map, contact branch
         hb = [(hb[0][0], 3000.0), (hb[0][0], 5000.0), (dict(hb[0][0], projection=2), 6000.0)]
     out += [Case(f"HB {_label(o)}@{n:g}rpm", o, Constant(n), 0.0, kind="hb", rpm=n) for o, n in hb]
@@ -149,8 +161,15 @@ def compare_time(fmu, case: Case, step: float = TD_STEP, max_step: float = MAX_S
     grid = res["time"]
     tol = case.tolerance()
     amp = float(np.max(np.abs(ref["tipDisplacement"])))
-    rows = [Row(case.name, "tipDisplacement", _rel(res["tipDisplacement"], ref["tipDisplacement"]), tol,
-                f"amplitude {amp * 1e3:.4g} mm")]
+    rows = [
+        Row(
+            case.name,
+            "tipDisplacement",
+            _rel(res["tipDisplacement"], ref["tipDisplacement"]),
+            tol,
+            f"amplitude {amp * 1e3:.4g} mm",
+        )
+    ]
     rows.append(Row(case.name, "tipVelocity", _rel(res["tipVelocity"], ref["tipVelocity"]), tol))
     rows.append(Row(case.name, "dissipatedEnergy", _rel(res["dissipatedEnergy"], ref["dissipatedEnergy"]), tol))
     if p["amplitudeMode"] == 2:
@@ -158,8 +177,15 @@ def compare_time(fmu, case: Case, step: float = TD_STEP, max_step: float = MAX_S
         # before or after the jump in either implementation: those samples are left out.
         cycles = (p["engineOrder"] * 2 * math.pi / 60 * speed_v.integral(grid)) / (2 * math.pi)
         away = np.abs(cycles - np.round(cycles)) > 1e-7
-        rows.append(Row(case.name, "amplitude (tracked B)", _rel(res["amplitude"], ref["amplitude"], away), tol,
-                        f"{int(np.sum(~away))} samples at period ends left out"))
+        rows.append(
+            Row(
+                case.name,
+                "amplitude (tracked B)",
+                _rel(res["amplitude"], ref["amplitude"], away),
+                tol,
+                f"{int(np.sum(~away))} samples at period ends left out",
+            )
+        )
     return rows
 
 
@@ -171,8 +197,15 @@ def solver_order(fmu, case: Case, step: float = TD_STEP) -> list[Row]:
         _, res, ref, _ = _fmu_and_reference(fmu, case, step, ms)
         errs.append(_rel(res["tipDisplacement"], ref["tipDisplacement"]))
     order = math.log2(errs[0] / errs[1]) if errs[1] > 0 else math.nan
-    return [Row(case.name, "RK4 order |p - 4|", abs(order - 4.0), 0.5,
-                f"order {order:.3f}: error {errs[0]:.3g} at maxStep 1e-5, {errs[1]:.3g} at 5e-6")]
+    return [
+        Row(
+            case.name,
+            "RK4 order |p - 4|",
+            abs(order - 4.0),
+            0.5,
+            f"order {order:.3f}: error {errs[0]:.3g} at maxStep 1e-5, {errs[1]:.3g} at 5e-6",
+        )
+    ]
 
 
 def _steady_fmu(fmu, p: dict[str, Any], rpm: float, start: str, max_periods: int = 4000):
@@ -200,7 +233,7 @@ def _steady_fmu(fmu, p: dict[str, Any], rpm: float, start: str, max_periods: int
         res = fmu.run(None, (n + chunk) * period, step, speed=speed, outputs=["tipDisplacement"], reset=False)
         n += chunk
         data = res if last is None else np.concatenate([last, res[1:]])
-        keep = data[-(100 * M + 1):]  # the last 100 periods
+        keep = data[-(100 * M + 1) :]  # the last 100 periods
         ss = analyze(keep["time"], keep["tipDisplacement"], period, rtol=HB_RTOL, min_periods=5)
         if ss.reached or n >= max_periods:
             return ss, n * period
@@ -224,29 +257,43 @@ def compare_hb(fmu, case: Case) -> list[Row]:
     settled = {k: v for k, v in runs.items() if v[0].reached}
     if not reachable:
         radii = ", ".join(f"{radius[s.B]:.3g}" for s in sols if s.stable)
-        note = (f"reference: tracked-B map unstable at every stable HB root (radius {radii}); FMU "
-                + (f"settled ({', '.join(settled)} start)" if settled else
-                   f"did not settle in {max(t for _, t in runs.values()):.3g} s"))
+        note = f"reference: tracked-B map unstable at every stable HB root (radius {radii}); FMU " + (
+            f"settled ({', '.join(settled)} start)"
+            if settled
+            else f"did not settle in {max(t for _, t in runs.values()):.3g} s"
+        )
         return [Row(case.name, "no steady state (as predicted)", math.nan, math.nan, note, ok=not settled)]
     if not settled:
         ss, t_end = runs["soft"]
-        return [Row(case.name, "steady amplitude vs HB", math.nan, TOL_HB,
-                    f"FMU did not settle in {t_end:.3g} s from either start: {ss.message}")]
+        return [
+            Row(
+                case.name,
+                "steady amplitude vs HB",
+                math.nan,
+                TOL_HB,
+                f"FMU did not settle in {t_end:.3g} s from either start: {ss.message}",
+            )
+        ]
     rows = []
     for start, (ss, _) in settled.items():
         best = min(reachable, key=lambda s: abs(s.B - ss.harmonic_amplitude))
         err_b = abs(ss.harmonic_amplitude - best.B) / best.B
         dph = abs((ss.phase - best.phase + math.pi) % (2 * math.pi) - math.pi)
         branch = "open branch" if best.open else "contact branch"
-        note = (f"{start} start: B_fmu {ss.harmonic_amplitude * 1e3:.6g} mm, B_hb {best.B * 1e3:.6g} mm"
-                f" ({branch}, tracked radius {radius[best.B]:.3g}, {len(sols)} HB root(s))")
-        rows += [Row(case.name, f"steady amplitude vs HB ({start})", err_b, TOL_HB, note),
-                 Row(case.name, f"steady phase vs HB ({start}) [rad]", dph, TOL_HB)]
+        note = (
+            f"{start} start: B_fmu {ss.harmonic_amplitude * 1e3:.6g} mm, B_hb {best.B * 1e3:.6g} mm"
+            f" ({branch}, tracked radius {radius[best.B]:.3g}, {len(sols)} HB root(s))"
+        )
+        rows += [
+            Row(case.name, f"steady amplitude vs HB ({start})", err_b, TOL_HB, note),
+            Row(case.name, f"steady phase vs HB ({start}) [rad]", dph, TOL_HB),
+        ]
     return rows
 
 
-def run_validation(case_list: Iterable[Case], fmu_path=None, on_row: Callable[[Row], None] | None = None,
-                   max_step: float = MAX_STEP) -> list[Row]:
+def run_validation(
+    case_list: Iterable[Case], fmu_path=None, on_row: Callable[[Row], None] | None = None, max_step: float = MAX_STEP
+) -> list[Row]:
     rows: list[Row] = []
     with BladeFMU(fmu_path) as fmu:
         for case in case_list:
@@ -267,8 +314,10 @@ HEADER = f"{'scenario':<58} {'quantity':<30} {'max error':>10} {'tolerance':>9} 
 def format_row(r: Row) -> str:
     err = "-" if r.ok is not None else f"{r.error:.3g}"
     tol = "-" if r.ok is not None else f"{r.tolerance:.0e}"
-    return (f"{r.scenario:<58} {r.quantity:<30} {err:>10} {tol:>9}  "
-            f"{'pass' if r.passed else 'FAIL'}{'  ' + r.note if r.note else ''}")
+    return (
+        f"{r.scenario:<58} {r.quantity:<30} {err:>10} {tol:>9}  "
+        f"{'pass' if r.passed else 'FAIL'}{'  ' + r.note if r.note else ''}"
+    )
 
 
 def write_table(path: str | Path, rows: Iterable[Row]) -> None:

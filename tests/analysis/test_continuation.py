@@ -12,6 +12,7 @@ against an independent computation.
   re-started on the unstable side would miss 6780..7247 rpm; an orbit of that piece is checked by
   a 200-period FMU transient started on it, which must stay on it.
 """
+
 from __future__ import annotations
 
 import math

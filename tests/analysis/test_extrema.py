@@ -5,6 +5,7 @@
   three largest; within 0.05 rpm, 0.009 measured), and its lower fold against the lowest speed at which fixed-speed shooting still
   finds an orbit in contact (0.02-rpm scan).
 """
+
 from __future__ import annotations
 
 import math
@@ -68,7 +69,7 @@ def test_base_case_jenkins_peak_within_0_05_rpm_of_a_fine_scan(base_jenkins) -> 
     amps = np.array(amps)
     k = int(np.argmax(amps))
     assert 0 < k < len(amps) - 1, "the scan's maximum is at its edge"
-    c = np.polyfit(speeds[k - 1:k + 2], amps[k - 1:k + 2], 2)
+    c = np.polyfit(speeds[k - 1 : k + 2], amps[k - 1 : k + 2], 2)
     n_scan = -c[1] / (2 * c[0])
     assert abs(pk.speed - n_scan) <= 0.05, (pk.speed, n_scan)  # measured 0.009 rpm
     # the located peak is the maximum: no scanned orbit is larger (beyond Newton's 1e-10)
@@ -104,13 +105,17 @@ def test_candidates_bracket_peaks_and_turning_points() -> None:
     assert candidates(b) == [(1, "peak"), (2, "fold")]
 
 
-@pytest.mark.parametrize("mu, said", [
-    ([0.5, 0.3j], "stable"),
-    ([2.26, 0.2], "unstable: fold (a real multiplier 2.26 > 1)"),
-    ([-1.5, 0.1], "unstable: period doubling (a real multiplier -1.5 < -1)"),
-    ([0.6 + 0.9j, 0.6 - 0.9j], "unstable: Neimark-Sacker (a complex pair of modulus 1.082 > 1)"),
-    ([1.5, -1.2], "unstable: fold (a real multiplier 1.5 > 1); period doubling (a real multiplier -1.2 < -1)"),
-])
+@pytest.mark.parametrize(
+    "mu, said",
+    [
+        ([0.5, 0.3j], "stable"),
+        ([2.26, 0.2], "unstable: fold (a real multiplier 2.26 > 1)"),
+        ([-1.5, 0.1], "unstable: period doubling (a real multiplier -1.5 < -1)"),
+        ([0.6 + 0.9j, 0.6 - 0.9j], "unstable: Neimark-Sacker (a complex pair of modulus 1.082 > 1)"),
+        ([1.5, -1.2], "unstable: fold (a real multiplier 1.5 > 1); period doubling (a real multiplier -1.2 < -1)"),
+    ],
+)
 def test_stability_is_said_with_its_reason(mu: list, said: str) -> None:
     from harness.analysis.periodic.shooting import describe
+
     assert describe(np.array(mu, dtype=complex)) == said

@@ -7,6 +7,7 @@
   same state give the same first and third harmonic (1e-6 of the amplitude: RK4 at maxStep
   2.5e-6 s vs exact, through the located switchings).
 """
+
 from __future__ import annotations
 
 import math
@@ -24,8 +25,11 @@ FINE = {"maxStep": 2.5e-6}
 
 def test_ungated_orbits_are_one_harmonic_equal_to_harmonic_balance(fmu):
     pm = PeriodMap(fmu, dict(FINE, gating=False), "fixedPoint")
-    rows = [harmonic_row(pm, o.x, o.speed, o.amplitude, o.stable, hb_parameters(pm))
-            for o in orbits_at(pm, 6000.0) if o.amplitude > pm.d]
+    rows = [
+        harmonic_row(pm, o.x, o.speed, o.amplitude, o.stable, hb_parameters(pm))
+        for o in orbits_at(pm, 6000.0)
+        if o.amplitude > pm.d
+    ]
     assert len(rows) >= 2
     for r in rows:
         assert r.higher <= 1e-8 * r.amplitude

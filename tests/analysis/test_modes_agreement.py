@@ -11,6 +11,7 @@ reference): tip 3e-9 (Jenkins) and 4e-8 (tracked DF), root moment 3e-8 / 1.3e-7,
 coordinate 3 (amplitude 2e-7 m) 5.7e-7 / 9.2e-7; natural frequencies vs the reference 1e-15,
 vs the FE beam 7.9e-6, 6.6e-6, 2.2e-6 (modes 1..3, from above).
 """
+
 from __future__ import annotations
 
 import math
@@ -29,20 +30,28 @@ from harness.reference.modes import modal_galerkin
 
 POINT = dict(maxStep=1e-6, formulation=2, modes=3, EI=380.0, m0=0.04, d=2.5e-5, c=40.0, kn=3e6, mu=0.3, Fw0=150.0)
 SPEED = 7000.0
-STATE = ["tipDisplacement", "tipVelocity", "rootMoment", "dissipatedEnergy",
-         *(f"modalDisplacement[{i}]" for i in (1, 2, 3)), *(f"modalVelocity[{i}]" for i in (1, 2, 3))]
+STATE = [
+    "tipDisplacement",
+    "tipVelocity",
+    "rootMoment",
+    "dissipatedEnergy",
+    *(f"modalDisplacement[{i}]" for i in (1, 2, 3)),
+    *(f"modalVelocity[{i}]" for i in (1, 2, 3)),
+]
 TOL = 1e-6  # relative to the reference's largest value of each quantity (measured <= 3.4e-7)
 TOL_MODE3 = 5e-6  # the third modal coordinate, 1/300 of the tip (measured <= 1.3e-6)
 
 
-@pytest.mark.parametrize("extra", [dict(frictionModel=3), dict(frictionModel=1, amplitudeMode=2, B=6e-5)],
-                         ids=["jenkins", "trackedDF"])
+@pytest.mark.parametrize(
+    "extra", [dict(frictionModel=3), dict(frictionModel=1, amplitudeMode=2, B=6e-5)], ids=["jenkins", "trackedDF"]
+)
 def test_fmu_runs_like_the_reference(fmu, extra):
     p = validate(dict(POINT, **extra))
     speed = Constant(SPEED)
     r = fmu.run(p, 0.03, 1e-4, speed=speed, outputs=STATE)
-    ref = reference.simulate(p, 0.03, AeroLoad(p["Fw0"], p["engineOrder"], speed), speed, t_eval=r["time"],
-                             rtol=1e-10, breakpoints=r["time"])
+    ref = reference.simulate(
+        p, 0.03, AeroLoad(p["Fw0"], p["engineOrder"], speed), speed, t_eval=r["time"], rtol=1e-10, breakpoints=r["time"]
+    )
     assert np.max(np.abs(ref["tipDisplacement"])) > 2 * p["d"]  # the contact works
     for k in STATE:
         err = np.max(np.abs(r[k] - ref[k])) / np.max(np.abs(ref[k]))
@@ -80,10 +89,13 @@ def test_periodic_orbit_m3_is_periodic_in_the_reference(fmu, model):
         assert abs(q0) < pm.d
         p = dict(pm.p, amplitudeMode=1, B=o.B) if model == "fixedPoint" else dict(pm.p)
         te = np.linspace(0.0, T, 257)
-        ref = reference.simulate(p, T, lambda t: pm.p["Fw0"] * math.sin(om * t), lambda t: SPEED, te, rtol=1e-10,
-                                 initial=(o.x[:3], o.x[3:6]))
-        end = np.array([ref[f"modalDisplacement[{i}]"][-1] for i in (1, 2, 3)] +
-                       [ref[f"modalVelocity[{i}]"][-1] for i in (1, 2, 3)])
+        ref = reference.simulate(
+            p, T, lambda t: pm.p["Fw0"] * math.sin(om * t), lambda t: SPEED, te, rtol=1e-10, initial=(o.x[:3], o.x[3:6])
+        )
+        end = np.array(
+            [ref[f"modalDisplacement[{i}]"][-1] for i in (1, 2, 3)]
+            + [ref[f"modalVelocity[{i}]"][-1] for i in (1, 2, 3)]
+        )
         sc = pm.scales(o.x, SPEED)[:6]
         assert np.max(np.abs(end - o.x[:6]) / sc) < 1e-6, (end, o.x)
         # max |q| over the period: sampled at 256 points, so the sampled max may fall short of the
@@ -92,11 +104,14 @@ def test_periodic_orbit_m3_is_periodic_in_the_reference(fmu, model):
         assert o.amplitude * (1 - (2 * math.pi / 256) ** 2 / 8) - 1e-6 * o.amplitude <= amax <= o.amplitude * (1 + 1e-6)
 
 
-@pytest.mark.parametrize("model, x", [
-    ("fixedB", [1e-5, 2e-6, -1e-7, 0.05, 0.002, 0.0]),
-    ("fixedPoint", [2e-5, 2e-6, -1e-7, 0.07, 0.002, 0.0, 4e-5]),
-    ("jenkins", [3e-5, 2e-6, -1e-7, 0.07, 0.002, 0.0, 0.3]),  # in contact at the start: F0 = 0.3 L
-])
+@pytest.mark.parametrize(
+    "model, x",
+    [
+        ("fixedB", [1e-5, 2e-6, -1e-7, 0.05, 0.002, 0.0]),
+        ("fixedPoint", [2e-5, 2e-6, -1e-7, 0.07, 0.002, 0.0, 4e-5]),
+        ("jenkins", [3e-5, 2e-6, -1e-7, 0.07, 0.002, 0.0, 0.3]),  # in contact at the start: F0 = 0.3 L
+    ],
+)
 def test_period_map_jacobian_m3_is_the_finite_difference_one(fmu, model, x):
     """DP of the m = 3 period map from the FMU's sensitivity[r,c] against central differences of the
     map itself (sensitivities off), scaled by the unknowns' scales: measured <= 3e-8 (entries ~10)."""

@@ -15,6 +15,7 @@ independent computation.
   FMU's RK4 vs the exact solution, through the slope of A(B) - B);
 - the FMU started on each reported stable orbit (tracked amplitude, Jenkins element) stays on it.
 """
+
 from __future__ import annotations
 
 import cmath
@@ -61,8 +62,16 @@ def test_ungated_fixed_b_orbit_and_multipliers_equal_closed_form(fmu):
 
 def _period_end_states(fmu, params, n, periods, steps=8):
     T = 60.0 / (int(params.get("engineOrder", 3)) * n)
-    r = fmu.run(params, periods * T, T / steps, speed=n, outputs=["tipDisplacement", "tipVelocity"],
-                sample_every=steps, input_fit="chebyshev", carry_values=True)
+    r = fmu.run(
+        params,
+        periods * T,
+        T / steps,
+        speed=n,
+        outputs=["tipDisplacement", "tipVelocity"],
+        sample_every=steps,
+        input_fit="chebyshev",
+        carry_values=True,
+    )
     return r
 
 
@@ -104,6 +113,7 @@ def _exact_orbit(params, n, B, x0):
     def P(x):
         q, v, _, m = st.advance(0.0, x[0], x[1], st.initial_g(x[0]), T)
         return np.array([q, v]), m
+
     x = np.array(x0, dtype=float)
     for _ in range(40):
         Px, m = P(x)
@@ -132,6 +142,7 @@ def _reference_roots(params, n, n_grid=160):
         return (m - B if x is not None and m > d else math.nan), x
 
     from harness.analysis.fixed_point import linear_bound
+
     grid = np.geomspace(d * (1 + 1e-6), 1.5 * linear_bound(params, n), n_grid)
     vals, xs, prev = [], [], None
     for B in grid:
@@ -153,8 +164,16 @@ def _reference_roots(params, n, n_grid=160):
 
 # 8500 and 9000 rpm: two roots in a window of B a few per cent wide below the fold at 9431 rpm,
 # between the points of the search's B scan (found on the branch traced around the speed)
-CASES = [({}, 6250.0), ({}, 7000.0), ({}, 8000.0), ({}, 8500.0), ({}, 9000.0), ({"d": 2e-5}, 7000.0),
-         ({"gamma": math.pi / 5}, 7000.0), ({"kn": 1e6}, 6000.0)]
+CASES = [
+    ({}, 6250.0),
+    ({}, 7000.0),
+    ({}, 8000.0),
+    ({}, 8500.0),
+    ({}, 9000.0),
+    ({"d": 2e-5}, 7000.0),
+    ({"gamma": math.pi / 5}, 7000.0),
+    ({"kn": 1e6}, 6000.0),
+]
 
 
 @pytest.mark.parametrize("over,n", CASES, ids=[f"{o or 'base'}-{n:g}" for o, n in CASES])
@@ -240,8 +259,9 @@ def test_every_orbit_at_the_top_of_the_speed_range(fmu):
     assert abs(orbits[0].x[1] - v0) <= 1e-6 * orbits[0].amplitude * omega(pm.p, 30000.0)
 
 
-@pytest.mark.parametrize("model, n", [("fixedPoint", 7000.0), ("coulomb", 6000.0), ("jenkins", 6000.0),
-                                      ("jenkins", 8000.0)])
+@pytest.mark.parametrize(
+    "model, n", [("fixedPoint", 7000.0), ("coulomb", 6000.0), ("jenkins", 6000.0), ("jenkins", 8000.0)]
+)
 def test_multipliers_from_sensitivities_equal_central_differences(fmu, model, n):
     """Every orbit found at n: the monodromy matrix from the FMU's sensitivities (the default) has
     the multipliers of the central-difference one (sensitivities off) within 1e-5: the two differ
@@ -252,6 +272,7 @@ def test_multipliers_from_sensitivities_equal_central_differences(fmu, model, n)
     from harness.analysis.periodic.period_map import ShootingSettings
     from harness.analysis.periodic.search import solutions_at
     from harness.analysis.periodic.shooting import orbit
+
     pm_s = PeriodMap(fmu, {}, model)
     pm_f = PeriodMap(fmu, {}, model, ShootingSettings(sensitivities=False, steps_per_period=8))
     sols = solutions_at(pm_f, n)

@@ -4,6 +4,7 @@ The signals are a forced response A sin(w t + phi) plus transients with known en
 time at which the distance from the periodic limit falls below rtol is known analytically and the
 detector's t_steady can be held to it (within a stated factor of the distance, i.e. a stated
 offset in time: a factor 2 in the distance is tau ln 2 in time)."""
+
 from __future__ import annotations
 
 import math
@@ -40,11 +41,22 @@ def _kappa(r: float, tau: float, velocity: bool) -> float:
     return max(1.0, math.hypot(r, 1.0 / (W * tau))) if velocity else 1.0
 
 
-@pytest.mark.parametrize("r, M, velocity", [
-    (0.5, 4, True), (0.97, 4, True), (1.37, 4, True), (2.0, 4, True), (0.999, 4, True),
-    (1.37, 2, True), (0.7, 1, True),  # fewer samples per period than the old detector accepted
-    (0.5, 40, False), (0.97, 40, False), (1.37, 8, False), (3.3, 40, False),
-])
+@pytest.mark.parametrize(
+    "r, M, velocity",
+    [
+        (0.5, 4, True),
+        (0.97, 4, True),
+        (1.37, 4, True),
+        (2.0, 4, True),
+        (0.999, 4, True),
+        (1.37, 2, True),
+        (0.7, 1, True),  # fewer samples per period than the old detector accepted
+        (0.5, 40, False),
+        (0.97, 40, False),
+        (1.37, 8, False),
+        (3.3, 40, False),
+    ],
+)
 def test_beating_transient_settles_when_its_envelope_reaches_rtol(r, M, velocity):
     # A free vibration at r W (the natural frequency) decaying with tau beats with the forced
     # response at W: the period-to-period change is |1 - exp((i r W - 1/tau) T)| times the
@@ -150,7 +162,7 @@ def test_decide_agrees_with_analyze():
     t = np.arange(0, 1.5, T / 2)
     q, v = _signal(t, 1e-4, 0.3, [(1e-4, 0.2, 1.37, 0.0)])
     for stop in (400, 600, 748):
-        ss = analyze(t[:stop + 1], q[:stop + 1], T, rtol=1e-3, velocity=v[:stop + 1])
+        ss = analyze(t[: stop + 1], q[: stop + 1], T, rtol=1e-3, velocity=v[: stop + 1])
         rows = (stop // 2, 2)
         reached, rel, decay = decide(q[:stop].reshape(rows), v[:stop].reshape(rows), W, rtol=1e-3, min_periods=3)
         assert reached == ss.reached
@@ -166,11 +178,19 @@ def test_few_window_fast_path_equals_the_batched_fit():
     rng = np.random.default_rng(7)
     k = np.arange(10)[:, None]
     z = (0.97 * np.exp(0.4j)) ** k * np.array([1.0 + 0.5j, -0.3 + 1j, 0.2 - 0.7j, 1.0])
-    windows = np.stack([z.real, (z + 0.3 * 0.9 ** k).real, rng.normal(size=(10, 4)),
-                        (0.5 * z).imag, ((-0.8) ** k * np.ones((10, 4))), z.real + 1e-3 * rng.normal(size=(10, 4))])
+    windows = np.stack(
+        [
+            z.real,
+            (z + 0.3 * 0.9**k).real,
+            rng.normal(size=(10, 4)),
+            (0.5 * z).imag,
+            ((-0.8) ** k * np.ones((10, 4))),
+            z.real + 1e-3 * rng.normal(size=(10, 4)),
+        ]
+    )
     d_batch, rho_batch = ss_mod._distance(windows)  # 6 windows: the batched path
     for b in range(len(windows)):
-        d1, rho1 = ss_mod._distance(windows[b:b + 1])  # 1 window: the plain-float path
+        d1, rho1 = ss_mod._distance(windows[b : b + 1])  # 1 window: the plain-float path
         assert d1[0] == pytest.approx(d_batch[b], rel=1e-9), b
         assert rho1[0] == pytest.approx(rho_batch[b], rel=1e-9, nan_ok=True), b
 
@@ -230,8 +250,9 @@ def test_nonaligned_sampling_amplitude_phase_spectrum():
     assert np.max(others) < 1e-6  # whole periods, rectangular window: no leakage
     # peak of q over a period, found numerically on a fine grid (independent of the spline)
     tf = np.linspace(0, period, 200001)
-    peak = np.max(np.abs(2.0 * np.sin(2 * math.pi / period * tf - 1.0)
-                         + 0.5 * np.cos(3 * 2 * math.pi / period * tf) + 0.1))
+    peak = np.max(
+        np.abs(2.0 * np.sin(2 * math.pi / period * tf - 1.0) + 0.5 * np.cos(3 * 2 * math.pi / period * tf) + 0.1)
+    )
     assert ss.amplitude == pytest.approx(peak, rel=1e-5)
 
 

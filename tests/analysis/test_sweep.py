@@ -1,5 +1,6 @@
 """Sweeps: configuration checks, load phase continuity, FMU sweeps against independent answers,
 and the dask path against the local one."""
+
 from __future__ import annotations
 
 import math
@@ -24,20 +25,25 @@ SLOW_SETTLE = sw.SweepSettings(refine_levels=0, max_time=6.0, rtol=1e-3)
 # ---------------------------------------------------------------------------------------------
 # A bad configuration fails before any work, naming the value
 # ---------------------------------------------------------------------------------------------
-@pytest.mark.parametrize("spec, needle", [
-    (sw.SweepSpec({"d": -1e-5}, [3000, 4000]), "d = -1e-05"),
-    (sw.SweepSpec({"kn": "stiff"}, [3000, 4000]), "kn = 'stiff'"),
-    (sw.SweepSpec({"bogus": 1}, [3000, 4000]), "'bogus'"),
-    (sw.SweepSpec({}, [3000, 40000]), "40000"),
-    (sw.SweepSpec({}, [3000, float("nan")]), "nan"),
-    (sw.SweepSpec({}, [3000]), "at least 2"),
-    (sw.SweepSpec({}, [3000, 4000], methods=("time", "magic")), "'magic'"),
-    (sw.SweepSpec({}, [3000, 4000], directions=("sideways",)), "'sideways'"),
-    (sw.SweepSpec({}, [3000, 4000], settings=sw.SweepSettings(rtol=0.0)), "rtol = 0.0"),
-    (sw.SweepSpec({}, [3000, 4000], settings=sw.SweepSettings(max_time=-1)), "max_time = -1"),
-    (sw.SweepSpec({}, [3000, 4000], settings=sw.SweepSettings(steps_per_period=8, derivative_order=0)),
-     "steps_per_period = 8"),
-])
+@pytest.mark.parametrize(
+    "spec, needle",
+    [
+        (sw.SweepSpec({"d": -1e-5}, [3000, 4000]), "d = -1e-05"),
+        (sw.SweepSpec({"kn": "stiff"}, [3000, 4000]), "kn = 'stiff'"),
+        (sw.SweepSpec({"bogus": 1}, [3000, 4000]), "'bogus'"),
+        (sw.SweepSpec({}, [3000, 40000]), "40000"),
+        (sw.SweepSpec({}, [3000, float("nan")]), "nan"),
+        (sw.SweepSpec({}, [3000]), "at least 2"),
+        (sw.SweepSpec({}, [3000, 4000], methods=("time", "magic")), "'magic'"),
+        (sw.SweepSpec({}, [3000, 4000], directions=("sideways",)), "'sideways'"),
+        (sw.SweepSpec({}, [3000, 4000], settings=sw.SweepSettings(rtol=0.0)), "rtol = 0.0"),
+        (sw.SweepSpec({}, [3000, 4000], settings=sw.SweepSettings(max_time=-1)), "max_time = -1"),
+        (
+            sw.SweepSpec({}, [3000, 4000], settings=sw.SweepSettings(steps_per_period=8, derivative_order=0)),
+            "steps_per_period = 8",
+        ),
+    ],
+)
 def test_bad_configuration_fails_before_any_work(monkeypatch, spec, needle):
     # Two good curves first, the bad one last: nothing may be computed or even located.
     def boom(*a, **k):
@@ -53,12 +59,29 @@ def test_bad_configuration_fails_before_any_work(monkeypatch, spec, needle):
 
 
 def test_cli_bad_configuration_one_line_error(tmp_path):
-    cases = [(["--start-values", "gamma", "2"], "gamma = "), (["--speeds", "3000:1000:100"], "3000:1000:100"),
-             (["--rtol", "-1"], "--rtol -1"), (["--workers", "0"], "--workers 0")]
+    cases = [
+        (["--start-values", "gamma", "2"], "gamma = "),
+        (["--speeds", "3000:1000:100"], "3000:1000:100"),
+        (["--rtol", "-1"], "--rtol -1"),
+        (["--workers", "0"], "--workers 0"),
+    ]
     for extra, needle in cases:
-        proc = subprocess.run([sys.executable, "-m", "harness", "sweep", "--cache-dir", str(tmp_path / "c"),
-                               "--output-file", str(tmp_path / "o.csv"), *extra], capture_output=True, text=True,
-                              timeout=120)
+        proc = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "harness",
+                "sweep",
+                "--cache-dir",
+                str(tmp_path / "c"),
+                "--output-file",
+                str(tmp_path / "o.csv"),
+                *extra,
+            ],
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
         assert proc.returncode == 2, proc.stderr
         lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
         assert lines and lines[-1].startswith("error: ") and needle in lines[-1], proc.stderr
@@ -81,7 +104,7 @@ def test_phased_sine_chain_matches_aeroload_under_stepped_speed():
         d_ours = sig.derivatives(t, 8)
         d_ref = ref.derivatives(t, 8)
         for j in range(9):
-            assert np.allclose(d_ours[j], d_ref[j], rtol=0, atol=1e-10 * 100 * om ** j), j
+            assert np.allclose(d_ours[j], d_ref[j], rtol=0, atol=1e-10 * 100 * om**j), j
         phase = (phase + om * dur) % (2 * math.pi)
         t0 += dur
 
@@ -103,8 +126,11 @@ def test_contact_free_plateaus_match_closed_form(fmu_path, tmp_path):
     # the order-8 input Taylor error (~1e-7); the FMU's `amplitude` is the exact period maximum.
     p = validate({"d": 1e-2})
     speeds = [3000.0, 4000.0, 4800.0]
-    res = sw.sweep(sw.SweepSpec(p, speeds, methods=("time",), directions=("up",), settings=SLOW_SETTLE),
-                   fmu_path=fmu_path, cache_dir=tmp_path)
+    res = sw.sweep(
+        sw.SweepSpec(p, speeds, methods=("time",), directions=("up",), settings=SLOW_SETTLE),
+        fmu_path=fmu_path,
+        cache_dir=tmp_path,
+    )
     assert len(res.time) == 3
     for row in res.time:
         assert row["reached"]
@@ -121,8 +147,11 @@ def test_ungated_sweeps_follow_stable_hb_branches_and_fixed_points_find_every_hb
     multi = [s for s, sols in zip(speeds, hb_all) if len(sols) >= 3]
     assert multi, "test premise: some speed has three harmonic-balance solutions"
     s = sw.SweepSettings(refine_levels=0, max_time=6.0, rtol=1e-3, n_scan=24, fixed_max_time=6.0)
-    res = sw.sweep(sw.SweepSpec(p, speeds, methods=("time", "fixed"), fixed_speeds=[multi[0]], settings=s),
-                   fmu_path=fmu_path, cache_dir=tmp_path)
+    res = sw.sweep(
+        sw.SweepSpec(p, speeds, methods=("time", "fixed"), fixed_speeds=[multi[0]], settings=s),
+        fmu_path=fmu_path,
+        cache_dir=tmp_path,
+    )
     branch_seen = set()
     for row in res.time:
         if not row["reached"]:
@@ -176,18 +205,26 @@ def test_refinement_narrows_the_peak(fmu_path, tmp_path):
     Om = math.sqrt(g.K0static / (9 * g.M - g.K0omega2))
     n_res = Om * 60 / (2 * math.pi)
     s = sw.SweepSettings(refine_levels=5, min_dn=15.0, max_time=0.6, rtol=1e-3)
-    res = sw.sweep(sw.SweepSpec(p, (4000.0, 4500.0, 5000.0, 5500.0, 6000.0), methods=("time",),
-                                directions=("up",), settings=s), fmu_path=fmu_path, cache_dir=tmp_path)
+    res = sw.sweep(
+        sw.SweepSpec(p, (4000.0, 4500.0, 5000.0, 5500.0, 6000.0), methods=("time",), directions=("up",), settings=s),
+        fmu_path=fmu_path,
+        cache_dir=tmp_path,
+    )
     sp, _ = res.peak("time")
-    assert abs(sp - n_res) < 2 * 15.0 + 500 / 2 ** 5, (sp, n_res)
+    assert abs(sp - n_res) < 2 * 15.0 + 500 / 2**5, (sp, n_res)
     assert len(res.time) > 5
 
 
 def test_dask_local_cluster_gives_the_local_numbers(fmu_path, tmp_path):
     distributed = pytest.importorskip("distributed")
     p = validate({"kn": 1e6})
-    spec = sw.SweepSpec(p, (4500.0, 5500.0, 6500.0), methods=("time", "fixed"), fixed_speeds=(5000.0, 6000.0),
-                        settings=sw.SweepSettings(refine_levels=1, max_time=0.3, fixed_max_time=0.2, n_scan=6))
+    spec = sw.SweepSpec(
+        p,
+        (4500.0, 5500.0, 6500.0),
+        methods=("time", "fixed"),
+        fixed_speeds=(5000.0, 6000.0),
+        settings=sw.SweepSettings(refine_levels=1, max_time=0.3, fixed_max_time=0.2, n_scan=6),
+    )
     local = sw.sweep(spec, Runner(workers=1, progress=False), fmu_path=fmu_path, cache_dir=None)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cl:
         with distributed.Client(cl) as client:

@@ -1,5 +1,6 @@
 """A sweep that is interrupted (exception after k points, SIGINT, a killed worker) keeps every
 finished point on disk and resumes without recomputing it; files are written atomically."""
+
 from __future__ import annotations
 
 import json
@@ -93,7 +94,7 @@ def test_interrupted_sweep_resumes_without_recomputing(fmu_path, tmp_path, monke
     first = list(computed)
     assert len(first) == 3
     computed.clear()
-    limit["n"] = 10 ** 9
+    limit["n"] = 10**9
     resumed = sw.sweep(_spec(), fmu_path=fmu_path, cache_dir=tmp_path / "cache")
     n_resumed = len(computed)
     # an uninterrupted run in a fresh cache: the number of points it computes and its results
@@ -119,13 +120,41 @@ def _cache_files(d: Path) -> list[Path]:
 def test_sigint_keeps_finished_points_and_rerun_completes(fmu_path, tmp_path):
     cache = tmp_path / "cache"
     out = tmp_path / "sweep.csv"
-    cmd = [sys.executable, "-m", "harness", "sweep", "--fmu", str(fmu_path), "--speeds", "3000:8000:250",
-           "--method", "time", "--refine", "1", "--max-time", "1.0", "--start-values", "kn", "1e6",
-           "--workers", "2", "--quiet", "--cache-dir", str(cache), "--output-file", str(out)]
+    cmd = [
+        sys.executable,
+        "-m",
+        "harness",
+        "sweep",
+        "--fmu",
+        str(fmu_path),
+        "--speeds",
+        "3000:8000:250",
+        "--method",
+        "time",
+        "--refine",
+        "1",
+        "--max-time",
+        "1.0",
+        "--start-values",
+        "kn",
+        "1e6",
+        "--workers",
+        "2",
+        "--quiet",
+        "--cache-dir",
+        str(cache),
+        "--output-file",
+        str(out),
+    ]
     # SIGINT back to its default in the child: a test run started in the background of a shell
     # without job control inherits SIGINT ignored, and Python then never raises KeyboardInterrupt
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    proc = subprocess.Popen(
+        cmd,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     t0 = time.time()
     while len(_cache_files(cache)) < 3 and proc.poll() is None and time.time() - t0 < 120:
         time.sleep(0.05)
@@ -151,8 +180,9 @@ def test_sigint_keeps_finished_points_and_rerun_completes(fmu_path, tmp_path):
 
 
 def test_killed_worker_loses_only_its_point(fmu_path, tmp_path):
-    spec = sw.SweepSpec(validate({"kn": 1e6}), tuple(np.arange(3000.0, 8001.0, 500.0)), methods=("time",),
-                        settings=SETTINGS)
+    spec = sw.SweepSpec(
+        validate({"kn": 1e6}), tuple(np.arange(3000.0, 8001.0, 500.0)), methods=("time",), settings=SETTINGS
+    )
     cache = tmp_path / "cache"
     runner = ex.Runner(workers=2, progress=False)
     killed: list[int] = []

@@ -1,6 +1,7 @@
 """The public API at the top of `harness`: cheap to import, every name in __all__ there, the version
 from pyproject.toml, bad values rejected with the value, the accepted range and the argument named,
 and the functions the same as the command line they are thin over."""
+
 from __future__ import annotations
 
 import json
@@ -17,8 +18,10 @@ REPO = Path(__file__).resolve().parents[2]
 
 
 def test_import_loads_nothing_heavy():
-    code = ("import sys, harness; print(sorted(m for m in ('numpy', 'fmpy', 'harness.fmu.build', 'importlib.metadata')"
-            " if m in sys.modules))")
+    code = (
+        "import sys, harness; print(sorted(m for m in ('numpy', 'fmpy', 'harness.fmu.build', 'importlib.metadata')"
+        " if m in sys.modules))"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert json.loads(out.replace("'", '"')) == []
 
@@ -39,22 +42,39 @@ def test_fmu_path_names():
         harness.fmu_path("NoSuchFMU")
 
 
-@pytest.mark.parametrize("call, expect", [
-    (lambda: harness.simulate(0.1, d=-1e-5), ["d = -1e-05 m", "harness.simulate(**parameters)", "accepted: [0, inf) m"]),
-    (lambda: harness.simulate(0.1, speed=40000), ["speed = 40000 rpm", "harness.simulate(speed=...)", "[0, 30000] rpm"]),
-    (lambda: harness.simulate(0.1, step=0.5), ["step = 0.5 s", "harness.simulate(step=...)", "(0, stop_time = 0.1] s"]),
-    (lambda: harness.simulate(0.1, nope=1), ["unknown parameter 'nope'", "harness.simulate(**parameters)"]),
-    (lambda: harness.periodic_orbits(0), ["speed = 0 rpm", "harness.periodic_orbits(speed=...)", "(0, 30000] rpm"]),
-    (lambda: harness.periodic_orbits(7000, model="hb"), ["model = 'hb'", "harness.periodic_orbits(model=...)",
-                                                          "fixedPoint"]),
-    (lambda: harness.periodic_orbits(7000, tipDisplacement=1e-5), ["tipDisplacement", "shooting solves"]),
-    (lambda: harness.branch((8000, 6000)), ["speed_range = (8000, 6000) rpm", "low must be < high"]),
-    (lambda: harness.branch((6000, float("nan"))), ["speed = nan", "harness.branch(speed_range=(..., high))"]),
-    (lambda: harness.run_ring(harness.Ring(n=1)), ["n = 1", "harness.run_ring(ring=Ring(n=...))", "[2, "]),
-    (lambda: harness.run_ring(harness.Ring(blade={"EI": -1.0})), ["EI -1.0", "Ring(blade=...)", "outside [0, inf]"]),
-    (lambda: harness.run_ring(harness.Ring(speed=-5.0)), ["speed = -5.0 rpm", "Ring(speed=...)"]),
-    (lambda: harness.run_ring(harness.Ring(), master="x"), ["master = 'x'", "harness.run_ring(master=...)"]),
-])
+@pytest.mark.parametrize(
+    "call, expect",
+    [
+        (
+            lambda: harness.simulate(0.1, d=-1e-5),
+            ["d = -1e-05 m", "harness.simulate(**parameters)", "accepted: [0, inf) m"],
+        ),
+        (
+            lambda: harness.simulate(0.1, speed=40000),
+            ["speed = 40000 rpm", "harness.simulate(speed=...)", "[0, 30000] rpm"],
+        ),
+        (
+            lambda: harness.simulate(0.1, step=0.5),
+            ["step = 0.5 s", "harness.simulate(step=...)", "(0, stop_time = 0.1] s"],
+        ),
+        (lambda: harness.simulate(0.1, nope=1), ["unknown parameter 'nope'", "harness.simulate(**parameters)"]),
+        (lambda: harness.periodic_orbits(0), ["speed = 0 rpm", "harness.periodic_orbits(speed=...)", "(0, 30000] rpm"]),
+        (
+            lambda: harness.periodic_orbits(7000, model="hb"),
+            ["model = 'hb'", "harness.periodic_orbits(model=...)", "fixedPoint"],
+        ),
+        (lambda: harness.periodic_orbits(7000, tipDisplacement=1e-5), ["tipDisplacement", "shooting solves"]),
+        (lambda: harness.branch((8000, 6000)), ["speed_range = (8000, 6000) rpm", "low must be < high"]),
+        (lambda: harness.branch((6000, float("nan"))), ["speed = nan", "harness.branch(speed_range=(..., high))"]),
+        (lambda: harness.run_ring(harness.Ring(n=1)), ["n = 1", "harness.run_ring(ring=Ring(n=...))", "[2, "]),
+        (
+            lambda: harness.run_ring(harness.Ring(blade={"EI": -1.0})),
+            ["EI -1.0", "Ring(blade=...)", "outside [0, inf]"],
+        ),
+        (lambda: harness.run_ring(harness.Ring(speed=-5.0)), ["speed = -5.0 rpm", "Ring(speed=...)"]),
+        (lambda: harness.run_ring(harness.Ring(), master="x"), ["master = 'x'", "harness.run_ring(master=...)"]),
+    ],
+)
 def test_bad_values_name_value_range_and_source(call, expect):
     with pytest.raises(harness.ParameterError) as err:
         call()
@@ -65,8 +85,13 @@ def test_bad_values_name_value_range_and_source(call, expect):
 def test_periodic_orbits_is_the_cli_periodic(tmp_path):
     """harness.periodic_orbits = `harness periodic --json` (the same orbits, every number)."""
     got = [o.as_dict() for o in harness.periodic_orbits(7000, d=4e-5)]
-    cli = subprocess.run([sys.executable, "-m", "harness", "periodic", "--speed", "7000", "--start-values", "d", "4e-5",
-                          "--json"], cwd=tmp_path, capture_output=True, text=True, check=True).stdout
+    cli = subprocess.run(
+        [sys.executable, "-m", "harness", "periodic", "--speed", "7000", "--start-values", "d", "4e-5", "--json"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
     assert json.loads(json.dumps(got)) == json.loads(cli)["solutions"]
 
 

@@ -13,6 +13,7 @@ e.g. in harness/cli/ring.py
 (help still "(default: 26)") fails test_stated_defaults_are_the_parsers: "ring --points: help says
 '26', the default is 25".
 """
+
 from __future__ import annotations
 
 import argparse
@@ -27,8 +28,20 @@ import pytest
 from harness.cli.main import COMMANDS, _Parser, main
 
 # defaults stated in words: what they mean is checked by the commands' own tests
-WORDS = ("all", "every", "number of", "the ", "each", "no plot", "warnings", "--speeds", "t/160", "0.8x",
-         "build/shroudedblade.fmu", "at most")
+WORDS = (
+    "all",
+    "every",
+    "number of",
+    "the ",
+    "each",
+    "no plot",
+    "warnings",
+    "--speeds",
+    "t/160",
+    "0.8x",
+    "build/shroudedblade.fmu",
+    "at most",
+)
 STATED = re.compile(r"(?:^|[(;,] ?)default:? ([^);]+)")
 RESOLVED_IN_CODE = {("ring", "--order"), ("campbell", "--speed")}  # see test_defaults_resolved_in_code
 
@@ -74,19 +87,35 @@ def _same(stated: str, value: Any) -> bool:
 
 def _mistuning_defaults() -> dict[str, Any]:
     from harness.cli.mistuning import study_from
+
     s = study_from(_parser("mistuning").parse_args([]))
-    return {"--blades": s.n, "--levels": list(s.levels), "--patterns": s.patterns, "--parameter": s.parameter,
-            "--seed": s.seed, "--points": s.points, "--rtol": s.rtol, "--max-time": s.max_time,
-            "--variants": list(s.variants), "--state-patterns": s.state_patterns, "--search": s.search_budget}
+    return {
+        "--blades": s.n,
+        "--levels": list(s.levels),
+        "--patterns": s.patterns,
+        "--parameter": s.parameter,
+        "--seed": s.seed,
+        "--points": s.points,
+        "--rtol": s.rtol,
+        "--max-time": s.max_time,
+        "--variants": list(s.variants),
+        "--state-patterns": s.state_patterns,
+        "--search": s.search_budget,
+    }
 
 
 def _cases() -> list[tuple[str, argparse.Action]]:
-    return [(c, a) for c in COMMANDS for a in _parser(c)._actions
-            if a.option_strings and not isinstance(a, argparse._HelpAction)]
+    return [
+        (c, a)
+        for c in COMMANDS
+        for a in _parser(c)._actions
+        if a.option_strings and not isinstance(a, argparse._HelpAction)
+    ]
 
 
 def test_stated_defaults_are_the_parsers() -> None:
     from harness.cli.continuation import DEFAULT_CSV
+
     resolved = {("mistuning", k): v for k, v in _mistuning_defaults().items()}
     resolved["continue", "--output-file"] = str(DEFAULT_CSV)  # set in the command when --json is not given
     wrong, checked = [], 0

@@ -3,6 +3,7 @@
 top-level `--help` and `--version` import no command module and none of numpy, scipy, fmpy or
 matplotlib (what made them take a second); every way to run the harness from the shell is a command
 of `python -m harness` (no module of the package runs as a script of its own)."""
+
 from __future__ import annotations
 
 import argparse
@@ -44,8 +45,10 @@ def test_every_value_option_states_its_default(command):
 @pytest.mark.parametrize("flag", ["--help", "--version"])
 def test_top_level_loads_no_numerics(flag):
     """The modules loaded by `python -m harness FLAG`, listed by the child process itself."""
-    code = ("import sys\nfrom harness.cli.main import main\ntry:\n    main([sys.argv[1]])\nexcept SystemExit:\n    pass\n"
-            "print('MODULES=' + __import__('json').dumps(sorted(sys.modules)))")
+    code = (
+        "import sys\nfrom harness.cli.main import main\ntry:\n    main([sys.argv[1]])\nexcept SystemExit:\n    pass\n"
+        "print('MODULES=' + __import__('json').dumps(sorted(sys.modules)))"
+    )
     proc = subprocess.run([sys.executable, "-c", code, flag], capture_output=True, text=True, timeout=120)
     loaded = json.loads(proc.stdout.rsplit("MODULES=", 1)[1])
     heavy = [m for m in loaded if m.split(".")[0] in HEAVY]
@@ -60,6 +63,9 @@ def test_every_command_is_listed_and_no_module_runs_as_a_script():
     proc = subprocess.run([sys.executable, "-m", "harness", "--help"], capture_output=True, text=True, timeout=120)
     for name in COMMANDS:
         assert re.search(rf"^\s+{re.escape(name)}\s", proc.stdout, re.M), f"{name} not in --help:\n{proc.stdout}"
-    scripts = [str(f.relative_to(PACKAGE)) for f in PACKAGE.rglob("*.py")
-               if re.search(r"__name__\s*==\s*[\"']__main__[\"']", f.read_text())]
+    scripts = [
+        str(f.relative_to(PACKAGE))
+        for f in PACKAGE.rglob("*.py")
+        if re.search(r"__name__\s*==\s*[\"']__main__[\"']", f.read_text())
+    ]
     assert not scripts, f"modules with their own entry point: {scripts} (make them a command of harness/cli)"

@@ -1,6 +1,7 @@
 """Every command that writes refuses an output path it cannot write, before any work: one line
 `error: ...` naming that path as given, exit code 2, no traceback; and results land under the
 current directory by default, never in the checkout's results/."""
+
 from __future__ import annotations
 
 import json
@@ -30,21 +31,28 @@ WRITERS = [
 
 def harness(*args: str, cwd: Path) -> subprocess.CompletedProcess:
     env = {**os.environ, "PYTHONPATH": str(REPO)}
-    return subprocess.run([sys.executable, "-m", "harness", *args], capture_output=True, text=True, cwd=cwd,
-                          env=env, timeout=600)
+    return subprocess.run(
+        [sys.executable, "-m", "harness", *args], capture_output=True, text=True, cwd=cwd, env=env, timeout=600
+    )
 
 
 def bad_paths(tmp: Path) -> dict[str, str]:
     (tmp / "a_file").write_text("x")
     (tmp / "a_dir.csv").mkdir()
-    return {"proc": "/proc/sb_out/x.csv",  # a virtual file system: nothing can be created there
-            "under a file": "a_file/sub/x.csv",
-            "a directory": "a_dir.csv"}
+    return {
+        "proc": "/proc/sb_out/x.csv",  # a virtual file system: nothing can be created there
+        "under a file": "a_file/sub/x.csv",
+        "a directory": "a_dir.csv",
+    }
 
 
 # a directory is a bad path only for the options that take a file
-CASES = [(c, o, r, k) for c, o, r in WRITERS for k in ("proc", "under a file", "a directory")
-         if not (k == "a directory" and o in ("--out", "--cache-dir"))]
+CASES = [
+    (c, o, r, k)
+    for c, o, r in WRITERS
+    for k in ("proc", "under a file", "a directory")
+    if not (k == "a directory" and o in ("--out", "--cache-dir"))
+]
 
 
 @pytest.mark.parametrize("command,option,rest,kind", CASES, ids=[f"{c} {o} {k}" for c, o, _, k in CASES])
@@ -60,8 +68,19 @@ def test_bad_output_path_is_one_line_naming_it(command, option, rest, kind, tmp_
 
 def test_results_default_under_the_current_directory(tmp_path):
     before = {p: p.stat().st_mtime_ns for p in (REPO / "results").rglob("*") if p.is_file()}
-    proc = harness("sweep", "--speeds", "5000,5100", "--method", "time", "--direction", "up", "--workers", "1",
-                   "--quiet", cwd=tmp_path)
+    proc = harness(
+        "sweep",
+        "--speeds",
+        "5000,5100",
+        "--method",
+        "time",
+        "--direction",
+        "up",
+        "--workers",
+        "1",
+        "--quiet",
+        cwd=tmp_path,
+    )
     assert proc.returncode == 0, proc.stderr
     assert (tmp_path / "sweep.csv").is_file()
     assert any((tmp_path / "shroudedblade-results" / "cache").rglob("*.json"))  # the cache, here

@@ -1,5 +1,6 @@
 """The quantities every command writes carry their units in their names, the same name for the same
 quantity across commands: speed_rpm, amplitude_m, time_s, tipDisplacement_m (CSV headers and JSON keys)."""
+
 from __future__ import annotations
 
 import json
@@ -11,8 +12,9 @@ REPO = Path(__file__).resolve().parents[2]
 
 
 def harness(*args: str, cwd: Path) -> subprocess.CompletedProcess:
-    proc = subprocess.run([sys.executable, "-m", "harness", *args], capture_output=True, text=True, cwd=cwd,
-                          timeout=600)
+    proc = subprocess.run(
+        [sys.executable, "-m", "harness", *args], capture_output=True, text=True, cwd=cwd, timeout=600
+    )
     assert proc.returncode == 0, proc.stderr
     return proc
 
@@ -24,8 +26,19 @@ def _header(path: Path) -> list[str]:
 
 def test_same_names_with_units_across_commands(tmp_path):
     harness("simulate", "--stop-time", "0.002", "--output-file", "sim.csv", cwd=tmp_path)
-    harness("sweep", "--speeds", "6000,6500", "--method", "fixed", "--workers", "1", "--quiet",
-            "--output-file", "sweep.csv", cwd=tmp_path)
+    harness(
+        "sweep",
+        "--speeds",
+        "6000,6500",
+        "--method",
+        "fixed",
+        "--workers",
+        "1",
+        "--quiet",
+        "--output-file",
+        "sweep.csv",
+        cwd=tmp_path,
+    )
     harness("continue", "--speed-range", "6000", "6400", "--output-file", "branches.csv", cwd=tmp_path)
     periodic = json.loads(harness("periodic", "--speed", "6200", "--json", cwd=tmp_path).stdout)
 

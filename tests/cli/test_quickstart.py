@@ -2,6 +2,7 @@
 with the FMU driven here directly through fmpy's FMU2Slave (not through the harness): the same
 1.5 s from rest at 7000 rpm, step 1e-4 s, the load Fw0 sin(EO 2 pi n t / 60) with its exact
 derivatives of orders 1..8 set every step (the FMU interpolates its inputs)."""
+
 from __future__ import annotations
 
 import math
@@ -32,8 +33,9 @@ def _direct_last_period_amplitude() -> float:
     fw0 = 100.0  # the harness's default load amplitude Fw0 [N/m] (docs/model.md s.1), fed through aeroLoad
     w = start["engineOrder"] * 2 * math.pi * SPEED / 60  # [rad/s]
     unzipdir = extract(str(path))
-    fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=md.coSimulation.modelIdentifier,
-                    instanceName="direct")
+    fmu = FMU2Slave(
+        guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=md.coSimulation.modelIdentifier, instanceName="direct"
+    )
     try:
         fmu.instantiate()
         fmu.setupExperiment(startTime=0.0)
@@ -49,8 +51,9 @@ def _direct_last_period_amplitude() -> float:
             t = k * STEP
             fmu.setReal([vr["aeroLoad"]], [fw0 * math.sin(w * t)])
             # d^j/dt^j sin(w t) = w^j sin(w t + j pi / 2)
-            fmu.setRealInputDerivatives([vr["aeroLoad"]] * ORDER, orders,
-                                        [fw0 * w ** j * math.sin(w * t + j * math.pi / 2) for j in orders])
+            fmu.setRealInputDerivatives(
+                [vr["aeroLoad"]] * ORDER, orders, [fw0 * w**j * math.sin(w * t + j * math.pi / 2) for j in orders]
+            )
             fmu.doStep(t, STEP)
             q[k + 1] = fmu.getReal([vr["tipDisplacement"]])[0]
         fmu.terminate()

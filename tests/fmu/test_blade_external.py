@@ -12,6 +12,7 @@
   set at 10x finer communication points to 1e-9 (held: first order, 1e-3 off);
 - an invalid parameter gives fmi2Error with a message naming it.
 """
+
 from __future__ import annotations
 
 import math
@@ -44,8 +45,9 @@ def drive(s, n: int, h: float, force=None, force_slope=None, speed: float = 5000
         t = k * h
         s.set_inputs({"aeroLoad": fw0 * math.sin(2 * math.pi * 250 * t), "rotorSpeed": speed})
         if force is not None:
-            s.set_inputs({"contactForce": force(t)},
-                         {"contactForce": [force_slope(t)]} if force_slope is not None else None)
+            s.set_inputs(
+                {"contactForce": force(t)}, {"contactForce": [force_slope(t)]} if force_slope is not None else None
+            )
         s.step(t, h)
         rows.append(s.get(OUT + (["contactWork"] if "contactWork" in s.u.vars else [])))
     return np.array(rows)
@@ -55,7 +57,9 @@ def drive(s, n: int, h: float, force=None, force_slope=None, speed: float = 5000
 @pytest.mark.parametrize("formulation", [1, 2])
 def test_zero_force_equals_open_blade_bit_for_bit(fmus, set_zero, formulation):
     bx, sb = fmus
-    a = sb.instance("sb", {**NO_BUILTIN_LOAD, "d": 1.0, "amplitudeMode": 1, "formulation": formulation, "maxStep": 3e-5})
+    a = sb.instance(
+        "sb", {**NO_BUILTIN_LOAD, "d": 1.0, "amplitudeMode": 1, "formulation": formulation, "maxStep": 3e-5}
+    )
     b = bx.instance("bx", {**NO_BUILTIN_LOAD, "formulation": formulation, "maxStep": 3e-5})
     try:
         ra = drive(a, 1500, H)
@@ -88,14 +92,17 @@ def test_contact_work_energy_balance(fmus):
     g = galerkin({})
     K0 = g.K0(2 * math.pi * n / 60)
     f = lambda t: 40.0 * math.sin(2 * math.pi * 180 * t) + 15.0 * math.cos(2 * math.pi * 410 * t)  # noqa: E731
-    df = lambda t: 40.0 * 2 * math.pi * 180 * math.cos(2 * math.pi * 180 * t) - 15.0 * 2 * math.pi * 410 * math.sin(2 * math.pi * 410 * t)  # noqa: E731
+    df = lambda t: (
+        40.0 * 2 * math.pi * 180 * math.cos(2 * math.pi * 180 * t)
+        - 15.0 * 2 * math.pi * 410 * math.sin(2 * math.pi * 410 * t)
+    )  # noqa: E731
     s = bx.instance("bx", {**NO_BUILTIN_LOAD, "maxStep": 1e-6})
     try:
         r = drive(s, 600, H, force=f, force_slope=df, speed=n, fw0=0.0)
     finally:
         s.free()
     q, v, E, W = r.T
-    stored = 0.5 * g.M * v ** 2 + 0.5 * K0 * q ** 2
+    stored = 0.5 * g.M * v**2 + 0.5 * K0 * q**2
     scale = np.abs(W).max() + E.max()
     assert E[-1] > 0 and scale > 0
     assert np.abs(W - (stored + E)).max() <= 1e-9 * scale
@@ -108,8 +115,14 @@ def test_force_derivative_is_used(fmus):
     for name, h, use in (("slope", 1e-3, True), ("held", 1e-3, False), ("fine", 1e-4, True)):
         s = bx.instance("bx", {**NO_BUILTIN_LOAD, "maxStep": 1e-5})
         try:
-            r = drive(s, round(0.02 / h), h, force=lambda t: slope * t,
-                      force_slope=(lambda t: slope) if use else None, fw0=0.0)
+            r = drive(
+                s,
+                round(0.02 / h),
+                h,
+                force=lambda t: slope * t,
+                force_slope=(lambda t: slope) if use else None,
+                fw0=0.0,
+            )
         finally:
             s.free()
         runs[name] = r[-1, 0]
@@ -142,8 +155,14 @@ def test_second_force_input_adds(fmus):
             rows = []
             for k in range(300):
                 t = k * H
-                s.set_inputs({"aeroLoad": 0.0, "rotorSpeed": 5000.0,
-                              "contactForce": 0.3 * f(t) if split else f(t), "contactForce2": 0.7 * f(t) if split else 0.0})
+                s.set_inputs(
+                    {
+                        "aeroLoad": 0.0,
+                        "rotorSpeed": 5000.0,
+                        "contactForce": 0.3 * f(t) if split else f(t),
+                        "contactForce2": 0.7 * f(t) if split else 0.0,
+                    }
+                )
                 s.step(t, H)
                 rows.append(s.get(["tipDisplacement", "contactWork"]))
         finally:

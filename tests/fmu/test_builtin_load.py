@@ -9,6 +9,7 @@ integral of the speed): never the FMU's C load code. Tolerances are ~10x the mea
 (stated per test); a phase error of 1e-4 rad in the built-in load moves the response by 3.7e-9 m
 (fixed B) to 6.4e-5 m (tracked amplitude), far outside them.
 """
+
 from __future__ import annotations
 
 import math
@@ -38,11 +39,14 @@ def _harness(fmu: BladeFMU, params: dict, aero, speed, stop: float) -> np.ndarra
     return fmu.run(params, stop, 1e-4, aero=aero, speed=speed, outputs=["tipDisplacement"])["tipDisplacement"][::10]
 
 
-@pytest.mark.parametrize("name, model", [("tracked amplitude", {}), ("fixed B", {"amplitudeMode": 1}),
-                                         ("Jenkins element", {"frictionModel": 3})])
+@pytest.mark.parametrize(
+    "name, model",
+    [("tracked amplitude", {}), ("fixed B", {"amplitudeMode": 1}), ("Jenkins element", {"frictionModel": 3})],
+)
 def test_fmpy_at_1e_3_s_equals_the_harness(fmu_path: Path, fmu: BladeFMU, name: str, model: dict) -> None:
-    r = simulate_fmu(fmu_path, stop_time=0.3, output_interval=1e-3, start_values={"Fw0": FW0, **model},
-                     output=["tipDisplacement"])
+    r = simulate_fmu(
+        fmu_path, stop_time=0.3, output_interval=1e-3, start_values={"Fw0": FW0, **model}, output=["tipDisplacement"]
+    )
     q = _harness(fmu, model, Sine(FW0, OMEGA), SPEED, 0.3)
     assert np.max(np.abs(r["tipDisplacement"] - q)) <= TOL[name]
     assert np.max(np.abs(q)) > 3e-5  # the shrouds are in contact: not a trivial comparison
@@ -51,8 +55,13 @@ def test_fmpy_at_1e_3_s_equals_the_harness(fmu_path: Path, fmu: BladeFMU, name: 
 def test_travelling_wave_lead(fmu_path: Path, fmu: BladeFMU) -> None:
     i, n = 2, 7
     lead = 2 * math.pi * EO * i / n
-    r = simulate_fmu(fmu_path, stop_time=0.2, output_interval=1e-3, output=["tipDisplacement"],
-                     start_values={"Fw0": FW0, "bladeIndex": i, "bladeCount": n, "frictionModel": 3})
+    r = simulate_fmu(
+        fmu_path,
+        stop_time=0.2,
+        output_interval=1e-3,
+        output=["tipDisplacement"],
+        start_values={"Fw0": FW0, "bladeIndex": i, "bladeCount": n, "frictionModel": 3},
+    )
     q = _harness(fmu, {"frictionModel": 3}, Sine(FW0, OMEGA, lead), SPEED, 0.2)
     assert np.max(np.abs(r["tipDisplacement"] - q)) <= 2e-14  # measured 2.0e-15
 
@@ -63,8 +72,12 @@ def test_run_up_with_the_speed_slope_as_input_derivative(fmu_path: Path, fmu: Bl
     slope = 2000.0 / 0.2
     md = read_model_description(fmu_path)
     vr = {v.name: v.valueReference for v in md.modelVariables}
-    s = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu_path, tmp_path / "x"), instanceName="runup",
-                  modelIdentifier=md.coSimulation.modelIdentifier)
+    s = FMU2Slave(
+        guid=md.guid,
+        unzipDirectory=extract(fmu_path, tmp_path / "x"),
+        instanceName="runup",
+        modelIdentifier=md.coSimulation.modelIdentifier,
+    )
     s.instantiate()
     s.setupExperiment(startTime=0.0)
     s.setReal([vr["Fw0"]], [FW0])
@@ -89,8 +102,13 @@ def test_blade_external_contact_has_the_same_load(fmu: BladeFMU) -> None:
     # the contact open (d = 1 m, fixed B) fed the load written here: measured 5.0e-15 m of a 4.2e-4 m
     # response, tolerance 5e-14
     _build.build(("fmu", "blade_external_fmu"))
-    b = simulate_fmu(_build.BUILD_DIR / "BladeExternalContact.fmu", stop_time=0.1, output_interval=1e-3,
-                     output=["tipDisplacement"], start_values={"Fw0": FW0, "bladeIndex": 1, "bladeCount": 4})
+    b = simulate_fmu(
+        _build.BUILD_DIR / "BladeExternalContact.fmu",
+        stop_time=0.1,
+        output_interval=1e-3,
+        output=["tipDisplacement"],
+        start_values={"Fw0": FW0, "bladeIndex": 1, "bladeCount": 4},
+    )
     q = _harness(fmu, {"d": 1.0, "amplitudeMode": 1}, Sine(FW0, OMEGA, 2 * math.pi * EO * 1 / 4), SPEED, 0.1)
     assert np.max(np.abs(b["tipDisplacement"] - q)) <= 5e-14
     assert np.max(np.abs(q)) > 1e-5
@@ -102,8 +120,24 @@ def test_fmpy_with_defaults_equals_harness_simulate(fmu_path: Path, tmp_path: Pa
     of `harness simulate` at the same settings (load fed through aeroLoad with derivatives, 1e-4 s)."""
     r = simulate_fmu(fmu_path, stop_time=0.3, output_interval=1e-3, output=["tipDisplacement"])
     out = tmp_path / "sim.csv"
-    proc = subprocess.run([sys.executable, "-m", "harness", "simulate", "--speed", "5000", "--stop-time", "0.3",
-                           "--output-interval", "1e-4", "--output-file", str(out)], capture_output=True, text=True)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "harness",
+            "simulate",
+            "--speed",
+            "5000",
+            "--stop-time",
+            "0.3",
+            "--output-interval",
+            "1e-4",
+            "--output-file",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert proc.returncode == 0, proc.stderr
     ours = np.genfromtxt(out, delimiter=",", names=True, deletechars="")
     q = ours["tipDisplacement_m"][::10]

@@ -7,6 +7,7 @@ scipy.integrate.quad of phi (eq. 20) and its analytic derivatives, compared at s
 1e-9 relative (the C code uses power series and Gauss-Legendre quadrature, so agreement is limited
 only by quad's ~1e-13 accuracy). Invalid inputs must give a nonzero return code.
 """
+
 from __future__ import annotations
 
 import math
@@ -60,17 +61,33 @@ def reference(EI: float, rho: float, A: float, l: float, c: float, m0: float) ->
         return quad(f, 0.0, l, epsabs=0.0, epsrel=1e-13, limit=200)[0]
 
     U1 = q(lambda x: phi(x) ** 2)
-    U = dict(lambdaL=aL, U1=U1, U2=lam**4 * U1, U3=q(lambda x: x * phi(x) * d1(x)),
-             U4=q(lambda x: d2(x) * phi(x) * (l * l - x * x)), U5=q(lambda x: phi(x) * d2(x)),
-             intPhi=q(phi), u2=phi(l))
+    U = dict(
+        lambdaL=aL,
+        U1=U1,
+        U2=lam**4 * U1,
+        U3=q(lambda x: x * phi(x) * d1(x)),
+        U4=q(lambda x: d2(x) * phi(x) * (l * l - x * x)),
+        U5=q(lambda x: phi(x) * d2(x)),
+        intPhi=q(phi),
+        u2=phi(l),
+    )
     u2, rA = U["u2"], rho * A
-    printed = dict(U, M=rA * U1 / u2, C0=c * U1 / u2, K0static=EI * U["U2"] / u2,
-                   K0omega2=(rA * U["U3"] - 0.5 * rA * U["U4"] - m0 * l * U["U5"]) / u2,
-                   loadGain=U["intPhi"] / u2)
-    consistent = dict(U, M=rA * U1 / u2**2 + m0, C0=c * U1 / u2**2,
-                      K0static=EI * q(lambda x: d2(x) ** 2) / u2**2,
-                      K0omega2=q(lambda x: (0.5 * rA * (l * l - x * x) + m0 * l) * d1(x) ** 2) / u2**2,
-                      loadGain=U["intPhi"] / u2)
+    printed = dict(
+        U,
+        M=rA * U1 / u2,
+        C0=c * U1 / u2,
+        K0static=EI * U["U2"] / u2,
+        K0omega2=(rA * U["U3"] - 0.5 * rA * U["U4"] - m0 * l * U["U5"]) / u2,
+        loadGain=U["intPhi"] / u2,
+    )
+    consistent = dict(
+        U,
+        M=rA * U1 / u2**2 + m0,
+        C0=c * U1 / u2**2,
+        K0static=EI * q(lambda x: d2(x) ** 2) / u2**2,
+        K0omega2=q(lambda x: (0.5 * rA * (l * l - x * x) + m0 * l) * d1(x) ** 2) / u2**2,
+        loadGain=U["intPhi"] / u2,
+    )
     return {"printed": printed, "consistent": consistent}
 
 
@@ -79,9 +96,20 @@ def rel_err(a: float, b: float) -> float:
 
 
 # docs/model.md s.2 check values, as printed (strings keep the printed digits).
-CHECK_PRINTED = {"lambdaL": "1.7898556", "U1": "0.239957", "U2": "4864.53", "U3": "0.364953", "U4": "0.154610",
-                 "U5": "9.92558", "u1": "14.8207", "u2": "2.542784", "M": "0.309149", "C0": "2.81216",
-                 "K0static": "656184", "K0omega2": "0.355953"}
+CHECK_PRINTED = {
+    "lambdaL": "1.7898556",
+    "U1": "0.239957",
+    "U2": "4864.53",
+    "U3": "0.364953",
+    "U4": "0.154610",
+    "U5": "9.92558",
+    "u1": "14.8207",
+    "u2": "2.542784",
+    "M": "0.309149",
+    "C0": "2.81216",
+    "K0static": "656184",
+    "K0omega2": "0.355953",
+}
 CHECK_CONSISTENT = {"M": "0.146579", "C0": "1.10594", "K0static": "311121", "K0omega2": "0.174944"}
 
 
@@ -90,8 +118,9 @@ def half_unit(printed: str) -> float:
     return 0.5 * 10.0 ** Decimal(printed).as_tuple().exponent
 
 
-@pytest.mark.parametrize("formulation,checks", [(FORMULATION_PRINTED, CHECK_PRINTED),
-                                                (FORMULATION_CONSISTENT, CHECK_CONSISTENT)])
+@pytest.mark.parametrize(
+    "formulation,checks", [(FORMULATION_PRINTED, CHECK_PRINTED), (FORMULATION_CONSISTENT, CHECK_CONSISTENT)]
+)
 def test_model_md_check_values(phys: PhysicsLib, formulation: int, checks: dict[str, str]) -> None:
     rc, red = phys.blade_reduce(formulation, **DEFAULTS)
     assert rc == 0

@@ -6,6 +6,7 @@ name followed by "(" inside a body. File A calls file B when a body in A calls a
 defines without `static`. Calls through function pointers (the layer reaching a model through
 FmiModel) are not edges, which is the point: the layer and the models meet only through the table.
 """
+
 from __future__ import annotations
 
 import re
@@ -33,17 +34,18 @@ def parse(text: str) -> tuple[dict[str, bool], set[str]]:
     for m in re.finditer(r"[{}]", code):
         if m.group() == "{":
             if depth == 0:
-                head = code[i:m.start()]
+                head = code[i : m.start()]
                 sig = re.search(r"(\w+)\s*\(([^()]|\([^()]*\))*\)\s*$", head)
                 if sig and "=" not in head:  # not an initializer such as `x = {...}`
-                    defs[sig.group(1)] = bool(re.search(r"\bstatic\b", head[:sig.start()].split(";")[-1]))
+                    defs[sig.group(1)] = bool(re.search(r"\bstatic\b", head[: sig.start()].split(";")[-1]))
                 body_start = m.end()
             depth += 1
         else:
             depth -= 1
             if depth == 0:
-                calls |= {c for c in re.findall(r"\b([A-Za-z_]\w*)\s*\(", code[body_start:m.start()])
-                          if c not in KEYWORDS}
+                calls |= {
+                    c for c in re.findall(r"\b([A-Za-z_]\w*)\s*\(", code[body_start : m.start()]) if c not in KEYWORDS
+                }
                 i = m.end()
     return defs, calls
 
@@ -70,7 +72,7 @@ def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
         state[f] = 1
         for g in sorted(graph.get(f, ())):
             if state.get(g) == 1:
-                found.append(path[path.index(g):] + [g])
+                found.append(path[path.index(g) :] + [g])
             elif g not in state:
                 visit(g, path + [g])
         state[f] = 2
@@ -82,8 +84,10 @@ def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
 
 
 def test_parser_sees_definitions_and_calls():
-    defs, calls = parse("static int a(int x)\n{\n    return b(x) + sizeof(x);\n}\n"
-                        "int c(void) { /* d() */ return a(1); }\nconst T t = {f, g};\n")
+    defs, calls = parse(
+        "static int a(int x)\n{\n    return b(x) + sizeof(x);\n}\n"
+        "int c(void) { /* d() */ return a(1); }\nconst T t = {f, g};\n"
+    )
     assert defs == {"a": True, "c": False} and calls == {"a", "b"}
 
 

@@ -12,6 +12,7 @@ Quantities that vanish by symmetry (p_c, Coulomb f_k, full-stick f_c) have no sc
 they are compared with 1e-10 * p_k, the normal stiffness of the same amplitude (their quadrature
 residue is rounding of stiffness-sized pieces).
 """
+
 from __future__ import annotations
 
 import math
@@ -23,8 +24,18 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from tests.support.cphysics import (COULOMB_DF, MACROSLIP_DF, MACROSLIP_TD, PROJECTION_CONSISTENT, PROJECTION_PAPER,
-                      REGIME_FULL_STICK, REGIME_OPEN, REGIME_STICK_SLIP, ContactParams, PhysicsLib)
+from tests.support.cphysics import (
+    COULOMB_DF,
+    MACROSLIP_DF,
+    MACROSLIP_TD,
+    PROJECTION_CONSISTENT,
+    PROJECTION_PAPER,
+    REGIME_FULL_STICK,
+    REGIME_OPEN,
+    REGIME_STICK_SLIP,
+    ContactParams,
+    PhysicsLib,
+)
 
 TWO_PI = 2.0 * math.pi
 
@@ -158,8 +169,17 @@ class LoopCase:
             return 1
         th1, th2, th3 = ang
         pi = math.pi
-        edges = [(th1, 1), (th2, 2), (pi - th2, 0), (th3, 1), (pi, 2), (pi + th1, 1), (pi + th2, 2),
-                 (TWO_PI - th2, 0), (pi + th3, 1)]
+        edges = [
+            (th1, 1),
+            (th2, 2),
+            (pi - th2, 0),
+            (th3, 1),
+            (pi, 2),
+            (pi + th1, 1),
+            (pi + th2, 2),
+            (TWO_PI - th2, 0),
+            (pi + th3, 1),
+        ]
         for edge, st in edges:
             if t < edge:
                 return st
@@ -190,9 +210,9 @@ class LoopCase:
 
 
 # ---------------------------------------------------------------------------------------------------
-D = 3e-5            # gap [m]
+D = 3e-5  # gap [m]
 MU = 0.33
-KD_PRINTED = 0.608695652173913   # 2(1-nu)/(2+nu), nu = 0.3 (paper)
+KD_PRINTED = 0.608695652173913  # 2(1-nu)/(2+nu), nu = 0.3 (paper)
 KD_MINDLIN = 0.8235294117647058  # 2(1-nu)/(2-nu)
 GAMMAS = [math.pi / 3, math.pi / 4, math.pi / 5, math.pi / 6, math.pi / 7]
 KNS = [1e5, 1e6, 1e7]
@@ -210,8 +230,7 @@ def params(case: LoopCase) -> ContactParams:
     return ContactParams(case.kn, case.kdRatio, case.mu, case.gamma, case.d)
 
 
-def compare(phys: PhysicsLib, case: LoopCase, errors: dict[str, float] | None = None,
-            fk_floor: float = 0.0) -> None:
+def compare(phys: PhysicsLib, case: LoopCase, errors: dict[str, float] | None = None, fk_floor: float = 0.0) -> None:
     """C closed forms vs the reference quadrature for one case (both projections). fk_floor: an
     absolute scale added to |f_k| in its tolerance where f_k is a near-cancellation of larger pieces."""
     model = COULOMB_DF if case.kind == "coulomb" else MACROSLIP_DF
@@ -225,7 +244,7 @@ def compare(phys: PhysicsLib, case: LoopCase, errors: dict[str, float] | None = 
     assert df.regime == want
     errs = {"pk": abs(df.pk - pk) / abs(pk), "pc": abs(ref["pcOmega"]) / pk}
     if case.kind == "coulomb":
-        errs["fk"] = abs(df.fk - ref["fk"]) / pk          # 0 by symmetry
+        errs["fk"] = abs(df.fk - ref["fk"]) / pk  # 0 by symmetry
         errs["fc"] = abs(df.fcOmega - ref["fcOmega"]) / ref["fcOmega"]
     elif case.full_stick:
         errs["fk"] = abs(df.fk - ref["fk"]) / abs(ref["fk"])
@@ -409,9 +428,16 @@ def test_time_domain_model_reports_macroslip_df(phys: PhysicsLib) -> None:
 def test_degenerate_parameters_are_finite(phys: PhysicsLib) -> None:
     """Edges of the parameter box (kn, kdRatio, mu = 0, gamma = 0 or pi/2, d = 0, huge B) never give NaN."""
     half_pi = 1.5707963267948966
-    cases = [(0.0, KD_PRINTED, MU, 1.0, D), (1e7, 0.0, MU, 1.0, D), (1e7, KD_PRINTED, 0.0, 1.0, D),
-             (1e7, KD_PRINTED, MU, 0.0, D), (1e7, KD_PRINTED, MU, half_pi, D), (1e7, KD_PRINTED, MU, 1.0, 0.0),
-             (1e7, 0.0, 0.0, 0.0, 0.0), (1e12, 1e9, 1e3, 0.5, 1e-9)]
+    cases = [
+        (0.0, KD_PRINTED, MU, 1.0, D),
+        (1e7, 0.0, MU, 1.0, D),
+        (1e7, KD_PRINTED, 0.0, 1.0, D),
+        (1e7, KD_PRINTED, MU, 0.0, D),
+        (1e7, KD_PRINTED, MU, half_pi, D),
+        (1e7, KD_PRINTED, MU, 1.0, 0.0),
+        (1e7, 0.0, 0.0, 0.0, 0.0),
+        (1e12, 1e9, 1e3, 0.5, 1e-9),
+    ]
     for fields in cases:
         cp = ContactParams(*fields)
         assert phys.params_valid(cp)
@@ -428,10 +454,19 @@ def test_degenerate_parameters_are_finite(phys: PhysicsLib) -> None:
     assert df.fk == 0 and df.fcOmega == 0 and df.pk > 0
 
 
-BAD_PARAMS = [(-1.0, KD_PRINTED, MU, 1.0, D), (1e7, -0.1, MU, 1.0, D), (1e7, KD_PRINTED, -0.1, 1.0, D),
-              (1e7, KD_PRINTED, MU, -0.1, D), (1e7, KD_PRINTED, MU, 1.6, D), (1e7, KD_PRINTED, MU, 1.0, -1e-6)]
-BAD_PARAMS += [tuple(bad if i == j else f for j, f in enumerate((1e7, KD_PRINTED, MU, 1.0, D)))
-               for i in range(5) for bad in (math.nan, math.inf, -math.inf)]
+BAD_PARAMS = [
+    (-1.0, KD_PRINTED, MU, 1.0, D),
+    (1e7, -0.1, MU, 1.0, D),
+    (1e7, KD_PRINTED, -0.1, 1.0, D),
+    (1e7, KD_PRINTED, MU, -0.1, D),
+    (1e7, KD_PRINTED, MU, 1.6, D),
+    (1e7, KD_PRINTED, MU, 1.0, -1e-6),
+]
+BAD_PARAMS += [
+    tuple(bad if i == j else f for j, f in enumerate((1e7, KD_PRINTED, MU, 1.0, D)))
+    for i in range(5)
+    for bad in (math.nan, math.inf, -math.inf)
+]
 
 
 @pytest.mark.parametrize("fields", BAD_PARAMS)

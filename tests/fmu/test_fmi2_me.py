@@ -12,6 +12,7 @@ differs by 4e-4 in q and 7e-5 in the tracked amplitudes, from fmpy's inputs (ME:
 steps and set at every root-finding evaluation, CS: held over each communication step). Euler
 (step 2e-7 s, one period) is within 0.4 %.
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -24,8 +25,16 @@ from fmpy.validation import validate_fmu
 
 from tests.support.fmi2me import NX, NZ, EventInfo, Me, arr
 from tests.support.fmi2raw import CO_SIMULATION, DISCARD, ERROR, MODEL_EXCHANGE, OK, VR, Instance
-OUT = ["tipDisplacement", "tipVelocity", "dissipatedEnergy", "amplitude", "runningMaximum",
-       "jenkinsForce", "contactState"]
+
+OUT = [
+    "tipDisplacement",
+    "tipVelocity",
+    "dissipatedEnergy",
+    "amplitude",
+    "runningMaximum",
+    "jenkinsForce",
+    "contactState",
+]
 FREE = dict(tipDisplacement=1.5e-4, aeroLoad=100.0, rotorSpeed=5000.0)
 # output interval incommensurate with the excitation period (4 ms at 5000 rpm, engine order 3): a
 # period end on a sample point would be sampled before its event by one solver, after by the other
@@ -47,13 +56,29 @@ def _rel(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def _cs(fmu_path, start, stop, dt=DT, **kw):
-    return simulate_fmu(str(fmu_path), fmi_type="CoSimulation", stop_time=stop, output_interval=dt,
-                        start_values=dict(start, maxStep=2.5e-6, Fw0=0.0), output=OUT, **kw)
+    return simulate_fmu(
+        str(fmu_path),
+        fmi_type="CoSimulation",
+        stop_time=stop,
+        output_interval=dt,
+        start_values=dict(start, maxStep=2.5e-6, Fw0=0.0),
+        output=OUT,
+        **kw,
+    )
 
 
 def _me(fmu_path, start, stop, solver="CVode", dt=DT, **kw):
-    return simulate_fmu(str(fmu_path), fmi_type="ModelExchange", solver=solver, stop_time=stop,
-                        output_interval=dt, start_values=dict(start, Fw0=0.0), output=OUT, record_events=False, **kw)
+    return simulate_fmu(
+        str(fmu_path),
+        fmi_type="ModelExchange",
+        solver=solver,
+        stop_time=stop,
+        output_interval=dt,
+        start_values=dict(start, Fw0=0.0),
+        output=OUT,
+        record_events=False,
+        **kw,
+    )
 
 
 def test_validate_fmu_clean(fmu_path) -> None:
@@ -71,7 +96,7 @@ def test_cvode_equals_cs(fmu_path, name) -> None:
         if np.any(cs[k] != 0.0):
             assert _rel(cs[k], me[k]) < 2e-6, (k, _rel(cs[k], me[k]))
         else:
-            assert np.all(me[k][:len(cs)] == 0.0), k
+            assert np.all(me[k][: len(cs)] == 0.0), k
     n = min(len(cs), len(me))
     assert np.sum(cs["contactState"][:n] != me["contactState"][:n]) <= 1
     if start.get("amplitudeMode", 2) == 2:  # the tracked amplitude moved at the period ends
@@ -81,8 +106,10 @@ def test_cvode_equals_cs(fmu_path, name) -> None:
 def test_cvode_run_up_equals_cs(fmu_path) -> None:
     """rotorSpeed 4000 -> 6000 rpm in 30 ms under a constant load (fmpy interpolates the table)."""
     t = np.linspace(0.0, 0.03, 31)
-    signal = np.array(list(zip(t, np.full_like(t, 100.0), 4000.0 + 2000.0 * t / 0.03)),
-                      dtype=[("time", float), ("aeroLoad", float), ("rotorSpeed", float)])
+    signal = np.array(
+        list(zip(t, np.full_like(t, 100.0), 4000.0 + 2000.0 * t / 0.03)),
+        dtype=[("time", float), ("aeroLoad", float), ("rotorSpeed", float)],
+    )
     start = dict(tipDisplacement=1.5e-4, frictionModel=1)
     cs = _cs(fmu_path, start, 0.03, dt=2e-5, input=signal)
     me = _me(fmu_path, start, 0.03, dt=2e-5, input=signal, relative_tolerance=1e-10)
@@ -139,10 +166,17 @@ def test_me_sequence_and_variables(lib) -> None:
         assert me.get_x(inst.c, x, NX) == OK and x[0] == 1.5e-4 and x[2] == 0.0
         assert me.get_dx(inst.c, dx, NX) == OK and dx[0] == x[1]
         assert me.nominals(inst.c, nom, NX) == OK and all(v > 0.0 for v in nom)
-        status, der = inst.get_real(["der(tipDisplacement)", "der(tipVelocity)", "der(excitationPhase)",
-                                     "der(dissipatedEnergy)", "der(sliderPosition)"]
-                                    + [f"der(modalDisplacement[{k}])" for k in range(2, 7)]
-                                    + [f"der(modalVelocity[{k}])" for k in range(2, 7)])
+        status, der = inst.get_real(
+            [
+                "der(tipDisplacement)",
+                "der(tipVelocity)",
+                "der(excitationPhase)",
+                "der(dissipatedEnergy)",
+                "der(sliderPosition)",
+            ]
+            + [f"der(modalDisplacement[{k}])" for k in range(2, 7)]
+            + [f"der(modalVelocity[{k}])" for k in range(2, 7)]
+        )
         assert status == OK and list(der) == list(dx)
         assert NX == 15 and not any(dx[5:])  # the modal states of modes 2..6 held at 0 (modes = 1)
         # 5000 rpm, engine order 3: omega = 2 pi 250 rad/s
@@ -177,8 +211,7 @@ def test_invalid_me_calls(lib) -> None:
         _error(inst, me.get_dx(inst.c, x, NX), "fmi2GetDerivatives: Illegal call sequence (state: instantiated)")
         assert me.nominals(inst.c, x, NX) == OK  # allowed before initialization (from the parameters)
         assert inst.setup() == OK and inst.enter_init() == OK and inst.exit_init() == OK  # -> eventMode
-        _error(inst, me.do_step(inst.c, 0.0, 1e-4, 1), "fmi2DoStep: not available",
-               "fmuType = fmi2ModelExchange")
+        _error(inst, me.do_step(inst.c, 0.0, 1e-4, 1), "fmi2DoStep: not available", "fmuType = fmi2ModelExchange")
         _error(inst, me.set_x(inst.c, x, NX), "fmi2SetContinuousStates: Illegal call sequence (state: eventMode)")
         _error(inst, me.completed(inst.c, 1, None, None), "Illegal call sequence (state: eventMode)")
         _error(inst, me.get_x(inst.c, x, 4), "fmi2GetContinuousStates: nx = 4, but this FMU has 15")
@@ -195,8 +228,11 @@ def test_invalid_me_calls(lib) -> None:
         _error(inst, me.set_x(inst.c, bad, NX), "x[3] = inf is not finite", expected=DISCARD)
         after = _arr(NX)
         assert me.get_x(inst.c, after, NX) == OK and list(after) == list(x)  # unchanged
-        _error(inst, me.new_discrete(inst.c, ctypes.byref(EventInfo())),
-               "fmi2NewDiscreteStates: Illegal call sequence (state: continuousTimeMode)")
+        _error(
+            inst,
+            me.new_discrete(inst.c, ctypes.byref(EventInfo())),
+            "fmi2NewDiscreteStates: Illegal call sequence (state: continuousTimeMode)",
+        )
         assert inst.set_real(["rotorSpeed"], [6000.0]) == OK  # inputs: also in continuous-time mode
     finally:
         inst.free()
@@ -268,8 +304,14 @@ def test_getters_in_initialization_mode(lib) -> None:
         inst.free()
 
 
-def _loop_angles(B: float, d: float = 3e-5, kn: float = 1e7, kd_ratio: float = 0.608695652173913,
-                 mu: float = 0.33, gamma: float = np.pi / 3) -> tuple[float, float, float]:
+def _loop_angles(
+    B: float,
+    d: float = 3e-5,
+    kn: float = 1e7,
+    kd_ratio: float = 0.608695652173913,
+    mu: float = 0.33,
+    gamma: float = np.pi / 3,
+) -> tuple[float, float, float]:
     """th1, th2, th3 of the macroslip loop (docs/model.md eq. 5, written here from the doc's
     versine forms): 1 - cos th1 = 2 b r/(a + b), 1 - cos th2 = r, 1 + cos th3 = (a - b) r/a."""
     a, b, r = kd_ratio * kn * np.sin(gamma), mu * kn * np.cos(gamma), (B - d) / B

@@ -16,6 +16,7 @@ FMI 2.0 one built from the same sources.
   communication point, NULL/size arguments, unsupported functions and instantiation options) give
   fmi3Error with a logged message, and the instance stays usable (or is recovered by fmi3Reset).
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -51,6 +52,7 @@ def fmus(fmu_path: Path, fmu3_path: Path, tmp_path_factory: pytest.TempPathFacto
 # ------------------------------------------------------------------------------------------------
 # model description
 
+
 def test_validate_fmu(fmu3_path: Path) -> None:
     assert validate_fmu(str(fmu3_path)) == []
 
@@ -69,8 +71,18 @@ def test_capabilities(fmus) -> None:
 
 def _attrs(v) -> tuple:
     types = {"Real": "Float64", "Integer": "Int32"}
-    return (v.valueReference, types.get(v.type, v.type), v.causality, v.variability, v.initial, v.description,
-            v.unit, v.min, v.max, v.start)
+    return (
+        v.valueReference,
+        types.get(v.type, v.type),
+        v.causality,
+        v.variability,
+        v.initial,
+        v.description,
+        v.unit,
+        v.min,
+        v.max,
+        v.start,
+    )
 
 
 def test_same_variables_as_fmi2(fmus) -> None:
@@ -78,24 +90,40 @@ def test_same_variables_as_fmi2(fmus) -> None:
     # the FMI 2.0 FMU also carries <ModelExchange>: its states without a variable so far and the
     # derivatives (the locals other than the sensitivities) are not in the FMI 3.0 co-simulation FMU,
     # nor are the states among the outputs' dependencies
-    me_only = {v.name for v in md2.modelVariables if v.causality == "local"
-               and v.name in ("excitationPhase", "sliderPosition") or v.name.startswith("der(")}
+    me_only = {
+        v.name
+        for v in md2.modelVariables
+        if v.causality == "local" and v.name in ("excitationPhase", "sliderPosition") or v.name.startswith("der(")
+    }
     assert len(me_only) == 7 + 10 and md2.modelExchange is not None
     v2 = {v.name: _attrs(v) for v in md2.modelVariables if v.name not in me_only}
     v3 = {v.name: _attrs(v) for v in md3.modelVariables}
-    assert v3.pop("time") == (VR_TIME, "Float64", "independent", "continuous", None, "simulation time", "s", None,
-                              None, None)
+    assert v3.pop("time") == (
+        VR_TIME,
+        "Float64",
+        "independent",
+        "continuous",
+        None,
+        "simulation time",
+        "s",
+        None,
+        None,
+        None,
+    )
     assert v3 == v2
     assert md3.guid == md2.guid  # instantiationToken = guid: one model, one state format
-    deps = lambda md: {u.variable.name: sorted(d.name for d in (u.dependencies or []) if d.causality == "input")
-                       for u in md.outputs}
+    deps = lambda md: {
+        u.variable.name: sorted(d.name for d in (u.dependencies or []) if d.causality == "input") for u in md.outputs
+    }
     assert deps(md3) == deps(md2)
-    assert sorted(u.variable.name for u in md3.initialUnknowns) == \
-        sorted(u.variable.name for u in md2.initialUnknowns if u.variable.name not in me_only)
+    assert sorted(u.variable.name for u in md3.initialUnknowns) == sorted(
+        u.variable.name for u in md2.initialUnknowns if u.variable.name not in me_only
+    )
 
 
 # ------------------------------------------------------------------------------------------------
 # bit-for-bit against the FMI 2.0 FMU
+
 
 class _Pair:
     """The FMI 2.0 and 3.0 FMUs instantiated side by side, driven identically."""
@@ -109,10 +137,17 @@ class _Pair:
         self.f3.instantiate()
         for k, x in params.items():
             v = self.vars[k]
-            {"Real": lambda: (self.f2.setReal([v.valueReference], [x]), self.f3.setFloat64([v.valueReference], [x])),
-             "Integer": lambda: (self.f2.setInteger([v.valueReference], [x]), self.f3.setInt32([v.valueReference], [x])),
-             "Boolean": lambda: (self.f2.setBoolean([v.valueReference], [x]),
-                                 self.f3.setBoolean([v.valueReference], [x]))}[v.type]()
+            {
+                "Real": lambda: (self.f2.setReal([v.valueReference], [x]), self.f3.setFloat64([v.valueReference], [x])),
+                "Integer": lambda: (
+                    self.f2.setInteger([v.valueReference], [x]),
+                    self.f3.setInt32([v.valueReference], [x]),
+                ),
+                "Boolean": lambda: (
+                    self.f2.setBoolean([v.valueReference], [x]),
+                    self.f3.setBoolean([v.valueReference], [x]),
+                ),
+            }[v.type]()
         self.f2.setupExperiment(startTime=0.0)
         self.f2.enterInitializationMode()
         self.f3.enterInitializationMode(startTime=0.0)
@@ -147,11 +182,15 @@ def _bits(a: np.ndarray) -> np.ndarray:
 SCENARIOS = {
     # frictionModel, gating, amplitudeMode, speed [rpm] (constant or run-up over the run), steps
     "macroslip DF, gated, tracked B, 6000 rpm": (dict(frictionModel=1, gating=True, amplitudeMode=2), 6000.0),
-    "macroslip DF, ungated, fixed B, run-up 4000-6000 rpm": (dict(frictionModel=1, gating=False, amplitudeMode=1),
-                                                              (4000.0, 6000.0)),
+    "macroslip DF, ungated, fixed B, run-up 4000-6000 rpm": (
+        dict(frictionModel=1, gating=False, amplitudeMode=1),
+        (4000.0, 6000.0),
+    ),
     "Coulomb DF, gated, fixed B, 5000 rpm": (dict(frictionModel=2, gating=True, amplitudeMode=1), 5000.0),
-    "Coulomb DF, ungated, tracked B, run-up 4500-5500 rpm": (dict(frictionModel=2, gating=False, amplitudeMode=2),
-                                                              (4500.0, 5500.0)),
+    "Coulomb DF, ungated, tracked B, run-up 4500-5500 rpm": (
+        dict(frictionModel=2, gating=False, amplitudeMode=2),
+        (4500.0, 5500.0),
+    ),
     "Jenkins element, tracked B, run-up 4000-6000 rpm": (dict(frictionModel=3, amplitudeMode=2), (4000.0, 6000.0)),
     "Jenkins element, fixed B, 6000 rpm": (dict(frictionModel=3, gating=False, amplitudeMode=1), 6000.0),
 }
@@ -180,7 +219,9 @@ def test_bit_identical_to_fmi2(fmus, name: str) -> None:
     finally:
         pair.free()
     r2, r3 = np.array(rows2), np.array(rows3)
-    assert np.array_equal(_bits(r2), _bits(r3)), f"{name}: first differing row {np.argmax((_bits(r2) != _bits(r3)).any(axis=1))}"
+    assert np.array_equal(_bits(r2), _bits(r3)), (
+        f"{name}: first differing row {np.argmax((_bits(r2) != _bits(r3)).any(axis=1))}"
+    )
     # not vacuous: the blade moves and the contact acts
     q, contact, keq = r2[:, pair.real.index(50)], r2[:, len(pair.real) + pair.int.index(61)], r2[:, pair.real.index(54)]
     assert np.max(np.abs(q)) > 1e-6 and (np.any(contact > 0) or np.any(keq != 0.0)), name
@@ -221,6 +262,7 @@ def test_simulate_fmu_bit_identical(fmus) -> None:
 
 # ------------------------------------------------------------------------------------------------
 # FMU state
+
 
 def _run(f, t0: float, steps: int, aero, n, get, real) -> np.ndarray:
     rows = []
@@ -279,6 +321,7 @@ def test_state_round_trip(fmus) -> None:
 # ------------------------------------------------------------------------------------------------
 # invalid calls: fmi3Error with a message, no crash
 
+
 class _Log:
     def __init__(self) -> None:
         self.records: list[tuple[int, str, str]] = []
@@ -294,8 +337,7 @@ class _Log:
 
 def _slave(fmus, log: _Log, **kw) -> FMU3Slave:
     _, _, md3, d3 = fmus
-    f = FMU3Slave(guid=kw.pop("guid", md3.guid), unzipDirectory=d3, modelIdentifier="ShroudedBlade",
-                  instanceName="err")
+    f = FMU3Slave(guid=kw.pop("guid", md3.guid), unzipDirectory=d3, modelIdentifier="ShroudedBlade", instanceName="err")
     f.instantiate(loggingOn=True, logMessage=log, **kw)
     return f
 
@@ -334,13 +376,19 @@ def test_invalid_calls(fmus) -> None:
         _expect_error(log, lambda: f.setFloat64([999], [1.0]), "fmi3SetFloat64: unknown value reference 999")
         _expect_error(log, lambda: f.setInt32([1], [1]), "EI (vr 1) is of type Float64, not Int32")
         _expect_error(log, lambda: f.setFloat64([VR_TIME], [1.0]), "time (vr 0) is the independent variable")
-        _expect_error(log, lambda: f.setInt64([20], [1]), "fmi3SetInt64: frictionModel (vr 20) is of type Int32, not Int64")
+        _expect_error(
+            log, lambda: f.setInt64([20], [1]), "fmi3SetInt64: frictionModel (vr 20) is of type Int32, not Int64"
+        )
         f.enterInitializationMode(startTime=0.0, stopTime=STOP)
         f.exitInitializationMode()
         assert _errors(log) == []
         # after initialization
-        _expect_error(log, lambda: f.setFloat64([1], [300.0]), "parameter EI (vr 1) has variability fixed",
-                      "only before fmi3ExitInitializationMode (state: Step Mode)")
+        _expect_error(
+            log,
+            lambda: f.setFloat64([1], [300.0]),
+            "parameter EI (vr 1) has variability fixed",
+            "only before fmi3ExitInitializationMode (state: Step Mode)",
+        )
         _expect_error(log, lambda: f.getFloat64([50, 999]), "fmi3GetFloat64: unknown value reference 999")
         _expect_error(log, lambda: f.getBoolean([50]), "tipDisplacement (vr 50) is of type Float64, not Boolean")
         _expect_error(log, lambda: f.getInt32([VR_TIME]), "time (vr 0) is of type Float64, not Int32")
@@ -405,8 +453,17 @@ def test_discarded_step_stays_in_step_mode(fmus) -> None:
         flags = [ctypes.c_bool(True) for _ in range(3)]
         last = ctypes.c_double(-1.0)
         log.take()
-        assert f.dll.fmi3DoStep(f.component, ctypes.c_double(0.0), ctypes.c_double(H), True,
-                                *[ctypes.byref(x) for x in flags], ctypes.byref(last)) == 2  # fmi3Discard
+        assert (
+            f.dll.fmi3DoStep(
+                f.component,
+                ctypes.c_double(0.0),
+                ctypes.c_double(H),
+                True,
+                *[ctypes.byref(x) for x in flags],
+                ctypes.byref(last),
+            )
+            == 2
+        )  # fmi3Discard
         assert [x.value for x in flags] == [False, False, False] and last.value == 0.0
         assert [(s, c) for s, c, _ in log.take() if s != 0] == [(2, "logStatusDiscard")]
         assert f.getFloat64([50, 51, 57]) == before and f.getFloat64([VR_TIME]) == [0.0]
@@ -434,11 +491,14 @@ def test_messages_name_fmi3_functions(fmus) -> None:
         f.freeInstance()
 
 
-@pytest.mark.parametrize("kw, fragment", [
-    (dict(guid="{00000000-0000-0000-0000-000000000000}"), "instantiationToken {00000000"),
-    (dict(eventModeUsed=True), "eventModeUsed = true is not supported"),
-    (dict(requiredIntermediateVariables=[50]), "providesIntermediateUpdate = false"),
-])
+@pytest.mark.parametrize(
+    "kw, fragment",
+    [
+        (dict(guid="{00000000-0000-0000-0000-000000000000}"), "instantiationToken {00000000"),
+        (dict(eventModeUsed=True), "eventModeUsed = true is not supported"),
+        (dict(requiredIntermediateVariables=[50]), "providesIntermediateUpdate = false"),
+    ],
+)
 def test_instantiation_refused(fmus, kw: dict, fragment: str) -> None:
     log = _Log()
     with pytest.raises(Exception, match="Failed to instantiate FMU"):
@@ -471,8 +531,9 @@ def test_ecos_bit_identical(fmu_path: Path, fmu3_path: Path) -> None:
     def go(fmu: Path) -> np.ndarray:
         structure = EcosSimulationStructure()
         structure.add_model("blade", str(fmu))
-        structure.add_parameter_set("initial", {"blade::frictionModel": 3, "blade::aeroLoad": 0.0,
-                                                "blade::rotorSpeed": 4000.0})
+        structure.add_parameter_set(
+            "initial", {"blade::frictionModel": 3, "blade::aeroLoad": 0.0, "blade::rotorSpeed": 4000.0}
+        )
         sim = EcosSimulation(structure=structure, step_size=H)
         rows = []
         try:
@@ -482,7 +543,9 @@ def test_ecos_bit_identical(fmu_path: Path, fmu3_path: Path) -> None:
                 sim.set_real("blade::aeroLoad", float(aero(t)))
                 sim.set_real("blade::rotorSpeed", float(n(t)))
                 sim.step()
-                rows.append([sim.get_real(f"blade::{x}") for x in names] + [float(sim.get_integer("blade::contactState"))])
+                rows.append(
+                    [sim.get_real(f"blade::{x}") for x in names] + [float(sim.get_integer("blade::contactState"))]
+                )
             sim.terminate()
         finally:
             sim.free()
@@ -499,8 +562,9 @@ def test_undeclared_references_are_unknown(fmus) -> None:
     modelDescription3.xml: the FMI 3.0 binary refuses their value references like any unknown one."""
     md2, _, md3, _ = fmus
     declared3 = {v.valueReference for v in md3.modelVariables}
-    undeclared = sorted(v.valueReference for v in md2.modelVariables
-                        if v.causality == "local" and v.valueReference not in declared3)
+    undeclared = sorted(
+        v.valueReference for v in md2.modelVariables if v.causality == "local" and v.valueReference not in declared3
+    )
     assert len(undeclared) == 7 + 10  # the states and derivatives of model exchange
     assert undeclared, "modelDescription.xml has no locals missing from modelDescription3.xml"
     log = _Log()

@@ -1,6 +1,7 @@
 """The package's FMI binding (harness.fmu.binding) itself: its signature tables against the FMI
 headers shipped with fmpy (parsed here, an independent source), the status -> FmiError mapping and
 raw mode, and log capture (compared with the tests' C proxy, which formats with vsnprintf)."""
+
 from __future__ import annotations
 
 import ctypes
@@ -16,11 +17,24 @@ from harness.fmu.binding import DISCARD, ERROR, FATAL, OK, PENDING, WARNING, Fmi
 from harness.fmu.binding import fmi2_signatures, fmi3_signatures
 
 HEADERS = Path(fmpy.__file__).parent / "c-code"
-_C_BASE = {"void*": ctypes.c_void_p, "unsigned int": ctypes.c_uint, "double": ctypes.c_double, "float": ctypes.c_float,
-           "int": ctypes.c_int, "char": ctypes.c_char, "bool": ctypes.c_bool, "size_t": ctypes.c_size_t,
-           "int8_t": ctypes.c_int8, "uint8_t": ctypes.c_uint8, "int16_t": ctypes.c_int16, "uint16_t": ctypes.c_uint16,
-           "int32_t": ctypes.c_int32, "uint32_t": ctypes.c_uint32, "int64_t": ctypes.c_int64,
-           "uint64_t": ctypes.c_uint64}
+_C_BASE = {
+    "void*": ctypes.c_void_p,
+    "unsigned int": ctypes.c_uint,
+    "double": ctypes.c_double,
+    "float": ctypes.c_float,
+    "int": ctypes.c_int,
+    "char": ctypes.c_char,
+    "bool": ctypes.c_bool,
+    "size_t": ctypes.c_size_t,
+    "int8_t": ctypes.c_int8,
+    "uint8_t": ctypes.c_uint8,
+    "int16_t": ctypes.c_int16,
+    "uint16_t": ctypes.c_uint16,
+    "int32_t": ctypes.c_int32,
+    "uint32_t": ctypes.c_uint32,
+    "int64_t": ctypes.c_int64,
+    "uint64_t": ctypes.c_uint64,
+}
 
 
 def _strip_comments(text: str) -> str:
@@ -71,12 +85,18 @@ FMI3_HEADER = _prototypes("fmi3FunctionTypes.h", _typedefs("fmi3PlatformTypes.h"
 def test_the_header_parser_reads_known_prototypes() -> None:
     # a parser that reads nothing would make the table comparison vacuous
     assert len(FMI2_HEADER) == 44 and len(FMI3_HEADER) == 75  # every fmi*TYPE typedef of the headers
-    assert FMI2_HEADER["fmi2DoStep"] == (ctypes.c_int, [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int])
+    assert FMI2_HEADER["fmi2DoStep"] == (
+        ctypes.c_int,
+        [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int],
+    )
     assert FMI3_HEADER["fmi3GetNumberOfVariableDependencies"][1][1] is ctypes.c_uint32
 
 
-@pytest.mark.parametrize("table,header", [(fmi2_signatures.SIGNATURES, FMI2_HEADER),
-                                          (fmi3_signatures.SIGNATURES, FMI3_HEADER)], ids=["fmi2", "fmi3"])
+@pytest.mark.parametrize(
+    "table,header",
+    [(fmi2_signatures.SIGNATURES, FMI2_HEADER), (fmi3_signatures.SIGNATURES, FMI3_HEADER)],
+    ids=["fmi2", "fmi3"],
+)
 def test_signature_tables_match_the_fmi_headers(table, header) -> None:  # noqa: ANN001
     wrong = {name: (sig, header.get(name)) for name, sig in table.items() if header.get(name) != (sig[0], list(sig[1]))}
     assert not wrong, wrong
@@ -89,8 +109,9 @@ def test_the_fmi2_table_covers_the_whole_fmi2_api() -> None:
 def test_the_fmi3_table_covers_co_simulation_and_model_exchange() -> None:
     # left out on purpose: clocks and scheduled execution (no FMU of the project has them)
     left_out = set(FMI3_HEADER) - set(fmi3_signatures.SIGNATURES)
-    assert left_out and all(re.search(r"Clock|Interval|Shift|ScheduledExecution|ActivateModelPartition", n)
-                            for n in left_out), sorted(left_out)
+    assert left_out and all(
+        re.search(r"Clock|Interval|Shift|ScheduledExecution|ActivateModelPartition", n) for n in left_out
+    ), sorted(left_out)
 
 
 def test_the_library_exports_every_required_function() -> None:
@@ -156,8 +177,11 @@ def test_a_failed_instantiation_raises() -> None:
 def test_log_records_match_a_vsnprintf_formatting_importer() -> None:
     # the same refused calls through the binding's Python logger and through the tests' C proxy
     # (vsnprintf): instance, status, category and message agree
-    calls = [lambda i: i.do_step(5.0, 1e-4), lambda i: i.set_real([F.VR["aeroLoad"]], [float("nan")]),
-             lambda i: i.get_real([999])]
+    calls = [
+        lambda i: i.do_step(5.0, 1e-4),
+        lambda i: i.set_real([F.VR["aeroLoad"]], [float("nan")]),
+        lambda i: i.get_real([999]),
+    ]
     with _initialized(_fmi2("same", raw=True)) as mine, F.Instance(name="same") as ref:
         assert ref.initialize() == OK
         for call in calls:
@@ -170,7 +194,10 @@ def test_log_records_match_a_vsnprintf_formatting_importer() -> None:
 
 def test_log_capture_is_per_instance_with_hook_and_limit() -> None:
     seen = []
-    with _initialized(_fmi2("a", raw=True, log_limit=2, on_log=seen.append)) as a, _initialized(_fmi2("b", raw=True)) as b:
+    with (
+        _initialized(_fmi2("a", raw=True, log_limit=2, on_log=seen.append)) as a,
+        _initialized(_fmi2("b", raw=True)) as b,
+    ):
         seen.clear()
         for _ in range(3):
             a.get_real([999])

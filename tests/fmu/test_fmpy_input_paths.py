@@ -12,6 +12,7 @@ the derivative path is closer by ~3 / (omega h) (8..10 at h = 2e-4 s, 4000..6000
 cannot do the second run unless the FMU has exactly 9 continuous inputs (a fixed-size buffer, see
 `_InputWithSizedDerivatives`); the test works around it only while the unpatched call still fails.
 """
+
 from __future__ import annotations
 
 import math
@@ -48,8 +49,10 @@ SCENARIOS = {
 # H_COARSE >= 5 (predicted ~9). With contact the switching adds nonlinear sensitivity (measured
 # orders 1.02..1.07 held, 1.8..1.85 derivative; ratio 6..7): held in [0.8, 1.3], derivative in
 # [1.5, 2.5], ratio >= 3.
-BANDS = {True: dict(held=(0.85, 1.15), deriv=(1.85, 2.15), ratio=5.0),
-         False: dict(held=(0.8, 1.3), deriv=(1.5, 2.5), ratio=3.0)}
+BANDS = {
+    True: dict(held=(0.85, 1.15), deriv=(1.85, 2.15), ratio=5.0),
+    False: dict(held=(0.8, 1.3), deriv=(1.5, 2.5), ratio=3.0),
+}
 
 
 class _InputWithSizedDerivatives(fmpy.simulation.Input):
@@ -63,8 +66,9 @@ class _InputWithSizedDerivatives(fmpy.simulation.Input):
     def __init__(self, *args, **kwargs) -> None:  # noqa: ANN002, ANN003 (same signature as fmpy's)
         super().__init__(*args, **kwargs)
         if self.t is not None:
-            self.continuous = [info._replace(derivatives=(info.derivatives._type_ * len(info.vrs))())
-                               for info in self.continuous]
+            self.continuous = [
+                info._replace(derivatives=(info.derivatives._type_ * len(info.vrs))()) for info in self.continuous
+            ]
 
 
 def _table(aero: AeroLoad, speed, stop: float) -> np.ndarray:  # noqa: ANN001
@@ -89,22 +93,44 @@ def fmpy_needs_patch(unzipped: str) -> bool:
     table = _table(AeroLoad(100.0, 3, speed), speed, 1e-3)
     inst = instantiate_fmu(unzipped, read_model_description(unzipped), "CoSimulation")
     try:
-        simulate_fmu(unzipped, stop_time=1e-3, output_interval=1e-4, input=table, set_input_derivatives=True,
-                     fmu_instance=inst, output=["tipDisplacement"])
+        simulate_fmu(
+            unzipped,
+            stop_time=1e-3,
+            output_interval=1e-4,
+            input=table,
+            set_input_derivatives=True,
+            fmu_instance=inst,
+            output=["tipDisplacement"],
+        )
     except ValueError as exc:
         assert FMPY_BUG in str(exc), f"fmpy failed differently than the known 0.3.32 bug: {exc}"
         return True
     finally:
         inst.freeInstance()
-    warnings.warn("fmpy's set_input_derivatives works unpatched now: delete _InputWithSizedDerivatives "
-                  f"in {Path(__file__).name}", stacklevel=1)
+    warnings.warn(
+        f"fmpy's set_input_derivatives works unpatched now: delete _InputWithSizedDerivatives in {Path(__file__).name}",
+        stacklevel=1,
+    )
     return False
 
 
-def _simulate(unzipped: str, params: dict, table: np.ndarray, h: float, derivatives: bool, patch: bool,
-              monkeypatch: pytest.MonkeyPatch) -> np.ndarray:
-    kwargs = dict(stop_time=STOP, output_interval=h, input=table, start_values=fmu_parameters(params),
-                  output=["tipDisplacement"], set_input_derivatives=derivatives)
+def _simulate(
+    unzipped: str,
+    params: dict,
+    table: np.ndarray,
+    h: float,
+    derivatives: bool,
+    patch: bool,
+    monkeypatch: pytest.MonkeyPatch,
+) -> np.ndarray:
+    kwargs = dict(
+        stop_time=STOP,
+        output_interval=h,
+        input=table,
+        start_values=fmu_parameters(params),
+        output=["tipDisplacement"],
+        set_input_derivatives=derivatives,
+    )
     if derivatives and patch:
         with monkeypatch.context() as m:
             m.setattr(fmpy.simulation, "Input", _InputWithSizedDerivatives)
@@ -124,15 +150,26 @@ def test_unpatched_fmpy_status(unzipped: str, fmpy_needs_patch: bool, record_pro
     inst = instantiate_fmu(unzipped, read_model_description(unzipped), "CoSimulation")
     try:
         with pytest.raises(ValueError, match=FMPY_BUG):
-            simulate_fmu(unzipped, stop_time=2e-3, output_interval=1e-4, input=table,
-                         set_input_derivatives=True, fmu_instance=inst)
+            simulate_fmu(
+                unzipped,
+                stop_time=2e-3,
+                output_interval=1e-4,
+                input=table,
+                set_input_derivatives=True,
+                fmu_instance=inst,
+            )
     finally:
         inst.freeInstance()
 
 
 @pytest.mark.parametrize("name", list(SCENARIOS))
-def test_input_derivatives_closer_to_reference(unzipped: str, fmpy_needs_patch: bool, name: str,  # noqa: ANN001
-                                               monkeypatch: pytest.MonkeyPatch, record_property) -> None:
+def test_input_derivatives_closer_to_reference(
+    unzipped: str,
+    fmpy_needs_patch: bool,
+    name: str,  # noqa: ANN001
+    monkeypatch: pytest.MonkeyPatch,
+    record_property,
+) -> None:
     options, speed = SCENARIOS[name]
     p = validate(options)
     aero = AeroLoad(p["Fw0"], p["engineOrder"], speed)
@@ -154,10 +191,12 @@ def test_input_derivatives_closer_to_reference(unzipped: str, fmpy_needs_patch: 
     order_held = math.log2(errors[H_COARSE, False] / errors[H_FINE, False])
     order_deriv = math.log2(errors[H_COARSE, True] / errors[H_FINE, True])
     ratio = errors[H_COARSE, False] / errors[H_COARSE, True]
-    report = (f"{name}: max|q - q_ref| / max|q_ref| held {errors[H_FINE, False]:.3e} (h = {H_FINE:g} s), "
-              f"{errors[H_COARSE, False]:.3e} (h = {H_COARSE:g} s), order {order_held:.2f}; with derivatives "
-              f"{errors[H_FINE, True]:.3e}, {errors[H_COARSE, True]:.3e}, order {order_deriv:.2f}; "
-              f"held / derivatives at h = {H_COARSE:g} s: {ratio:.1f}; fmpy patched: {fmpy_needs_patch}")
+    report = (
+        f"{name}: max|q - q_ref| / max|q_ref| held {errors[H_FINE, False]:.3e} (h = {H_FINE:g} s), "
+        f"{errors[H_COARSE, False]:.3e} (h = {H_COARSE:g} s), order {order_held:.2f}; with derivatives "
+        f"{errors[H_FINE, True]:.3e}, {errors[H_COARSE, True]:.3e}, order {order_deriv:.2f}; "
+        f"held / derivatives at h = {H_COARSE:g} s: {ratio:.1f}; fmpy patched: {fmpy_needs_patch}"
+    )
     print(report)
     record_property("fmpy_input_paths", report)
     band = BANDS[no_contact]

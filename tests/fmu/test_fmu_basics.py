@@ -2,6 +2,7 @@
 the binary, every FMI 2.0 function exported, and fmpy runs the default experiment (and a loaded
 run with an input signal) with finite outputs.
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -69,8 +70,9 @@ def test_loaded_run_with_input(fmu_path: Path) -> None:
     omega = 3 * 2 * math.pi * 5000 / 60
     t = np.linspace(0.0, 0.05, 5001)
     signal = np.array(list(zip(t, 100 * np.sin(omega * t))), dtype=[("time", float), ("aeroLoad", float)])
-    result = fmpy.simulate_fmu(str(fmu_path), stop_time=0.05, output_interval=1e-5, input=signal,
-                               start_values={"frictionModel": 3})
+    result = fmpy.simulate_fmu(
+        str(fmu_path), stop_time=0.05, output_interval=1e-5, input=signal, start_values={"frictionModel": 3}
+    )
     _assert_finite(result)
     assert np.max(np.abs(result["tipDisplacement"])) > 3e-5  # beyond the gap d
     assert set(np.unique(result["contactState"])) >= {0, 1, 2}  # open, stick and slip all seen

@@ -11,6 +11,7 @@ slope of log(error) over log(maxStep) >= 3.5, every halving gains at least 2^3, 
 cases really switch (events counted from the logEvents category). The range stops at 2.5e-6 s:
 below it, rounding in the 1.2e5-step reference (~2e-11 relative) starts to show.
 """
+
 from __future__ import annotations
 
 import math
@@ -36,8 +37,7 @@ REFERENCE_STEP = 2.5e-7
 CASES = {
     "no switching (d = 1 m)": dict(d=1.0, B=6e-5, friction=1, amplitudeMode=1, gating=True),
     "gating, d = 3e-5 m, fixed B = 6e-5 m": dict(d=3e-5, B=6e-5, friction=1, amplitudeMode=1, gating=True),
-    "gating, tracked B (period and extremum events)": dict(d=3e-5, B=6e-5, friction=1, amplitudeMode=2,
-                                                           gating=True),
+    "gating, tracked B (period and extremum events)": dict(d=3e-5, B=6e-5, friction=1, amplitudeMode=2, gating=True),
     "Jenkins element (frictionModel 3)": dict(d=3e-5, B=6e-5, friction=3, amplitudeMode=1, gating=True),
 }
 
@@ -96,9 +96,11 @@ def test_fourth_order(unzipped: tuple[str, str], name: str, record_property) -> 
     errors = np.array([np.max(np.abs(run(unzipped, case, h)[0] - ref)) / scale for h in MAX_STEPS])
     pairwise = np.log2(errors[:-1] / errors[1:])
     slope = float(np.polyfit(np.log(MAX_STEPS), np.log(errors), 1)[0])
-    report = (f"{name}: {n_events} switching events; relative errors "
-              + ", ".join(f"{h:.2e} s: {e:.2e}" for h, e in zip(MAX_STEPS, errors))
-              + f"; pairwise orders {np.round(pairwise, 2).tolist()}; least-squares order {slope:.2f}")
+    report = (
+        f"{name}: {n_events} switching events; relative errors "
+        + ", ".join(f"{h:.2e} s: {e:.2e}" for h, e in zip(MAX_STEPS, errors))
+        + f"; pairwise orders {np.round(pairwise, 2).tolist()}; least-squares order {slope:.2f}"
+    )
     print(report)
     record_property("convergence", report)
     if case["d"] < 1.0:

@@ -11,6 +11,7 @@ accepted range, and that the logger rules hold. Cases that could hang or corrupt
 if the FMU misbehaved (huge steps, printf directives in names) run in a child process.
 `.venv/bin/python tests/fmu/test_fmu_errors.py` runs the catalogue and writes docs/invalid-inputs.md.
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -27,21 +28,44 @@ import numpy as np
 import pytest
 
 from tests.support import fmi2raw as F  # noqa: E402
-from tests.support.fmi2raw import (ERROR, OK, STATUS_NAMES, Fmi2Library, Instance,  # noqa: E402
-                     message_names_value_and_range)
-from tests.support.catalogue import (INT_MAX, INT_MIN, NOT_EXPORTED, NULL_INSTANCE, REFUSED, Case,  # noqa: E402
-                       Outcome, _sequence)
+from tests.support.fmi2raw import (
+    ERROR,
+    OK,
+    STATUS_NAMES,
+    Fmi2Library,
+    Instance,  # noqa: E402
+    message_names_value_and_range,
+)
+from tests.support.catalogue import (
+    INT_MAX,
+    INT_MIN,
+    NOT_EXPORTED,
+    NULL_INSTANCE,
+    REFUSED,
+    Case,  # noqa: E402
+    Outcome,
+    _sequence,
+)
 from tests.support import errors_fmi3  # noqa: E402
 from tests.support import errors_me  # noqa: E402
 
 from harness.model.params import specs  # noqa: E402
 
+
 def _child(case_id: str) -> None:
     lib = Fmi2Library.get()
     (case,) = [c for c in all_cases() if c.id == case_id]
     out = case.run(lib)
-    print(json.dumps({"status": out.status, "call": out.call, "after": out.after,
-                      "log": [[r.instance, r.status, r.category, r.message] for r in out.log]}))
+    print(
+        json.dumps(
+            {
+                "status": out.status,
+                "call": out.call,
+                "after": out.after,
+                "log": [[r.instance, r.status, r.category, r.message] for r in out.log],
+            }
+        )
+    )
 
 
 def _steps(c: Instance, t0: float, n: int, h: float = 1e-4) -> int:
@@ -68,13 +92,20 @@ def _param_case(name: str, value: float | int) -> Case:
 
     def run(lib: Fmi2Library) -> Outcome:
         with Instance(lib) as c:
-            setter = {"Real": lambda: c.set_real([name], [value]),
-                      "Integer": lambda: c.set_integer([name], [value]),
-                      "Boolean": lambda: c.set_boolean([name], [value])}[var.type]
-            out = _sequence(c, [("fmi2SetupExperiment", lambda: c.setup()),
-                                (f"fmi2Set{var.type}", setter),
-                                ("fmi2EnterInitializationMode", c.enter_init),
-                                ("fmi2ExitInitializationMode", c.exit_init)])
+            setter = {
+                "Real": lambda: c.set_real([name], [value]),
+                "Integer": lambda: c.set_integer([name], [value]),
+                "Boolean": lambda: c.set_boolean([name], [value]),
+            }[var.type]
+            out = _sequence(
+                c,
+                [
+                    ("fmi2SetupExperiment", lambda: c.setup()),
+                    (f"fmi2Set{var.type}", setter),
+                    ("fmi2EnterInitializationMode", c.enter_init),
+                    ("fmi2ExitInitializationMode", c.exit_init),
+                ],
+            )
             if out.status != OK:  # the instance must not run with it afterwards
                 st = c.do_step(0.0, 1e-4)
                 out.after = f"later fmi2DoStep: fmi2{STATUS_NAMES.get(st, st)}"
@@ -106,26 +137,48 @@ def parameter_cases() -> list[Case]:
 
 def _blade_of_disk_case(index: int, count: int) -> Case:
     """bladeIndex and bladeCount valid one by one, not together: refused at initialization."""
+
     def run(lib: Fmi2Library) -> Outcome:
         with Instance(lib) as c:
-            return _sequence(c, [("fmi2SetupExperiment", lambda: c.setup()),
-                                 ("fmi2SetInteger", lambda: c.set_params({"bladeIndex": index, "bladeCount": count})),
-                                 ("fmi2EnterInitializationMode", c.enter_init),
-                                 ("fmi2ExitInitializationMode", c.exit_init)])
-    return Case("parameter", f"bladeIndex = {index} with bladeCount = {count}", run, "refuse", "bladeIndex",
-                float(index), 0.0, float(count - 1))
+            return _sequence(
+                c,
+                [
+                    ("fmi2SetupExperiment", lambda: c.setup()),
+                    ("fmi2SetInteger", lambda: c.set_params({"bladeIndex": index, "bladeCount": count})),
+                    ("fmi2EnterInitializationMode", c.enter_init),
+                    ("fmi2ExitInitializationMode", c.exit_init),
+                ],
+            )
+
+    return Case(
+        "parameter",
+        f"bladeIndex = {index} with bladeCount = {count}",
+        run,
+        "refuse",
+        "bladeIndex",
+        float(index),
+        0.0,
+        float(count - 1),
+    )
 
 
 def _start_value_case(name: str, value: float, expect: str) -> Case:
     """Start value of an initial="exact" output (settable before initialization, FMI 2.0 s.4.2.4)."""
+
     def run(lib: Fmi2Library) -> Outcome:
         with Instance(lib) as c:
-            out = _sequence(c, [("fmi2SetReal", lambda: c.set_real([name], [value])),
-                                ("initialize", lambda: c.initialize()),
-                                ("fmi2DoStep x5", lambda: _steps(c, 0.0, 5))])
+            out = _sequence(
+                c,
+                [
+                    ("fmi2SetReal", lambda: c.set_real([name], [value])),
+                    ("initialize", lambda: c.initialize()),
+                    ("fmi2DoStep x5", lambda: _steps(c, 0.0, 5)),
+                ],
+            )
             if out.status in (OK, F.WARNING) and not np.all(np.isfinite(c.outputs()[1])):
                 out.after = "outputs not finite after an OK step"
             return out
+
     var = F.VARIABLES[name]
     return Case("start value", f"{name} = {value!r}", run, expect, name, value, var.low, var.high)
 
@@ -136,25 +189,39 @@ Q0_CONTACT = 5e-5  # [m] start in contact (|q0| > d)
 L_CONTACT = 0.33 * 1e7 * math.cos(math.pi / 3) * (Q0_CONTACT - 3e-5)  # [N]
 
 
-def _start_state_case(label: str, params: dict, starts: dict, expect: str = "refuse",
-                      name: str | None = None, low: float | None = None, high: float | None = None,
-                      needle: str | None = None) -> Case:
+def _start_state_case(
+    label: str,
+    params: dict,
+    starts: dict,
+    expect: str = "refuse",
+    name: str | None = None,
+    low: float | None = None,
+    high: float | None = None,
+    needle: str | None = None,
+) -> Case:
     """Start values that are valid one by one but not together with the rest of the start state
     (model-notes s.7): checked at fmi2ExitInitializationMode."""
+
     def run(lib: Fmi2Library) -> Outcome:
         with Instance(lib) as c:
-            out = _sequence(c, [("fmi2SetupExperiment", lambda: c.setup()),
-                                ("fmi2SetInteger", lambda: c.set_params(params)),
-                                ("fmi2SetReal", lambda: c.set_real(list(starts), list(starts.values()))),
-                                ("fmi2EnterInitializationMode", c.enter_init),
-                                ("fmi2ExitInitializationMode", c.exit_init),
-                                ("fmi2DoStep x5", lambda: _steps(c, 0.0, 5))])
+            out = _sequence(
+                c,
+                [
+                    ("fmi2SetupExperiment", lambda: c.setup()),
+                    ("fmi2SetInteger", lambda: c.set_params(params)),
+                    ("fmi2SetReal", lambda: c.set_real(list(starts), list(starts.values()))),
+                    ("fmi2EnterInitializationMode", c.enter_init),
+                    ("fmi2ExitInitializationMode", c.exit_init),
+                    ("fmi2DoStep x5", lambda: _steps(c, 0.0, 5)),
+                ],
+            )
             if out.status not in (OK, F.WARNING):  # the instance must not run with it afterwards
                 st = c.do_step(0.0, 1e-4)
                 out.after = f"later fmi2DoStep: fmi2{STATUS_NAMES.get(st, st)}"
             elif not np.all(np.isfinite(c.outputs()[1])):
                 out.after = "outputs not finite after an OK step"
             return out
+
     text = ", ".join(f"{k} = {v!r}" for k, v in {**params, **starts}.items())
     value = starts.get(name) if name else None
     return Case("start value", f"{text}{label}", run, expect, name, value, low, high, needle)
@@ -169,22 +236,55 @@ def start_value_cases() -> list[Case]:
     cases += [
         _start_value_case("runningMaximum", -1e-5, "refuse"),
         # the Jenkins spring force: frictionModel 3 only, 0 with the contact open, inside the cone
-        _start_state_case(" (outside the cone [-33, 33] N)", td, {"tipDisplacement": Q0_CONTACT, "jenkinsForce": 50.0},
-                          name="jenkinsForce", low=-L, high=L),
-        _start_state_case(" (outside the cone [-33, 33] N)", td, {"tipDisplacement": -Q0_CONTACT, "jenkinsForce": -33.1},
-                          name="jenkinsForce", low=-L, high=L),
-        _start_state_case(" (contact open)", td, {"tipDisplacement": 1e-5, "jenkinsForce": 1.0},
-                          name="jenkinsForce", low=0.0, high=0.0),
-        _start_state_case(" (describing function)", {"frictionModel": 1}, {"jenkinsForce": 1.0},
-                          name="jenkinsForce", low=0.0, high=0.0),
-        _start_state_case(" (describing function)", {"frictionModel": 2},
-                          {"tipDisplacement": Q0_CONTACT, "jenkinsForce": -1e-3}, name="jenkinsForce", low=0.0, high=0.0),
+        _start_state_case(
+            " (outside the cone [-33, 33] N)",
+            td,
+            {"tipDisplacement": Q0_CONTACT, "jenkinsForce": 50.0},
+            name="jenkinsForce",
+            low=-L,
+            high=L,
+        ),
+        _start_state_case(
+            " (outside the cone [-33, 33] N)",
+            td,
+            {"tipDisplacement": -Q0_CONTACT, "jenkinsForce": -33.1},
+            name="jenkinsForce",
+            low=-L,
+            high=L,
+        ),
+        _start_state_case(
+            " (contact open)",
+            td,
+            {"tipDisplacement": 1e-5, "jenkinsForce": 1.0},
+            name="jenkinsForce",
+            low=0.0,
+            high=0.0,
+        ),
+        _start_state_case(
+            " (describing function)",
+            {"frictionModel": 1},
+            {"jenkinsForce": 1.0},
+            name="jenkinsForce",
+            low=0.0,
+            high=0.0,
+        ),
+        _start_state_case(
+            " (describing function)",
+            {"frictionModel": 2},
+            {"tipDisplacement": Q0_CONTACT, "jenkinsForce": -1e-3},
+            name="jenkinsForce",
+            low=0.0,
+            high=0.0,
+        ),
         # accepted: on the cone (also 1e-13 beyond it: rounding of a force read back), inside it
         _start_state_case(" (on the cone)", td, {"tipDisplacement": Q0_CONTACT, "jenkinsForce": L}, "accept"),
         _start_state_case(" (on the cone)", td, {"tipDisplacement": -Q0_CONTACT, "jenkinsForce": -L}, "accept"),
-        _start_state_case(" (1e-13 beyond the cone)", td,
-                          {"tipDisplacement": Q0_CONTACT, "jenkinsForce": L * (1 + 1e-13)}, "accept"),
-        _start_state_case(" (inside the cone)", td, {"tipDisplacement": Q0_CONTACT, "jenkinsForce": -0.5 * L}, "accept"),
+        _start_state_case(
+            " (1e-13 beyond the cone)", td, {"tipDisplacement": Q0_CONTACT, "jenkinsForce": L * (1 + 1e-13)}, "accept"
+        ),
+        _start_state_case(
+            " (inside the cone)", td, {"tipDisplacement": Q0_CONTACT, "jenkinsForce": -0.5 * L}, "accept"
+        ),
         _start_state_case("", {"amplitudeMode": 2}, {"tipDisplacement": Q0_CONTACT, "runningMaximum": 1e-4}, "accept"),
     ]
     return cases + modes_cases()
@@ -199,48 +299,85 @@ def modes_cases() -> list[Case]:
     printed.name, printed.value, printed.low, printed.high = "modes", 3.0, 1.0, 1.0
     return [
         printed,
-        _start_state_case(" (mode 6 at 20.6 kHz needs maxStep <= 2.19e-05 s)", {"modes": 6, "formulation": 2},
-                          {"maxStep": 1e-4}, name="maxStep", needle="2 sqrt(2)"),
-        _start_state_case(" (not their sum)", consistent, {"tipDisplacement": 1e-5, "modalDisplacement[1]": 2e-5},
-                          name="tipDisplacement", needle="sum"),
-        _start_state_case(" (above modes)", consistent, {"modalDisplacement[3]": 1e-6}, name="modalDisplacement[3]",
-                          low=0.0, high=0.0),
-        _start_state_case(" (above modes)", consistent, {"modalVelocity[6]": -1e-3}, name="modalVelocity[6]",
-                          low=0.0, high=0.0),
+        _start_state_case(
+            " (mode 6 at 20.6 kHz needs maxStep <= 2.19e-05 s)",
+            {"modes": 6, "formulation": 2},
+            {"maxStep": 1e-4},
+            name="maxStep",
+            needle="2 sqrt(2)",
+        ),
+        _start_state_case(
+            " (not their sum)",
+            consistent,
+            {"tipDisplacement": 1e-5, "modalDisplacement[1]": 2e-5},
+            name="tipDisplacement",
+            needle="sum",
+        ),
+        _start_state_case(
+            " (above modes)", consistent, {"modalDisplacement[3]": 1e-6}, name="modalDisplacement[3]", low=0.0, high=0.0
+        ),
+        _start_state_case(
+            " (above modes)", consistent, {"modalVelocity[6]": -1e-3}, name="modalVelocity[6]", low=0.0, high=0.0
+        ),
         _start_state_case("", {"modes": 6, "formulation": 2}, {}, "accept"),
-        _start_state_case(" (equal to their sum)", consistent,
-                          {"tipDisplacement": 3e-5, "modalDisplacement[1]": 2e-5, "modalDisplacement[2]": 1e-5}, "accept"),
+        _start_state_case(
+            " (equal to their sum)",
+            consistent,
+            {"tipDisplacement": 3e-5, "modalDisplacement[1]": 2e-5, "modalDisplacement[2]": 1e-5},
+            "accept",
+        ),
     ]
 
 
 def _valid_param_case(name: str, value: float | int) -> Case:
     def run(lib: Fmi2Library) -> Outcome:
         with Instance(lib) as c:
-            return _sequence(c, [("initialize", lambda: c.initialize({name: value})),
-                                 ("fmi2DoStep x20", lambda: _steps(c, 0.0, 20))])
+            return _sequence(
+                c, [("initialize", lambda: c.initialize({name: value})), ("fmi2DoStep x20", lambda: _steps(c, 0.0, 20))]
+            )
+
     return Case("valid boundary", f"{name} = {value!r}", run, "accept")
 
 
 def _valid_run_case(params: dict, Fw0: float, n: int) -> Case:
     def run(lib: Fmi2Library) -> Outcome:
         with Instance(lib) as c:
-            out = _sequence(c, [("initialize", lambda: c.initialize(params)),
-                                (f"fmi2DoStep x{n}", lambda: F.run_steps(c, 0.0, 1e-4, n, Fw0=Fw0)[0])])
+            out = _sequence(
+                c,
+                [
+                    ("initialize", lambda: c.initialize(params)),
+                    (f"fmi2DoStep x{n}", lambda: F.run_steps(c, 0.0, 1e-4, n, Fw0=Fw0)[0]),
+                ],
+            )
             return out
+
     label = ", ".join(f"{k} = {v!r}" for k, v in params.items())
     return Case("valid run", f"{label}, Fw0 = {Fw0:g} N/m, {n} steps of 1e-4 s", run, "accept")
 
 
 def boundary_cases() -> list[Case]:
     """Values on the edge of the accepted ranges: these must work (no over-eager refusal)."""
-    vals = [("c", 0.0), ("m0", 0.0), ("d", 0.0), ("mu", 0.0), ("maxStep", 1e-8),
-            ("maxStep", 1e-3), ("gamma", 1e-6), ("gamma", math.pi / 2 - 1e-6), ("B", 1e-12),
-            ("engineOrder", 1), ("engineOrder", 100), ("frictionModel", 3), ("formulation", 2),
-            ("projection", 2), ("amplitudeMode", 1), ("gating", 0)]
+    vals = [
+        ("c", 0.0),
+        ("m0", 0.0),
+        ("d", 0.0),
+        ("mu", 0.0),
+        ("maxStep", 1e-8),
+        ("maxStep", 1e-3),
+        ("gamma", 1e-6),
+        ("gamma", math.pi / 2 - 1e-6),
+        ("B", 1e-12),
+        ("engineOrder", 1),
+        ("engineOrder", 100),
+        ("frictionModel", 3),
+        ("formulation", 2),
+        ("projection", 2),
+        ("amplitudeMode", 1),
+        ("gating", 0),
+    ]
     # full runs that once ended in a chattering Discard (stick/slip ping-pong of the Jenkins
     # element at soft contact, found by tests/fmu/test_fmu_state.py and fixed in the solver)
-    runs = [_valid_run_case({"frictionModel": 3, "kn": kn, "d": 1e-5}, 300.0, 3000)
-            for kn in (1e5, 1e6)]
+    runs = [_valid_run_case({"frictionModel": 3, "kn": kn, "d": 1e-5}, 300.0, 3000) for kn in (1e5, 1e6)]
     return [_valid_param_case(n, v) for n, v in vals] + runs
 
 
@@ -255,13 +392,22 @@ def _check_outputs_after_ok(c: Instance, out: Outcome) -> Outcome:
     return out
 
 
-def _input_case(name: str, value: float, low: float | None, high: float | None,
-                expect: str = "refuse", params: dict | None = None, label: str = "") -> Case:
+def _input_case(
+    name: str,
+    value: float,
+    low: float | None,
+    high: float | None,
+    expect: str = "refuse",
+    params: dict | None = None,
+    label: str = "",
+) -> Case:
     def run(lib: Fmi2Library) -> Outcome:
         with _ready(lib, params) as c:
-            out = _sequence(c, [("fmi2SetReal", lambda: c.set_real([name], [value])),
-                                ("fmi2DoStep", lambda: c.do_step(0.0, 1e-4))])
+            out = _sequence(
+                c, [("fmi2SetReal", lambda: c.set_real([name], [value])), ("fmi2DoStep", lambda: c.do_step(0.0, 1e-4))]
+            )
             return _check_outputs_after_ok(c, out)
+
     return Case("input", f"{name} = {value!r}{label}", run, expect, name, value, low, high)
 
 
@@ -270,54 +416,112 @@ def _overflowing_output_case() -> Case:
     found by the slow fuzz test (EI = 200 N m^2, d = 0, gating off, engine order 1, ~1e-208 rpm,
     aeroLoad 0 with a slope of ~5e-207 N/m/s). The step must be refused or give finite outputs."""
     speed = 1.5757704027479749e-208
-    params = {"EI": 200.0, "gating": False, "frictionModel": 1, "engineOrder": 1, "amplitudeMode": 1,
-              "projection": 1, "formulation": 1, "maxStep": 1e-3, "B": 1.875708501412549e-4, "d": 0.0}
+    params = {
+        "EI": 200.0,
+        "gating": False,
+        "frictionModel": 1,
+        "engineOrder": 1,
+        "amplitudeMode": 1,
+        "projection": 1,
+        "formulation": 1,
+        "maxStep": 1e-3,
+        "B": 1.875708501412549e-4,
+        "d": 0.0,
+    }
 
     def run(lib: Fmi2Library) -> Outcome:
         load = F.aero_derivatives(0.0, 100.0, 2 * math.pi * speed / 60.0, 1)
         with _ready(lib, params) as c:
-            out = _sequence(c, [("fmi2SetReal", lambda: c.set_real(["aeroLoad", "rotorSpeed"], [load[0], speed])),
-                                ("fmi2SetRealInputDerivatives",
-                                 lambda: c.set_input_derivatives(["aeroLoad"], [1], [load[1]])),
-                                ("fmi2DoStep", lambda: c.do_step(0.0, 1e-4))])
+            out = _sequence(
+                c,
+                [
+                    ("fmi2SetReal", lambda: c.set_real(["aeroLoad", "rotorSpeed"], [load[0], speed])),
+                    ("fmi2SetRealInputDerivatives", lambda: c.set_input_derivatives(["aeroLoad"], [1], [load[1]])),
+                    ("fmi2DoStep", lambda: c.do_step(0.0, 1e-4)),
+                ],
+            )
             return _check_outputs_after_ok(c, out)
-    return Case("input", f"rotorSpeed = {speed!r}, EI = 200, d = 0, gating off: f_c q' overflows", run,
-                "either", "rotorSpeed", speed, 0.0, 30000.0)
+
+    return Case(
+        "input",
+        f"rotorSpeed = {speed!r}, EI = 200, d = 0, gating off: f_c q' overflows",
+        run,
+        "either",
+        "rotorSpeed",
+        speed,
+        0.0,
+        30000.0,
+    )
 
 
-def _derivative_case(label: str, vr: str | int, order: int, value: float, n0: float | None = None,
-                     h: float = 1e-4, name: str | None = None) -> Case:
+def _derivative_case(
+    label: str,
+    vr: str | int,
+    order: int,
+    value: float,
+    n0: float | None = None,
+    h: float = 1e-4,
+    name: str | None = None,
+) -> Case:
     def run(lib: Fmi2Library) -> Outcome:
         with _ready(lib) as c:
             calls = []
             if n0 is not None:
                 calls.append(("fmi2SetReal", lambda: c.set_real(["rotorSpeed"], [n0])))
-            calls += [("fmi2SetRealInputDerivatives",
-                       lambda: c.set_input_derivatives([vr], [order], [value])),
-                      ("fmi2DoStep", lambda: c.do_step(0.0, h))]
+            calls += [
+                ("fmi2SetRealInputDerivatives", lambda: c.set_input_derivatives([vr], [order], [value])),
+                ("fmi2DoStep", lambda: c.do_step(0.0, h)),
+            ]
             return _sequence(c, calls)
+
     return Case("input derivative", label, run, "refuse", name)
 
 
 def input_cases() -> list[Case]:
     cases = [_input_case("aeroLoad", v, None, None) for v in (math.nan, math.inf, -math.inf)]
-    cases += [_input_case("rotorSpeed", v, 0.0, 30000.0)
-              for v in (math.nan, math.inf, -math.inf, -1.0, 30000.5, 1e9)]
-    cases += [_input_case("aeroLoad", 1e300, None, None, "either"),
-              _input_case("rotorSpeed", 0.0, 0.0, 30000.0, "accept"),
-              _input_case("rotorSpeed", 30000.0, 0.0, 30000.0, "accept")]
+    cases += [_input_case("rotorSpeed", v, 0.0, 30000.0) for v in (math.nan, math.inf, -math.inf, -1.0, 30000.5, 1e9)]
+    cases += [
+        _input_case("aeroLoad", 1e300, None, None, "either"),
+        _input_case("rotorSpeed", 0.0, 0.0, 30000.0, "accept"),
+        _input_case("rotorSpeed", 30000.0, 0.0, 30000.0, "accept"),
+    ]
     # a tiny positive speed: omega -> 0 makes C_eq ~ 1/omega overflow; the step may be
     # discarded, but an OK step must not report an infinite output (found by the fuzz test)
-    cases += [_input_case("rotorSpeed", 1e-310, 0.0, 30000.0, "either", {"frictionModel": fm},
-                          f" with frictionModel {fm}") for fm in (1, 3)]
-    cases += [_input_case("rotorSpeed", 1e-308, 0.0, 30000.0, "either",
-                          {"frictionModel": 1, "gating": False}, " with frictionModel 1, gating off")]
+    cases += [
+        _input_case("rotorSpeed", 1e-310, 0.0, 30000.0, "either", {"frictionModel": fm}, f" with frictionModel {fm}")
+        for fm in (1, 3)
+    ]
+    cases += [
+        _input_case(
+            "rotorSpeed",
+            1e-308,
+            0.0,
+            30000.0,
+            "either",
+            {"frictionModel": 1, "gating": False},
+            " with frictionModel 1, gating off",
+        )
+    ]
     cases.append(_overflowing_output_case())
     cases += [
-        _derivative_case("rotorSpeed 29999 rpm, slope 1e7 rpm/s: leaves [0, 30000] inside the step",
-                         "rotorSpeed", 1, 1e7, n0=29999.0, h=1e-3, name="rotorSpeed"),
-        _derivative_case("rotorSpeed 1 rpm, slope -1e5 rpm/s: below 0 at the end of the step",
-                         "rotorSpeed", 1, -1e5, n0=1.0, h=1e-3, name="rotorSpeed"),
+        _derivative_case(
+            "rotorSpeed 29999 rpm, slope 1e7 rpm/s: leaves [0, 30000] inside the step",
+            "rotorSpeed",
+            1,
+            1e7,
+            n0=29999.0,
+            h=1e-3,
+            name="rotorSpeed",
+        ),
+        _derivative_case(
+            "rotorSpeed 1 rpm, slope -1e5 rpm/s: below 0 at the end of the step",
+            "rotorSpeed",
+            1,
+            -1e5,
+            n0=1.0,
+            h=1e-3,
+            name="rotorSpeed",
+        ),
         _derivative_case("aeroLoad derivative order 1 = NaN", "aeroLoad", 1, math.nan),
         _derivative_case("aeroLoad derivative order 8 = inf", "aeroLoad", 8, math.inf),
         _derivative_case("derivative order 0", "aeroLoad", 0, 1.0),
@@ -334,8 +538,9 @@ def input_cases() -> list[Case]:
 # call order (FMI 2.0 co-simulation state machine)
 
 
-def _order_case(label: str, prepare: str, bad: Callable[[Instance], int], call: str,
-                name: str | None = None, expect: str = "refuse") -> Case:
+def _order_case(
+    label: str, prepare: str, bad: Callable[[Instance], int], call: str, name: str | None = None, expect: str = "refuse"
+) -> Case:
     def run(lib: Fmi2Library) -> Outcome:
         with Instance(lib) as c:
             prep = {
@@ -348,6 +553,7 @@ def _order_case(label: str, prepare: str, bad: Callable[[Instance], int], call: 
                 assert f() == OK, c.log_text()
             c.clear_log()
             return Outcome(bad(c), call, list(c.log))
+
     return Case("call order", f"{label} (in {prepare})", run, expect, name)
 
 
@@ -357,38 +563,68 @@ def order_cases() -> list[Case]:
         _order_case("fmi2DoStep", "instantiated", step, "fmi2DoStep"),
         _order_case("fmi2DoStep", "initializationMode", step, "fmi2DoStep"),
         _order_case("fmi2DoStep", "terminated", step, "fmi2DoStep"),
-        _order_case("fmi2ExitInitializationMode", "instantiated", lambda c: c.exit_init(),
-                    "fmi2ExitInitializationMode"),
-        _order_case("fmi2EnterInitializationMode twice", "initializationMode",
-                    lambda c: c.enter_init(), "fmi2EnterInitializationMode"),
-        _order_case("fmi2EnterInitializationMode", "stepComplete", lambda c: c.enter_init(),
-                    "fmi2EnterInitializationMode"),
-        _order_case("fmi2EnterInitializationMode", "terminated", lambda c: c.enter_init(),
-                    "fmi2EnterInitializationMode"),
-        _order_case("fmi2SetupExperiment", "initializationMode", lambda c: c.setup(),
-                    "fmi2SetupExperiment"),
-        _order_case("fmi2SetupExperiment", "stepComplete", lambda c: c.setup(),
-                    "fmi2SetupExperiment"),
-        _order_case("set fixed Real parameter EI = 300", "stepComplete",
-                    lambda c: c.set_real(["EI"], [300.0]), "fmi2SetReal", "EI"),
-        _order_case("set fixed Integer parameter frictionModel = 2", "stepComplete",
-                    lambda c: c.set_integer(["frictionModel"], [2]), "fmi2SetInteger",
-                    "frictionModel"),
-        _order_case("set fixed Boolean parameter gating = false", "stepComplete",
-                    lambda c: c.set_boolean(["gating"], [0]), "fmi2SetBoolean", "gating"),
-        _order_case("set fixed Real parameter EI = 300", "terminated",
-                    lambda c: c.set_real(["EI"], [300.0]), "fmi2SetReal", "EI"),
-        _order_case("set input aeroLoad", "terminated", lambda c: c.set_real(["aeroLoad"], [1.0]),
-                    "fmi2SetReal"),
-        _order_case("fmi2SetRealInputDerivatives", "terminated",
-                    lambda c: c.set_input_derivatives(["aeroLoad"], [1], [1.0]),
-                    "fmi2SetRealInputDerivatives"),
+        _order_case(
+            "fmi2ExitInitializationMode", "instantiated", lambda c: c.exit_init(), "fmi2ExitInitializationMode"
+        ),
+        _order_case(
+            "fmi2EnterInitializationMode twice",
+            "initializationMode",
+            lambda c: c.enter_init(),
+            "fmi2EnterInitializationMode",
+        ),
+        _order_case(
+            "fmi2EnterInitializationMode", "stepComplete", lambda c: c.enter_init(), "fmi2EnterInitializationMode"
+        ),
+        _order_case(
+            "fmi2EnterInitializationMode", "terminated", lambda c: c.enter_init(), "fmi2EnterInitializationMode"
+        ),
+        _order_case("fmi2SetupExperiment", "initializationMode", lambda c: c.setup(), "fmi2SetupExperiment"),
+        _order_case("fmi2SetupExperiment", "stepComplete", lambda c: c.setup(), "fmi2SetupExperiment"),
+        _order_case(
+            "set fixed Real parameter EI = 300",
+            "stepComplete",
+            lambda c: c.set_real(["EI"], [300.0]),
+            "fmi2SetReal",
+            "EI",
+        ),
+        _order_case(
+            "set fixed Integer parameter frictionModel = 2",
+            "stepComplete",
+            lambda c: c.set_integer(["frictionModel"], [2]),
+            "fmi2SetInteger",
+            "frictionModel",
+        ),
+        _order_case(
+            "set fixed Boolean parameter gating = false",
+            "stepComplete",
+            lambda c: c.set_boolean(["gating"], [0]),
+            "fmi2SetBoolean",
+            "gating",
+        ),
+        _order_case(
+            "set fixed Real parameter EI = 300",
+            "terminated",
+            lambda c: c.set_real(["EI"], [300.0]),
+            "fmi2SetReal",
+            "EI",
+        ),
+        _order_case("set input aeroLoad", "terminated", lambda c: c.set_real(["aeroLoad"], [1.0]), "fmi2SetReal"),
+        _order_case(
+            "fmi2SetRealInputDerivatives",
+            "terminated",
+            lambda c: c.set_input_derivatives(["aeroLoad"], [1], [1.0]),
+            "fmi2SetRealInputDerivatives",
+        ),
         _order_case("fmi2Terminate", "instantiated", lambda c: c.terminate(), "fmi2Terminate"),
-        _order_case("fmi2Terminate", "initializationMode", lambda c: c.terminate(),
-                    "fmi2Terminate"),
+        _order_case("fmi2Terminate", "initializationMode", lambda c: c.terminate(), "fmi2Terminate"),
         _order_case("fmi2Terminate twice", "terminated", lambda c: c.terminate(), "fmi2Terminate"),
-        _order_case("fmi2GetReal of an output", "instantiated",
-                    lambda c: c.get_real(["tipDisplacement"])[0], "fmi2GetReal", expect="either"),
+        _order_case(
+            "fmi2GetReal of an output",
+            "instantiated",
+            lambda c: c.get_real(["tipDisplacement"])[0],
+            "fmi2GetReal",
+            expect="either",
+        ),
     ]
 
 
@@ -399,17 +635,24 @@ def _after_error_case() -> Case:
             assert st in REFUSED, f"a wrong communication point was accepted ({st})"
             c.clear_log()
             return Outcome(c.do_step(0.0, 1e-4), "fmi2DoStep", list(c.log))
-    return Case("call order", "valid fmi2DoStep after a refused fmi2DoStep (error state)", run,
-                "refuse")
+
+    return Case("call order", "valid fmi2DoStep after a refused fmi2DoStep (error state)", run, "refuse")
 
 
 # ---------------------------------------------------------------------------------------------
 # communication points and step sizes
 
 
-def _step_case(label: str, t: float, h: float, expect: str = "refuse",
-               setup_stop: float | None = None, needle: str | None = None,
-               steps_before: int = 0, start: float = 0.0) -> Case:
+def _step_case(
+    label: str,
+    t: float,
+    h: float,
+    expect: str = "refuse",
+    setup_stop: float | None = None,
+    needle: str | None = None,
+    steps_before: int = 0,
+    start: float = 0.0,
+) -> Case:
     def run(lib: Fmi2Library) -> Outcome:
         with Instance(lib) as c:
             assert c.initialize(start=start, stop=setup_stop) == OK, c.log_text()
@@ -422,6 +665,7 @@ def _step_case(label: str, t: float, h: float, expect: str = "refuse",
                 if st == OK and tl != start + steps_before * 1e-4:
                     out.after = f"lastSuccessfulTime moved to {tl!r}"
             return out
+
     return Case("step", label, run, expect, needle=needle)
 
 
@@ -434,30 +678,36 @@ def step_cases() -> list[Case]:
         _step_case("h = -inf", 0.0, -math.inf),
         _step_case("h = 5e-324 (smallest positive double)", 0.0, 5e-324, "either"),
         _step_case("communication point ahead (t = 1e-3, current 0)", 1e-3, 1e-4),
-        _step_case("communication point behind (t = 0.999e-3, current 1e-3)", 0.999e-3, 1e-4,
-                   steps_before=10),
+        _step_case("communication point behind (t = 0.999e-3, current 1e-3)", 0.999e-3, 1e-4, steps_before=10),
         _step_case("communication point off by 1e-8 (tolerance 1e-9)", 1e-8, 1e-4),
-        _step_case("communication point off by 1e-12 (inside the tolerance)", 1e-12, 1e-4,
-                   "accept"),
+        _step_case("communication point off by 1e-12 (inside the tolerance)", 1e-12, 1e-4, "accept"),
         _step_case("communication point NaN", math.nan, 1e-4),
         _step_case("communication point inf", math.inf, 1e-4),
         _step_case("step past the stop time 0.01 (h = 0.02)", 0.0, 0.02, setup_stop=0.01),
         _step_case("step landing on the stop time 0.01", 0.0, 0.01, "accept", setup_stop=0.01),
-        _step_case("h = 1e-4 at t = 1e308 (t + h == t: time would not advance)", 1e308, 1e-4,
-                   start=1e308, needle="time resolution"),
+        _step_case(
+            "h = 1e-4 at t = 1e308 (t + h == t: time would not advance)",
+            1e308,
+            1e-4,
+            start=1e308,
+            needle="time resolution",
+        ),
     ]
 
 
-_HUGE_STEPS = [("h = 1e3 s (1e8 internal steps at maxStep 1e-5)", 1e3, 1e-5),
-               ("h = 1e300 s", 1e300, 1e-5),
-               ("h = DBL_MAX", sys.float_info.max, 1e-5),
-               ("h = 1 s with maxStep = 1e-8 (1e8 internal steps)", 1.0, 1e-8),
-               ("h = 0.2 s with maxStep = 1e-8 (2e7 internal steps)", 0.2, 1e-8)]
+_HUGE_STEPS = [
+    ("h = 1e3 s (1e8 internal steps at maxStep 1e-5)", 1e3, 1e-5),
+    ("h = 1e300 s", 1e300, 1e-5),
+    ("h = DBL_MAX", sys.float_info.max, 1e-5),
+    ("h = 1 s with maxStep = 1e-8 (1e8 internal steps)", 1.0, 1e-8),
+    ("h = 0.2 s with maxStep = 1e-8 (2e7 internal steps)", 0.2, 1e-8),
+]
 
 
 def huge_step_cases() -> list[Case]:
     """Steps needing more than 1e7 internal steps: refused at once (model-notes s.6), nothing
     changed. Run in a child process so an FMU that grinds instead cannot stall the test run."""
+
     def make(label: str, h: float, max_step: float) -> Case:
         def run(lib: Fmi2Library) -> Outcome:
             with Instance(lib) as c:
@@ -468,7 +718,9 @@ def huge_step_cases() -> list[Case]:
                 if st == OK and tl != 0.0:
                     out.after = f"lastSuccessfulTime moved to {tl!r}"
                 return out
+
         return Case("huge step", label, run, "refuse", isolated=True)
+
     return [make(*x) for x in _HUGE_STEPS]
 
 
@@ -476,14 +728,23 @@ def stop_time_cases() -> list[Case]:
     def bad_setup(label: str, start: float, stop: float | None) -> Case:
         def run(lib: Fmi2Library) -> Outcome:
             with Instance(lib) as c:
-                return _sequence(c, [("fmi2SetupExperiment", lambda: c.setup(start, stop)),
-                                     ("fmi2EnterInitializationMode", c.enter_init),
-                                     ("fmi2ExitInitializationMode", c.exit_init)])
+                return _sequence(
+                    c,
+                    [
+                        ("fmi2SetupExperiment", lambda: c.setup(start, stop)),
+                        ("fmi2EnterInitializationMode", c.enter_init),
+                        ("fmi2ExitInitializationMode", c.exit_init),
+                    ],
+                )
+
         return Case("experiment", label, run)
-    return [bad_setup("stopTime 1 < startTime 2", 2.0, 1.0),
-            bad_setup("startTime NaN", math.nan, None),
-            bad_setup("startTime inf", math.inf, None),
-            bad_setup("stopTime NaN", 0.0, math.nan)]
+
+    return [
+        bad_setup("stopTime 1 < startTime 2", 2.0, 1.0),
+        bad_setup("startTime NaN", math.nan, None),
+        bad_setup("startTime inf", math.inf, None),
+        bad_setup("stopTime NaN", 0.0, math.nan),
+    ]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -494,6 +755,7 @@ def _vr_case(label: str, fn: Callable[[Instance], int], call: str, expect: str =
     def run(lib: Fmi2Library) -> Outcome:
         with _ready(lib) as c:
             return Outcome(fn(c), call, list(c.log))
+
     return Case("value reference", label, run, expect)
 
 
@@ -505,35 +767,34 @@ def _version(blob: bytes) -> int:
 def vr_cases() -> list[Case]:
     cases = []
     for vr in (0, 15, 27, 32, 42, 49, 63, 999, 2**32 - 1):
-        cases.append(_vr_case(f"fmi2GetReal vr {vr}", lambda c, vr=vr: c.get_real([vr])[0],
-                              "fmi2GetReal"))
-        cases.append(_vr_case(f"fmi2SetReal vr {vr}", lambda c, vr=vr: c.set_real([vr], [1.0]),
-                              "fmi2SetReal"))
+        cases.append(_vr_case(f"fmi2GetReal vr {vr}", lambda c, vr=vr: c.get_real([vr])[0], "fmi2GetReal"))
+        cases.append(_vr_case(f"fmi2SetReal vr {vr}", lambda c, vr=vr: c.set_real([vr], [1.0]), "fmi2SetReal"))
     cases += [
         _vr_case("fmi2GetInteger vr 999", lambda c: c.get_integer([999])[0], "fmi2GetInteger"),
         _vr_case("fmi2GetBoolean vr 999", lambda c: c.get_boolean([999])[0], "fmi2GetBoolean"),
-        _vr_case("fmi2GetReal of an Integer (regime)", lambda c: c.get_real(["regime"])[0],
-                 "fmi2GetReal"),
-        _vr_case("fmi2GetInteger of a Real (tipDisplacement)",
-                 lambda c: c.get_integer(["tipDisplacement"])[0], "fmi2GetInteger"),
-        _vr_case("fmi2GetBoolean of a Real (EI)", lambda c: c.get_boolean(["EI"])[0],
-                 "fmi2GetBoolean"),
-        _vr_case("fmi2SetReal of an output (tipDisplacement)",
-                 lambda c: c.set_real(["tipDisplacement"], [1.0]), "fmi2SetReal"),
-        _vr_case("fmi2SetReal of a Boolean (gating)", lambda c: c.set_real(["gating"], [1.0]),
-                 "fmi2SetReal"),
-        _vr_case("fmi2SetInteger of an input (aeroLoad)",
-                 lambda c: c.set_integer(["aeroLoad"], [1]), "fmi2SetInteger"),
-        _vr_case("fmi2SetBoolean of an input (rotorSpeed)",
-                 lambda c: c.set_boolean(["rotorSpeed"], [1]), "fmi2SetBoolean"),
-        _vr_case("fmi2GetString (no String variables)",
-                 lambda c: c.get_string(["tipDisplacement"])[0], "fmi2GetString"),
-        _vr_case("fmi2SetString (no String variables)",
-                 lambda c: c.set_string(["aeroLoad"], ["x"]), "fmi2SetString"),
-        _vr_case("fmi2SetString with a NULL string", lambda c: c.set_string([999], [None]),
-                 "fmi2SetString"),
-        _vr_case("good and bad vr in one fmi2GetReal", lambda c: c.get_real([50, 999])[0],
-                 "fmi2GetReal"),
+        _vr_case("fmi2GetReal of an Integer (regime)", lambda c: c.get_real(["regime"])[0], "fmi2GetReal"),
+        _vr_case(
+            "fmi2GetInteger of a Real (tipDisplacement)",
+            lambda c: c.get_integer(["tipDisplacement"])[0],
+            "fmi2GetInteger",
+        ),
+        _vr_case("fmi2GetBoolean of a Real (EI)", lambda c: c.get_boolean(["EI"])[0], "fmi2GetBoolean"),
+        _vr_case(
+            "fmi2SetReal of an output (tipDisplacement)",
+            lambda c: c.set_real(["tipDisplacement"], [1.0]),
+            "fmi2SetReal",
+        ),
+        _vr_case("fmi2SetReal of a Boolean (gating)", lambda c: c.set_real(["gating"], [1.0]), "fmi2SetReal"),
+        _vr_case("fmi2SetInteger of an input (aeroLoad)", lambda c: c.set_integer(["aeroLoad"], [1]), "fmi2SetInteger"),
+        _vr_case(
+            "fmi2SetBoolean of an input (rotorSpeed)", lambda c: c.set_boolean(["rotorSpeed"], [1]), "fmi2SetBoolean"
+        ),
+        _vr_case(
+            "fmi2GetString (no String variables)", lambda c: c.get_string(["tipDisplacement"])[0], "fmi2GetString"
+        ),
+        _vr_case("fmi2SetString (no String variables)", lambda c: c.set_string(["aeroLoad"], ["x"]), "fmi2SetString"),
+        _vr_case("fmi2SetString with a NULL string", lambda c: c.set_string([999], [None]), "fmi2SetString"),
+        _vr_case("good and bad vr in one fmi2GetReal", lambda c: c.get_real([50, 999])[0], "fmi2GetReal"),
     ]
     return cases
 
@@ -542,6 +803,7 @@ def _ptr_case(label: str, fn: Callable[[Instance], int], call: str, expect: str 
     def run(lib: Fmi2Library) -> Outcome:
         with _ready(lib) as c:
             return Outcome(fn(c), call, list(c.log))
+
     return Case("NULL pointer", label, run, expect)
 
 
@@ -552,64 +814,87 @@ def pointer_cases() -> list[Case]:
     vp, xp, ip = vr1.ctypes.data, x1.ctypes.data, i1.ctypes.data
     ivr = np.array([60], dtype=np.uint32).ctypes.data
     return [
-        _ptr_case("fmi2GetReal vr = NULL, nvr = 1", lambda c: c.lib.fmi2GetReal(c.c, None, 1, xp),
-                  "fmi2GetReal"),
-        _ptr_case("fmi2GetReal value = NULL", lambda c: c.lib.fmi2GetReal(c.c, vp, 1, None),
-                  "fmi2GetReal"),
-        _ptr_case("fmi2GetReal nvr = 0 with NULL arrays", lambda c: c.lib.fmi2GetReal(c.c, None, 0, None),
-                  "fmi2GetReal", "either"),
-        _ptr_case("fmi2SetReal vr = NULL", lambda c: c.lib.fmi2SetReal(c.c, None, 1, xp),
-                  "fmi2SetReal"),
-        _ptr_case("fmi2SetReal value = NULL", lambda c: c.lib.fmi2SetReal(c.c, vp, 1, None),
-                  "fmi2SetReal"),
-        _ptr_case("fmi2GetInteger value = NULL", lambda c: c.lib.fmi2GetInteger(c.c, ivr, 1, None),
-                  "fmi2GetInteger"),
-        _ptr_case("fmi2SetInteger vr = NULL", lambda c: c.lib.fmi2SetInteger(c.c, None, 1, ip),
-                  "fmi2SetInteger"),
-        _ptr_case("fmi2GetBoolean vr = NULL", lambda c: c.lib.fmi2GetBoolean(c.c, None, 1, ip),
-                  "fmi2GetBoolean"),
-        _ptr_case("fmi2SetBoolean value = NULL", lambda c: c.lib.fmi2SetBoolean(c.c, vp, 1, None),
-                  "fmi2SetBoolean"),
-        _ptr_case("fmi2GetString value = NULL", lambda c: c.lib.fmi2GetString(c.c, vp, 1, None),
-                  "fmi2GetString"),
-        _ptr_case("fmi2SetRealInputDerivatives order = NULL",
-                  lambda c: c.lib.fmi2SetRealInputDerivatives(c.c, vp, 1, None, xp),
-                  "fmi2SetRealInputDerivatives"),
-        _ptr_case("fmi2SetRealInputDerivatives value = NULL",
-                  lambda c: c.lib.fmi2SetRealInputDerivatives(c.c, vp, 1, ip, None),
-                  "fmi2SetRealInputDerivatives"),
-        _ptr_case("fmi2GetFMUstate(c, NULL)", lambda c: c.lib.fmi2GetFMUstate(c.c, None),
-                  "fmi2GetFMUstate"),
-        _ptr_case("fmi2SetFMUstate(c, NULL)", lambda c: c.lib.fmi2SetFMUstate(c.c, None),
-                  "fmi2SetFMUstate"),
-        _ptr_case("fmi2FreeFMUstate(c, NULL)", lambda c: c.lib.fmi2FreeFMUstate(c.c, None),
-                  "fmi2FreeFMUstate", "either"),
-        _ptr_case("fmi2FreeFMUstate(c, &NULL) (a no-op by the standard)",
-                  lambda c: c.free_state(None), "fmi2FreeFMUstate", "accept"),
-        _ptr_case("fmi2SerializedFMUstateSize(c, NULL, &size)",
-                  lambda c: c.state_size(None)[0], "fmi2SerializedFMUstateSize"),
+        _ptr_case("fmi2GetReal vr = NULL, nvr = 1", lambda c: c.lib.fmi2GetReal(c.c, None, 1, xp), "fmi2GetReal"),
+        _ptr_case("fmi2GetReal value = NULL", lambda c: c.lib.fmi2GetReal(c.c, vp, 1, None), "fmi2GetReal"),
+        _ptr_case(
+            "fmi2GetReal nvr = 0 with NULL arrays",
+            lambda c: c.lib.fmi2GetReal(c.c, None, 0, None),
+            "fmi2GetReal",
+            "either",
+        ),
+        _ptr_case("fmi2SetReal vr = NULL", lambda c: c.lib.fmi2SetReal(c.c, None, 1, xp), "fmi2SetReal"),
+        _ptr_case("fmi2SetReal value = NULL", lambda c: c.lib.fmi2SetReal(c.c, vp, 1, None), "fmi2SetReal"),
+        _ptr_case("fmi2GetInteger value = NULL", lambda c: c.lib.fmi2GetInteger(c.c, ivr, 1, None), "fmi2GetInteger"),
+        _ptr_case("fmi2SetInteger vr = NULL", lambda c: c.lib.fmi2SetInteger(c.c, None, 1, ip), "fmi2SetInteger"),
+        _ptr_case("fmi2GetBoolean vr = NULL", lambda c: c.lib.fmi2GetBoolean(c.c, None, 1, ip), "fmi2GetBoolean"),
+        _ptr_case("fmi2SetBoolean value = NULL", lambda c: c.lib.fmi2SetBoolean(c.c, vp, 1, None), "fmi2SetBoolean"),
+        _ptr_case("fmi2GetString value = NULL", lambda c: c.lib.fmi2GetString(c.c, vp, 1, None), "fmi2GetString"),
+        _ptr_case(
+            "fmi2SetRealInputDerivatives order = NULL",
+            lambda c: c.lib.fmi2SetRealInputDerivatives(c.c, vp, 1, None, xp),
+            "fmi2SetRealInputDerivatives",
+        ),
+        _ptr_case(
+            "fmi2SetRealInputDerivatives value = NULL",
+            lambda c: c.lib.fmi2SetRealInputDerivatives(c.c, vp, 1, ip, None),
+            "fmi2SetRealInputDerivatives",
+        ),
+        _ptr_case("fmi2GetFMUstate(c, NULL)", lambda c: c.lib.fmi2GetFMUstate(c.c, None), "fmi2GetFMUstate"),
+        _ptr_case("fmi2SetFMUstate(c, NULL)", lambda c: c.lib.fmi2SetFMUstate(c.c, None), "fmi2SetFMUstate"),
+        _ptr_case(
+            "fmi2FreeFMUstate(c, NULL)", lambda c: c.lib.fmi2FreeFMUstate(c.c, None), "fmi2FreeFMUstate", "either"
+        ),
+        _ptr_case(
+            "fmi2FreeFMUstate(c, &NULL) (a no-op by the standard)",
+            lambda c: c.free_state(None),
+            "fmi2FreeFMUstate",
+            "accept",
+        ),
+        _ptr_case(
+            "fmi2SerializedFMUstateSize(c, NULL, &size)", lambda c: c.state_size(None)[0], "fmi2SerializedFMUstateSize"
+        ),
         _ptr_case("fmi2SerializedFMUstateSize(c, s, NULL)", _size_null, "fmi2SerializedFMUstateSize"),
         _ptr_case("fmi2SerializeFMUstate into NULL", _serialize_null, "fmi2SerializeFMUstate"),
-        _ptr_case("fmi2SerializeFMUstate into a buffer one byte short", _serialize_short,
-                  "fmi2SerializeFMUstate"),
-        _ptr_case("fmi2DeSerializeFMUstate(NULL bytes, size 100)",
-                  lambda c: c.deserialize(None, 100)[0], "fmi2DeSerializeFMUstate"),
-        _ptr_case("fmi2DeSerializeFMUstate(bytes, size, NULL)",
-                  lambda c: c.lib.fmi2DeSerializeFMUstate(c.c, xp, 8, None),
-                  "fmi2DeSerializeFMUstate"),
-        _ptr_case("fmi2GetRealStatus value = NULL",
-                  lambda c: c.lib.fmi2GetRealStatus(c.c, F.LAST_SUCCESSFUL_TIME, None),
-                  "fmi2GetRealStatus"),
-        _ptr_case("fmi2GetStatus value = NULL",
-                  lambda c: c.lib.fmi2GetStatus(c.c, F.DO_STEP_STATUS, None), "fmi2GetStatus"),
-        _ptr_case("fmi2SetDebugLogging categories = NULL, n = 2",
-                  lambda c: c.lib.fmi2SetDebugLogging(c.c, 1, 2, None), "fmi2SetDebugLogging"),
-        _ptr_case("fmi2SetDebugLogging with a NULL category", lambda c: c.set_debug_logging(True, [None]),
-                  "fmi2SetDebugLogging"),
-        _ptr_case("fmi2SetDebugLogging unknown category 'logNoSuch'",
-                  lambda c: c.set_debug_logging(True, ["logNoSuch"]), "fmi2SetDebugLogging"),
-        _ptr_case("fmi2SetDebugLogging(c, fmi2True, 0, NULL) (all categories)",
-                  lambda c: c.set_debug_logging(True), "fmi2SetDebugLogging", "accept"),
+        _ptr_case("fmi2SerializeFMUstate into a buffer one byte short", _serialize_short, "fmi2SerializeFMUstate"),
+        _ptr_case(
+            "fmi2DeSerializeFMUstate(NULL bytes, size 100)",
+            lambda c: c.deserialize(None, 100)[0],
+            "fmi2DeSerializeFMUstate",
+        ),
+        _ptr_case(
+            "fmi2DeSerializeFMUstate(bytes, size, NULL)",
+            lambda c: c.lib.fmi2DeSerializeFMUstate(c.c, xp, 8, None),
+            "fmi2DeSerializeFMUstate",
+        ),
+        _ptr_case(
+            "fmi2GetRealStatus value = NULL",
+            lambda c: c.lib.fmi2GetRealStatus(c.c, F.LAST_SUCCESSFUL_TIME, None),
+            "fmi2GetRealStatus",
+        ),
+        _ptr_case(
+            "fmi2GetStatus value = NULL", lambda c: c.lib.fmi2GetStatus(c.c, F.DO_STEP_STATUS, None), "fmi2GetStatus"
+        ),
+        _ptr_case(
+            "fmi2SetDebugLogging categories = NULL, n = 2",
+            lambda c: c.lib.fmi2SetDebugLogging(c.c, 1, 2, None),
+            "fmi2SetDebugLogging",
+        ),
+        _ptr_case(
+            "fmi2SetDebugLogging with a NULL category",
+            lambda c: c.set_debug_logging(True, [None]),
+            "fmi2SetDebugLogging",
+        ),
+        _ptr_case(
+            "fmi2SetDebugLogging unknown category 'logNoSuch'",
+            lambda c: c.set_debug_logging(True, ["logNoSuch"]),
+            "fmi2SetDebugLogging",
+        ),
+        _ptr_case(
+            "fmi2SetDebugLogging(c, fmi2True, 0, NULL) (all categories)",
+            lambda c: c.set_debug_logging(True),
+            "fmi2SetDebugLogging",
+            "accept",
+        ),
     ]
 
 
@@ -665,8 +950,7 @@ def null_component_cases() -> list[Case]:
         "fmi2SerializedFMUstateSize": lambda L: L.fmi2SerializedFMUstateSize(None, None, x),
         "fmi2SerializeFMUstate": lambda L: L.fmi2SerializeFMUstate(None, None, x, 8),
         "fmi2DeSerializeFMUstate": lambda L: L.fmi2DeSerializeFMUstate(None, x, 8, x),
-        "fmi2GetDirectionalDerivative":
-            lambda L: L.fmi2GetDirectionalDerivative(None, vr, 1, vr, 1, x, x),
+        "fmi2GetDirectionalDerivative": lambda L: L.fmi2GetDirectionalDerivative(None, vr, 1, vr, 1, x, x),
         "fmi2SetRealInputDerivatives": lambda L: L.fmi2SetRealInputDerivatives(None, vr, 1, x, x),
         "fmi2GetRealOutputDerivatives": lambda L: L.fmi2GetRealOutputDerivatives(None, vr, 1, x, x),
         "fmi2DoStep": lambda L: L.fmi2DoStep(None, 0.0, 1e-4, 1),
@@ -679,13 +963,14 @@ def null_component_cases() -> list[Case]:
     }
 
     def make(name: str, fn) -> Case:
-        return Case("NULL component", f"{name}(NULL, ...)",
-                    lambda lib: Outcome(fn(lib), name, []), "refuse")
+        return Case("NULL component", f"{name}(NULL, ...)", lambda lib: Outcome(fn(lib), name, []), "refuse")
+
     cases = [make(n, f) for n, f in calls.items()]
 
     def free_null(lib: Fmi2Library) -> Outcome:
         lib.fmi2FreeInstance(None)
         return Outcome(OK, "fmi2FreeInstance", [])
+
     cases.append(Case("NULL component", "fmi2FreeInstance(NULL) (a no-op)", free_null, "accept"))
     return cases
 
@@ -701,24 +986,37 @@ def unsupported_cases() -> list[Case]:
     out = np.zeros(1)
 
     def dirder(c: Instance) -> int:
-        return c.lib.fmi2GetDirectionalDerivative(c.c, vr.ctypes.data, 1, kv.ctypes.data, 1,
-                                                  dv.ctypes.data, out.ctypes.data)
+        return c.lib.fmi2GetDirectionalDerivative(
+            c.c, vr.ctypes.data, 1, kv.ctypes.data, 1, dv.ctypes.data, out.ctypes.data
+        )
+
     cases = [
-        _vr_case("fmi2CancelStep (no asynchronous steps)", lambda c: c.cancel_step(),
-                 "fmi2CancelStep"),
-        _vr_case("fmi2GetDirectionalDerivative (providesDirectionalDerivative false)", dirder,
-                 "fmi2GetDirectionalDerivative"),
-        _vr_case("fmi2GetRealOutputDerivatives (maxOutputDerivativeOrder 0)",
-                 lambda c: c.get_output_derivatives(["tipDisplacement"], [1])[0],
-                 "fmi2GetRealOutputDerivatives"),
-        _vr_case("fmi2GetStatus(fmi2DoStepStatus) without a pending step",
-                 lambda c: c.get_status(F.DO_STEP_STATUS)[0], "fmi2GetStatus", "either"),
-        _vr_case("fmi2GetStringStatus(fmi2PendingStatus)",
-                 lambda c: c.get_string_status(F.PENDING_STATUS)[0], "fmi2GetStringStatus"),
-        _vr_case("fmi2GetRealStatus(kind 99)", lambda c: c.get_real_status(99)[0],
-                 "fmi2GetRealStatus"),
-        _vr_case("fmi2GetIntegerStatus(fmi2LastSuccessfulTime)",
-                 lambda c: c.get_integer_status(F.LAST_SUCCESSFUL_TIME)[0], "fmi2GetIntegerStatus"),
+        _vr_case("fmi2CancelStep (no asynchronous steps)", lambda c: c.cancel_step(), "fmi2CancelStep"),
+        _vr_case(
+            "fmi2GetDirectionalDerivative (providesDirectionalDerivative false)", dirder, "fmi2GetDirectionalDerivative"
+        ),
+        _vr_case(
+            "fmi2GetRealOutputDerivatives (maxOutputDerivativeOrder 0)",
+            lambda c: c.get_output_derivatives(["tipDisplacement"], [1])[0],
+            "fmi2GetRealOutputDerivatives",
+        ),
+        _vr_case(
+            "fmi2GetStatus(fmi2DoStepStatus) without a pending step",
+            lambda c: c.get_status(F.DO_STEP_STATUS)[0],
+            "fmi2GetStatus",
+            "either",
+        ),
+        _vr_case(
+            "fmi2GetStringStatus(fmi2PendingStatus)",
+            lambda c: c.get_string_status(F.PENDING_STATUS)[0],
+            "fmi2GetStringStatus",
+        ),
+        _vr_case("fmi2GetRealStatus(kind 99)", lambda c: c.get_real_status(99)[0], "fmi2GetRealStatus"),
+        _vr_case(
+            "fmi2GetIntegerStatus(fmi2LastSuccessfulTime)",
+            lambda c: c.get_integer_status(F.LAST_SUCCESSFUL_TIME)[0],
+            "fmi2GetIntegerStatus",
+        ),
     ]
     for c in cases:
         c.kind = "unsupported"
@@ -728,13 +1026,16 @@ def unsupported_cases() -> list[Case]:
 def model_exchange_cases() -> list[Case]:
     """Model-exchange functions called on a co-simulation instance: refused (not exported by an
     FMU without <ModelExchange>)."""
+
     def make(name: str) -> Case:
         def run(lib: Fmi2Library) -> Outcome:
             if name not in lib.me_exported:
                 return Outcome(NOT_EXPORTED, name, [])
             with _ready(lib) as c:
                 return Outcome(getattr(lib, name)(c.c), name, list(c.log))
+
         return Case("unsupported", f"{name} (model-exchange function, co-simulation instance)", run)
+
     return [make(n) for n in ("fmi2EnterEventMode", "fmi2EnterContinuousTimeMode")]
 
 
@@ -742,8 +1043,7 @@ def model_exchange_cases() -> list[Case]:
 # instantiation and resource URIs
 
 
-def _inst_case(label: str, expect: str = "refuse", needle: str | None = None,
-               isolated: bool = False, **kw) -> Case:
+def _inst_case(label: str, expect: str = "refuse", needle: str | None = None, isolated: bool = False, **kw) -> Case:
     def run(lib: Fmi2Library) -> Outcome:
         # a callable argument is evaluated now, not at collection (e.g. a resource URI needs the
         # unzipped FMU, which a fresh checkout does not have before the session fixture builds it)
@@ -751,12 +1051,12 @@ def _inst_case(label: str, expect: str = "refuse", needle: str | None = None,
         try:
             if not c.ok:
                 return Outcome(NULL_INSTANCE, "fmi2Instantiate", list(c.log))
-            out = _sequence(c, [("initialize", lambda: c.initialize()),
-                                ("fmi2DoStep x5", lambda: _steps(c, 0.0, 5))])
+            out = _sequence(c, [("initialize", lambda: c.initialize()), ("fmi2DoStep x5", lambda: _steps(c, 0.0, 5))])
             out.call = "fmi2Instantiate + initialize + 5 steps" if out.status == OK else out.call
             return out
         finally:
             c.free()
+
     return Case("instantiate", label, run, expect, needle=needle, isolated=isolated)
 
 
@@ -766,40 +1066,51 @@ def instantiate_cases() -> list[Case]:
         _inst_case("GUID = NULL", guid=None),
         _inst_case("GUID = '' (empty)", guid=""),
         # accepted (the FMU carries <ModelExchange>); the co-simulation steps are refused
-        _inst_case("fmuType = fmi2ModelExchange, then co-simulation steps", fmu_type=F.MODEL_EXCHANGE,
-                   needle="instantiated for model exchange"),
+        _inst_case(
+            "fmuType = fmi2ModelExchange, then co-simulation steps",
+            fmu_type=F.MODEL_EXCHANGE,
+            needle="instantiated for model exchange",
+        ),
         _inst_case("fmuType = 7", fmu_type=7),
         _inst_case("instanceName = '' (empty)", name=""),
         _inst_case("instanceName = NULL", name=None),
         _inst_case("functions = NULL", callbacks=False),
         _inst_case("functions->logger = NULL", expect="either", logger=False),
-        _inst_case("allocateMemory/freeMemory = NULL (canNotUseMemoryManagementFunctions)",
-                   expect="accept", memory=False),
+        _inst_case(
+            "allocateMemory/freeMemory = NULL (canNotUseMemoryManagementFunctions)", expect="accept", memory=False
+        ),
         _inst_case("componentEnvironment = NULL", expect="accept", environment=False),
         _inst_case("visible = fmi2True", expect="accept", visible=True),
         _inst_case("instanceName of 100000 characters", expect="accept", name="n" * 100000),
-        _inst_case("instanceName with printf directives '%s%n%s'", expect="accept",
-                   isolated=True, name="bad %s%n%s"),
+        _inst_case("instanceName with printf directives '%s%n%s'", expect="accept", isolated=True, name="bad %s%n%s"),
     ]
 
 
 def resource_cases() -> list[Case]:
     def uri(form: str):
         return lambda: F.resource_uri(None, form)
+
     return [
-        _inst_case("resource URI file:///tmp/sb fmu XXX/resources (a space, RFC 8089 form)",
-                   "accept", resources=uri("file:///")),
-        _inst_case("resource URI file:/tmp/sb fmu XXX/resources (a space, short form)", "accept",
-                   resources=uri("file:/")),
+        _inst_case(
+            "resource URI file:///tmp/sb fmu XXX/resources (a space, RFC 8089 form)",
+            "accept",
+            resources=uri("file:///"),
+        ),
+        _inst_case(
+            "resource URI file:/tmp/sb fmu XXX/resources (a space, short form)", "accept", resources=uri("file:/")
+        ),
         _inst_case("resource URI percent-encoded (%20)", "accept", resources=uri("percent")),
-        _inst_case("resource URI file://localhost/...", "accept",
-                   resources=lambda: "file://localhost" + F.resource_uri(None, "file:///")[len("file://"):]),
-        _inst_case("resource URI of a missing directory", "either",
-                   resources="file:///no/such/dir with space/resources"),
+        _inst_case(
+            "resource URI file://localhost/...",
+            "accept",
+            resources=lambda: "file://localhost" + F.resource_uri(None, "file:///")[len("file://") :],
+        ),
+        _inst_case(
+            "resource URI of a missing directory", "either", resources="file:///no/such/dir with space/resources"
+        ),
         _inst_case("resource URI = NULL", "either", resources=None),
         _inst_case("resource URI = ''", "either", resources=""),
-        _inst_case("resource URI http://example.com/resources", "either",
-                   resources="http://example.com/resources"),
+        _inst_case("resource URI http://example.com/resources", "either", resources="http://example.com/resources"),
         _inst_case("resource URI of garbage bytes", "either", resources=b"\x01\xff %%% \x7f"),
     ]
 
@@ -819,8 +1130,12 @@ def _blob(lib: Fmi2Library) -> tuple[Instance, bytes]:
     return c, blob
 
 
-def _blob_case(label: str, mutate: Callable[[bytes], bytes | None], size: Callable[[bytes], int] | None = None,
-               expect: str = "refuse") -> Case:
+def _blob_case(
+    label: str,
+    mutate: Callable[[bytes], bytes | None],
+    size: Callable[[bytes], int] | None = None,
+    expect: str = "refuse",
+) -> Case:
     def run(lib: Fmi2Library) -> Outcome:
         c, blob = _blob(lib)
         with c:
@@ -831,35 +1146,46 @@ def _blob_case(label: str, mutate: Callable[[bytes], bytes | None], size: Callab
             out = Outcome(st, "fmi2DeSerializeFMUstate", list(c.log))
             out.after = f"{len(blob)}-byte blob"
             return out
+
     return Case("state blob", label, run, expect)
 
 
 def blob_cases() -> list[Case]:
     def flip(i: int, mask: int = 0xFF) -> Callable[[bytes], bytes]:
-        return lambda b: b[:i] + bytes([b[i] ^ mask]) + b[i + 1:]
+        return lambda b: b[:i] + bytes([b[i] ^ mask]) + b[i + 1 :]
+
     return [
         _blob_case("empty (size 0)", lambda b: b"", expect="refuse"),
         _blob_case("truncated to 1 byte", lambda b: b[:1]),
-        _blob_case("truncated to half", lambda b: b[:len(b) // 2]),
+        _blob_case("truncated to half", lambda b: b[: len(b) // 2]),
         _blob_case("truncated by 1 byte", lambda b: b[:-1]),
         _blob_case("one extra byte", lambda b: b + b"\x00"),
         _blob_case("size argument larger than the blob header says", lambda b: b + b"\x00" * 64),
         _blob_case("first byte (magic) corrupted", flip(0)),
-        _blob_case("older format version (the current one - 1, checksum recomputed)",
-                   lambda b: F.reseal(b[:8] + struct.pack("<i", _version(b) - 1) + b[12:])),
-        _blob_case("newer format version (the current one + 1, checksum recomputed)",
-                   lambda b: F.reseal(b[:8] + struct.pack("<i", _version(b) + 1) + b[12:])),
+        _blob_case(
+            "older format version (the current one - 1, checksum recomputed)",
+            lambda b: F.reseal(b[:8] + struct.pack("<i", _version(b) - 1) + b[12:]),
+        ),
+        _blob_case(
+            "newer format version (the current one + 1, checksum recomputed)",
+            lambda b: F.reseal(b[:8] + struct.pack("<i", _version(b) + 1) + b[12:]),
+        ),
         _blob_case("one payload byte flipped (checksum mismatch)", flip(100, 0x01)),
-        _blob_case("saved by another FMU (GUID hash differs, checksum recomputed)",
-                   lambda b: F.reseal(b[:16] + struct.pack("<Q", F.fnv1a(b"{other}")) + b[24:])),
-        _blob_case("valid checksum over NaN in the first state double",
-                   lambda b: F.reseal(b[:32] + struct.pack("<d", math.nan) + b[40:])),
-        _blob_case("valid checksum over an initialized flag of 7",
-                   lambda b: F.reseal(_set_int(b, 0, 7))),
+        _blob_case(
+            "saved by another FMU (GUID hash differs, checksum recomputed)",
+            lambda b: F.reseal(b[:16] + struct.pack("<Q", F.fnv1a(b"{other}")) + b[24:]),
+        ),
+        _blob_case(
+            "valid checksum over NaN in the first state double",
+            lambda b: F.reseal(b[:32] + struct.pack("<d", math.nan) + b[40:]),
+        ),
+        _blob_case("valid checksum over an initialized flag of 7", lambda b: F.reseal(_set_int(b, 0, 7))),
         _blob_case("all zeros", lambda b: bytes(len(b))),
         _blob_case("all 0xFF", lambda b: b"\xff" * len(b)),
-        _blob_case("random garbage of the right size",
-                   lambda b: np.random.default_rng(1).integers(0, 256, len(b), dtype=np.uint8).tobytes()),
+        _blob_case(
+            "random garbage of the right size",
+            lambda b: np.random.default_rng(1).integers(0, 256, len(b), dtype=np.uint8).tobytes(),
+        ),
         _blob_case("a 1 MB blob of garbage", lambda b: b"\x5a" * 1_000_000),
     ]
 
@@ -876,11 +1202,27 @@ def _set_int(b: bytes, index: int, value: int) -> bytes:
 
 
 def all_cases() -> list[Case]:
-    return (parameter_cases() + start_value_cases() + boundary_cases() + input_cases() + order_cases()
-            + [_after_error_case()] + step_cases() + huge_step_cases() + stop_time_cases()
-            + vr_cases() + pointer_cases() + null_component_cases() + unsupported_cases()
-            + model_exchange_cases() + instantiate_cases() + resource_cases() + blob_cases()
-            + errors_me.all_cases() + errors_fmi3.all_cases())
+    return (
+        parameter_cases()
+        + start_value_cases()
+        + boundary_cases()
+        + input_cases()
+        + order_cases()
+        + [_after_error_case()]
+        + step_cases()
+        + huge_step_cases()
+        + stop_time_cases()
+        + vr_cases()
+        + pointer_cases()
+        + null_component_cases()
+        + unsupported_cases()
+        + model_exchange_cases()
+        + instantiate_cases()
+        + resource_cases()
+        + blob_cases()
+        + errors_me.all_cases()
+        + errors_fmi3.all_cases()
+    )
 
 
 def _md_escape(s: str) -> str:
@@ -896,12 +1238,16 @@ def write_doc(path: Path = F.REPO_ROOT / "docs" / "invalid-inputs.md") -> int:
         msg = out.first_message()
         if len(msg) > 220:
             msg = msg[:217] + "..."
-        verdict = {"refuse": "refused" if out.refused else "**ACCEPTED**",
-                   "accept": "accepted" if out.status in (OK, F.WARNING) else "**REFUSED**",
-                   "either": "ok"}[case.expect]
-        rows.append(f"| {case.kind} | {_md_escape(case.label)} | {case.expect} | "
-                    f"{out.call} | {out.status_text()} | {verdict} | {_md_escape(msg)} |")
-    kinds = sorted({r.split('|')[1].strip() for r in rows})
+        verdict = {
+            "refuse": "refused" if out.refused else "**ACCEPTED**",
+            "accept": "accepted" if out.status in (OK, F.WARNING) else "**REFUSED**",
+            "either": "ok",
+        }[case.expect]
+        rows.append(
+            f"| {case.kind} | {_md_escape(case.label)} | {case.expect} | "
+            f"{out.call} | {out.status_text()} | {verdict} | {_md_escape(msg)} |"
+        )
+    kinds = sorted({r.split("|")[1].strip() for r in rows})
     counts = ", ".join(f"{k} {sum(r.split('|')[1].strip() == k for r in rows)}" for k in kinds)
     head = f"""# Invalid inputs and what the FMU answers
 
@@ -951,6 +1297,7 @@ SB_FUZZ_EXAMPLES=3000 .venv/bin/python -m pytest -o addopts= tests/fmu/test_fmu_
     path.write_text(head + "\n".join(rows) + "\n")
     return len(rows)
 
+
 # ---------------------------------------------------------------------------------------------
 # the tests
 
@@ -986,8 +1333,9 @@ def test_invalid_inputs_doc_matches_the_fmu(lib: Fmi2Library) -> None:
         if now != status:
             stale.append(f"{rid}: doc says {status}, the FMU now answers {now}")
     missing = set(by_id) - set(rows)
-    assert not stale and not missing, "docs/invalid-inputs.md is stale (regenerate it): " \
-        + "; ".join(stale + [f"{m}: not in the doc" for m in sorted(missing)])
+    assert not stale and not missing, "docs/invalid-inputs.md is stale (regenerate it): " + "; ".join(
+        stale + [f"{m}: not in the doc" for m in sorted(missing)]
+    )
 
 
 def test_every_fmi2_function_exported(lib: Fmi2Library) -> None:
@@ -1009,22 +1357,33 @@ def test_invalid_input(lib: Fmi2Library, case: Case) -> None:
         # an Error always says why (even with logging off: tests/fmu/test_fmu_reasons_fmpy.py); so does a
         # refused parameter, input or step (a Discard from a status query needs no message)
         if (out.status == ERROR and not case.kind.endswith("NULL component")) or case.kind in (
-                "parameter", "start value", "input", "input derivative", "step", "huge step"):
+            "parameter",
+            "start value",
+            "input",
+            "input derivative",
+            "step",
+            "huge step",
+        ):
             assert out.errors(), f"refused without a message: {where}"
         if case.kind == "call order" and case.name is not None:
-            assert any(case.name in (r.message or "") or out.call in (r.message or "")
-                       for r in out.errors()), f"message names neither {case.name} nor {out.call}: {where}"
+            assert any(case.name in (r.message or "") or out.call in (r.message or "") for r in out.errors()), (
+                f"message names neither {case.name} nor {out.call}: {where}"
+            )
         elif case.name is not None and case.value is not None:
-            problems = [message_names_value_and_range(r.message or "", case.name, case.value,
-                                                      case.low, case.high) for r in out.errors()]
-            assert any(p == [] for p in problems), f"no message names {case.name}, " \
-                f"{case.value!r} and its range ({problems}): {where}"
+            problems = [
+                message_names_value_and_range(r.message or "", case.name, case.value, case.low, case.high)
+                for r in out.errors()
+            ]
+            assert any(p == [] for p in problems), (
+                f"no message names {case.name}, {case.value!r} and its range ({problems}): {where}"
+            )
         elif case.name is not None:
             assert any(case.name in (r.message or "") for r in out.errors()), where
         if case.needle is not None:
             assert any(case.needle.lower() in (r.message or "").lower() for r in out.log), where
-    assert "fmi2OK" not in out.after and "moved" not in out.after and "not finite" not in out.after, \
+    assert "fmi2OK" not in out.after and "moved" not in out.after and "not finite" not in out.after, (
         f"{out.after}: {where}"
+    )
     for r in out.log:  # logger rules: a name, a known category, a valid status, a message
         assert r.instance is not None and (r.instance or case.kind.endswith("instantiate")), where
         assert r.category in F.LOG_CATEGORIES, where
@@ -1115,6 +1474,7 @@ if __name__ == "__main__":
         _child(sys.argv[2])
     else:
         from harness.fmu import build as _build
+
         if not os.environ.get("SB_FMU_BINARY"):
             _build.build(("fmu",))
         n = write_doc()
@@ -1125,8 +1485,7 @@ def test_an_overflowing_output_is_a_warning_not_a_silent_inf(lib: Fmi2Library) -
     """frictionForce = f_k q + f_c q' with f_c = (f_c omega) / omega: a rotorSpeed set after the
     last step can make f_c finite but f_c q' overflow. fmi2GetReal then says so (fmi2Warning and
     a message naming the output); fmi2OK always comes with finite outputs."""
-    params = {"gating": False, "frictionModel": 1, "B": 1e-4, "d": 2e-5,
-              "tipDisplacement": 1e-4, "tipVelocity": 100.0}
+    params = {"gating": False, "frictionModel": 1, "B": 1e-4, "d": 2e-5, "tipDisplacement": 1e-4, "tipVelocity": 100.0}
     warned = 0
     for speed in np.logspace(-310, -290, 81):
         with _ready(lib, params) as c:
@@ -1136,7 +1495,6 @@ def test_an_overflowing_output_is_a_warning_not_a_silent_inf(lib: Fmi2Library) -
                 assert np.all(np.isfinite(y)), f"{speed!r}: {y}"
             else:
                 assert st == F.WARNING and not np.all(np.isfinite(y)), f"{speed!r}: {st} {y}"
-                assert any("frictionForce" in (r.message or "") and r.status == F.WARNING
-                           for r in c.log), c.log_text()
+                assert any("frictionForce" in (r.message or "") and r.status == F.WARNING for r in c.log), c.log_text()
                 warned += 1
     assert warned > 0, "no speed made f_c q' overflow: the test does not reach the case it checks"

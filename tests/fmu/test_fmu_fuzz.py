@@ -28,6 +28,7 @@ prints the shrunk call sequence. The same test runs against the AddressSanitizer
 tests/fmu/test_fmu_sanitizers.py: a child pytest with LD_PRELOAD=libasan, ASAN_OPTIONS=detect_leaks=0
 and SB_FMU_BINARY pointing to build-asan/ShroudedBlade.so.
 """
+
 from __future__ import annotations
 
 import math
@@ -52,31 +53,50 @@ FUZZ_SLOW_EXAMPLES = int(os.environ.get("SB_FUZZ_SLOW_EXAMPLES", "10000"))
 STEPS_PER_SEQUENCE = 40
 
 INSTANTIATED, INIT, STEP, FAILED, TERMINATED, ERRORED, UNKNOWN = (
-    "instantiated", "initializationMode", "stepComplete", "stepFailed", "terminated", "error",
-    "unknown (restored from a resealed blob)")
+    "instantiated",
+    "initializationMode",
+    "stepComplete",
+    "stepFailed",
+    "terminated",
+    "error",
+    "unknown (restored from a resealed blob)",
+)
 SPEED_MAX = 30000.0
 OUTPUT_VRS = [F.VR[n] for n in F.REAL_OUTPUTS]
 INT_VRS = [F.VR[n] for n in F.INT_PARAMS + F.INT_OUTPUTS]
 BOOL_VRS = [F.VR[n] for n in F.BOOL_PARAMS]
 
 # --- strategies ---------------------------------------------------------------------------------
-garbage_float = st.sampled_from([math.nan, math.inf, -math.inf, 1e308, -1e308, 5e-324, -0.0,
-                                 0.0, -1.0, 1e-300, 2**53 + 1.0])
+garbage_float = st.sampled_from(
+    [math.nan, math.inf, -math.inf, 1e308, -1e308, 5e-324, -0.0, 0.0, -1.0, 1e-300, 2**53 + 1.0]
+)
 any_float = st.one_of(garbage_float, st.floats(allow_nan=True, allow_infinity=True, width=64))
-some_vr = st.one_of(st.sampled_from(F.ALL_VRS), st.sampled_from([0, 14, 42, 63, 999, 2**32 - 1]),
-                    st.integers(0, 2**32 - 1))
-int_value = st.one_of(st.integers(-3, 110), st.sampled_from([-2**31, 2**31 - 1]))
+some_vr = st.one_of(
+    st.sampled_from(F.ALL_VRS), st.sampled_from([0, 14, 42, 63, 999, 2**32 - 1]), st.integers(0, 2**32 - 1)
+)
+int_value = st.one_of(st.integers(-3, 110), st.sampled_from([-(2**31), 2**31 - 1]))
 
 # sensible parameter values (most sequences should reach stepping) and garbage
 GOOD_PARAMS = {
-    "EI": st.floats(200.0, 500.0), "rho": st.floats(5000.0, 9000.0), "A": st.floats(2e-4, 6e-4),
-    "l": st.floats(0.1, 0.2), "c": st.floats(0.0, 60.0), "m0": st.floats(0.0, 0.1),
-    "kn": st.sampled_from([1e5, 1e6, 1e7, 3e7]), "kdRatio": st.floats(0.3, 1.0),
-    "mu": st.floats(0.0, 0.6), "gamma": st.floats(0.2, 1.4), "d": st.floats(0.0, 8e-5),
-    "B": st.floats(1e-6, 2e-4), "maxStep": st.sampled_from([1e-3, 1e-4, 1e-5, 3e-6]),
-    "frictionModel": st.integers(1, 3), "formulation": st.integers(1, 2),
-    "projection": st.integers(1, 2), "amplitudeMode": st.integers(1, 2),
-    "engineOrder": st.integers(1, 6), "gating": st.integers(0, 1),
+    "EI": st.floats(200.0, 500.0),
+    "rho": st.floats(5000.0, 9000.0),
+    "A": st.floats(2e-4, 6e-4),
+    "l": st.floats(0.1, 0.2),
+    "c": st.floats(0.0, 60.0),
+    "m0": st.floats(0.0, 0.1),
+    "kn": st.sampled_from([1e5, 1e6, 1e7, 3e7]),
+    "kdRatio": st.floats(0.3, 1.0),
+    "mu": st.floats(0.0, 0.6),
+    "gamma": st.floats(0.2, 1.4),
+    "d": st.floats(0.0, 8e-5),
+    "B": st.floats(1e-6, 2e-4),
+    "maxStep": st.sampled_from([1e-3, 1e-4, 1e-5, 3e-6]),
+    "frictionModel": st.integers(1, 3),
+    "formulation": st.integers(1, 2),
+    "projection": st.integers(1, 2),
+    "amplitudeMode": st.integers(1, 2),
+    "engineOrder": st.integers(1, 6),
+    "gating": st.integers(0, 1),
 }
 
 
@@ -118,8 +138,8 @@ class FmuMachine(RuleBasedStateMachine):
             assert r.status in VALID_STATUSES
             assert r.message is not None
             assert self.category_enabled(r.category), (
-                f"{fn.__name__}: logged in disabled category {r.category} "
-                f"(enabled: {self.enabled}): {r.message}")
+                f"{fn.__name__}: logged in disabled category {r.category} (enabled: {self.enabled}): {r.message}"
+            )
         if status in (WARNING, ERROR) and self.c.c:  # a refusal or warning is always explained
             assert any(r.status == status for r in new), f"{fn.__name__} -> {status} with no message"
         self.last_log = [str(r) for r in new if r.category != "logCalls"][-10:]
@@ -135,7 +155,7 @@ class FmuMachine(RuleBasedStateMachine):
 
     def poly(self, i: int, h: float) -> float:
         """Input i at the end of a step of size h (the Taylor polynomial of model-notes s.1)."""
-        return sum(self.inputs[i][j] * h ** j / math.factorial(j) for j in range(9))
+        return sum(self.inputs[i][j] * h**j / math.factorial(j) for j in range(9))
 
     @property
     def known(self) -> bool:
@@ -175,8 +195,11 @@ class FmuMachine(RuleBasedStateMachine):
         self.enabled = "all"
         self.reset_model()
 
-    @rule(on=st.booleans(), cats=st.lists(st.sampled_from(F.LOG_CATEGORIES), max_size=4),
-          garbage=st.sampled_from([None, None, None, None, "logNoSuch", ""]))
+    @rule(
+        on=st.booleans(),
+        cats=st.lists(st.sampled_from(F.LOG_CATEGORIES), max_size=4),
+        garbage=st.sampled_from([None, None, None, None, "logNoSuch", ""]),
+    )
     def set_debug_logging(self, on: bool, cats: list[str], garbage: str | None) -> None:
         # loggingOn = fmi2False is sent with an empty list only: "otherwise it is switched off"
         # (FMI 2.0 s.2.1.5) is read by some as "the listed categories are switched off"
@@ -195,9 +218,11 @@ class FmuMachine(RuleBasedStateMachine):
         assert s == OK
         self.enabled = new
 
-    @rule(start=st.one_of(st.just(0.0), st.floats(-10.0, 10.0), garbage_float),
-          stop=st.one_of(st.none(), st.floats(-1.0, 1.0), garbage_float),
-          tol=st.one_of(st.none(), any_float))
+    @rule(
+        start=st.one_of(st.just(0.0), st.floats(-10.0, 10.0), garbage_float),
+        stop=st.one_of(st.none(), st.floats(-1.0, 1.0), garbage_float),
+        tol=st.one_of(st.none(), any_float),
+    )
     def setup_experiment(self, start: float, stop: float | None, tol: float | None) -> None:
         s = self.call(self.c.setup, start, stop, tol)
         if not self.known:
@@ -275,12 +300,12 @@ class FmuMachine(RuleBasedStateMachine):
                 # initial="exact" variables (here: tipDisplacement, tipVelocity, dissipatedEnergy,
                 # jenkinsForce, runningMaximum)
                 startable = var.causality == "parameter" or var.initial == "exact"
-                assert var.type == "Real" and (startable or var.causality == "input"), \
+                assert var.type == "Real" and (startable or var.causality == "input"), (
                     f"fmi2SetReal of {var.name} ({var.causality} {var.type}) accepted"
+                )
                 assert math.isfinite(val), f"{var.name} = {val} accepted"
                 if startable:
-                    assert not self.known or self.phase in (INSTANTIATED, INIT), \
-                        f"{var.name} set in {self.phase}"
+                    assert not self.known or self.phase in (INSTANTIATED, INIT), f"{var.name} set in {self.phase}"
                 if v == F.VR["maxStep"]:
                     self.max_step = val
                 if var.causality == "input":
@@ -301,13 +326,12 @@ class FmuMachine(RuleBasedStateMachine):
         elif self.known and self.phase in (INSTANTIATED, INIT, STEP):
             assert not valid, f"valid inputs refused ({s}): {self.last_log}"
 
-    @rule(vrs=st.lists(st.one_of(st.sampled_from([40, 41]), some_vr), min_size=1, max_size=9),
-          data=st.data())
+    @rule(vrs=st.lists(st.one_of(st.sampled_from([40, 41]), some_vr), min_size=1, max_size=9), data=st.data())
     def set_input_derivatives(self, vrs: list[int], data: st.DataObject) -> None:
-        orders = data.draw(st.lists(st.one_of(st.integers(1, 8), st.integers(-2, 12)),
-                                    min_size=len(vrs), max_size=len(vrs)))
-        values = data.draw(st.lists(st.one_of(st.floats(-1e6, 1e6), any_float),
-                                    min_size=len(vrs), max_size=len(vrs)))
+        orders = data.draw(
+            st.lists(st.one_of(st.integers(1, 8), st.integers(-2, 12)), min_size=len(vrs), max_size=len(vrs))
+        )
+        values = data.draw(st.lists(st.one_of(st.floats(-1e6, 1e6), any_float), min_size=len(vrs), max_size=len(vrs)))
         s = self.call(self.c.set_input_derivatives, vrs, orders, values)
         if s == OK:
             for v, o, x in zip(vrs, orders, values):
@@ -322,15 +346,20 @@ class FmuMachine(RuleBasedStateMachine):
                 if v in OUTPUT_VRS:
                     assert math.isfinite(val), f"output vr {v} = {val} with fmi2OK"
 
-    @rule(kind=st.sampled_from(["int", "bool"]), data=st.data(),
-          values=st.lists(int_value, min_size=4, max_size=4), setter=st.booleans())
+    @rule(
+        kind=st.sampled_from(["int", "bool"]),
+        data=st.data(),
+        values=st.lists(int_value, min_size=4, max_size=4),
+        setter=st.booleans(),
+    )
     def integer_and_boolean(self, kind: str, data: st.DataObject, values: list[int], setter: bool) -> None:
         typed = INT_VRS if kind == "int" else BOOL_VRS
-        vrs = data.draw(st.lists(st.one_of(st.sampled_from(typed), st.sampled_from(typed), some_vr),
-                                 min_size=1, max_size=4))
+        vrs = data.draw(
+            st.lists(st.one_of(st.sampled_from(typed), st.sampled_from(typed), some_vr), min_size=1, max_size=4)
+        )
         if setter:
             fn = self.c.set_integer if kind == "int" else self.c.set_boolean
-            s = self.call(fn, vrs, values[:len(vrs)])
+            s = self.call(fn, vrs, values[: len(vrs)])
             self.touched = self.touched or s == OK
             if self.known and self.phase not in (INSTANTIATED, INIT):
                 assert s == ERROR  # no tunable Integer/Boolean variables
@@ -351,10 +380,12 @@ class FmuMachine(RuleBasedStateMachine):
     def _initialize_run(self, params: dict) -> None:
         if self.phase != INSTANTIATED:
             return
-        worst = max(self.call(self.c.setup, 0.0, None, None),
-                    self.call(self.c.set_params, params),
-                    self.call(self.c.enter_init),
-                    self.call(self.c.exit_init))
+        worst = max(
+            self.call(self.c.setup, 0.0, None, None),
+            self.call(self.c.set_params, params),
+            self.call(self.c.enter_init),
+            self.call(self.c.exit_init),
+        )
         if not self.touched:
             assert worst in (OK, WARNING), f"valid parameters {params} refused: {self.last_log}"
         if worst in (OK, WARNING):
@@ -379,8 +410,11 @@ class FmuMachine(RuleBasedStateMachine):
         for _ in range(n):
             d = F.aero_derivatives(self.t, Fw0, omega, order)
             s1 = self.call(self.c.set_real, ["aeroLoad", "rotorSpeed"], [d[0], speed])
-            s2 = self.call(self.c.set_input_derivatives, ["aeroLoad"] * order,
-                           list(range(1, order + 1)), d[1:]) if order else OK
+            s2 = (
+                self.call(self.c.set_input_derivatives, ["aeroLoad"] * order, list(range(1, order + 1)), d[1:])
+                if order
+                else OK
+            )
             assert s1 == OK and s2 == OK, self.last_log
             self.inputs = [d + [0.0] * (9 - len(d)), [speed] + [0.0] * 8]
             self.inputs_known = True
@@ -388,21 +422,36 @@ class FmuMachine(RuleBasedStateMachine):
             if self.phase != STEP:
                 break
 
-    @rule(n=st.integers(1, 25), h=st.sampled_from([1e-4, 5e-4, 1e-3]),
-          Fw0=st.sampled_from([0.0, 100.0, 1000.0, 1e5]), speed=st.floats(0.0, SPEED_MAX),
-          order=st.integers(0, 8))
+    @rule(
+        n=st.integers(1, 25),
+        h=st.sampled_from([1e-4, 5e-4, 1e-3]),
+        Fw0=st.sampled_from([0.0, 100.0, 1000.0, 1e5]),
+        speed=st.floats(0.0, SPEED_MAX),
+        order=st.integers(0, 8),
+    )
     def run_steps(self, n: int, h: float, Fw0: float, speed: float, order: int) -> None:
         self._run_steps(n, h, Fw0, speed, order)
 
-    @rule(n=st.integers(1, 25), h=st.sampled_from([1e-4, 2e-4]), Fw0=st.sampled_from([100.0, 300.0]),
-          speed=st.sampled_from([3000.0, 5000.0, 7000.0]), order=st.sampled_from([0, 8]))
+    @rule(
+        n=st.integers(1, 25),
+        h=st.sampled_from([1e-4, 2e-4]),
+        Fw0=st.sampled_from([100.0, 300.0]),
+        speed=st.sampled_from([3000.0, 5000.0, 7000.0]),
+        order=st.sampled_from([0, 8]),
+    )
     def run_steps_too(self, n: int, h: float, Fw0: float, speed: float, order: int) -> None:
         self._run_steps(n, h, Fw0, speed, order)
 
     # --- stepping -------------------------------------------------------------------------------
-    @rule(dt=st.one_of(st.just(0.0), st.just(0.0), st.floats(-1e-3, 1e-3), garbage_float),
-          h=st.one_of(st.sampled_from([1e-4, 1e-4, 5e-5, 5e-4, 1e-3, 2e-3]), st.floats(1e-6, 2e-3),
-                      st.sampled_from([0.0, -1e-4, math.nan, math.inf, 1e6, 1e300]), garbage_float))
+    @rule(
+        dt=st.one_of(st.just(0.0), st.just(0.0), st.floats(-1e-3, 1e-3), garbage_float),
+        h=st.one_of(
+            st.sampled_from([1e-4, 1e-4, 5e-5, 5e-4, 1e-3, 2e-3]),
+            st.floats(1e-6, 2e-3),
+            st.sampled_from([0.0, -1e-4, math.nan, math.inf, 1e6, 1e300]),
+            garbage_float,
+        ),
+    )
     def do_step(self, dt: float, h: float) -> None:
         t = self.t + dt
         s = self.call(self.c.do_step, t, h)
@@ -425,11 +474,11 @@ class FmuMachine(RuleBasedStateMachine):
             assert s == ERROR, f"fmi2DoStep in {self.phase} returned {s}"
             return
         tol = 1e-9 * max(1.0, abs(self.t))
-        if not (math.isfinite(t) and abs(t - self.t) <= tol) or not (h > 0.0) or not math.isfinite(h) \
-                or t + h == t:  # below the time resolution at t: time would not advance
+        if (
+            not (math.isfinite(t) and abs(t - self.t) <= tol) or not (h > 0.0) or not math.isfinite(h) or t + h == t
+        ):  # below the time resolution at t: time would not advance
             assert s in (ERROR, DISCARD), f"bad step t={t!r} (now {self.t!r}) h={h!r}: {s}"
-        elif self.stop is not None and math.isfinite(self.stop) and \
-                t + h > self.stop + 1e-9 * max(1.0, abs(self.stop)):
+        elif self.stop is not None and math.isfinite(self.stop) and t + h > self.stop + 1e-9 * max(1.0, abs(self.stop)):
             assert s in (ERROR, DISCARD), f"step past the stop time {self.stop!r} accepted: {s}"
         elif h / self.max_step > 1e7:
             assert s == ERROR, f"a step of {h / self.max_step:.3g} internal steps: {s}"
@@ -439,15 +488,21 @@ class FmuMachine(RuleBasedStateMachine):
             if margin < end_speed < SPEED_MAX - margin and math.isfinite(self.poly(0, h)):
                 assert s != ERROR, f"a valid step (t={t!r}, h={h!r}) gave fmi2Error: {self.last_log}"
 
-    @rule(kind=st.sampled_from([0, 1, 2, 2, 3, 99, -1]),
-          fn=st.sampled_from(["real", "real", "int", "bool", "string", "status", "cancel"]))
+    @rule(
+        kind=st.sampled_from([0, 1, 2, 2, 3, 99, -1]),
+        fn=st.sampled_from(["real", "real", "int", "bool", "string", "status", "cancel"]),
+    )
     def status_query(self, kind: int, fn: str) -> None:
         if fn == "cancel":  # no asynchronous steps: always refused
             assert self.call(self.c.cancel_step) == ERROR
             return
-        f = {"real": self.c.get_real_status, "int": self.c.get_integer_status,
-             "bool": self.c.get_boolean_status, "string": self.c.get_string_status,
-             "status": self.c.get_status}[fn]
+        f = {
+            "real": self.c.get_real_status,
+            "int": self.c.get_integer_status,
+            "bool": self.c.get_boolean_status,
+            "string": self.c.get_string_status,
+            "status": self.c.get_status,
+        }[fn]
         s, v = self.call(f, kind)
         if fn == "real" and kind == F.LAST_SUCCESSFUL_TIME and s == OK and self.phase in (STEP, FAILED):
             assert abs(v - self.t) <= 1e-12 * max(1.0, abs(self.t)), (v, self.t)
@@ -460,9 +515,16 @@ class FmuMachine(RuleBasedStateMachine):
         return (self.generation, h, self.snapshot())
 
     def snapshot(self) -> dict:
-        return {"phase": self.phase, "t": self.t, "start": self.start, "stop": self.stop,
-                "inputs": [list(x) for x in self.inputs], "inputs_known": self.inputs_known,
-                "max_step": self.max_step, "touched": self.touched}
+        return {
+            "phase": self.phase,
+            "t": self.t,
+            "start": self.start,
+            "stop": self.stop,
+            "inputs": [list(x) for x in self.inputs],
+            "inputs_known": self.inputs_known,
+            "max_step": self.max_step,
+            "touched": self.touched,
+        }
 
     def restore(self, snap: dict) -> None:
         self.phase, self.t, self.start, self.stop = snap["phase"], snap["t"], snap["start"], snap["stop"]
@@ -494,17 +556,16 @@ class FmuMachine(RuleBasedStateMachine):
         assert s == OK and len(blob) > 0
         return (blob, snap)
 
-    @rule(blob=blobs, how=st.sampled_from(["as is", "as is", "flip", "truncate", "extend", "reseal"]),
-          data=st.data())
+    @rule(blob=blobs, how=st.sampled_from(["as is", "as is", "flip", "truncate", "extend", "reseal"]), data=st.data())
     def deserialize_and_set(self, blob, how: str, data: st.DataObject) -> None:  # noqa: ANN001
         raw, snap = blob
         if not raw:
             return
         if how == "flip":
             i = data.draw(st.integers(0, len(raw) - 1))
-            raw = raw[:i] + bytes([raw[i] ^ data.draw(st.integers(1, 255))]) + raw[i + 1:]
+            raw = raw[:i] + bytes([raw[i] ^ data.draw(st.integers(1, 255))]) + raw[i + 1 :]
         elif how == "truncate":
-            raw = raw[:data.draw(st.integers(0, len(raw) - 1))]
+            raw = raw[: data.draw(st.integers(0, len(raw) - 1))]
         elif how == "extend":
             raw = raw + data.draw(st.binary(min_size=1, max_size=16))
         elif how == "reseal":  # a legal checksum over changed content: the FMU must check content
@@ -524,8 +585,13 @@ class FmuMachine(RuleBasedStateMachine):
                 # a blob does not hold the state machine, only whether initialization had ended
                 # (fmu_src/fmi/state_blob.c): it comes back stepping or instantiated; after an
                 # error either can hold, so from then on only validity is checked
-                self.phase = {INSTANTIATED: INSTANTIATED, INIT: INSTANTIATED, STEP: STEP, FAILED: STEP,
-                              TERMINATED: STEP}.get(self.phase, UNKNOWN)
+                self.phase = {
+                    INSTANTIATED: INSTANTIATED,
+                    INIT: INSTANTIATED,
+                    STEP: STEP,
+                    FAILED: STEP,
+                    TERMINATED: STEP,
+                }.get(self.phase, UNKNOWN)
             else:  # legal but unknown content: from now on only validity is checked
                 self.phase = UNKNOWN
                 st_, t = self.c.get_real_status(F.LAST_SUCCESSFUL_TIME)
@@ -552,12 +618,18 @@ def _run(examples: int, randomize: bool = False) -> None:
         n = min(CHUNK, left)
         test = (FmuMachine if randomize else seed(chunk)(FmuMachine)).TestCase
         chunk += 1
-        test.settings = settings(max_examples=n, stateful_step_count=STEPS_PER_SEQUENCE,
-                                 deadline=None, suppress_health_check=list(HealthCheck), database=None)
+        test.settings = settings(
+            max_examples=n,
+            stateful_step_count=STEPS_PER_SEQUENCE,
+            deadline=None,
+            suppress_health_check=list(HealthCheck),
+            database=None,
+        )
         test("runTest").runTest()
         left -= n
-    print(f"\nfuzz: {FmuMachine.sequences} sequences, {FmuMachine.calls} FMI calls, "
-          f"{FmuMachine.steps_ok} accepted steps")
+    print(
+        f"\nfuzz: {FmuMachine.sequences} sequences, {FmuMachine.calls} FMI calls, {FmuMachine.steps_ok} accepted steps"
+    )
     if os.environ.get("SB_FUZZ_VERBOSE"):
         for (fn, status), n in sorted(FmuMachine.outcomes.items()):
             print(f"  {fn:24s} {F.STATUS_NAMES.get(status, status):8s} {n}")
@@ -585,12 +657,19 @@ def _run_machine(machine: type, examples: int, counters: tuple[str, ...]) -> Non
         n = min(CHUNK, left)
         test = (machine if randomize else seed(chunk)(machine)).TestCase
         chunk += 1
-        test.settings = settings(max_examples=n, stateful_step_count=STEPS_PER_SEQUENCE,
-                                 deadline=None, suppress_health_check=list(HealthCheck), database=None)
+        test.settings = settings(
+            max_examples=n,
+            stateful_step_count=STEPS_PER_SEQUENCE,
+            deadline=None,
+            suppress_health_check=list(HealthCheck),
+            database=None,
+        )
         test("runTest").runTest()
         left -= n
-    print(f"\nfuzz {machine.__name__}: {machine.sequences} sequences, {machine.calls} FMI calls, "
-          + ", ".join(f"{getattr(machine, c)} {c}" for c in counters))
+    print(
+        f"\nfuzz {machine.__name__}: {machine.sequences} sequences, {machine.calls} FMI calls, "
+        + ", ".join(f"{getattr(machine, c)} {c}" for c in counters)
+    )
     assert machine.sequences >= examples // 2
     assert all(getattr(machine, c) > 0 for c in counters), "the sequences never reached the common path"
 

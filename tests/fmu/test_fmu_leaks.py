@@ -11,6 +11,7 @@ more.
 In this process (no sanitizer) the same cycles check that results never drift and that the
 FMU never calls the memory callbacks.
 """
+
 from __future__ import annotations
 
 import subprocess
@@ -30,9 +31,13 @@ def asan_build() -> tuple[Path, Path]:
 
 def run_leak_cycles(asan_build: tuple[Path, Path], n_inst: int, n_reset: int) -> str:
     binary, importer = asan_build
-    proc = subprocess.run([str(importer), str(binary), "leaks", str(n_inst), str(n_reset)],
-                          capture_output=True, text=True, timeout=3600,
-                          env=F.sanitizer_env(python=False))
+    proc = subprocess.run(
+        [str(importer), str(binary), "leaks", str(n_inst), str(n_reset)],
+        capture_output=True,
+        text=True,
+        timeout=3600,
+        env=F.sanitizer_env(python=False),
+    )
     assert F.SANITIZER_REPORT.search(proc.stderr) is None, proc.stderr[-6000:]
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-4000:]
     assert f"leak cycles: {n_inst} instantiate/free, {n_reset} reset" in proc.stdout

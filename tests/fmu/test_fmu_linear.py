@@ -11,6 +11,7 @@ fit over the last 10 whole periods. Tolerance 1e-6 relative, from the error budg
 maxStep 5e-6 s, (omega_n h)^4 ~ 4e-9; Taylor truncation of the input, (omega h_c)^9/9! ~ 1e-10;
 transient e^{-18.5} ~ 1e-8; quadrature ~1e-13.
 """
+
 from __future__ import annotations
 
 import math
@@ -66,13 +67,24 @@ def reduction(formulation: int, EI: float, rho: float, A: float, l: float, c: fl
         U3 = integral(lambda x: x * phi(x) * dphi(x))
         U4 = integral(lambda x: ddphi(x) * phi(x) * (l * l - x * x))
         U5 = integral(lambda x: phi(x) * ddphi(x))
-        return dict(lambdaL=aL, M=rho * A * U1 / u2, C0=c * U1 / u2, K0s=EI * lam**4 * U1 / u2,
-                    K0w=(rho * A * U3 - 0.5 * rho * A * U4 - m0 * l * U5) / u2, G=integral(phi) / u2)
+        return dict(
+            lambdaL=aL,
+            M=rho * A * U1 / u2,
+            C0=c * U1 / u2,
+            K0s=EI * lam**4 * U1 / u2,
+            K0w=(rho * A * U3 - 0.5 * rho * A * U4 - m0 * l * U5) / u2,
+            G=integral(phi) / u2,
+        )
     # consistent: phi normalised to phi(l) = 1
     n2 = integral(lambda x: (phi(x) / u2) ** 2)
-    return dict(lambdaL=aL, M=rho * A * n2 + m0, C0=c * n2, K0s=EI * integral(lambda x: (ddphi(x) / u2) ** 2),
-                K0w=integral(lambda x: (rho * A * (l * l - x * x) / 2 + m0 * l) * (dphi(x) / u2) ** 2),
-                G=integral(phi) / u2)
+    return dict(
+        lambdaL=aL,
+        M=rho * A * n2 + m0,
+        C0=c * n2,
+        K0s=EI * integral(lambda x: (ddphi(x) / u2) ** 2),
+        K0w=integral(lambda x: (rho * A * (l * l - x * x) / 2 + m0 * l) * (dphi(x) / u2) ** 2),
+        G=integral(phi) / u2,
+    )
 
 
 @pytest.fixture(scope="module")
@@ -100,8 +112,9 @@ def unzipped(fmu_path: Path, tmp_path_factory: pytest.TempPathFactory) -> tuple[
     return md.guid, extract(str(fmu_path), unzipdir=str(tmp_path_factory.mktemp("linear")))
 
 
-def run_sine(unzipped: tuple[str, str], formulation: int, rpm: float, duration: float,
-             friction: int = 1) -> dict[str, np.ndarray]:
+def run_sine(
+    unzipped: tuple[str, str], formulation: int, rpm: float, duration: float, friction: int = 1
+) -> dict[str, np.ndarray]:
     """Drives aeroLoad = FW0 sin(omega t) with derivatives 1..8; returns sampled q and E."""
     guid, directory = unzipped
     slave = FMU2Slave(guid=guid, unzipDirectory=directory, modelIdentifier="ShroudedBlade", instanceName="linear")
@@ -142,13 +155,22 @@ def sine_fit(t: np.ndarray, q: np.ndarray, omega: float, periods: int) -> tuple[
     return a, b
 
 
-CASES = [(1, 3000.0, 1), (1, 5000.0, 1), (1, 7000.0, 1), (2, 3000.0, 1), (2, 5000.0, 1), (2, 7000.0, 1),
-         (1, 5000.0, 2), (1, 5000.0, 3)]
+CASES = [
+    (1, 3000.0, 1),
+    (1, 5000.0, 1),
+    (1, 7000.0, 1),
+    (2, 3000.0, 1),
+    (2, 5000.0, 1),
+    (2, 7000.0, 1),
+    (1, 5000.0, 2),
+    (1, 5000.0, 3),
+]
 
 
 @pytest.mark.parametrize("formulation,rpm,friction", CASES)
-def test_steady_amplitude_equals_closed_form(unzipped: tuple[str, str], reductions: dict[int, dict],
-                                             formulation: int, rpm: float, friction: int) -> None:
+def test_steady_amplitude_equals_closed_form(
+    unzipped: tuple[str, str], reductions: dict[int, dict], formulation: int, rpm: float, friction: int
+) -> None:
     r = reductions[formulation]
     tau = 2 * r["M"] / r["C0"]  # envelope decay time [s]: 0.22 s printed, 0.27 s consistent
     out = run_sine(unzipped, formulation, rpm, 18.5 * tau, friction)
@@ -165,8 +187,12 @@ def test_steady_amplitude_equals_closed_form(unzipped: tuple[str, str], reductio
     k0 = k1 - int(round(10 * 2 * math.pi / omega / H_COMM))
     t0, t1 = out["t"][k0], out["t"][k1]
     phase = math.atan2(b, a)
-    expected = 0.5 * r["C0"] * (omega * X) ** 2 * (
-        t1 - t0 + (math.sin(2 * (omega * t1 + phase)) - math.sin(2 * (omega * t0 + phase))) / (2 * omega))
+    expected = (
+        0.5
+        * r["C0"]
+        * (omega * X) ** 2
+        * (t1 - t0 + (math.sin(2 * (omega * t1 + phase)) - math.sin(2 * (omega * t0 + phase))) / (2 * omega))
+    )
     assert out["E"][k1] - out["E"][k0] == pytest.approx(expected, rel=REL_TOL)
     # contact-free natural frequency output (model-notes s.4) and no contact stiffness
     assert out["freq"] == pytest.approx(math.sqrt(K0 / r["M"]) / (2 * math.pi), rel=1e-10)

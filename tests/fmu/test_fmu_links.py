@@ -11,6 +11,7 @@ own `sources/` by fmpy.build (harness.crosscheck.static.rebuild_from_sources):
   equal to the last bit).
 Before the fix the Excitation binary failed both checks with `undefined symbol: sin`.
 """
+
 from __future__ import annotations
 
 import os
@@ -31,8 +32,11 @@ from harness.crosscheck.static import rebuild_from_sources
 LOADER_SRC = Path(__file__).resolve().parents[1] / "c" / "dlopen_step.c"
 FMI_HEADERS = Path(fmpy.__file__).parent / "c-code"
 # (FMU, output read after the step): naturalFrequency of the blade, aeroLoad (a sine) of the excitation
-CASES = {"ShroudedBlade": (_build.FMU_PATH, "naturalFrequency"), "Excitation": (_build.EXCITATION_FMU, "aeroLoad"),
-         "BladeExternalContact": (_build.BUILD_DIR / "BladeExternalContact.fmu", "naturalFrequency")}
+CASES = {
+    "ShroudedBlade": (_build.FMU_PATH, "naturalFrequency"),
+    "Excitation": (_build.EXCITATION_FMU, "aeroLoad"),
+    "BladeExternalContact": (_build.BUILD_DIR / "BladeExternalContact.fmu", "naturalFrequency"),
+}
 
 
 def _needed(binary: Path) -> list[str]:
@@ -43,8 +47,10 @@ def _needed(binary: Path) -> list[str]:
 @pytest.fixture(scope="module")
 def loader(tmp_path_factory) -> Path:
     exe = tmp_path_factory.mktemp("loader") / "dlopen_step"
-    subprocess.run(["cc", "-std=c99", "-Wall", "-Wextra", "-Werror", f"-I{FMI_HEADERS}", str(LOADER_SRC),
-                    "-o", str(exe), "-ldl"], check=True)
+    subprocess.run(
+        ["cc", "-std=c99", "-Wall", "-Wextra", "-Werror", f"-I{FMI_HEADERS}", str(LOADER_SRC), "-o", str(exe), "-ldl"],
+        check=True,
+    )
     assert not any(n.startswith("libm.") for n in _needed(exe)), "the loader must not hold libm itself"
     return exe
 
@@ -68,8 +74,9 @@ def unpacked(tmp_path_factory) -> dict[tuple[str, str], Path]:
 def _fmpy_one_step(unzipdir: Path, output: str) -> float:
     md = read_model_description(str(unzipdir))
     vr = next(v.valueReference for v in md.modelVariables if v.name == output)
-    fmu = FMU2Slave(guid=md.guid, unzipDirectory=str(unzipdir), modelIdentifier=md.coSimulation.modelIdentifier,
-                    instanceName="fmpy")
+    fmu = FMU2Slave(
+        guid=md.guid, unzipDirectory=str(unzipdir), modelIdentifier=md.coSimulation.modelIdentifier, instanceName="fmpy"
+    )
     try:
         fmu.instantiate()
         fmu.setupExperiment(startTime=0.0, stopTime=1.0)
@@ -94,8 +101,12 @@ def test_binary_loads_in_a_c_master_without_libm(model, flavour, loader, unpacke
     output = CASES[model][1]
     vr = next(v.valueReference for v in md.modelVariables if v.name == output)
     env = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
-    proc = subprocess.run([str(loader), str(binary), md.guid, (unzipdir / "resources").as_uri(), str(vr)],
-                          capture_output=True, text=True, env=env)
+    proc = subprocess.run(
+        [str(loader), str(binary), md.guid, (unzipdir / "resources").as_uri(), str(vr)],
+        capture_output=True,
+        text=True,
+        env=env,
+    )
     assert proc.returncode == 0, proc.stderr
     value = float(proc.stdout.split()[1])
     assert value == _fmpy_one_step(unzipdir, output)
@@ -110,8 +121,21 @@ def test_loader_catches_a_binary_without_libm(loader, tmp_path):
     sources = tmp_path / "fmu" / "sources"
     files = read_model_description(str(_build.EXCITATION_FMU)).buildConfigurations[0].sourceFileSets[0].sourceFiles
     so = tmp_path / "Excitation.so"
-    subprocess.run(["cc", "-std=c99", "-shared", "-fPIC", "-O2", f"-I{FMI_HEADERS}", f"-I{sources}",
-                    *[str(sources / f) for f in files], "-o", str(so)], check=True)
+    subprocess.run(
+        [
+            "cc",
+            "-std=c99",
+            "-shared",
+            "-fPIC",
+            "-O2",
+            f"-I{FMI_HEADERS}",
+            f"-I{sources}",
+            *[str(sources / f) for f in files],
+            "-o",
+            str(so),
+        ],
+        check=True,
+    )
     proc = subprocess.run([str(loader), str(so), "{x}", "file:///tmp", "10"], capture_output=True, text=True)
     assert proc.returncode == 1
     assert "undefined symbol" in proc.stderr
@@ -163,8 +187,14 @@ def me_names() -> set[str]:
     others = set().union(*(_defined(c) for c in FMU_SRC.rglob("*.c") if c not in ME_SOURCES))
     names = set().union(*(_defined(c) for c in ME_SOURCES)) - others | {"fmiModelExchange"}
     # the parse found the face's functions and the model's table and hooks
-    assert {"fmi2GetDerivatives", "fmi2NewDiscreteStates", "fmiModelExchange", "eventUpdate",
-            "holdContactState", "heldOutputs"} <= names, sorted(names)
+    assert {
+        "fmi2GetDerivatives",
+        "fmi2NewDiscreteStates",
+        "fmiModelExchange",
+        "eventUpdate",
+        "holdContactState",
+        "heldOutputs",
+    } <= names, sorted(names)
     return names
 
 
@@ -173,14 +203,24 @@ def test_the_fmi2_binary_links_model_exchange(me_names):
     the exported fmi2 model-exchange functions and every function of the model's table (a function
     reached through a pointer is never inlined away)."""
     symbols = _symbols(_build.BUILD_DIR / "ShroudedBlade.so")
-    table = {"getStates", "setStates", "nominals", "derivatives", "eventIndicators", "eventUpdate", "afterBuild",
-             "heldOutputs", "fmiModelExchange"}
+    table = {
+        "getStates",
+        "setStates",
+        "nominals",
+        "derivatives",
+        "eventIndicators",
+        "eventUpdate",
+        "afterBuild",
+        "heldOutputs",
+        "fmiModelExchange",
+    }
     assert table <= symbols, sorted(table - symbols)
     assert {n for n in me_names if n.startswith("fmi2")} <= symbols
 
 
-@pytest.mark.parametrize("binary", ["fmi3/ShroudedBlade.so", "Excitation.so", "BladeExternalContact.so",
-                                    "ShroudContact.so"])
+@pytest.mark.parametrize(
+    "binary", ["fmi3/ShroudedBlade.so", "Excitation.so", "BladeExternalContact.so", "ShroudContact.so"]
+)
 def test_co_simulation_binaries_link_no_model_exchange(binary, me_names):
     # a co-simulation-only model defines fmiModelExchange as NULL for the FMI 2.0 face; the FMI 3.0
     # binary has not even that

@@ -15,6 +15,7 @@ SB_FMU_BINARY=build-asan/ShroudedBlade.so .venv/bin/python -m pytest tests/fmu/t
 (the interpreter is not instrumented, so libasan must be loaded first and leak checking is left to
 the C importer, see tests/fmu/test_fmu_leaks.py).
 """
+
 from __future__ import annotations
 
 import os
@@ -45,24 +46,35 @@ def check_clean(proc: subprocess.CompletedProcess, what: str) -> None:
 
 def test_c_importer_full_runs_and_error_paths(asan_build: tuple[Path, Path]) -> None:
     binary, importer = asan_build
-    proc = subprocess.run([str(importer), str(binary), "full"], capture_output=True, text=True,
-                          timeout=900, env=F.sanitizer_env(python=False))
+    proc = subprocess.run(
+        [str(importer), str(binary), "full"],
+        capture_output=True,
+        text=True,
+        timeout=900,
+        env=F.sanitizer_env(python=False),
+    )
     check_clean(proc, "sb_importer full")
     assert " 0 failures" in proc.stdout, proc.stdout
     print(proc.stdout)
 
 
-def run_python_suite(binary: Path, args: list[str], extra_env: dict[str, str] | None = None,
-                     timeout: float = 1800) -> subprocess.CompletedProcess:
+def run_python_suite(
+    binary: Path, args: list[str], extra_env: dict[str, str] | None = None, timeout: float = 1800
+) -> subprocess.CompletedProcess:
     """A child pytest against the sanitized FMU. -s: a sanitizer report must reach the real
     stderr (pytest's fd capture would swallow it when the sanitizer ends the process)."""
     env = F.sanitizer_env(python=True)
     env["SB_FMU_BINARY"] = str(binary)
     env["SB_FMU3_BINARY"] = str(F.ASAN_FMI3_BINARY)  # the FMI 3.0 rows and fuzz machine (fmi3raw.py)
     env.update(extra_env or {})
-    return subprocess.run([sys.executable, "-m", "pytest", "-q", "-s", "-p", "no:cacheprovider",
-                           "-o", "addopts=", *args], cwd=str(TESTS.parent), capture_output=True,
-                          text=True, timeout=timeout, env=env)
+    return subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-s", "-p", "no:cacheprovider", "-o", "addopts=", *args],
+        cwd=str(TESTS.parent),
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        env=env,
+    )
 
 
 def check_no_memory_errors(proc: subprocess.CompletedProcess, what: str) -> None:
@@ -70,17 +82,20 @@ def check_no_memory_errors(proc: subprocess.CompletedProcess, what: str) -> None
     only on the sanitized build (e.g. a value read from uninitialised memory) fails this one."""
     out = proc.stdout + proc.stderr
     report = F.SANITIZER_REPORT.search(out)
-    assert report is None, f"{what}: sanitizer report:\n{out[max(0, report.start() - 200):][:8000]}"
+    assert report is None, f"{what}: sanitizer report:\n{out[max(0, report.start() - 200) :][:8000]}"
     failed = [ln for ln in proc.stdout.splitlines() if ln.startswith(("FAILED", "ERROR"))]
-    assert proc.returncode == 0 and not failed, f"{what}: exit {proc.returncode} (1 a test failed, 98 UBSan, " \
+    assert proc.returncode == 0 and not failed, (
+        f"{what}: exit {proc.returncode} (1 a test failed, 98 UBSan, "
         f"99 ASan, <0 a signal)\n" + "\n".join(failed) + f"\n{proc.stdout[-3000:]}\n{proc.stderr[-6000:]}"
+    )
     assert re.search(r"\d+ passed", proc.stdout), proc.stdout[-3000:]  # tests ran
 
 
 def test_python_error_and_state_suites_under_asan(asan_build: tuple[Path, Path]) -> None:
     binary, _ = asan_build
-    proc = run_python_suite(binary, ["tests/fmu/test_fmu_errors.py", "tests/fmu/test_fmu_state.py",
-                                     "tests/fmu/test_fmu_threads.py"])
+    proc = run_python_suite(
+        binary, ["tests/fmu/test_fmu_errors.py", "tests/fmu/test_fmu_state.py", "tests/fmu/test_fmu_threads.py"]
+    )
     check_no_memory_errors(proc, "errors/state/threads suites under ASan")
 
 
@@ -94,8 +109,11 @@ def test_model_exchange_under_asan(asan_build: tuple[Path, Path]) -> None:
 
 def test_fuzz_under_asan(asan_build: tuple[Path, Path]) -> None:
     binary, _ = asan_build
-    proc = run_python_suite(binary, ["tests/fmu/test_fmu_fuzz.py", "-k", "not long"],
-                            {"SB_FUZZ_EXAMPLES": os.environ.get("SB_ASAN_FUZZ_EXAMPLES", "300")})
+    proc = run_python_suite(
+        binary,
+        ["tests/fmu/test_fmu_fuzz.py", "-k", "not long"],
+        {"SB_FUZZ_EXAMPLES": os.environ.get("SB_ASAN_FUZZ_EXAMPLES", "300")},
+    )
     check_no_memory_errors(proc, "fuzz under ASan")
     print([ln for ln in proc.stdout.splitlines() if ln.startswith("fuzz")])  # every machine
 
@@ -103,7 +121,11 @@ def test_fuzz_under_asan(asan_build: tuple[Path, Path]) -> None:
 @pytest.mark.slow
 def test_fuzz_under_asan_long(asan_build: tuple[Path, Path]) -> None:
     binary, _ = asan_build
-    proc = run_python_suite(binary, ["tests/fmu/test_fmu_fuzz.py", "-k", "not long"],
-                            {"SB_FUZZ_EXAMPLES": "3000", "SB_FUZZ_RANDOM": "1"}, timeout=7200)
+    proc = run_python_suite(
+        binary,
+        ["tests/fmu/test_fmu_fuzz.py", "-k", "not long"],
+        {"SB_FUZZ_EXAMPLES": "3000", "SB_FUZZ_RANDOM": "1"},
+        timeout=7200,
+    )
     check_no_memory_errors(proc, "long fuzz under ASan")
     print([ln for ln in proc.stdout.splitlines() if ln.startswith("fuzz")])  # every machine

@@ -14,6 +14,7 @@ Tolerances. Differences: relative step 1e-6 of each parameter's scale, central, 
 by ~1e-15 s: the scaled difference between the two is below 2e-6 (measured <= 5e-7). Closed form:
 RK4 at maxStep 2e-6 s, (omega_n h)^4 ~ 2e-9.
 """
+
 from __future__ import annotations
 
 import math
@@ -44,25 +45,43 @@ CASES = {
     "macroslip DF, ungated, fixed B": (dict(amplitudeMode=1, gating=False, B=6e-5, tipDisplacement=2e-5), 2),
     "macroslip DF, gated, tracked B": (dict(amplitudeMode=2, B=5e-5, tipDisplacement=4.5e-5, tipVelocity=-0.01), 3),
     "Coulomb DF, gated, tracked B": (dict(frictionModel=2, amplitudeMode=2, B=5e-5, tipDisplacement=4e-5), 3),
-    "Jenkins element, stick start": (dict(frictionModel=3, tipDisplacement=5e-5, tipVelocity=0.01,
-                                          jenkinsForce=0.4 * L_PER_M * 2e-5), 2),
+    "Jenkins element, stick start": (
+        dict(frictionModel=3, tipDisplacement=5e-5, tipVelocity=0.01, jenkinsForce=0.4 * L_PER_M * 2e-5),
+        2,
+    ),
     "Jenkins element, open start": (dict(frictionModel=3, tipDisplacement=1e-5, tipVelocity=0.03), 2),
 }
 
 
 def run(fmu: BladeFMU, params: dict, periods: int, outputs: list[str]) -> dict[str, float]:
     p = dict(params, maxStep=2e-6)
-    r = fmu.run(p, periods * T, T / 8, aero=AeroLoad(100.0, EO, Constant(SPEED)), speed=SPEED, outputs=outputs,
-                input_fit="chebyshev", sample_every=10**9)
+    r = fmu.run(
+        p,
+        periods * T,
+        T / 8,
+        aero=AeroLoad(100.0, EO, Constant(SPEED)),
+        speed=SPEED,
+        outputs=outputs,
+        input_fit="chebyshev",
+        sample_every=10**9,
+    )
     return {k: float(r[k][-1]) for k in outputs}
 
 
 def scales(params: dict) -> dict[str, float]:
     """Scale of each parameter (the difference step is 1e-6 of it) and of each output row."""
     q = 3e-5
-    return {"Q0": q, "V0": q * 2 * math.pi / T, "F0": L_PER_M * q, "B": params.get("B", 6e-5),
-            "tipDisplacement": q, "tipVelocity": q * 2 * math.pi / T, "jenkinsForce": L_PER_M * q,
-            "runningMaximum": q, "amplitude": q}
+    return {
+        "Q0": q,
+        "V0": q * 2 * math.pi / T,
+        "F0": L_PER_M * q,
+        "B": params.get("B", 6e-5),
+        "tipDisplacement": q,
+        "tipVelocity": q * 2 * math.pi / T,
+        "jenkinsForce": L_PER_M * q,
+        "runningMaximum": q,
+        "amplitude": q,
+    }
 
 
 def columns(params: dict) -> list[str]:
@@ -99,8 +118,12 @@ def test_linear_sensitivities_equal_the_closed_form_monodromy(fmu: BladeFMU) -> 
     A = np.array([[0.0, 1.0], [-g.K0(Omega) / g.M, -g.C0 / g.M]])
     for periods in (1, 3):
         got = run(fmu, dict(CASES["linear (d = 1 m)"][0], sensitivities=True), periods, SENS)
-        S = np.array([[got["dTipDisplacement_dQ0"], got["dTipDisplacement_dV0"]],
-                      [got["dTipVelocity_dQ0"], got["dTipVelocity_dV0"]]])
+        S = np.array(
+            [
+                [got["dTipDisplacement_dQ0"], got["dTipDisplacement_dV0"]],
+                [got["dTipVelocity_dQ0"], got["dTipVelocity_dV0"]],
+            ]
+        )
         E = expm(A * periods * T)
         D = np.diag([1.0, 2 * math.pi / T])  # scaled: q ~ 1, q' ~ omega
         err = np.max(np.abs(np.linalg.inv(D) @ (S - E) @ D))

@@ -12,6 +12,7 @@ picks (stick, slip on the cone) is checked against the rule of model-notes s.7 e
 Python from the parameters. The refusals of bad start values are in the invalid-input catalogue
 (tests/fmu/test_fmu_errors.py, docs/invalid-inputs.md), not repeated here.
 """
+
 from __future__ import annotations
 
 import math
@@ -26,8 +27,15 @@ RPM = 5000.0  # rotorSpeed [rpm] (the default)
 EO = 3  # engineOrder (the default)
 T = 60.0 / (EO * RPM)  # excitation period 2 pi / omega [s]
 H = 1e-4  # communication step [s]
-OUT = ["tipDisplacement", "tipVelocity", "jenkinsForce", "dissipatedEnergy", "runningMaximum",
-       "amplitude", "contactState"]
+OUT = [
+    "tipDisplacement",
+    "tipVelocity",
+    "jenkinsForce",
+    "dissipatedEnergy",
+    "runningMaximum",
+    "amplitude",
+    "contactState",
+]
 REL = 1e-9  # agreement of the restarted run, relative to the amplitude
 
 # the defaults, for the independent friction limit L = mu kn cos(gamma) (|q| - d) (eq. 3)
@@ -41,8 +49,11 @@ def friction_limit(q: float) -> float:
 
 def state_at(row: np.void, jenkins: bool) -> dict[str, float]:
     """The start values that reproduce the state of an output row."""
-    st = {"tipDisplacement": float(row["tipDisplacement"]), "tipVelocity": float(row["tipVelocity"]),
-          "dissipatedEnergy": float(row["dissipatedEnergy"])}
+    st = {
+        "tipDisplacement": float(row["tipDisplacement"]),
+        "tipVelocity": float(row["tipVelocity"]),
+        "dissipatedEnergy": float(row["dissipatedEnergy"]),
+    }
     if jenkins:
         st["jenkinsForce"] = float(row["jenkinsForce"])
     return st
@@ -138,8 +149,7 @@ def test_jenkins_start_mode_follows_the_cone_rule(fmu: BladeFMU) -> None:
         else:
             assert abs(r["jenkinsForce"][0] - F) <= 1e-12 * L
     # the unloaded start with kd tan(g) > mu kn: stick, as before the start value existed
-    r = fmu.run({"frictionModel": 3, "kdRatio": 2.0, "tipDisplacement": q0, "tipVelocity": 0.01}, 2 * H, H,
-                outputs=OUT)
+    r = fmu.run({"frictionModel": 3, "kdRatio": 2.0, "tipDisplacement": q0, "tipVelocity": 0.01}, 2 * H, H, outputs=OUT)
     assert r["contactState"][0] == 1 and r["jenkinsForce"][0] == 0.0
 
 
@@ -179,13 +189,13 @@ def test_tracked_amplitude_restart_at_a_period_end(fmu: BladeFMU, k: int) -> Non
         st.update(B=B, runningMaximum=0.0)
     rest = fmu.run({**p, **st}, stop, h2, speed=RPM, start_time=t1, outputs=OUT)
     assert rest["runningMaximum"][0] == max(abs(st["tipDisplacement"]), st["runningMaximum"])
-    assert_same_run(rest[1:], tail[1:], ("tipDisplacement", "tipVelocity", "dissipatedEnergy", "amplitude",
-                                         "runningMaximum"))
+    assert_same_run(
+        rest[1:], tail[1:], ("tipDisplacement", "tipVelocity", "dissipatedEnergy", "amplitude", "runningMaximum")
+    )
     # the test can fail: the default B (the start of the tracked amplitude) gives another run, as
     # the contact closes in the first period (B acts only then; it is replaced at its end)
     assert np.max(np.abs(tail["tipDisplacement"][tail["time"] < t1 + T])) > D
-    other = fmu.run({**p, **{n: v for n, v in st.items() if n != "B"}}, stop, h2, speed=RPM, start_time=t1,
-                    outputs=OUT)
+    other = fmu.run({**p, **{n: v for n, v in st.items() if n != "B"}}, stop, h2, speed=RPM, start_time=t1, outputs=OUT)
     amp = float(np.max(np.abs(tail["tipDisplacement"])))
     assert float(np.max(np.abs(other["tipDisplacement"] - tail["tipDisplacement"]))) > 1e-6 * amp
 
@@ -208,8 +218,13 @@ def test_running_maximum_start_value_feeds_the_first_period(fmu: BladeFMU) -> No
 
 
 def test_zero_start_values_equal_the_default_run(fmu: BladeFMU) -> None:
-    zeros = {"tipDisplacement": 0.0, "tipVelocity": 0.0, "dissipatedEnergy": 0.0, "jenkinsForce": 0.0,
-             "runningMaximum": 0.0}
+    zeros = {
+        "tipDisplacement": 0.0,
+        "tipVelocity": 0.0,
+        "dissipatedEnergy": 0.0,
+        "jenkinsForce": 0.0,
+        "runningMaximum": 0.0,
+    }
     for p in ({"frictionModel": 3}, {}):
         a = fmu.run(p, 0.02, H, outputs=OUT)
         b = fmu.run({**p, **zeros}, 0.02, H, outputs=OUT)

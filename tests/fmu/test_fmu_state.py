@@ -9,6 +9,7 @@ Python process that loads the blob from a file. Corrupted, truncated, extended o
 blobs must give fmi2Error; a blob whose checksum was recomputed after a change must be validated
 on content (fmi2Error) or, if its content is legal, be safe to use.
 """
+
 from __future__ import annotations
 
 import math
@@ -137,10 +138,23 @@ def test_deserialize_in_a_new_process(lib: Fmi2Library, tmp_path: Path) -> None:
         blob = snapshot(a)
         tail = run(a, 700, 800)
     (tmp_path / "state.bin").write_bytes(blob)
-    proc = subprocess.run([sys.executable, "-c", CHILD, str(Path(__file__).parent),
-                           str(tmp_path / "state.bin"), str(tmp_path / "out.npy"), "700", "800"],
-                          capture_output=True, text=True, timeout=300, env=os.environ.copy(),
-                          cwd=Path(__file__).resolve().parents[2])
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            CHILD,
+            str(Path(__file__).parent),
+            str(tmp_path / "state.bin"),
+            str(tmp_path / "out.npy"),
+            "700",
+            "800",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env=os.environ.copy(),
+        cwd=Path(__file__).resolve().parents[2],
+    )
     assert proc.returncode == 0, proc.stderr[-3000:]
     other = np.load(tmp_path / "out.npy")
     assert np.array_equal(other, tail)
@@ -176,8 +190,9 @@ def test_reset_restores_start_values(lib: Fmi2Library) -> None:
         assert np.array_equal(run(c, 0, 300), defaults)
 
 
-@pytest.mark.parametrize("change", [{"EI": 300.0}, {"m0": 0.05}, {"l": 0.11}, {"c": 2.0},
-                                    {"formulation": 2}, {"rho": 7000.0}, {"A": 1.1e-4}])
+@pytest.mark.parametrize(
+    "change", [{"EI": 300.0}, {"m0": 0.05}, {"l": 0.11}, {"c": 2.0}, {"formulation": 2}, {"rho": 7000.0}, {"A": 1.1e-4}]
+)
 def test_reset_with_another_blade_equals_a_fresh_instance(lib: Fmi2Library, change: dict) -> None:
     # the instance keeps its last Galerkin reduction across fmi2Reset (shooting restarts the same
     # blade thousands of times): a changed blade parameter or formulation must not reuse it
@@ -255,7 +270,7 @@ def test_every_single_byte_corruption_gives_error(lib: Fmi2Library, blob: bytes)
     with Instance(lib) as c:
         for i in range(len(blob)):
             for mask in (0x01, 0x80, 0xFF):
-                bad = blob[:i] + bytes([blob[i] ^ mask]) + blob[i + 1:]
+                bad = blob[:i] + bytes([blob[i] ^ mask]) + blob[i + 1 :]
                 st, s = c.deserialize(bad)
                 if s:
                     c.free_state(s)
@@ -269,8 +284,7 @@ def test_wrong_version_gives_error_naming_the_version(lib: Fmi2Library, blob: by
         bad = reseal(blob[:8] + struct.pack("<i", version) + blob[12:])
         st, c = deserialize(lib, bad)
         assert st == ERROR
-        assert any(str(version) in (r.message or "") and "version" in (r.message or "")
-                   for r in c.log), c.log_text()
+        assert any(str(version) in (r.message or "") and "version" in (r.message or "") for r in c.log), c.log_text()
         c.free()
 
 
@@ -281,7 +295,7 @@ def test_resealed_content_is_validated(lib: Fmi2Library, blob: bytes) -> None:
     ndouble, nint = struct.unpack_from("<ii", blob, 24)
     offsets = [(32 + 8 * i, "<d", v) for i in range(ndouble) for v in (math.nan, math.inf, -1e308)]
     base = 32 + 8 * ndouble
-    offsets += [(base + 4 * i, "<i", v) for i in range(nint) for v in (-1, 7, -2**31, 2**31 - 1)]
+    offsets += [(base + 4 * i, "<i", v) for i in range(nint) for v in (-1, 7, -(2**31), 2**31 - 1)]
     accepted = 0
     with Instance(lib) as c:
         for off, fmt, v in offsets:

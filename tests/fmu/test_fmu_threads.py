@@ -9,6 +9,7 @@ result. The reference is the same runs done one after the other; the comparison 
 State get/serialize/deserialize and logging (with all categories enabled, so the logger is
 called concurrently from several threads) are exercised in the threads too.
 """
+
 from __future__ import annotations
 
 import threading
@@ -60,7 +61,7 @@ def one_run(lib: Fmi2Library, params: dict, speed: float, logging: bool) -> tupl
 def test_threads_match_serial(lib: Fmi2Library, logging: bool) -> None:
     serial = [one_run(lib, p, n, logging) for p, n in RUNS]
     for out, _, again in serial:  # each run is also self-consistent
-        assert np.array_equal(out[N_STEPS // 2:], again)
+        assert np.array_equal(out[N_STEPS // 2 :], again)
     # the runs differ from each other (otherwise the test could not see cross-talk)
     assert len({out.tobytes() for out, _, _ in serial}) == len(RUNS)
 

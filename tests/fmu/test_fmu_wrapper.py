@@ -1,6 +1,7 @@
 """harness.fmu.blade.BladeFMU: lifecycle, validation before the FMU is touched, reset and continuation,
 FMU state round trips, sampling, errors with partial results, and the held-input path against
 fmpy's own simulate_fmu (an independent master)."""
+
 from __future__ import annotations
 
 import math
@@ -48,8 +49,9 @@ def test_reset_gives_identical_runs_and_continuation_equals_one_run(fmu):
     # the continued grid is 0.01 + k h instead of (100 + k) h: times differ by rounding (1e-18 s),
     # so the inputs and results agree to rounding, not bitwise
     q = a["tipDisplacement"]
-    np.testing.assert_allclose(np.concatenate([first, rest[1:]])["tipDisplacement"], q, rtol=0,
-                               atol=1e-11 * np.max(np.abs(q)))
+    np.testing.assert_allclose(
+        np.concatenate([first, rest[1:]])["tipDisplacement"], q, rtol=0, atol=1e-11 * np.max(np.abs(q))
+    )
 
 
 def test_bad_parameters_rejected_before_the_fmu_is_touched(fmu):
@@ -101,7 +103,7 @@ def test_step_polynomials_stay_within_their_error_bound(spp):
         worst = 0.0
         for k in range(len(grid) - 1):
             x = np.linspace(0.0, grid[k + 1] - grid[k], 41)
-            poly = sum(u[j, k] * x ** j / math.factorial(j) for j in range(9))
+            poly = sum(u[j, k] * x**j / math.factorial(j) for j in range(9))
             worst = max(worst, float(np.max(np.abs(poly - aero(grid[k] + x)))))
         assert worst <= 100.0 * input_error(2 * math.pi / spp, 8, fit) * (1 + 1e-6), (fit, worst)
 
@@ -135,11 +137,19 @@ def test_held_inputs_match_fmpy_simulate_fmu(fmu, fmu_path):
     aero = AeroLoad(100.0, 3, speed)
     table = np.zeros(len(grid), dtype=[("time", float), ("aeroLoad", float), ("rotorSpeed", float)])
     table["time"], table["aeroLoad"], table["rotorSpeed"] = grid, aero(grid), speed(grid)
-    theirs = simulate_fmu(str(fmu_path), start_time=0.0, stop_time=0.02, output_interval=2e-4, input=table,
-                          start_values={**params, "Fw0": 0.0}, output=["tipDisplacement"])  # load fed: built-in off
+    theirs = simulate_fmu(
+        str(fmu_path),
+        start_time=0.0,
+        stop_time=0.02,
+        output_interval=2e-4,
+        input=table,
+        start_values={**params, "Fw0": 0.0},
+        output=["tipDisplacement"],
+    )  # load fed: built-in off
     assert len(theirs) == len(ours)
-    np.testing.assert_allclose(theirs["tipDisplacement"], ours["tipDisplacement"], rtol=0,
-                               atol=1e-12 * np.max(np.abs(ours["tipDisplacement"])))
+    np.testing.assert_allclose(
+        theirs["tipDisplacement"], ours["tipDisplacement"], rtol=0, atol=1e-12 * np.max(np.abs(ours["tipDisplacement"]))
+    )
 
 
 def test_fmu_error_carries_messages_time_and_partial_result(fmu):

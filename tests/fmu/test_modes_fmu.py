@@ -14,6 +14,7 @@
   F = 0 = ShroudedBlade with the contact open bit for bit, model exchange (fmpy CVode, rtol 1e-10)
   within 8e-7 of co-simulation (8.2e-8 measured); FMU state get/set and serialize continue bit-identically.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -34,8 +35,14 @@ def _cs(fmu, stop, dt, start_values, output, **kw):
 
 
 def test_mode_frequencies_at_rest_are_the_exact_ones(fmu_path):
-    r = _cs(fmu_path, 1e-4, 1e-4, {"modes": 6, "formulation": 2, "maxStep": 1e-6},
-            [f"modeFrequency[{i}]" for i in range(1, 7)], input=_speed(0.0))
+    r = _cs(
+        fmu_path,
+        1e-4,
+        1e-4,
+        {"modes": 6, "formulation": 2, "maxStep": 1e-6},
+        [f"modeFrequency[{i}]" for i in range(1, 7)],
+        input=_speed(0.0),
+    )
     g = Modes(6)
     exact = np.sqrt(g.EI / g.rhoA) * (g.aL / g.l) ** 2 / TWO_PI
     got = np.array([r[f"modeFrequency[{i}]"][0] for i in range(1, 7)])
@@ -49,11 +56,17 @@ def _speed(n):
 
 def test_mode_frequencies_rotating_match_independent_galerkin(fmu_path):
     n = 8000.0
-    r = _cs(fmu_path, 1e-4, 1e-4, {"modes": 6, "formulation": 2, "maxStep": 1e-6},
-            [f"modeFrequency[{i}]" for i in range(1, 7)] + ["naturalFrequency"], input=_speed(n))
+    r = _cs(
+        fmu_path,
+        1e-4,
+        1e-4,
+        {"modes": 6, "formulation": 2, "maxStep": 1e-6},
+        [f"modeFrequency[{i}]" for i in range(1, 7)] + ["naturalFrequency"],
+        input=_speed(n),
+    )
     M, C, K, K2, g = Modes(6).matrices()
     Om = TWO_PI * n / 60.0
-    ref = np.sqrt(sl.eigh(K + Om ** 2 * K2, M, eigvals_only=True)) / TWO_PI
+    ref = np.sqrt(sl.eigh(K + Om**2 * K2, M, eigvals_only=True)) / TWO_PI
     got = np.array([r[f"modeFrequency[{i}]"][0] for i in range(1, 7)])
     assert got == pytest.approx(ref, rel=1e-9)
     assert r["naturalFrequency"][0] == r["modeFrequency[1]"][0]
@@ -68,7 +81,7 @@ def test_open_contact_gives_the_linear_multi_mode_response(fmu_path, m):
     M, C, K, K2, g = gal.matrices()
     Om = TWO_PI * n / 60.0
     w = EO * Om
-    Q = np.linalg.solve(K + Om ** 2 * K2 - w ** 2 * M + 1j * w * C, g * Fw0)  # f_w = F_w0 sin(w t)
+    Q = np.linalg.solve(K + Om**2 * K2 - w**2 * M + 1j * w * C, g * Fw0)  # f_w = F_w0 sin(w t)
     starts = {"modes": m, "formulation": 2, "Fw0": Fw0, "c": c, "d": 1.0, "amplitudeMode": 1, "maxStep": 1e-6}
     starts.update({f"modalDisplacement[{i + 1}]": Q[i].imag for i in range(m)})
     starts.update({f"modalVelocity[{i + 1}]": (1j * w * Q[i]).imag for i in range(m)})
@@ -95,6 +108,7 @@ def _run_jacobian(fmu_path, starts, stop, h):
     f = FMU2Slave(guid=md.guid, unzipDirectory=d, modelIdentifier="ShroudedBlade", instanceName="jac")
     f.instantiate()
     try:
+
         def run(values):
             f.reset()
             for k, x in values.items():
@@ -111,27 +125,53 @@ def _run_jacobian(fmu_path, starts, stop, h):
             while t < stop - 1e-12:
                 f.doStep(t, h)
                 t += h
-            state = f.getReal([vr[f"modalDisplacement[{i}]"] for i in range(1, 7)]
-                              + [vr[f"modalVelocity[{i}]"] for i in range(1, 7)] + [vr["jenkinsForce"]])
+            state = f.getReal(
+                [vr[f"modalDisplacement[{i}]"] for i in range(1, 7)]
+                + [vr[f"modalVelocity[{i}]"] for i in range(1, 7)]
+                + [vr["jenkinsForce"]]
+            )
             jac = f.getReal([vr[f"sensitivity[{r},{c}]"] for r in range(1, 16) for c in range(1, 15)])
             return np.array(state), np.array(jac).reshape(15, 14)
+
         return run
     finally:
         pass
 
 
-@pytest.mark.parametrize("friction, starts", [
-    (3, {"modalDisplacement[1]": 4.5e-5, "modalDisplacement[2]": 3e-7, "modalDisplacement[3]": -5e-8,
-         "modalVelocity[1]": 0.02, "modalVelocity[2]": -1e-3, "modalVelocity[3]": 2e-4}),
-    (1, {"modalDisplacement[1]": 6e-5, "modalDisplacement[2]": 1e-7})])
+@pytest.mark.parametrize(
+    "friction, starts",
+    [
+        (
+            3,
+            {
+                "modalDisplacement[1]": 4.5e-5,
+                "modalDisplacement[2]": 3e-7,
+                "modalDisplacement[3]": -5e-8,
+                "modalVelocity[1]": 0.02,
+                "modalVelocity[2]": -1e-3,
+                "modalVelocity[3]": 2e-4,
+            },
+        ),
+        (1, {"modalDisplacement[1]": 6e-5, "modalDisplacement[2]": 1e-7}),
+    ],
+)
 def test_modal_jacobian_matches_central_differences(fmu_path, friction, starts):
     """Over one period (4 ms) with the contact closing and opening (Jenkins element; describing
     function with its gate at fixed B). maxStep 1e-6 s and no amplitude tracking: the extremum
     events of the tracking cut the RK4 steps where the state says, so central differences would
     also see the truncation error move with the cuts."""
     m = 3
-    base = {"modes": m, "formulation": 2, "frictionModel": friction, "Fw0": 150.0, "sensitivities": True,
-            "amplitudeMode": 1, "B": 6e-5, "maxStep": 1e-6, **starts}
+    base = {
+        "modes": m,
+        "formulation": 2,
+        "frictionModel": friction,
+        "Fw0": 150.0,
+        "sensitivities": True,
+        "amplitudeMode": 1,
+        "B": 6e-5,
+        "maxStep": 1e-6,
+        **starts,
+    }
     run = _run_jacobian(fmu_path, base, 0.004, 4e-4)
     y0, J = run(base)
     assert abs(J).max() > 0 and np.all(J[m:6] == 0) and np.all(J[:, m:6] == 0)  # nothing above m
@@ -150,8 +190,15 @@ def test_modal_jacobian_matches_central_differences(fmu_path, friction, starts):
 
 def test_fmi3_equals_fmi2_at_three_modes(fmu_path, fmu3_path):
     sv = {"modes": 3, "formulation": 2, "frictionModel": 3, "Fw0": 120.0, "modalDisplacement[2]": 1e-6}
-    names = ["tipDisplacement", "tipVelocity", "jenkinsForce", "rootMoment", "modalDisplacement[2]",
-             "modalVelocity[3]", "modeFrequency[3]"]
+    names = [
+        "tipDisplacement",
+        "tipVelocity",
+        "jenkinsForce",
+        "rootMoment",
+        "modalDisplacement[2]",
+        "modalVelocity[3]",
+        "modeFrequency[3]",
+    ]
     a = _cs(fmu_path, 0.02, 1e-4, sv, names)
     b = _cs(fmu3_path, 0.02, 1e-4, sv, names)
     assert np.abs(a["tipDisplacement"]).max() > 3e-5  # the contact closes
@@ -162,8 +209,14 @@ def test_fmi3_equals_fmi2_at_three_modes(fmu_path, fmu3_path):
 def test_external_contact_free_equals_open_shrouded_blade(fmu_path):
     ext = _build.build(("blade_external_fmu",)).parent / "BladeExternalContact.fmu"
     sv = {"modes": 4, "formulation": 2, "Fw0": 100.0, "modalDisplacement[1]": 1e-5, "modalVelocity[3]": 1e-3}
-    names = ["tipDisplacement", "tipVelocity", "dissipatedEnergy", "rootMoment", "modalDisplacement[4]",
-             "modeFrequency[4]"]
+    names = [
+        "tipDisplacement",
+        "tipVelocity",
+        "dissipatedEnergy",
+        "rootMoment",
+        "modalDisplacement[4]",
+        "modeFrequency[4]",
+    ]
     a = _cs(fmu_path, 0.02, 1e-4, {**sv, "d": 1.0, "amplitudeMode": 1}, names)
     b = _cs(ext, 0.02, 1e-4, sv, names)
     for k in names:
@@ -171,12 +224,26 @@ def test_external_contact_free_equals_open_shrouded_blade(fmu_path):
 
 
 def test_model_exchange_agrees_with_co_simulation(fmu_path):
-    sv = {"modes": 3, "formulation": 2, "frictionModel": 3, "Fw0": 100.0, "modalDisplacement[1]": 2e-5,
-          "modalDisplacement[2]": 2e-7}
+    sv = {
+        "modes": 3,
+        "formulation": 2,
+        "frictionModel": 3,
+        "Fw0": 100.0,
+        "modalDisplacement[1]": 2e-5,
+        "modalDisplacement[2]": 2e-7,
+    }
     names = ["tipDisplacement", "modalDisplacement[2]", "modalDisplacement[3]"]
     cs = _cs(fmu_path, 0.008, 1e-4, {**sv, "maxStep": 1e-6}, names)
-    me = simulate_fmu(str(fmu_path), fmi_type="ModelExchange", solver="CVode", relative_tolerance=1e-10,
-                      stop_time=0.008, output_interval=1e-4, start_values=sv, output=names)
+    me = simulate_fmu(
+        str(fmu_path),
+        fmi_type="ModelExchange",
+        solver="CVode",
+        relative_tolerance=1e-10,
+        stop_time=0.008,
+        output_interval=1e-4,
+        start_values=sv,
+        output=names,
+    )
     amp = np.abs(cs["tipDisplacement"]).max()
     assert amp > 3e-5
     for k in names:
@@ -219,18 +286,25 @@ def test_state_restore_and_serialization_at_three_modes(fmu_path):
 def test_harness_reads_the_monodromy(fmu_path, m):
     """harness.fmu.modal: at m = 1 the 3 x 3 monodromy is the one-mode sensitivities bit for bit."""
     from harness.fmu import modal
+
     starts = {"modalDisplacement[1]": 5e-5, "modalVelocity[1]": 0.01}
     if m > 1:
         starts["modalDisplacement[2]"] = 2e-7
     base = {"modes": m, "formulation": 2, "frictionModel": 3, "Fw0": 100.0, "sensitivities": True, **starts}
     md = read_model_description(str(fmu_path))
     by_name = {v.name: v for v in md.modelVariables}
-    assert [by_name[modal.name(r, c)].valueReference for r in range(1, 16) for c in range(1, 15)] == \
-        modal.value_references()
+    assert [
+        by_name[modal.name(r, c)].valueReference for r in range(1, 16) for c in range(1, 15)
+    ] == modal.value_references()
     assert all(by_name[modal.name(r, c)].causality == "local" for r in (1, 15) for c in (1, 14))
-    r = simulate_fmu(str(fmu_path), stop_time=0.004, output_interval=4e-4, start_values=base,
-                     output=[modal.name(r, c) for r in range(1, 16) for c in range(1, 15)]
-                     + [f"d{a}_d{b}" for a in ("TipDisplacement", "TipVelocity", "JenkinsForce") for b in ("Q0", "V0", "F0")])
+    r = simulate_fmu(
+        str(fmu_path),
+        stop_time=0.004,
+        output_interval=4e-4,
+        start_values=base,
+        output=[modal.name(r, c) for r in range(1, 16) for c in range(1, 15)]
+        + [f"d{a}_d{b}" for a in ("TipDisplacement", "TipVelocity", "JenkinsForce") for b in ("Q0", "V0", "F0")],
+    )
     J = np.array([r[modal.name(i, j)][-1] for i in range(1, 16) for j in range(1, 15)])
     P = modal.monodromy(J, m)
     assert P.shape == (2 * m + 1, 2 * m + 1) and np.all(np.isfinite(P)) and abs(P).max() > 0
@@ -240,6 +314,11 @@ def test_harness_reads_the_monodromy(fmu_path, m):
     assert np.array_equal(P, want)
     assert np.count_nonzero(P) > (2 * m + 1) ** 2 // 2  # the modes couple: a dense block, not a diagonal
     if m == 1:
-        old = np.array([r[f"d{a}_d{b}"][-1] for a in ("TipDisplacement", "TipVelocity", "JenkinsForce")
-                        for b in ("Q0", "V0", "F0")]).reshape(3, 3)
+        old = np.array(
+            [
+                r[f"d{a}_d{b}"][-1]
+                for a in ("TipDisplacement", "TipVelocity", "JenkinsForce")
+                for b in ("Q0", "V0", "F0")
+            ]
+        ).reshape(3, 3)
         assert np.array_equal(P.view(np.int64), old.view(np.int64))

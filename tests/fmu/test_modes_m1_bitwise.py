@@ -4,6 +4,7 @@ exchange with fmpy's Euler; FMI 3.0; BladeExternalContact with its force inputs)
 current build, the same bytes in every output the FMUs had before the modes existed (recorded
 from them in tests/data/modes_m1_reference.json), with `modes` left at its default and set to 1.
 The modal outputs of mode 1 equal the tip ones bit for bit."""
+
 from __future__ import annotations
 
 import json
@@ -40,8 +41,16 @@ def test_default_modes_bit_identical(build_dir, scenario):
     assert not _differences(got, REFERENCE[scenario])
 
 
-@pytest.mark.parametrize("scenario", ["cs_jenkins_consistent_runup", "cs_sensitivities_jenkins", "me_euler_jenkins",
-                                      "fmi3_macroslip", "external_contact"])
+@pytest.mark.parametrize(
+    "scenario",
+    [
+        "cs_jenkins_consistent_runup",
+        "cs_sensitivities_jenkins",
+        "me_euler_jenkins",
+        "fmi3_macroslip",
+        "external_contact",
+    ],
+)
 def test_modes_one_set_explicitly_bit_identical(build_dir, scenario, monkeypatch):
     rel, kw, extra = SCENARIOS[scenario]
     kw = dict(kw, start_values=dict(kw["start_values"], modes=1))
@@ -61,12 +70,27 @@ def test_comparison_can_fail(build_dir, monkeypatch):
 
 @pytest.mark.parametrize("rel", ["ShroudedBlade.fmu", "fmi3/ShroudedBlade.fmu"])
 def test_mode_one_outputs_are_the_tip(build_dir, rel):
-    res = simulate_fmu(str(build_dir / rel), stop_time=0.02, output_interval=1e-4,
-                       start_values={"Fw0": 100.0, "frictionModel": 3},
-                       output=["tipDisplacement", "tipVelocity", "modalDisplacement[1]", "modalVelocity[1]",
-                               "modalDisplacement[2]", "modeFrequency[1]", "modeFrequency[2]", "naturalFrequency"])
+    res = simulate_fmu(
+        str(build_dir / rel),
+        stop_time=0.02,
+        output_interval=1e-4,
+        start_values={"Fw0": 100.0, "frictionModel": 3},
+        output=[
+            "tipDisplacement",
+            "tipVelocity",
+            "modalDisplacement[1]",
+            "modalVelocity[1]",
+            "modalDisplacement[2]",
+            "modeFrequency[1]",
+            "modeFrequency[2]",
+            "naturalFrequency",
+        ],
+    )
     assert np.abs(res["tipDisplacement"]).max() > 1e-5
-    for a, b in (("tipDisplacement", "modalDisplacement[1]"), ("tipVelocity", "modalVelocity[1]"),
-                 ("naturalFrequency", "modeFrequency[1]")):
+    for a, b in (
+        ("tipDisplacement", "modalDisplacement[1]"),
+        ("tipVelocity", "modalVelocity[1]"),
+        ("naturalFrequency", "modeFrequency[1]"),
+    ):
         assert np.array_equal(res[a].view(np.int64), res[b].view(np.int64)), (a, b)
     assert not res["modalDisplacement[2]"].any() and not res["modeFrequency[2]"].any()

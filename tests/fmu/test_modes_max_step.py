@@ -18,6 +18,7 @@ Model exchange does not use maxStep (the importer's solver takes the steps): eve
 declared range [1e-8, 1e-3] is accepted there and the results do not depend on it (bit for bit).
 The numbers docs/model.md quotes about the modes and the step are recomputed here too.
 """
+
 from __future__ import annotations
 
 import math
@@ -41,8 +42,7 @@ M = 6
 
 
 def _speed(n: float) -> np.ndarray:
-    return np.array([(0.0, 0.0, n), (1.0, 0.0, n)],
-                    dtype=[("time", float), ("aeroLoad", float), ("rotorSpeed", float)])
+    return np.array([(0.0, 0.0, n), (1.0, 0.0, n)], dtype=[("time", float), ("aeroLoad", float), ("rotorSpeed", float)])
 
 
 @pytest.fixture(scope="module")
@@ -50,15 +50,22 @@ def h_max() -> float:
     """2 sqrt(2) / w_6 at 5000 rpm from the independent matrices (K + Omega^2 K2, M)."""
     Mm, _, K, K2, _ = Modes(M).matrices()
     om = TWO_PI * SPEED / 60.0
-    f = np.sqrt(sl.eigh(K + om ** 2 * K2, Mm, eigvals_only=True)) / TWO_PI
+    f = np.sqrt(sl.eigh(K + om**2 * K2, Mm, eigvals_only=True)) / TWO_PI
     assert f[-2] < 0.8 * f[-1]  # the mode below is far enough to tell the two apart
     return STABLE_HW / (TWO_PI * f[-1])
 
 
 def _run(path, max_step: float, fmi_type: str = "CoSimulation", **kw):
-    return simulate_fmu(str(path), fmi_type=fmi_type, stop_time=2e-4, output_interval=1e-4,
-                        start_values={"modes": M, "formulation": 2, "maxStep": max_step},
-                        input=_speed(SPEED), output=["tipDisplacement", "modalDisplacement[6]"], **kw)
+    return simulate_fmu(
+        str(path),
+        fmi_type=fmi_type,
+        stop_time=2e-4,
+        output_interval=1e-4,
+        start_values={"modes": M, "formulation": 2, "maxStep": max_step},
+        input=_speed(SPEED),
+        output=["tipDisplacement", "modalDisplacement[6]"],
+        **kw,
+    )
 
 
 def test_the_stable_step_is_the_documented_one(h_max):
@@ -76,8 +83,7 @@ def test_cosimulation_accepts_a_max_step_just_below_the_stable_one(face, h_max, 
 def test_cosimulation_refuses_a_max_step_just_above_the_stable_one(face, factor, h_max, fmu_path, fmu3_path):
     messages = []
     with pytest.raises(Exception):
-        _run(fmu_path if face == "fmi2" else fmu3_path, h_max * factor,
-             logger=lambda *args: messages.append(args[-1]))
+        _run(fmu_path if face == "fmi2" else fmu3_path, h_max * factor, logger=lambda *args: messages.append(args[-1]))
     text = " ".join(m.decode() if isinstance(m, bytes) else str(m) for m in messages)
     assert "maxStep" in text and "2 sqrt(2)" in text and "mode 6" in text, text
 
@@ -117,7 +123,7 @@ def test_model_page_numbers(h_max):
     g6 = Modes(M)
     Mm, _, K, K2, _ = g6.matrices()
     om = TWO_PI * SPEED / 60.0
-    f = np.sqrt(sl.eigh(K + om ** 2 * K2, Mm, eigvals_only=True)) / TWO_PI
+    f = np.sqrt(sl.eigh(K + om**2 * K2, Mm, eigvals_only=True)) / TWO_PI
     m = _quoted(r"lambda_i l = ([\d., ]+?);")
     assert all(_same(q.strip(), v) for q, v in zip(m.group(1).split(","), g6.aL))
     m = _quoted(r"contact-free frequencies at rest ([\d., ]+?) Hz")
@@ -132,8 +138,10 @@ def test_model_page_numbers(h_max):
     assert _same(m.group(1), math.sqrt(g1.K0(om) / g1.M) / TWO_PI)
     hw = 1e-5 * TWO_PI * f[-1]
     R = sum((1j * hw) ** k / math.factorial(k) for k in range(5))
-    m = _quoted(r"h w_6 = ([\d.]+) \(m = 6 at the default maxStep\) mode 6 loses ([\d.]+) % of its amplitude and "
-                r"([\d.]+) rad of phase per step")
+    m = _quoted(
+        r"h w_6 = ([\d.]+) \(m = 6 at the default maxStep\) mode 6 loses ([\d.]+) % of its amplitude and "
+        r"([\d.]+) rad of phase per step"
+    )
     assert _same(m.group(1), hw) and _same(m.group(2), 100 * (1 - abs(R))) and _same(m.group(3), hw - np.angle(R))
     m = _quoted(r"0.3 / w_m \(m = 6 at 5000 rpm: ([\d.e-]+) s\)")
     assert _same(m.group(1), 0.3 / (TWO_PI * f[-1]))

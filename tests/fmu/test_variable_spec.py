@@ -10,6 +10,7 @@
 - the two outputs of a spec agree: each built FMU refuses a parameter just beyond a declared bound
   and accepts the bound itself unless the description marks it open.
 """
+
 from __future__ import annotations
 
 import os
@@ -39,8 +40,12 @@ def _variables(xml: Path) -> dict[str, ET.Element]:
 
 
 def test_every_model_has_a_spec():
-    assert sorted(p.parent.name for p in SPECS) == ["BladeExternalContact", "Excitation", "ShroudContact",
-                                                    "ShroudedBlade"]
+    assert sorted(p.parent.name for p in SPECS) == [
+        "BladeExternalContact",
+        "Excitation",
+        "ShroudContact",
+        "ShroudedBlade",
+    ]
 
 
 def test_committed_model_descriptions_match_the_specs():
@@ -56,16 +61,26 @@ def test_check_reports_a_drifted_description(tmp_path):
     shutil.copy(REPO / "fmu_src" / "sources.toml", tmp_path / "fmu_src" / "sources.toml")
     md = models / "Excitation" / "modelDescription.xml"
     md.write_text(md.read_text().replace('description="rotor speed n(t)"', 'description="rotor speed"'))
-    proc = subprocess.run([sys.executable, str(tmp_path / "fmu_src" / "gen" / "fmugen.py"),
-                           str(models / "Excitation" / "model.toml"), "--check"], capture_output=True, text=True)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            str(tmp_path / "fmu_src" / "gen" / "fmugen.py"),
+            str(models / "Excitation" / "model.toml"),
+            "--check",
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert proc.returncode == 1 and "Excitation/modelDescription.xml" in proc.stderr
 
 
 def test_sensitivity_pattern_expands_row_major():
     # independent loop: sensitivity[r,c], r = 1..15, c = 1..14, vr 1000 + 14 (r - 1) + (c - 1)
-    declared = {n: int(sv.get("valueReference")) for n, sv in _variables(MODELS / "ShroudedBlade" /
-                                                                         "modelDescription.xml").items()
-                if n.startswith("sensitivity[")}
+    declared = {
+        n: int(sv.get("valueReference"))
+        for n, sv in _variables(MODELS / "ShroudedBlade" / "modelDescription.xml").items()
+        if n.startswith("sensitivity[")
+    }
     expected = {f"sensitivity[{r},{c}]": 1000 + 14 * (r - 1) + (c - 1) for r in range(1, 16) for c in range(1, 15)}
     assert declared == expected
 
@@ -73,10 +88,27 @@ def test_sensitivity_pattern_expands_row_major():
 def test_shared_blade_variables_identical_in_both_blades():
     sb = _variables(MODELS / "ShroudedBlade" / "modelDescription.xml")
     bx = _variables(MODELS / "BladeExternalContact" / "modelDescription.xml")
-    shared = ["EI", "rho", "A", "l", "c", "m0", "maxStep", "formulation", "engineOrder", "Fw0", "bladeIndex",
-              "bladeCount", "modes", "aeroLoad", "rotorSpeed", "tipDisplacement", "tipVelocity",
-              "naturalFrequency", "rootMoment"] + [f"{a}[{i}]" for a in ("modalDisplacement", "modalVelocity",
-                                                                          "modeFrequency") for i in range(1, 7)]
+    shared = [
+        "EI",
+        "rho",
+        "A",
+        "l",
+        "c",
+        "m0",
+        "maxStep",
+        "formulation",
+        "engineOrder",
+        "Fw0",
+        "bladeIndex",
+        "bladeCount",
+        "modes",
+        "aeroLoad",
+        "rotorSpeed",
+        "tipDisplacement",
+        "tipVelocity",
+        "naturalFrequency",
+        "rootMoment",
+    ] + [f"{a}[{i}]" for a in ("modalDisplacement", "modalVelocity", "modeFrequency") for i in range(1, 7)]
     for name in shared:
         a, b = sb[name], bx[name]
         assert a.attrib == b.attrib, name
@@ -90,8 +122,9 @@ def test_shared_contact_parameters_identical_in_blade_and_contact():
     sc = _variables(MODELS / "ShroudContact" / "modelDescription.xml")
     for name in ("kn", "kdRatio", "mu", "gamma", "d", "B", "frictionModel", "projection", "engineOrder", "gating"):
         a, b = sb[name], sc[name]
-        assert {k: v for k, v in a.attrib.items() if k != "description"} == \
-               {k: v for k, v in b.attrib.items() if k != "description"}, name
+        assert {k: v for k, v in a.attrib.items() if k != "description"} == {
+            k: v for k, v in b.attrib.items() if k != "description"
+        }, name
         ta, tb = dict(a[0].attrib), dict(b[0].attrib)
         if name == "frictionModel":
             assert (ta.pop("start"), tb.pop("start")) == ("1", "3")
@@ -103,16 +136,22 @@ def test_a_bad_spec_is_refused_with_its_place(tmp_path):
     spec.parent.mkdir(parents=True)
     shutil.copy(MODELS / "common.toml", tmp_path / "models" / "common.toml")
     var = 'type = "Real"\ncausality = "parameter"\nstart = 1.0\nstore = "par"\n'
-    spec.write_text('[model]\nname = "M"\nguid = "{g}"\ndescription = "d"\n[model.fmi2]\nsources = []\n'
-                    f'[[var]]\nname = "a"\nvr = 1\n{var}[[var]]\nname = "b"\nvr = 1\n{var}')
+    spec.write_text(
+        '[model]\nname = "M"\nguid = "{g}"\ndescription = "d"\n[model.fmi2]\nsources = []\n'
+        f'[[var]]\nname = "a"\nvr = 1\n{var}[[var]]\nname = "b"\nvr = 1\n{var}'
+    )
     proc = _gen(str(spec), "--out", str(tmp_path / "gen"))
     assert proc.returncode == 2 and "value reference 1 of 'b' is taken by 'a'" in proc.stderr
 
 
 def _stage(root: Path) -> Path:
     stage = root / "stage"
-    for rel, data in [("modelDescription.xml", b"<x/>"), ("binaries/linux64/M.so", b"\x7fELF"),
-                      ("sources/fmi/a.c", b"int a;"), ("sources/models/M/b.h", b"#define B")]:
+    for rel, data in [
+        ("modelDescription.xml", b"<x/>"),
+        ("binaries/linux64/M.so", b"\x7fELF"),
+        ("sources/fmi/a.c", b"int a;"),
+        ("sources/models/M/b.h", b"#define B"),
+    ]:
         (stage / rel).parent.mkdir(parents=True, exist_ok=True)
         (stage / rel).write_bytes(data)
     return stage
@@ -144,7 +183,7 @@ def test_built_fmu_is_the_deterministic_packing_of_its_stage(fmu_path, tmp_path)
 
 # --- adding a variable: the worked example of docs/reference/architecture.md ---------------------
 
-NEW_VAR = '''
+NEW_VAR = """
 [[var]]
 name = "excitationFrequency"
 vr = 12
@@ -153,7 +192,7 @@ causality = "output"
 unit = "Hz"
 output = "OutExcitationFrequency"
 description = "excitation frequency engineOrder n / 60"
-'''
+"""
 
 
 def _copy_sources(dst: Path) -> None:
@@ -175,19 +214,32 @@ def test_adding_a_variable_is_one_spec_entry_plus_its_c(tmp_path):
     model = src / "fmu_src" / "models" / "Excitation"
     (model / "model.toml").write_text((model / "model.toml").read_text() + NEW_VAR)
     c = (model / "model.c").read_text()
-    c = c.replace("enum { OutAeroLoad = 0, OutRotorSpeed };",
-                  "enum { OutAeroLoad = 0, OutRotorSpeed, OutExcitationFrequency };")
-    c = c.replace("    return id == OutAeroLoad ? o->aeroLoad : o->rotorSpeed;",
-                  "    if (id == OutExcitationFrequency)\n"
-                  "        return ((const ExcitationData *)inst->data)->ipar[IparEngineOrder] * o->rotorSpeed / 60.0;\n"
-                  "    return id == OutAeroLoad ? o->aeroLoad : o->rotorSpeed;")
+    c = c.replace(
+        "enum { OutAeroLoad = 0, OutRotorSpeed };", "enum { OutAeroLoad = 0, OutRotorSpeed, OutExcitationFrequency };"
+    )
+    c = c.replace(
+        "    return id == OutAeroLoad ? o->aeroLoad : o->rotorSpeed;",
+        "    if (id == OutExcitationFrequency)\n"
+        "        return ((const ExcitationData *)inst->data)->ipar[IparEngineOrder] * o->rotorSpeed / 60.0;\n"
+        "    return id == OutAeroLoad ? o->aeroLoad : o->rotorSpeed;",
+    )
     assert "OutExcitationFrequency)" in c, "the C edit did not apply: model.c changed, update this test"
     (model / "model.c").write_text(c)
     headers = Path(fmpy.__file__).parent / "c-code"
     build = tmp_path / "build"
-    for cmd in (["cmake", "-S", str(src), "-B", str(build), "-DCMAKE_BUILD_TYPE=Release",
-                 f"-DPython3_EXECUTABLE={sys.executable}", f"-DFMI_HEADERS_DIR={headers}"],
-                ["cmake", "--build", str(build), "-j", "2", "--target", "excitation_fmu"]):
+    for cmd in (
+        [
+            "cmake",
+            "-S",
+            str(src),
+            "-B",
+            str(build),
+            "-DCMAKE_BUILD_TYPE=Release",
+            f"-DPython3_EXECUTABLE={sys.executable}",
+            f"-DFMI_HEADERS_DIR={headers}",
+        ],
+        ["cmake", "--build", str(build), "-j", "2", "--target", "excitation_fmu"],
+    ):
         proc = subprocess.run(cmd, capture_output=True, text=True)
         assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     fmu = build / "Excitation.fmu"
@@ -195,13 +247,19 @@ def test_adding_a_variable_is_one_spec_entry_plus_its_c(tmp_path):
     (var,) = [v for v in md.modelVariables if v.name == "excitationFrequency"]
     assert (var.valueReference, var.causality, var.unit) == (12, "output", "Hz")
     n0, eo = 4800.0, 5
-    res = simulate_fmu(str(fmu), stop_time=0.01, output_interval=0.005, start_values={"n0": n0, "n1": n0,
-                       "engineOrder": eo}, output=["excitationFrequency"])
+    res = simulate_fmu(
+        str(fmu),
+        stop_time=0.01,
+        output_interval=0.005,
+        start_values={"n0": n0, "n1": n0, "engineOrder": eo},
+        output=["excitationFrequency"],
+    )
     # closed form eo n / 60 = 400 Hz; one rounding of the product and the division
     assert res["excitationFrequency"] == pytest.approx(eo * n0 / 60.0, rel=1e-15)
 
 
 # --- the two outputs of a spec agree: the C table's range checks are the description's bounds ------
+
 
 @pytest.mark.parametrize("name", ["ShroudedBlade", "BladeExternalContact", "ShroudContact", "Excitation"])
 def test_the_fmu_accepts_exactly_the_declared_ranges(name, tmp_path):
@@ -219,8 +277,12 @@ def test_the_fmu_accepts_exactly_the_declared_ranges(name, tmp_path):
     ob = root.find("VendorAnnotations/Tool/OpenBounds")
     open_low = set(ob.get("lower", "").split()) if ob is not None else set()
     open_high = set(ob.get("upper", "").split()) if ob is not None else set()
-    slave = FMU2Slave(guid=md.guid, unzipDirectory=extract(str(fmu), str(tmp_path / "x")),
-                      modelIdentifier=md.coSimulation.modelIdentifier, instanceName="bounds")
+    slave = FMU2Slave(
+        guid=md.guid,
+        unzipDirectory=extract(str(fmu), str(tmp_path / "x")),
+        modelIdentifier=md.coSimulation.modelIdentifier,
+        instanceName="bounds",
+    )
     slave.instantiate()
 
     def accepted(v, x) -> bool:

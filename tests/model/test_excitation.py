@@ -1,5 +1,6 @@
 """Excitation signals: derivatives against closed forms and finite differences, integrals against
 quadrature, and fmu_view against a direct evaluation of the Taylor polynomial."""
+
 from __future__ import annotations
 
 import math
@@ -8,8 +9,16 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from harness.model.excitation import (AeroLoad, Constant, ExcitationError, LinearRamp, Modulated, Stepped, fmu_view,
-                                sin_series)
+from harness.model.excitation import (
+    AeroLoad,
+    Constant,
+    ExcitationError,
+    LinearRamp,
+    Modulated,
+    Stepped,
+    fmu_view,
+    sin_series,
+)
 
 OMEGA_5000 = 3 * 5000 * 2 * math.pi / 60  # EO 3 at 5000 rpm [rad/s]
 
@@ -21,8 +30,8 @@ def test_constant_speed_aero_derivatives_closed_form():
     t = np.linspace(0.0, 0.3, 37)
     d = f.derivatives(t, 8)
     for k in range(9):
-        exact = 100.0 * OMEGA_5000 ** k * np.sin(OMEGA_5000 * t + k * math.pi / 2)
-        np.testing.assert_allclose(d[k], exact, rtol=0, atol=1e-11 * 100.0 * OMEGA_5000 ** k)
+        exact = 100.0 * OMEGA_5000**k * np.sin(OMEGA_5000 * t + k * math.pi / 2)
+        np.testing.assert_allclose(d[k], exact, rtol=0, atol=1e-11 * 100.0 * OMEGA_5000**k)
     np.testing.assert_allclose(f(t), d[0], rtol=0, atol=1e-14)
 
 
@@ -33,7 +42,7 @@ def test_sin_series_matches_closed_form_for_quadratic_phase():
     p = np.array([[a], [b], [c]] + [[0.0]] * 6)
     S = sin_series(p)[:, 0]
     for s in (1e-3, 1e-2, 5e-2):
-        series = sum(S[k] * s ** k for k in range(9))
+        series = sum(S[k] * s**k for k in range(9))
         assert abs(series - math.sin(a + b * s + c * s * s)) < (abs(b) * s + abs(c) * s * s) ** 9 + 1e-15
 
 
@@ -51,7 +60,7 @@ def test_runup_aero_derivatives_finite_differences():
     w = 3 * 7000 * 2 * math.pi / 60
     for k in range(1, 5):
         fd = (dp[k - 1] - dm[k - 1]) / (2 * h)
-        np.testing.assert_allclose(d[k], fd, rtol=0, atol=1e-6 * 100 * w ** k)
+        np.testing.assert_allclose(d[k], fd, rtol=0, atol=1e-6 * 100 * w**k)
 
 
 def test_runup_phase_is_integral_of_speed():
@@ -85,7 +94,7 @@ def test_fmu_view_is_the_taylor_polynomial_per_step():
         tk = grid[3]
         d = f.derivatives(np.array([tk]), order)[:, 0]
         for s in (0.0, 0.5e-4, 1.9e-4):
-            direct = sum(d[j] * s ** j / math.factorial(j) for j in range(order + 1))
+            direct = sum(d[j] * s**j / math.factorial(j) for j in range(order + 1))
             assert v(tk + s) == pytest.approx(direct, rel=1e-13, abs=1e-12)
     # order 8 over a 2e-4 s step: the Taylor remainder is (w h)^9/9! * Fw0 ~ 1e-10 (w h = 0.31..0.38)
     v8 = fmu_view(f, grid, 8)
@@ -104,9 +113,11 @@ def test_modulated_closed_form():
     d = f.derivatives(t, 8)
     w, b = OMEGA_5000, 10.0
     for k in range(9):
-        exact = 100.0 * (b * t * w ** k * np.sin(w * t + k * math.pi / 2)
-                         + k * b * w ** (k - 1) * np.sin(w * t + (k - 1) * math.pi / 2))
-        np.testing.assert_allclose(d[k], exact, rtol=0, atol=1e-11 * 100.0 * w ** k)
+        exact = 100.0 * (
+            b * t * w**k * np.sin(w * t + k * math.pi / 2)
+            + k * b * w ** (k - 1) * np.sin(w * t + (k - 1) * math.pi / 2)
+        )
+        np.testing.assert_allclose(d[k], exact, rtol=0, atol=1e-11 * 100.0 * w**k)
     np.testing.assert_allclose(f.breakpoints, [0.0, 0.1])
 
 

@@ -7,6 +7,7 @@ are physics identities that do not use the reduction's own formulas: the classic
 the boundary conditions of the exact mode, integration by parts, and the Rayleigh quotient of an
 exact eigenmode.
 """
+
 from __future__ import annotations
 
 import math
@@ -27,8 +28,16 @@ def half_ulp(printed: str) -> float:
 
 
 PRINTED = {  # docs/model.md s.2, formulation 1 (printed)
-    "lambdaL": "1.7898556", "U1": "0.239957", "U2": "4864.53", "U3": "0.364953", "U4": "0.154610",
-    "U5": "9.92558", "u2": "2.542784", "M": "0.309149", "C0": "2.81216", "K0static": "656184",
+    "lambdaL": "1.7898556",
+    "U1": "0.239957",
+    "U2": "4864.53",
+    "U3": "0.364953",
+    "U4": "0.154610",
+    "U5": "9.92558",
+    "u2": "2.542784",
+    "M": "0.309149",
+    "C0": "2.81216",
+    "K0static": "656184",
     "K0omega2": "0.355953",
 }
 CONSISTENT = {"M": "0.146579", "C0": "1.10594", "K0static": "311121", "K0omega2": "0.174944"}
@@ -82,8 +91,8 @@ def test_mode_is_exact(m0: float) -> None:
     scale = [abs(phi(l, k)) for k in range(4)]
     assert abs(phi(0.0)) <= 1e-14 * scale[0]
     assert abs(phi(0.0, 1)) <= 1e-14 * scale[1]
-    assert abs(phi(l, 2)) <= 1e-12 * lam ** 2 * scale[0]
-    assert abs(phi(l, 3) + m0 / (rho * A) * lam ** 4 * phi(l)) <= 1e-11 * lam ** 3 * scale[0]
+    assert abs(phi(l, 2)) <= 1e-12 * lam**2 * scale[0]
+    assert abs(phi(l, 3) + m0 / (rho * A) * lam**4 * phi(l)) <= 1e-11 * lam**3 * scale[0]
 
 
 def test_integration_by_parts() -> None:
@@ -104,7 +113,7 @@ def test_consistent_rayleigh_quotient_is_exact(m0: float) -> None:
     p = {"m0": m0}
     g = galerkin(p, 2)
     lam = g.lambdaL / 0.15
-    assert g.K0static / g.M == pytest.approx(343.0 * lam ** 4 / (7800.0 * 4.2e-4), rel=1e-10)
+    assert g.K0static / g.M == pytest.approx(343.0 * lam**4 / (7800.0 * 4.2e-4), rel=1e-10)
 
 
 def test_load_gain_same_in_both_formulations() -> None:

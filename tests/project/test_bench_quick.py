@@ -1,6 +1,7 @@
 """`python -m harness bench --quick`: every row of `make bench` once at tiny sizes, so that no row
 can break unseen (its numbers mean nothing; bench/RESULTS.md is measured by `make bench`). The
 quick run writes only the file it is given and never bench/RESULTS.md."""
+
 from __future__ import annotations
 
 import json
@@ -8,12 +9,20 @@ import json
 from harness.cli.main import main
 from harness.fmu.build import REPO_ROOT
 
-SECTIONS = ("## FMU internal step cost", "## Cost per RK4 step vs the number of modes",
-            "## Cost of one fmi2DoStep through the harness loop", "## A time-domain sweep driven from Python",
-            "## The same run through the Python reference", "## Harmonic balance for all studies",
-            "## Branches: the Jacobian from the FMU's sensitivities", "## The bladed-disk ring",
-            "## `make run` (`reproduce`)", "### Side by side: the same studies by transients",
-            "## The ring's periodic steady states", "## Command line start-up")
+SECTIONS = (
+    "## FMU internal step cost",
+    "## Cost per RK4 step vs the number of modes",
+    "## Cost of one fmi2DoStep through the harness loop",
+    "## A time-domain sweep driven from Python",
+    "## The same run through the Python reference",
+    "## Harmonic balance for all studies",
+    "## Branches: the Jacobian from the FMU's sensitivities",
+    "## The bladed-disk ring",
+    "## `make run` (`reproduce`)",
+    "### Side by side: the same studies by transients",
+    "## The ring's periodic steady states",
+    "## Command line start-up",
+)
 
 
 def test_every_bench_row_runs_at_the_quick_size(tmp_path, capsys):

@@ -2,6 +2,7 @@
 largest magnitude, half-even on the exact binary value; the CSV writers (write_csv, the branch
 CSV) and the JSON summary go through it, so that rounding noise below the 6th digit (1e-13 to 1e-7
 relative between two machines) leaves the written text unchanged."""
+
 from __future__ import annotations
 
 import math
@@ -38,8 +39,11 @@ def test_half_even_on_the_exact_binary_value() -> None:
 
 
 @settings(max_examples=300, deadline=None)
-@given(st.lists(st.floats(min_value=-1e12, max_value=1e12, allow_nan=False, allow_subnormal=False), min_size=1,
-                max_size=20))
+@given(
+    st.lists(
+        st.floats(min_value=-1e12, max_value=1e12, allow_nan=False, allow_subnormal=False), min_size=1, max_size=20
+    )
+)
 def test_rounded_text_is_within_half_a_quantum_and_has_at_most_6_digits(values) -> None:
     texts = digits.column(values)
     top = max(abs(v) for v in values)
@@ -64,8 +68,9 @@ def test_noise_below_the_6th_digit_leaves_the_text_unchanged() -> None:
 
 
 def test_write_csv_rounds_float_columns_only(tmp_path) -> None:
-    tab = np.zeros(3, dtype=[("speed_rpm", "f8"), ("amplitude_m", "f8"), ("branches", "i4"), ("ok", "?"),
-                             ("model", "U8")])
+    tab = np.zeros(
+        3, dtype=[("speed_rpm", "f8"), ("amplitude_m", "f8"), ("branches", "i4"), ("ok", "?"), ("model", "U8")]
+    )
     tab["speed_rpm"] = [10671.728944996667, 9981.280074317272, 6352.027780771505]
     tab["amplitude_m"] = [5.489502741815819e-05, 1e-19, 3.024311493679535e-05]
     tab["branches"] = [1, 12345678, 3]
@@ -75,16 +80,21 @@ def test_write_csv_rounds_float_columns_only(tmp_path) -> None:
     lines = (tmp_path / "t.csv").read_text().splitlines()
     assert lines[0] == "# a comment"
     # quanta 0.1 rpm and 1e-10 m: 6 digits of each column's largest value
-    assert lines[2:] == ["10671.7,5.4895e-05,1,1,jenkins", "9981.3,0.0,12345678,0,fixedPt",
-                         "6352.0,3.02431e-05,3,1,x"]
+    assert lines[2:] == ["10671.7,5.4895e-05,1,1,jenkins", "9981.3,0.0,12345678,0,fixedPt", "6352.0,3.02431e-05,3,1,x"]
     back = read_csv(tmp_path / "t.csv")
     assert back["speed_rpm"][0] == 10671.7
 
 
 def test_branch_csv_rounds_its_columns(tmp_path) -> None:
-    pts = [BranchPoint(8698.52598123, np.array([5.4895027418e-05, -0.0123456789, 1e-21]), 5.4895027418e-05,
-                       np.array([0.9876543 + 1e-12j, 0.5 - 0.25j])),
-           BranchPoint(9000.0, np.array([1e-5, 0.01, 0.0]), 1.1e-05, np.array([0.3 + 0j, 0.1 + 0j]))]
+    pts = [
+        BranchPoint(
+            8698.52598123,
+            np.array([5.4895027418e-05, -0.0123456789, 1e-21]),
+            5.4895027418e-05,
+            np.array([0.9876543 + 1e-12j, 0.5 - 0.25j]),
+        ),
+        BranchPoint(9000.0, np.array([1e-5, 0.01, 0.0]), 1.1e-05, np.array([0.3 + 0j, 0.1 + 0j])),
+    ]
     write_branches_csv(tmp_path / "b.csv", [Branch("jenkins", pts)], {"d_mm": [0.04]})
     rows = [r.split(",") for r in (tmp_path / "b.csv").read_text().splitlines()]
     head, first = rows[0], dict(zip(rows[0], rows[1]))
@@ -97,8 +107,22 @@ def test_branch_csv_rounds_its_columns(tmp_path) -> None:
 
 
 def test_json_values_keep_6_significant_digits() -> None:
-    out = digits.rounded({"speed": 8698.52598, "n": 3, "flag": True, "none": None,
-                          "list": [1 / 3, np.float64(2 / 3), (1e-300, -7.123456789e12)], "arr": np.array([0.1234567])})
-    assert out == {"speed": 8698.53, "n": 3, "flag": True, "none": None,
-                   "list": [0.333333, 0.666667, [1e-300, -7.12346e12]], "arr": [0.123457]}
+    out = digits.rounded(
+        {
+            "speed": 8698.52598,
+            "n": 3,
+            "flag": True,
+            "none": None,
+            "list": [1 / 3, np.float64(2 / 3), (1e-300, -7.123456789e12)],
+            "arr": np.array([0.1234567]),
+        }
+    )
+    assert out == {
+        "speed": 8698.53,
+        "n": 3,
+        "flag": True,
+        "none": None,
+        "list": [0.333333, 0.666667, [1e-300, -7.12346e12]],
+        "arr": [0.123457],
+    }
     assert isinstance(out["n"], int) and isinstance(out["flag"], bool)

@@ -2,6 +2,7 @@
 the load (the FMU's aeroLoad starts at 0) and gives the response of the harness's own held-input
 run; the Python examples print what their results hold. README.md holds its two files verbatim.
 (docs/examples/quickstart.py has its own test, tests/cli/test_quickstart.py.)"""
+
 from __future__ import annotations
 
 import re
@@ -37,8 +38,9 @@ def test_fmpy_example_equals_the_held_input_run(fmu_path, monkeypatch, capsys):
     names, out = _run("fmpy_simulate.py", monkeypatch, capsys)
     res = names["res"]
     with BladeFMU(fmu_path) as fmu:  # the same load and speed, inputs held over each step as fmpy does
-        ref = fmu.run({"Fw0": 100.0, "engineOrder": 3}, 0.3, 1e-4, speed=5000.0, derivative_order=0,
-                      outputs=["tipDisplacement"])
+        ref = fmu.run(
+            {"Fw0": 100.0, "engineOrder": 3}, 0.3, 1e-4, speed=5000.0, derivative_order=0, outputs=["tipDisplacement"]
+        )
     q, q_ref = res["tipDisplacement"], ref["tipDisplacement"]
     assert len(q) == len(q_ref) and np.allclose(res["time"], ref["time"], rtol=0, atol=1e-12)
     scale = np.abs(q_ref).max()
@@ -79,8 +81,10 @@ def test_readme_holds_the_example(name):
     assert f"```python\n{code}\n```" in (REPO / "README.md").read_text()
 
 
-SAMPLE_COMMAND = ("python -m fmpy simulate build/ShroudedBlade.fmu --input-file docs/examples/speed_steps_in.csv"
-                  " --output-interval 1e-4 --stop-time 0.3 --output-file speed_steps_out.csv")
+SAMPLE_COMMAND = (
+    "python -m fmpy simulate build/ShroudedBlade.fmu --input-file docs/examples/speed_steps_in.csv"
+    " --output-interval 1e-4 --stop-time 0.3 --output-file speed_steps_out.csv"
+)
 
 
 def test_sample_input_csv_runs_in_fmpy_simulate(fmu_path, tmp_path):
@@ -96,8 +100,13 @@ def test_sample_input_csv_runs_in_fmpy_simulate(fmu_path, tmp_path):
     assert proc.returncode == 0 and not proc.stderr.strip(), proc.stderr  # no "missing input" warning either
     res = read_csv(str(tmp_path / "speed_steps_out.csv"))
     with BladeFMU(fmu_path) as fmu:
-        ref = fmu.run({}, 0.3, 1e-4, speed=Stepped([4000.0, 5000.0, 6000.0], [0.1, 0.1, 0.1]),
-                      outputs=["tipDisplacement", "naturalFrequency"])
+        ref = fmu.run(
+            {},
+            0.3,
+            1e-4,
+            speed=Stepped([4000.0, 5000.0, 6000.0], [0.1, 0.1, 0.1]),
+            outputs=["tipDisplacement", "naturalFrequency"],
+        )
     assert len(res) == len(ref) and np.allclose(res["time"], ref["time"], rtol=0, atol=1e-12)
     assert np.abs(ref["tipDisplacement"]).max() > 3e-5  # loaded: the built-in load is on
     assert np.abs(res["tipDisplacement"] - ref["tipDisplacement"]).max() <= 1e-8

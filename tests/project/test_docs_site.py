@@ -2,6 +2,7 @@
 failing docstring fails it, with mkdocs' output), the generated variable tables hold every variable
 of every FMU the build makes (read from the built FMUs by fmpy, not by the generator), and every
 relative link in README.md reaches a file."""
+
 from __future__ import annotations
 
 import importlib.util
@@ -28,8 +29,14 @@ FMU_TARGETS = ("fmu", "fmu3", "excitation_fmu", "blade_external_fmu", "shroud_co
 def test_mkdocs_build_strict(tmp_path):
     site = tmp_path / "site"
     env = dict(os.environ, NO_MKDOCS_2_WARNING="1")
-    proc = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "-f", str(REPO / "mkdocs.yml"),
-                           "-d", str(site)], cwd=REPO, env=env, capture_output=True, text=True, timeout=600)
+    proc = subprocess.run(
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "-f", str(REPO / "mkdocs.yml"), "-d", str(site)],
+        cwd=REPO,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert proc.returncode == 0, f"mkdocs build --strict failed:\n{proc.stdout}\n{proc.stderr}"
     # the generated pages are there: a report of `make run` and the variable tables
     assert "Claims of Nan et al." in (site / "generated" / "claims" / "index.html").read_text()
@@ -54,8 +61,11 @@ def _check_math_and_no_network(site: Path) -> None:
     assert all(f"\\tag{{{n}}}" in model for n in MODEL_TAGS), [n for n in MODEL_TAGS if f"\\tag{{{n}}}" not in model]
     # a control character in TeX is a lost backslash (\b, \f, \v, \t written through an escape):
     # MathJax shows "Math input error" there
-    bad = [m for m in re.findall(r'class="arithmatex">(.*?)</(?:span|div)>', model, re.S)
-           if re.search(r"[\x00-\x08\x0b\x0c\x0e-\x1f]", m)]
+    bad = [
+        m
+        for m in re.findall(r'class="arithmatex">(.*?)</(?:span|div)>', model, re.S)
+        if re.search(r"[\x00-\x08\x0b\x0c\x0e-\x1f]", m)
+    ]
     assert not bad, bad[:3]
     for page in ("reference/numerics", "periodic"):
         assert 'class="arithmatex"' in (site / page / "index.html").read_text(), page
@@ -69,8 +79,9 @@ def _check_math_and_no_network(site: Path) -> None:
     images = re.findall(r'<img[^>]*src="([^"]+\.png)"', findings)
     linked = re.findall(r'<a class="glightbox"[^>]*href="([^"]+\.png)"', findings)
     assert len(images) >= 8 and sorted(images) == sorted(linked), (images, linked)
-    remote = {str(p.relative_to(site)): m.group(0) for p in site.rglob("*.html")
-              for m in [REMOTE.search(p.read_text())] if m}
+    remote = {
+        str(p.relative_to(site)): m.group(0) for p in site.rglob("*.html") for m in [REMOTE.search(p.read_text())] if m
+    }
     assert not remote, remote
 
 
@@ -100,8 +111,12 @@ def _rows(section: str) -> dict[str, list[str]]:
 
 def _expected(v) -> list[str]:
     """vr, causality and variability, type and unit, start: the cells as the FMU declares them."""
-    return [str(v.valueReference), f"{v.causality}, {v.variability}", f"{v.type} [{v.unit}]" if v.unit else v.type,
-            v.start or ""]
+    return [
+        str(v.valueReference),
+        f"{v.causality}, {v.variability}",
+        f"{v.type} [{v.unit}]" if v.unit else v.type,
+        v.start or "",
+    ]
 
 
 def test_variable_tables_hold_every_variable_of_every_fmu(built_fmus):
@@ -125,9 +140,11 @@ def test_variable_tables_hold_every_variable_of_every_fmu(built_fmus):
             for name in set(old) - set(new):
                 assert f"`{name}`" in section.split("Not in FMI")[1].split("\n")[0]
             same = "Every other variable is declared as in FMI 2.0" in section
-            equal = all((o.valueReference, o.causality, o.variability, o.unit, o.start, o.min, o.max)
-                        == (n.valueReference, n.causality, n.variability, n.unit, n.start, n.min, n.max)
-                        for o, n in ((old[k], new[k]) for k in set(old) & set(new)))
+            equal = all(
+                (o.valueReference, o.causality, o.variability, o.unit, o.start, o.min, o.max)
+                == (n.valueReference, n.causality, n.variability, n.unit, n.start, n.min, n.max)
+                for o, n in ((old[k], new[k]) for k in set(old) & set(new))
+            )
             assert same == equal
 
 

@@ -2,6 +2,7 @@
 (the layers cli > bench > validation | crosscheck > studies | api > system > analysis > fmu > model,
 the reference importing only the model, and nothing but validation reaching the reference). The
 test fails with the tool's report; the contracts carry no exceptions (`ignore_imports`)."""
+
 from __future__ import annotations
 
 import os
@@ -29,7 +30,7 @@ def test_import_contracts_are_kept():
 
 def test_the_contracts_have_no_exceptions():
     config = (REPO / "pyproject.toml").read_text()
-    assert "ignore_imports" not in config[config.index("[tool.importlinter]"):]
+    assert "ignore_imports" not in config[config.index("[tool.importlinter]") :]
 
 
 def test_a_violating_import_is_reported(tmp_path):
@@ -45,7 +46,7 @@ def test_a_violating_import_is_reported(tmp_path):
     (pkg / "reference" / "bad_product.py").write_text("import harness_copy.analysis.curves\n")
     (pkg / "studies" / "bad_oracle.py").write_text("import harness_copy.reference.contact\n")
     config = (REPO / "pyproject.toml").read_text()
-    config = re.sub(r"\bharness\b(?=[.\"])", "harness_copy", config[config.index("[tool.importlinter]"):])
+    config = re.sub(r"\bharness\b(?=[.\"])", "harness_copy", config[config.index("[tool.importlinter]") :])
     (tmp_path / "pyproject.toml").write_text(config)
     res = lint_imports(tmp_path)
     assert res.returncode != 0, res.stdout

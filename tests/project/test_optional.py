@@ -1,5 +1,6 @@
 """harness.optional: a missing optional dependency is an ImportError that names the extra to
 install; an installed one is imported; a broken import inside an installed package is not masked."""
+
 from __future__ import annotations
 
 import sys

@@ -6,6 +6,7 @@ written by `python -m harness mistuning`) and the performance table (bench/RESUL
 `make bench`) and the mistuning study's dask measurement (bench/mistuning_dask.json, written by
 `python -m harness mistuning-dask`). A quoted number is compared as printed (rounded to the digits it shows),
 from any value within half the quantum of the file's text (harness/digits.py: 6 significant digits)."""
+
 from __future__ import annotations
 
 import csv
@@ -43,7 +44,7 @@ def test_invalid_input_catalogue_size(page):
     m = _one(page, r"lists (\d+)\s+invalid inputs in (\d+) groups")
     lines = (REPO / "docs" / "invalid-inputs.md").read_text().splitlines()
     head = next(i for i, ln in enumerate(lines) if ln.startswith("| group |"))
-    rows = [ln for ln in lines[head + 2:] if ln.startswith("| ")]  # the catalogue table's rows
+    rows = [ln for ln in lines[head + 2 :] if ln.startswith("| ")]  # the catalogue table's rows
     groups = {ln.split("|")[1].strip() for ln in rows}
     assert (int(m.group(1)), int(m.group(2))) == (len(rows), len(groups))
 
@@ -62,20 +63,33 @@ def test_claims_summary_counts():
 
 def test_claims_summary_in_readme():
     """README's line names every verdict group: the paper's claims add up, the new checks apart."""
-    m = _one(README, r"of the paper's (\d+) claims (\d+) reproduced, (\d+) with a qualification, (\d+) in\s+"
-                     r"trend only, (\d+) not, (\d+) other; (\d+) new checks")
+    m = _one(
+        README,
+        r"of the paper's (\d+) claims (\d+) reproduced, (\d+) with a qualification, (\d+) in\s+"
+        r"trend only, (\d+) not, (\d+) other; (\d+) new checks",
+    )
     v = _verdicts()
     paper = [x for x in v if x != "new check"]
     qualified = [x for x in paper if x.startswith("reproduced") and x != "reproduced"]
     known = ("reproduced", "trend only", "not reproduced")
-    counts = [len(paper), v.count("reproduced"), len(qualified), v.count("trend only"), v.count("not reproduced"),
-              len([x for x in paper if x not in known and x not in qualified]), v.count("new check")]
+    counts = [
+        len(paper),
+        v.count("reproduced"),
+        len(qualified),
+        v.count("trend only"),
+        v.count("not reproduced"),
+        len([x for x in paper if x not in known and x not in qualified]),
+        v.count("new check"),
+    ]
     assert [int(g) for g in m.groups()] == counts
 
 
 def test_make_run_wall_times(bench):
-    m = _one(PERFORMANCE, r"\| `make run` \(`reproduce`[^|]*?(\d+)k periods\) \| ([\d.]+) s wall on (\d+) workers; "
-                          r"branches ([\d.]+) s")
+    m = _one(
+        PERFORMANCE,
+        r"\| `make run` \(`reproduce`[^|]*?(\d+)k periods\) \| ([\d.]+) s wall on (\d+) workers; "
+        r"branches ([\d.]+) s",
+    )
     r = bench["reproduce"]
     assert int(m.group(1)) == round(r["branches_evaluations"] / 1000)
     assert m.group(2) == f"{r['wall']:.1f}" and int(m.group(3)) == r["workers"]
@@ -85,8 +99,11 @@ def test_make_run_wall_times(bench):
 
 
 def test_branches_vs_transient_path(bench):
-    m = _one(PERFORMANCE, r"\| ([\d.]+) s vs ([\d.]+) s: \*\*([\d.]+)x\*\* less wall \(whole reproduction ([\d.]+)x; "
-                          r"blade time (\d+) s vs (\d+) s\)")
+    m = _one(
+        PERFORMANCE,
+        r"\| ([\d.]+) s vs ([\d.]+) s: \*\*([\d.]+)x\*\* less wall \(whole reproduction ([\d.]+)x; "
+        r"blade time (\d+) s vs (\d+) s\)",
+    )
     r, t = bench["reproduce"], bench["transient"]
     studies = r["hb_wall"] + r["branches_wall"]
     assert m.group(1) == f"{studies:.1f}" and m.group(2) == f"{t['wall']:.1f}"
@@ -96,8 +113,11 @@ def test_branches_vs_transient_path(bench):
 
 
 def test_worker_time_over_fmi_time(bench):
-    m = _one(PERFORMANCE, r"worker time / time inside the FMI calls \| \*\*([\d.]+)\*\* \(wall x workers / FMI time "
-                          r"([\d.]+)\)")
+    m = _one(
+        PERFORMANCE,
+        r"worker time / time inside the FMI calls \| \*\*([\d.]+)\*\* \(wall x workers / FMI time "
+        r"([\d.]+)\)",
+    )
     r = bench["reproduce"]
     assert m.group(1) == f"{r['branches_worker_s'] / r['branches_fmi_s']:.2f}"
     assert m.group(2) == f"{r['branches_wall'] * r['workers'] / r['branches_fmi_s']:.2f}"
@@ -106,11 +126,17 @@ def test_worker_time_over_fmi_time(bench):
 def test_rk4_step_cost(bench):
     """The range of ns per internal step at 100 internal steps per doStep (the C benchmark's second
     table), rounded as printed, and the RHS evaluations per step."""
-    m = _one(PERFORMANCE, r"100 steps per doStep\) \| (\d+)-(\d+) ns \(linear ... Jenkins element\); "
-                          r"~([\d.]+)-([\d.]+) RHS")
+    m = _one(
+        PERFORMANCE,
+        r"100 steps per doStep\) \| (\d+)-(\d+) ns \(linear ... Jenkins element\); "
+        r"~([\d.]+)-([\d.]+) RHS",
+    )
     table = bench["c_step"]["text"].split("(100 internal steps each)")[1]
-    rows = [ln.split() for ln in table.splitlines() if ln and ln[0].isalpha() and "ns/step" not in ln
-            and not ln.startswith("communication")]
+    rows = [
+        ln.split()
+        for ln in table.splitlines()
+        if ln and ln[0].isalpha() and "ns/step" not in ln and not ln.startswith("communication")
+    ]
     ns = [float(r[-3]) for r in rows]
     rhs = [float(r[-2]) for r in rows]
     assert (int(m.group(1)), int(m.group(2))) == (round(min(ns)), round(max(ns)))
@@ -122,16 +148,24 @@ def test_ring_row(bench):
     and stepping alone; and on the former Excitation-fed ring), the fmpy master (feedthrough and
     libcosim's data flow) and the C loop, and the compute per doStep; the same ratios where README
     and the ring page quote them."""
-    m = _one(PERFORMANCE, r"\| a 24-blade ring[^|]*\| libcosim \*\*([\d.]+)x\*\* \(stepping alone ([\d.]+)x; "
-                          r"([\d.]+)x on the former ring\), fmpy master ([\d.]+)x \(in libcosim's data flow ([\d.]+)x\), "
-                          r"C loop \*\*([\d.]+)x\*\*; ([\d.]+) µs per doStep")
+    m = _one(
+        PERFORMANCE,
+        r"\| a 24-blade ring[^|]*\| libcosim \*\*([\d.]+)x\*\* \(stepping alone ([\d.]+)x; "
+        r"([\d.]+)x on the former ring\), fmpy master ([\d.]+)x \(in libcosim's data flow ([\d.]+)x\), "
+        r"C loop \*\*([\d.]+)x\*\*; ([\d.]+) µs per doStep",
+    )
     g, old = bench["ring"]["builtin"], bench["ring"]["excitation"]
     lc = g["libcosim"]
     c_loop = f"{g['C loop']['ratio_wall']:.2f}"
-    assert m.groups() == (f"{lc['ratio_wall']:.2f}", f"{lc['ratio_step_wall']:.2f}",
-                          f"{old['libcosim']['ratio_wall']:.2f}", f"{g['fmpy feedthrough']['ratio_wall']:.2f}",
-                          f"{g['fmpy libcosim data flow']['ratio_wall']:.2f}",
-                          c_loop, f"{lc['inside_doStep'] / lc['doSteps'] * 1e6:.2f}")
+    assert m.groups() == (
+        f"{lc['ratio_wall']:.2f}",
+        f"{lc['ratio_step_wall']:.2f}",
+        f"{old['libcosim']['ratio_wall']:.2f}",
+        f"{g['fmpy feedthrough']['ratio_wall']:.2f}",
+        f"{g['fmpy libcosim data flow']['ratio_wall']:.2f}",
+        c_loop,
+        f"{lc['inside_doStep'] / lc['doSteps'] * 1e6:.2f}",
+    )
     m = _one(README, r"costs the C loop ([\d.]+)x the FMUs' own compute,\s+libcosim ([\d.]+)x")
     assert m.groups() == (c_loop, f"{lc['ratio_wall']:.2f}")
     m = _one(RING, r"The C loop costs ([\d.]+)x the FMUs' own compute against (\d+)x for the fmpy loop")
@@ -154,7 +188,7 @@ def _half_quanta(rows: list[dict]) -> dict[str, float]:
         except ValueError:
             continue
         e = digits.exponent(top)
-        out[key] = 0.0 if e is None else 0.5 * 10.0 ** e
+        out[key] = 0.0 if e is None else 0.5 * 10.0**e
     return out
 
 
@@ -163,18 +197,27 @@ def _amplification(folder: str) -> dict[tuple[str, str], tuple[set[str], set[str
     with open(REPO / "results" / folder / "mistuning_amplification.csv", newline="") as f:
         rows = list(csv.DictReader(f))
     h = _half_quanta(rows)
-    return {(r["variant"], f"{100 * float(r['sigma']):g}"): (_printed(float(r["mean"]), ".4f", h["mean"]),
-                                                            _printed(float(r["max"]), ".4f", h["max"]))
-            for r in rows}
+    return {
+        (r["variant"], f"{100 * float(r['sigma']):g}"): (
+            _printed(float(r["mean"]), ".4f", h["mean"]),
+            _printed(float(r["max"]), ".4f", h["max"]),
+        )
+        for r in rows
+    }
 
 
-@pytest.mark.parametrize("folder, header", [("mistuning", "| sigma (EI) | what a sweep finds |"),
-                                            ("mistuning_24", "| sigma (EI), N = 24 | what a sweep finds |")])
+@pytest.mark.parametrize(
+    "folder, header",
+    [
+        ("mistuning", "| sigma (EI) | what a sweep finds |"),
+        ("mistuning_24", "| sigma (EI), N = 24 | what a sweep finds |"),
+    ],
+)
 def test_mistuning_table(folder, header):
     """Each mean / max cell of a sweep table on the mistuning page against the study's CSV."""
     csv_rows = _amplification(folder)
     text = (REPO / MISTUNING).read_text()
-    table = text[text.index(header):].split("\n\n")[0].splitlines()[2:]
+    table = text[text.index(header) :].split("\n\n")[0].splitlines()[2:]
     assert len(table) == len({s for _, s in csv_rows}) >= 1
     for line in table:
         sigma, cell = [c.strip() for c in line.strip("|").split("|")]
@@ -200,7 +243,7 @@ def test_mistuning_states_table():
     tuned, per, h = _states("mistuning")
     text = (REPO / MISTUNING).read_text()
     header = "| sigma (EI), mistuning | on stable steady states |"
-    table = text[text.index(header):].split("\n\n")[0].splitlines()[2:]
+    table = text[text.index(header) :].split("\n\n")[0].splitlines()[2:]
     assert len(table) == len(per) + 1
     name, cell = [c.strip() for c in table[0].strip("|").split("|")]
     amp, rpm = cell.removesuffix(" rpm").split(" m at ")
@@ -280,9 +323,12 @@ def test_modes_convergence_table():
 
 def test_readme_modes():
     rows, h = _modes_rows()
-    m = _one(README, r"one mode is ([\d.]+) % low in the base case's\s+peak amplitude \(two modes are within "
-                     r"([\d.]+) % of four\) but gives (\d+) % of the root bending moment\s+\(([\d.]+) N m against "
-                     r"([\d.]+) N m at m = 4\)")
+    m = _one(
+        README,
+        r"one mode is ([\d.]+) % low in the base case's\s+peak amplitude \(two modes are within "
+        r"([\d.]+) % of four\) but gives (\d+) % of the root bending moment\s+\(([\d.]+) N m against "
+        r"([\d.]+) N m at m = 4\)",
+    )
     j1, j2, j4 = rows[("jenkins", 1)], rows[("jenkins", 2)], rows[("jenkins", 4)]
     assert m.group(1) in _printed(-100 * float(j1["d_peak"]), ".1f", 100 * h["d_peak"])
     assert m.group(2) in _printed(-100 * float(j2["d_peak"]), ".2f", 100 * h["d_peak"])
@@ -312,6 +358,6 @@ def test_base_case_peak_and_crossing(page):
 def test_whitehead_bound():
     """Whitehead's bound (1 + sqrt N) / 2 where README and the mistuning page quote it."""
     m = _one(README, r"Whitehead's bound ([\d.]+)x")
-    assert m.group(1) == f"{(1 + 6 ** 0.5) / 2:.2f}"
+    assert m.group(1) == f"{(1 + 6**0.5) / 2:.2f}"
     m = _one(MISTUNING, r"for\s+linear rings: ([\d.]+) \(N = 6\), ([\d.]+) \(N = 24\)")
-    assert m.groups() == (f"{(1 + 6 ** 0.5) / 2:.3f}", f"{(1 + 24 ** 0.5) / 2:.2f}")
+    assert m.groups() == (f"{(1 + 6**0.5) / 2:.3f}", f"{(1 + 24**0.5) / 2:.2f}")

@@ -1,6 +1,7 @@
 """The type checker on the public API and the modules outside the layers: mypy --strict on the
 files of pyproject.toml's [tool.mypy] (harness/__init__.py, harness/api.py, ...). The test fails
 with mypy's report; a second run on a copy with one annotation broken shows that it can fail."""
+
 from __future__ import annotations
 
 import os
@@ -15,9 +16,14 @@ REPO = Path(__file__).resolve().parents[2]
 def mypy(root: Path) -> subprocess.CompletedProcess:
     """mypy with root/pyproject.toml's settings on the package under `root` (no cache kept)."""
     env = dict(os.environ, PYTHONPATH=str(root))
-    return subprocess.run([sys.executable, "-m", "mypy", "--config-file", str(root / "pyproject.toml"),
-                           "--cache-dir", os.devnull], cwd=root, env=env, capture_output=True, text=True,
-                          timeout=600)
+    return subprocess.run(
+        [sys.executable, "-m", "mypy", "--config-file", str(root / "pyproject.toml"), "--cache-dir", os.devnull],
+        cwd=root,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
 
 
 def test_public_modules_are_strictly_typed():

@@ -8,6 +8,7 @@ in isolated build environments, a fresh venv with the wheel and its dependencies
 measured 196 s at load average 7 on the 2 shared cores; with less load, `build --wheel` alone took
 18 s and the venv with the install 31 s; the commands take about 10 s more.
 """
+
 from __future__ import annotations
 
 import json
@@ -48,8 +49,11 @@ def installed(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     _run([str(venv / "bin" / "python"), "-m", "pip", "install", "--quiet", str(wheel)], cwd=base)
     work = base / "elsewhere"
     work.mkdir()
-    site = Path(_run([str(venv / "bin" / "python"), "-c", "import sysconfig; print(sysconfig.get_paths()['platlib'])"],
-                     cwd=work).stdout.strip())
+    site = Path(
+        _run(
+            [str(venv / "bin" / "python"), "-c", "import sysconfig; print(sysconfig.get_paths()['platlib'])"], cwd=work
+        ).stdout.strip()
+    )
     return {"venv": venv, "work": work, "package": site / "harness", "wheel": wheel}
 
 
@@ -59,8 +63,14 @@ def _files(root: Path) -> set[Path]:
 
 def test_wheel_carries_the_fmus(installed):
     names = set(zipfile.ZipFile(installed["wheel"]).namelist())
-    for f in ("ShroudedBlade.fmu", "fmi3/ShroudedBlade.fmu", "Excitation.fmu", "BladeExternalContact.fmu",
-              "ShroudContact.fmu", "libring_master.so"):
+    for f in (
+        "ShroudedBlade.fmu",
+        "fmi3/ShroudedBlade.fmu",
+        "Excitation.fmu",
+        "BladeExternalContact.fmu",
+        "ShroudContact.fmu",
+        "libring_master.so",
+    ):
         assert f"harness/fmus/{f}" in names
     assert not any(n.startswith(("results/", "tests/", "build/")) for n in names)
 
@@ -80,14 +90,18 @@ def test_help_both_ways(installed):
 
 
 def test_fmu_path_is_the_installed_fmu(installed):
-    out = _run([str(installed["venv"] / "bin" / "python"), "-c", "import harness; print(harness.fmu_path('ShroudedBlade'))"],
-               cwd=installed["work"]).stdout.strip()
+    out = _run(
+        [str(installed["venv"] / "bin" / "python"), "-c", "import harness; print(harness.fmu_path('ShroudedBlade'))"],
+        cwd=installed["work"],
+    ).stdout.strip()
     path = Path(out)
     assert path == installed["package"] / "fmus" / "ShroudedBlade.fmu" and path.is_file()
     # the model description inside is the checkout's, byte for byte
     with zipfile.ZipFile(path) as z:
-        assert z.read("modelDescription.xml") == (REPO / "fmu_src" / "models" / "ShroudedBlade" /
-                                                  "modelDescription.xml").read_bytes()
+        assert (
+            z.read("modelDescription.xml")
+            == (REPO / "fmu_src" / "models" / "ShroudedBlade" / "modelDescription.xml").read_bytes()
+        )
 
 
 def test_periodic_json_matches_the_checkout(installed):
@@ -99,8 +113,10 @@ def test_periodic_json_matches_the_checkout(installed):
     from harness.analysis.periodic.period_map import PeriodMap
 
     before = _files(installed["package"])
-    out = _run([str(installed["venv"] / "bin" / "harness"), "periodic", "--speed", f"{SPEED:g}", "--json"],
-               cwd=installed["work"]).stdout
+    out = _run(
+        [str(installed["venv"] / "bin" / "harness"), "periodic", "--speed", f"{SPEED:g}", "--json"],
+        cwd=installed["work"],
+    ).stdout
     got = json.loads(out)["solutions"]
     with BladeFMU(_build.build(("fmu",))) as fmu:
         want = orbits_at(PeriodMap(fmu, {}, "fixedPoint"), SPEED)
@@ -120,7 +136,12 @@ def test_checkout_only_commands_refuse(installed):
     site = installed["package"].parent
     before = set(site.iterdir())
     for command in ("bench", "crosscheck"):
-        proc = subprocess.run([str(installed["venv"] / "bin" / "harness"), command], cwd=installed["work"],
-                              capture_output=True, text=True, timeout=120)
+        proc = subprocess.run(
+            [str(installed["venv"] / "bin" / "harness"), command],
+            cwd=installed["work"],
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
         assert proc.returncode == 2 and "runs in a checkout" in proc.stderr, proc.stderr
     assert set(site.iterdir()) == before

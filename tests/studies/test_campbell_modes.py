@@ -1,6 +1,7 @@
 """`python -m harness campbell`: the FMU's mode frequencies and their engine-order crossings against the
 reference's own m-mode reduction (harness.reference.modes: its frequencies, and crossings found by
 its own dense scan + brentq), and its input errors (one line, exit 2, the value and the range)."""
+
 from __future__ import annotations
 
 import json
@@ -19,8 +20,9 @@ REPO = Path(__file__).resolve().parents[2]
 
 
 def harness(*args: str, cwd: Path = REPO) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "harness", "campbell", *args], capture_output=True, text=True,
-                          cwd=cwd, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "harness", "campbell", *args], capture_output=True, text=True, cwd=cwd, timeout=300
+    )
 
 
 def reference_crossings(p: dict, m: int, lo: float, hi: float) -> list[tuple[int, int, float]]:
@@ -31,8 +33,10 @@ def reference_crossings(p: dict, m: int, lo: float, hi: float) -> list[tuple[int
     out = []
     for i in range(m):
         for k in range(1, 9):
+
             def gap(n: float) -> float:
                 return float(g.frequencies_hz(n)[i]) - k * n / 60.0
+
             vals = grid[:, i] - k * ns / 60.0
             for j in np.nonzero((vals[:-1] > 0) != (vals[1:] > 0))[0]:
                 out.append((i + 1, k, brentq(gap, ns[j], ns[j + 1], xtol=1e-8)))
@@ -40,8 +44,7 @@ def reference_crossings(p: dict, m: int, lo: float, hi: float) -> list[tuple[int
 
 
 def test_one_speed_frequencies_and_crossings(fmu_path):
-    proc = harness("--fmu", str(fmu_path), "--modes", "3", "--speed", "7000", "--start-values", "m0", "0.05",
-                   "--json")
+    proc = harness("--fmu", str(fmu_path), "--modes", "3", "--speed", "7000", "--start-values", "m0", "0.05", "--json")
     assert proc.returncode == 0, proc.stderr
     out = json.loads(proc.stdout)
     p = {"formulation": 2, "m0": 0.05}
@@ -62,8 +65,20 @@ def test_one_speed_frequencies_and_crossings(fmu_path):
 
 def test_range_per_speed_per_mode_and_plot(fmu_path, tmp_path):
     png = tmp_path / "c.png"
-    proc = harness("--fmu", str(fmu_path), "--modes", "2", "--speeds", "1000", "13000", "--points", "13", "--json",
-                   "--plot", str(png))
+    proc = harness(
+        "--fmu",
+        str(fmu_path),
+        "--modes",
+        "2",
+        "--speeds",
+        "1000",
+        "13000",
+        "--points",
+        "13",
+        "--json",
+        "--plot",
+        str(png),
+    )
     assert proc.returncode == 0, proc.stderr
     out = json.loads(proc.stdout)
     assert out["speeds_rpm"] == pytest.approx(list(np.linspace(1000, 13000, 13)))
@@ -78,17 +93,23 @@ def test_range_per_speed_per_mode_and_plot(fmu_path, tmp_path):
     assert png.stat().st_size > 10000
 
 
-@pytest.mark.parametrize("args, expect", [
-    (["--modes", "0"], "modes = 0 outside the range [1, 6]"),
-    (["--modes", "7", "--speed", "5000"], "modes = 7 outside the range [1, 6]"),
-    (["--modes", "2", "--speed", "-5"], "--speed = -5.0 rpm outside the FMU's rotorSpeed range [0, 30000]"),
-    (["--modes", "2", "--speed", "nan"], "--speed = nan rpm outside"),
-    (["--modes", "2", "--speeds", "0", "40000"], "--speeds TO = 40000.0 rpm outside"),
-    (["--modes", "2", "--speeds", "9000", "3000"], "FROM must be below TO"),
-    (["--modes", "2", "--speeds", "0", "9000", "--points", "1"], "--points = 1 outside the range [2, 10001]"),
-    (["--modes", "2", "--speed", "100", "--speeds", "0", "10"], "not allowed with argument"),
-    (["--modes", "2", "--start-values", "modes", "3"], "--start-values modes: give the number of modes with --modes"),
-])
+@pytest.mark.parametrize(
+    "args, expect",
+    [
+        (["--modes", "0"], "modes = 0 outside the range [1, 6]"),
+        (["--modes", "7", "--speed", "5000"], "modes = 7 outside the range [1, 6]"),
+        (["--modes", "2", "--speed", "-5"], "--speed = -5.0 rpm outside the FMU's rotorSpeed range [0, 30000]"),
+        (["--modes", "2", "--speed", "nan"], "--speed = nan rpm outside"),
+        (["--modes", "2", "--speeds", "0", "40000"], "--speeds TO = 40000.0 rpm outside"),
+        (["--modes", "2", "--speeds", "9000", "3000"], "FROM must be below TO"),
+        (["--modes", "2", "--speeds", "0", "9000", "--points", "1"], "--points = 1 outside the range [2, 10001]"),
+        (["--modes", "2", "--speed", "100", "--speeds", "0", "10"], "not allowed with argument"),
+        (
+            ["--modes", "2", "--start-values", "modes", "3"],
+            "--start-values modes: give the number of modes with --modes",
+        ),
+    ],
+)
 def test_bad_input_is_one_line(args, expect, tmp_path, capsys):
     """In-process (main() is what `python -m harness` runs; the process exit is checked once below)."""
     fake = tmp_path / "never-loaded.fmu"

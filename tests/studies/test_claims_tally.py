@@ -1,5 +1,6 @@
 """The claims tally `make run` prints: every row of the committed results/claims.md counted once,
 the new checks apart from the paper's claims, plural where there are several (no "4 new check")."""
+
 from __future__ import annotations
 
 import re
@@ -12,8 +13,11 @@ REPO = Path(__file__).resolve().parents[2]
 
 def _verdicts() -> list[str]:
     """The verdict column of results/claims.md's table (the last cell, bold stripped)."""
-    rows = [ln for ln in (REPO / "results" / "claims.md").read_text().splitlines()
-            if ln.startswith("| ") and not ln.startswith("| claim |")]
+    rows = [
+        ln
+        for ln in (REPO / "results" / "claims.md").read_text().splitlines()
+        if ln.startswith("| ") and not ln.startswith("| claim |")
+    ]
     return [ln.rstrip(" |").rsplit(" | ", 1)[1].strip("*") for ln in rows]
 
 
@@ -33,4 +37,7 @@ def test_tally_counts_every_claim_once():
 
 
 def test_one_new_check_is_singular():
-    assert tally({"reproduced": 2, "new check": 1}) == "2 claims of the paper: 2 reproduced; 1 new check (not in the paper)"
+    assert (
+        tally({"reproduced": 2, "new check": 1})
+        == "2 claims of the paper: 2 reproduced; 1 new check (not in the paper)"
+    )

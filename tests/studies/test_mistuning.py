@@ -14,6 +14,7 @@ Each sweep carries the state from speed to speed (harness/system/ring_sweep.py);
 settled when its per-period amplitude changes by less than rtol of the largest over 5 periods,
 which leaves a linear response within rtol mu / (1 - mu) of its limit (mu the decay per period).
 """
+
 from __future__ import annotations
 
 import csv
@@ -32,6 +33,7 @@ from harness.model.params import validate
 from harness.studies import mistuning
 from harness.studies.mistuning import Study, run_study
 from harness.system import linear_ring as LR
+
 
 def study(cache, **kw) -> dict:
     with Runner(workers=1, progress=False) as r:
@@ -82,8 +84,15 @@ def test_mistuned_linear_ring_equals_the_closed_form():
     contact = {**LR.LINEAR_CONTACT, "kn": LR.kn_for(0.3 * k0)}
     base = mistuning.tuned_ring(Study(n=4, contact=contact), "friction")
     n_pk = LR.LinearRing(base).peak((3000.0, 12000.0))[1]
-    out = study(None, levels=(0.05,), patterns=1, variants=("friction",), contact=contact, points=3,
-                band=(0.95 * n_pk, 1.05 * n_pk))
+    out = study(
+        None,
+        levels=(0.05,),
+        patterns=1,
+        variants=("friction",),
+        contact=contact,
+        points=3,
+        band=(0.95 * n_pk, 1.05 * n_pk),
+    )
     r = out["variants"]["friction"]
     sp = out["speeds_rpm"]
     cf_tuned = LR.LinearRing(base).amplitudes(sp)
@@ -110,9 +119,17 @@ def test_a_ring_that_has_not_settled_is_flagged_and_has_no_amplification():
 
 def test_unsettled_patterns_have_no_amplification():
     st = Study(n=2, levels=(0.01,), patterns=2)
-    rec = lambda peak, rpm: {"speeds_rpm": [1.0, 2.0], "amplitudes_m": [[1, 1], [1, 1]], "settled": [[1, 1], [1, 1]],  # noqa: E731
-                             "movement": [[0, 0], [0, 0]], "peak_amplitude_m": peak, "peak_speed_rpm": rpm,
-                             "peak_at_band_edge": rpm == 1.0, "peak_direction": "up", "peak_blades_m": None}
+    rec = lambda peak, rpm: {
+        "speeds_rpm": [1.0, 2.0],
+        "amplitudes_m": [[1, 1], [1, 1]],
+        "settled": [[1, 1], [1, 1]],  # noqa: E731
+        "movement": [[0, 0], [0, 0]],
+        "peak_amplitude_m": peak,
+        "peak_speed_rpm": rpm,
+        "peak_at_band_edge": rpm == 1.0,
+        "peak_direction": "up",
+        "peak_blades_m": None,
+    }
     v = mistuning._variant(st, [(-1, 0, rec(2.0, 1.0)), (0, 0, rec(3.0, 2.0)), (0, 1, rec(math.nan, math.nan))])
     assert v["amplification"][0][0] == pytest.approx(1.5) and np.isnan(v["amplification"][0][1])
     assert v["tuned_peak_at_edge"]
@@ -125,8 +142,12 @@ def test_each_speed_keeps_the_larger_settled_state_of_both_sweeps():
     down = np.array([[4.0, 1.0], [9.0, 1.0], [1.0, 2.0]])
     ok_up = np.array([[True, True], [True, True], [False, True]])
     ok_down = np.array([[True, True], [True, False], [True, False]])
-    sw = SimpleNamespace(speeds_rpm=np.array([1.0, 2.0, 3.0]), amplitudes_m={"up": up, "down": down},
-                         settled={"up": ok_up, "down": ok_down}, movement={"up": 0 * up, "down": 1 + 0 * down})
+    sw = SimpleNamespace(
+        speeds_rpm=np.array([1.0, 2.0, 3.0]),
+        amplitudes_m={"up": up, "down": down},
+        settled={"up": ok_up, "down": ok_down},
+        movement={"up": 0 * up, "down": 1 + 0 * down},
+    )
     amps, settled, moved, dirs = mistuning.larger_state(sw)
     assert dirs == ["down", "up", "up"]
     assert np.array_equal(amps, np.stack([down[0], up[1], up[2]]))
@@ -146,6 +167,7 @@ def test_cache_is_read_and_a_killed_run_resumes(tmp_path, monkeypatch):
 
     def no_fmu(*a):
         raise AssertionError("FMU work on a cached sweep")
+
     real = mistuning.sweep
     monkeypatch.setattr(mistuning, "sweep", no_fmu)
     again = study(tmp_path / "a", **kw)
@@ -158,6 +180,7 @@ def test_cache_is_read_and_a_killed_run_resumes(tmp_path, monkeypatch):
             raise KeyboardInterrupt
         calls.append(a)
         return real(*a)
+
     monkeypatch.setattr(mistuning, "sweep", killed_after_two)
     with pytest.raises(KeyboardInterrupt):
         study(tmp_path / "b", **kw)
@@ -168,11 +191,38 @@ def test_cache_is_read_and_a_killed_run_resumes(tmp_path, monkeypatch):
 
 
 def test_cli_writes_figures(tmp_path, capsys):
-    assert main(["mistuning", "--blades", "3", "--levels", "0", "0.02", "--patterns", "2", "--points", "2", "--variants", "open", "--state-patterns", "0", "--workers", "1", "--quiet", "--no-cache", "--out",
-                 str(tmp_path), "--json"]) == 0
+    assert (
+        main(
+            [
+                "mistuning",
+                "--blades",
+                "3",
+                "--levels",
+                "0",
+                "0.02",
+                "--patterns",
+                "2",
+                "--points",
+                "2",
+                "--variants",
+                "open",
+                "--state-patterns",
+                "0",
+                "--workers",
+                "1",
+                "--quiet",
+                "--no-cache",
+                "--out",
+                str(tmp_path),
+                "--json",
+            ]
+        )
+        == 0
+    )
     out = json.loads(capsys.readouterr().out)
     assert sorted(p.split("/")[-1] for p in out["files"]) == sorted(
-        f"mistuning_{k}.{e}" for k in ("response", "blades", "amplification", "histogram") for e in ("png", "csv"))
+        f"mistuning_{k}.{e}" for k in ("response", "blades", "amplification", "histogram") for e in ("png", "csv")
+    )
     for p in out["files"]:
         if p.endswith(".png"):
             data = open(p, "rb").read()
@@ -187,15 +237,18 @@ def test_cli_writes_figures(tmp_path, capsys):
             assert float(r[key]) == pytest.approx(want, rel=1e-5), (key, r[key], want)
 
 
-@pytest.mark.parametrize("args, words", [
-    (["--levels", "0.5"], ["--levels 0.5", "[0, 0.2]"]),
-    (["--band", "9000", "4000"], ["--band 9000.0 4000.0"]),
-    (["--rtol", "2"], ["--rtol 2.0", "(0, 1)"]),
-    (["--max-time", "0"], ["--max-time 0.0"]),
-    (["--out", "/proc/sb_out"], ["--out /proc/sb_out"]),
-    (["--out", "FILE/sub"], ["--out FILE/sub", "not a directory"]),
-    (["--cache-dir", "FILE"], ["--cache-dir FILE", "not a directory"]),
-])
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (["--levels", "0.5"], ["--levels 0.5", "[0, 0.2]"]),
+        (["--band", "9000", "4000"], ["--band 9000.0 4000.0"]),
+        (["--rtol", "2"], ["--rtol 2.0", "(0, 1)"]),
+        (["--max-time", "0"], ["--max-time 0.0"]),
+        (["--out", "/proc/sb_out"], ["--out /proc/sb_out"]),
+        (["--out", "FILE/sub"], ["--out FILE/sub", "not a directory"]),
+        (["--cache-dir", "FILE"], ["--cache-dir FILE", "not a directory"]),
+    ],
+)
 def test_cli_errors_are_one_line_naming_the_value(tmp_path, monkeypatch, capsys, args, words):
     monkeypatch.chdir(tmp_path)
     (tmp_path / "FILE").write_text("x")
@@ -210,8 +263,20 @@ def test_help_shows_defaults_and_units(capsys):
         main(["mistuning", "--help"])
     text = re.sub(r"(\w)-\n\s+", r"\1-", capsys.readouterr().out)  # argparse wraps after a hyphen
     text = " ".join(text.split())
-    for opt in ("--blades N", "--levels SIGMA", "--patterns K", "--parameter", "--seed", "--points K", "--band FROM TO",
-                "--rtol R", "--max-time S", "--variants", "--out DIR", "--cache-dir DIR"):
+    for opt in (
+        "--blades N",
+        "--levels SIGMA",
+        "--patterns K",
+        "--parameter",
+        "--seed",
+        "--points K",
+        "--band FROM TO",
+        "--rtol R",
+        "--max-time S",
+        "--variants",
+        "--out DIR",
+        "--cache-dir DIR",
+    ):
         part = text.split(opt, 2)[-1].split(" --")[0]
         assert "default" in part, (opt, part)
     assert "rpm" in text and "[s]" in text and "./shroudedblade-results/mistuning" in text

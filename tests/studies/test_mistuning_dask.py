@@ -2,6 +2,7 @@
 a LocalCluster of 2 worker processes, one killed (SIGKILL) while it computes a sweep. The study
 completes with every record, the lost sweep is started again on the other worker, and the numbers
 equal the in-process run's to the last bit; a rerun on the cluster computes nothing."""
+
 from __future__ import annotations
 
 import numpy as np

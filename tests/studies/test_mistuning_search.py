@@ -5,6 +5,7 @@ it reaches a maximiser on its grid, never spends more rings than its budget, sta
 theorem) it raises the amplification of the closed form (an N x N complex solve per speed, written
 in the test) from the start (1.470 to 1.668 in 40 rings at sigma 2 %) and never above Whitehead's
 (1 + sqrt(N)) / 2 = 1.725."""
+
 from __future__ import annotations
 
 import math
@@ -22,6 +23,7 @@ def _counting(f):
     def objective(zs):
         calls.append(len(zs))
         return [f(np.asarray(z)) for z in zs]
+
     return objective, calls
 
 

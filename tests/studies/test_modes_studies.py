@@ -1,5 +1,6 @@
 """The convergence study in the number of modes (harness.studies.modes_convergence) on a narrow speed
 window, its root moment against the reference's modal reduction, and the claims row's verdict rule."""
+
 from __future__ import annotations
 
 import math
@@ -32,8 +33,9 @@ def test_peaks_located_and_root_moment(fmu, curves, tmp_path):
         assert WINDOW[0] < r.speed < WINDOW[1]
         # the peak is at least every stable orbit the tracing found in the window (a located maximum
         # lies above its sampled neighbours; the sampled points are the tracing's, not the row's)
-        stable = [pt.amplitude for b in c.branches for pt in b.points
-                  if pt.stable and WINDOW[0] <= pt.speed <= WINDOW[1]]
+        stable = [
+            pt.amplitude for b in c.branches for pt in b.points if pt.stable and WINDOW[0] <= pt.speed <= WINDOW[1]
+        ]
         assert stable and r.peak >= max(stable) * (1 - 1e-12), (r.peak, max(stable))
         # the root moment: the reference's EI sum psi_i''(0) q_i(t) on the FMU's modal coordinates over
         # the peak orbit's period (1024 samples, as the study): measured 1.0e-12 (m = 1) and 1.4e-12
@@ -41,8 +43,15 @@ def test_peaks_located_and_root_moment(fmu, curves, tmp_path):
         pm = PeriodMap(fmu, c.task.params, "jenkins")
         T = 60.0 / (int(pm.p["engineOrder"]) * o.speed)
         names = [f"modalDisplacement[{i + 1}]" for i in range(r.modes)]
-        res = fmu.run(dict(pm.p, **pm.start_values(o.x)), T, T / 1024, speed=o.speed, outputs=names,
-                      input_fit="chebyshev", carry_values=True)
+        res = fmu.run(
+            dict(pm.p, **pm.start_values(o.x)),
+            T,
+            T / 1024,
+            speed=o.speed,
+            outputs=names,
+            input_fit="chebyshev",
+            carry_values=True,
+        )
         q = np.array([res[n] for n in names])
         ref = float(np.abs(modal_galerkin(c.task.params).root_moment(q)).max())
         assert r.root_moment == pytest.approx(ref, rel=1e-11)
@@ -52,14 +61,20 @@ def test_peaks_located_and_root_moment(fmu, curves, tmp_path):
 
 
 def _conv(peak1: float, peak4: float = 1.0) -> ModesConvergence:
-    rows = [ModesRow(m, k, p, 10000.0, 5.0, 1, 100) for m in ("jenkins", "fixedPoint")
-            for k, p in ((1, peak1), (4, peak4))]
+    rows = [
+        ModesRow(m, k, p, 10000.0, 5.0, 1, 100) for m in ("jenkins", "fixedPoint") for k, p in ((1, peak1), (4, peak4))
+    ]
     return ModesConvergence(rows, (3000.0, 12000.0))
 
 
-@pytest.mark.parametrize("peak1, verdict", [(1.03, "one mode suffices within 3.0 %"),
-                                            (0.90, "one mode does not suffice: 10.0 % (peak amplitude"),
-                                            (math.nan, "not computed")])
+@pytest.mark.parametrize(
+    "peak1, verdict",
+    [
+        (1.03, "one mode suffices within 3.0 %"),
+        (0.90, "one mode does not suffice: 10.0 % (peak amplitude"),
+        (math.nan, "not computed"),
+    ],
+)
 def test_claims_row_verdict(peak1, verdict):
     (row,) = _modes(_conv(peak1))
     assert row.verdict.startswith(verdict), row.verdict
@@ -73,6 +88,7 @@ def test_second_mode_crossing_with_contact(fmu, tmp_path):
     from scipy.optimize import brentq
 
     from harness.studies.mode2_crossing import mode2_crossing
+
     base = base_params()
     r = mode2_crossing(fmu, tmp_path, base)
     g = modal_galerkin(dict(base, formulation=2), 2)

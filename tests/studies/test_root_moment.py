@@ -13,6 +13,7 @@ orbit's start instead of its maximum over the period, e.g.
 
 fails test_root_moment_is_the_maximum_over_the_period (README's 2.87 N m would read 2.86).
 """
+
 from __future__ import annotations
 
 import math
@@ -32,7 +33,7 @@ def test_root_moment_is_the_maximum_over_the_period(fmu) -> None:
     M, C, K, K2, g = gal.matrices()
     Om = TWO_PI * n / 60.0
     w = eo * Om
-    Q = np.linalg.solve(K + Om ** 2 * K2 - w ** 2 * M + 1j * w * C, g * fw0)  # f_w = F_w0 sin(w t)
+    Q = np.linalg.solve(K + Om**2 * K2 - w**2 * M + 1j * w * C, g * fw0)  # f_w = F_w0 sin(w t)
     moment = gal.EI * (gal.curvature0() @ Q)
     expected = abs(moment)
     assert abs(moment.imag) < 0.2 * expected  # the start is far from the maximum (the premise)

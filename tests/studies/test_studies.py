@@ -1,5 +1,6 @@
 """A reduced `reproduce` (extremes of each study, coarse refined grid) checks the trends docs/model.md
 section 6 expects from the data it produced, and that every figure and table was written."""
+
 from __future__ import annotations
 
 import copy
@@ -89,15 +90,24 @@ def test_every_figure_and_table_written(quick):
         for part in ("branches", "hb", "summary"):
             tab = read_csv(out / f"{stem}_{part}.csv")
             assert len(tab) > 0, (stem, part)
-    for name in ("fig4_5_time_spectrum.png", "fig2_hysteresis.png", "campbell.png", "fig4_time_response.csv",
-                 "fig5_spectrum.csv", "fig2_hysteresis.csv", "campbell.csv", "paper_iteration.csv"):
+    for name in (
+        "fig4_5_time_spectrum.png",
+        "fig2_hysteresis.png",
+        "campbell.png",
+        "fig4_time_response.csv",
+        "fig5_spectrum.csv",
+        "fig2_hysteresis.csv",
+        "campbell.csv",
+        "paper_iteration.csv",
+    ):
         assert (out / name).stat().st_size > 0, name
     assert json.loads((out / "summary.json").read_text())["size"] == s.size == "quick"
     rows = write_claims(out / "claims.md", s)
     text = (out / "claims.md").read_text()
     assert text.count("\n| ") == len(rows) + 1  # header + one line per claim
-    assert all(r.verdict.startswith(("reproduced", "trend only", "not reproduced", "not computed", "new check"))
-               for r in rows)
+    assert all(
+        r.verdict.startswith(("reproduced", "trend only", "not reproduced", "not computed", "new check")) for r in rows
+    )
 
 
 def test_campbell_crossing_matches_reference_galerkin(quick):
@@ -134,8 +144,14 @@ def test_branch_csv_matches_the_summary(quick):
     with open(out / "fig9_kn_branches.csv") as f:
         pts = [r for r in csv.DictReader(r for r in f if not r.startswith("#"))]
     for row in _rows(s, "kn"):
-        amps = [float(p["amplitude_m"]) for p in pts if float(p["value"]) == pytest.approx(row.value)
-                and p["model"] == "fixedPoint" and p["stable"] == "1" and 3000 <= float(p["speed_rpm"]) <= 10000]
+        amps = [
+            float(p["amplitude_m"])
+            for p in pts
+            if float(p["value"]) == pytest.approx(row.value)
+            and p["model"] == "fixedPoint"
+            and p["stable"] == "1"
+            and 3000 <= float(p["speed_rpm"]) <= 10000
+        ]
         # the CSV keeps 6 significant digits of the column's largest value (harness/digits.py)
         top = max(abs(float(p["amplitude_m"])) for p in pts)
         assert max(amps) == pytest.approx(row.fp_peak, rel=0, abs=0.5e-5 * top)

@@ -2,6 +2,7 @@
 tests/support/errors_fmi3.py): a `Case` is one invalid situation driven on a fresh instance, its `Outcome`
 the first non-OK status, the call that returned it and what the FMU logged. Cases that could hang or
 corrupt the test process run in a child process (`python -m tests.fmu.test_fmu_errors --case ID` from the repository root)."""
+
 from __future__ import annotations
 
 import json
@@ -19,17 +20,17 @@ REPO = Path(__file__).resolve().parents[2]
 
 REFUSED = (ERROR, DISCARD)
 NULL_INSTANCE = -1  # pseudo status: fmi2Instantiate returned NULL
-NOT_EXPORTED = -2   # pseudo status: the function is not exported (fine for model-exchange ones)
-INT_MIN, INT_MAX = -2**31, 2**31 - 1
+NOT_EXPORTED = -2  # pseudo status: the function is not exported (fine for model-exchange ones)
+INT_MIN, INT_MAX = -(2**31), 2**31 - 1
 
 
 @dataclass
 class Outcome:
-    status: int                    # first non-OK status (OK if everything passed), or NULL_INSTANCE
-    call: str                      # the call that returned it
+    status: int  # first non-OK status (OK if everything passed), or NULL_INSTANCE
+    call: str  # the call that returned it
     log: list = field(default_factory=list)  # LogRecords logged during the case
-    after: str = ""                # what happened afterwards (e.g. "a later doStep: Error")
-    face: str = "fmi2"             # prefix of the status names (fmi3 for the FMI 3.0 entry points)
+    after: str = ""  # what happened afterwards (e.g. "a later doStep: Error")
+    face: str = "fmi2"  # prefix of the status names (fmi3 for the FMI 3.0 entry points)
 
     @property
     def refused(self) -> bool:
@@ -53,16 +54,16 @@ class Outcome:
 
 @dataclass
 class Case:
-    kind: str                            # table group
-    label: str                           # the invalid input, as shown in the table
+    kind: str  # table group
+    label: str  # the invalid input, as shown in the table
     run: Callable[[Fmi2Library], Outcome]
-    expect: str = "refuse"               # refuse | accept | either
-    name: str | None = None              # variable the message must name
-    value: float | None = None           # value the message must show
-    low: float | None = None             # range the message must show
+    expect: str = "refuse"  # refuse | accept | either
+    name: str | None = None  # variable the message must name
+    value: float | None = None  # value the message must show
+    low: float | None = None  # range the message must show
     high: float | None = None
-    needle: str | None = None            # a word the message must contain (instead of name/value)
-    isolated: bool = False               # run in a child process (could hang or kill the process)
+    needle: str | None = None  # a word the message must contain (instead of name/value)
+    isolated: bool = False  # run in a child process (could hang or kill the process)
 
     @property
     def id(self) -> str:
@@ -84,12 +85,19 @@ ISOLATED_TIMEOUT = 300.0  # [s] a hang guard only (a refused huge step returns a
 
 def _run_isolated(case_id: str) -> Outcome:
     """Runs one case in a child process (`python -m tests.fmu.test_fmu_errors --case ID` from the repository root)."""
-    proc = subprocess.run([sys.executable, "-m", "tests.fmu.test_fmu_errors", "--case", case_id],
-                          capture_output=True, text=True, timeout=ISOLATED_TIMEOUT,
-                          env=os.environ.copy(), cwd=REPO)
+    proc = subprocess.run(
+        [sys.executable, "-m", "tests.fmu.test_fmu_errors", "--case", case_id],
+        capture_output=True,
+        text=True,
+        timeout=ISOLATED_TIMEOUT,
+        env=os.environ.copy(),
+        cwd=REPO,
+    )
     if proc.returncode != 0:
-        raise AssertionError(f"child process for {case_id!r} died with code {proc.returncode}:\n"
-                             f"{proc.stdout[-2000:]}\n{proc.stderr[-3000:]}")
+        raise AssertionError(
+            f"child process for {case_id!r} died with code {proc.returncode}:\n"
+            f"{proc.stdout[-2000:]}\n{proc.stderr[-3000:]}"
+        )
     d = json.loads(proc.stdout.strip().splitlines()[-1])
     return Outcome(d["status"], d["call"], [F.LogRecord(*r) for r in d["log"]], d["after"])
 

@@ -4,6 +4,7 @@ The structures mirror fmu_src/physics/blade.h and contact.h field by field (C en
 `PhysicsLib` wraps each exported function in a small typed Python method that returns the C return
 code next to the filled structure, so the tests can check both the values and the error paths.
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -22,8 +23,24 @@ class BladeParams(ctypes.Structure):
 
 
 class BladeReduction(ctypes.Structure):
-    _fields_ = [(n, c_double) for n in ("lambdaL", "U1", "U2", "U3", "U4", "U5", "intPhi", "u2", "M",
-                                        "C0", "K0static", "K0omega2", "loadGain")]
+    _fields_ = [
+        (n, c_double)
+        for n in (
+            "lambdaL",
+            "U1",
+            "U2",
+            "U3",
+            "U4",
+            "U5",
+            "intPhi",
+            "u2",
+            "M",
+            "C0",
+            "K0static",
+            "K0omega2",
+            "loadGain",
+        )
+    ]
 
     def as_dict(self) -> dict[str, float]:
         return {name: getattr(self, name) for name, _ in self._fields_}
@@ -34,8 +51,9 @@ class ContactParams(ctypes.Structure):
 
 
 class DescribingFunction(ctypes.Structure):
-    _fields_ = [("regime", c_int)] + [(n, c_double) for n in ("theta1", "theta2", "theta3", "fk", "fcOmega",
-                                                              "pk", "Keq", "CeqOmega")]
+    _fields_ = [("regime", c_int)] + [
+        (n, c_double) for n in ("theta1", "theta2", "theta3", "fk", "fcOmega", "pk", "Keq", "CeqOmega")
+    ]
 
     def as_dict(self) -> dict[str, float]:
         return {name: getattr(self, name) for name, _ in self._fields_}
@@ -56,8 +74,7 @@ class PhysicsLib:
         lib.contactRegime.restype = c_int
         lib.contactModelRegime.argtypes = [POINTER(ContactParams), c_int, c_double]
         lib.contactModelRegime.restype = c_int
-        lib.contactDescribe.argtypes = [POINTER(ContactParams), c_int, c_int, c_double,
-                                        POINTER(DescribingFunction)]
+        lib.contactDescribe.argtypes = [POINTER(ContactParams), c_int, c_int, c_double, POINTER(DescribingFunction)]
         lib.contactDescribe.restype = c_int
         lib.contactNormalForce.argtypes = [POINTER(ContactParams), c_double]
         lib.contactNormalForce.restype = c_double
@@ -85,8 +102,9 @@ class PhysicsLib:
             return self.lib.contactRegime(byref(cp), B)
         return self.lib.contactModelRegime(byref(cp), model, B)
 
-    def describe(self, cp: ContactParams, B: float, model: int = MACROSLIP_DF,
-                 projection: int = PROJECTION_PAPER) -> tuple[int, DescribingFunction]:
+    def describe(
+        self, cp: ContactParams, B: float, model: int = MACROSLIP_DF, projection: int = PROJECTION_PAPER
+    ) -> tuple[int, DescribingFunction]:
         out = DescribingFunction()
         rc = self.lib.contactDescribe(byref(cp), model, projection, B, byref(out))
         return rc, out

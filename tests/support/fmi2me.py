@@ -4,6 +4,7 @@ invalid-input catalogue and the fuzz machine. They are the package binding's raw
 (harness.fmu.binding.fmi2_signatures): statuses are ints, arrays are ctypes arrays or None (NULL),
 out-arguments are ctypes.byref(...). NX and NZ come from modelDescription.xml, never from the code
 under test."""
+
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET

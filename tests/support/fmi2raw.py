@@ -9,6 +9,7 @@ once per process), unless the environment variable SB_FMU_BINARY names another b
 AddressSanitizer build, see tests/fmu/test_fmu_sanitizers.py). Model-description facts come from
 modelDescription.xml, never from the code under test.
 """
+
 from __future__ import annotations
 
 import atexit
@@ -32,15 +33,29 @@ from typing import Any, MutableSequence, Sequence
 import numpy as np
 
 from harness.fmu.binding import fmi2
-from harness.fmu.binding.fmi2 import (CO_SIMULATION, DO_STEP_STATUS, LAST_SUCCESSFUL_TIME,  # noqa: F401
-                                      MODEL_EXCHANGE, PENDING_STATUS, TERMINATED)
+from harness.fmu.binding.fmi2 import (
+    CO_SIMULATION,
+    DO_STEP_STATUS,  # noqa: F401
+    LAST_SUCCESSFUL_TIME,  # noqa: F401
+    MODEL_EXCHANGE,  # noqa: F401
+    PENDING_STATUS,  # noqa: F401
+    TERMINATED,  # noqa: F401
+)
 from harness.fmu.binding.fmi2_signatures import MODEL_EXCHANGE as _ME_SIGNATURES
 from harness.fmu.binding.library import Library
 from harness.fmu.stepper import Derivatives, Stepper, Values
 from harness.fmu.binding.log import LogRecord
 from harness.fmu.binding.log import decode as _dec
-from harness.fmu.binding.status import (DISCARD, ERROR, FATAL, OK, PENDING, STATUS_NAMES,  # noqa: F401
-                                        VALID_STATUSES, WARNING)
+from harness.fmu.binding.status import (
+    DISCARD,  # noqa: F401
+    ERROR,  # noqa: F401
+    FATAL,  # noqa: F401
+    OK,
+    PENDING,  # noqa: F401
+    STATUS_NAMES,  # noqa: F401
+    VALID_STATUSES,  # noqa: F401
+    WARNING,
+)
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 MODEL_DESCRIPTION = REPO_ROOT / "fmu_src" / "models" / "ShroudedBlade" / "modelDescription.xml"
@@ -85,13 +100,19 @@ def _load_md() -> tuple[str, dict[str, Variable], list[str]]:
         (typ,) = list(sv)
         start: Any = typ.get("start")
         if start is not None:
-            start = {"Real": float, "Integer": int, "Boolean": lambda s: s == "true",
-                     "String": str}[typ.tag](start)
+            start = {"Real": float, "Integer": int, "Boolean": lambda s: s == "true", "String": str}[typ.tag](start)
         lo, hi = typ.get("min"), typ.get("max")
         variables[sv.get("name")] = Variable(
-            sv.get("name"), int(sv.get("valueReference")), typ.tag, sv.get("causality", "local"),
-            sv.get("variability", "continuous"), sv.get("initial"), start, None if lo is None else float(lo),
-            None if hi is None else float(hi))
+            sv.get("name"),
+            int(sv.get("valueReference")),
+            typ.tag,
+            sv.get("causality", "local"),
+            sv.get("variability", "continuous"),
+            sv.get("initial"),
+            start,
+            None if lo is None else float(lo),
+            None if hi is None else float(hi),
+        )
     cats = [c.get("name") for c in root.iter("Category")]
     return root.get("guid"), variables, cats
 
@@ -124,8 +145,23 @@ def proxy_library() -> Path:
     with _locked(TEST_BUILD_DIR / ".proxy.lock"):
         if not out.exists() or out.stat().st_mtime < PROXY_SOURCE.stat().st_mtime:
             tmp = out.with_suffix(f".{os.getpid()}.tmp")
-            subprocess.run(["cc", "-std=c99", "-O2", "-g", "-fPIC", "-shared", "-Wall", "-Wextra",
-                            "-Werror", "-o", str(tmp), str(PROXY_SOURCE)], check=True)
+            subprocess.run(
+                [
+                    "cc",
+                    "-std=c99",
+                    "-O2",
+                    "-g",
+                    "-fPIC",
+                    "-shared",
+                    "-Wall",
+                    "-Wextra",
+                    "-Werror",
+                    "-o",
+                    str(tmp),
+                    str(PROXY_SOURCE),
+                ],
+                check=True,
+            )
             os.replace(tmp, out)
     return out
 
@@ -255,11 +291,20 @@ class Instance:
     """One fmi2Component of the package binding in raw mode, with the proxy's recording logger
     (`log`). Every method returns the raw fmi2Status; getters return (status, values)."""
 
-    def __init__(self, lib: Fmi2Library | None = None, name: str | bytes | None = "sb",
-                 guid: str | bytes | None = GUID, fmu_type: int = CO_SIMULATION,
-                 resources: str | bytes | None = "default", logging_on: bool = True,
-                 visible: bool = False, logger: bool = True, memory: bool = True,
-                 callbacks: bool = True, environment: bool = True) -> None:
+    def __init__(
+        self,
+        lib: Fmi2Library | None = None,
+        name: str | bytes | None = "sb",
+        guid: str | bytes | None = GUID,
+        fmu_type: int = CO_SIMULATION,
+        resources: str | bytes | None = "default",
+        logging_on: bool = True,
+        visible: bool = False,
+        logger: bool = True,
+        memory: bool = True,
+        callbacks: bool = True,
+        environment: bool = True,
+    ) -> None:
         self.lib = lib or Fmi2Library.get()
         self.log: list[LogRecord] = []
         self.cookie = next(_COOKIES)
@@ -271,12 +316,23 @@ class Instance:
             self.lib.calloc_address if memory else None,
             self.lib.free_address if memory else None,
             None,
-            ctypes.addressof(self.env) if environment else None)
+            ctypes.addressof(self.env) if environment else None,
+        )
         if resources == "default":
             resources = resource_uri(self.lib.path)
         self.name = name
-        self.f = fmi2.Fmi2Instance(self.lib, name, guid, resources, fmu_type, visible=visible, logging_on=logging_on,
-                                   raw=True, callbacks=self.callbacks if callbacks else None, log=self.log)
+        self.f = fmi2.Fmi2Instance(
+            self.lib,
+            name,
+            guid,
+            resources,
+            fmu_type,
+            visible=visible,
+            logging_on=logging_on,
+            raw=True,
+            callbacks=self.callbacks if callbacks else None,
+            log=self.log,
+        )
 
     # --- lifecycle -----------------------------------------------------------------------------
     @property
@@ -304,8 +360,7 @@ class Instance:
         except Exception:
             pass
 
-    def set_debug_logging(self, on: bool, categories: Sequence[str | None] | None = None,
-                          n: int | None = None) -> int:
+    def set_debug_logging(self, on: bool, categories: Sequence[str | None] | None = None, n: int | None = None) -> int:
         return self.f.set_debug_logging(on, categories, n)
 
     def setup(self, start: float = 0.0, stop: float | None = None, tolerance: float | None = None) -> int:
@@ -351,12 +406,10 @@ class Instance:
     def get_string(self, vrs: Sequence[str | int]) -> tuple[int, list[str | None]]:
         return self._got(self.f.get_string(vr_of(vrs)))
 
-    def set_input_derivatives(self, vrs: Sequence[str | int], orders: Sequence[int],
-                              values: Sequence[float]) -> int:
+    def set_input_derivatives(self, vrs: Sequence[str | int], orders: Sequence[int], values: Sequence[float]) -> int:
         return self.f.set_real_input_derivatives(vr_of(vrs), orders, values)
 
-    def get_output_derivatives(self, vrs: Sequence[str | int], orders: Sequence[int]
-                               ) -> tuple[int, np.ndarray]:
+    def get_output_derivatives(self, vrs: Sequence[str | int], orders: Sequence[int]) -> tuple[int, np.ndarray]:
         return self._got(self.f.get_real_output_derivatives(vr_of(vrs), orders))
 
     # --- stepping ------------------------------------------------------------------------------
@@ -398,8 +451,9 @@ class Instance:
     def serialize(self, handle: int | None) -> tuple[int, bytes]:
         return self._got(self.f.serialize_fmu_state(handle))
 
-    def deserialize(self, blob: bytes | None, size: int | None = None,
-                    handle: int | None = None) -> tuple[int, int | None]:
+    def deserialize(
+        self, blob: bytes | None, size: int | None = None, handle: int | None = None
+    ) -> tuple[int, int | None]:
         return self._got(self.f.deserialize_fmu_state(blob, size, handle))
 
     # --- conveniences --------------------------------------------------------------------------
@@ -414,8 +468,13 @@ class Instance:
     def clear_log(self) -> None:
         del self.log[:]
 
-    def initialize(self, params: dict[str, Any] | None = None, start: float = 0.0,
-                   stop: float | None = None, inputs: dict[str, float] | None = None) -> int:
+    def initialize(
+        self,
+        params: dict[str, Any] | None = None,
+        start: float = 0.0,
+        stop: float | None = None,
+        inputs: dict[str, float] | None = None,
+    ) -> int:
         """setup + start values + enter/exit initialization; returns the worst status. The tests
         feed aeroLoad themselves (run_steps), so the FMU's built-in load is off unless `params` sets Fw0."""
         worst = self.setup(start, stop)
@@ -455,18 +514,29 @@ def aero_derivatives(t: float, Fw0: float, omega: float, order: int = 8) -> list
     phase = omega * t
     if not math.isfinite(phase):
         return [0.0] * (order + 1)
-    return [Fw0 * omega ** j * math.sin(phase + j * math.pi / 2) for j in range(order + 1)]
+    return [Fw0 * omega**j * math.sin(phase + j * math.pi / 2) for j in range(order + 1)]
 
 
-def run_steps(inst: Instance, t0: float, h: float, n: int, Fw0: float = 100.0,
-              speed: float = 5000.0, engine_order: int = 3, order: int = 8,
-              speed_slope: float = 0.0) -> tuple[int, np.ndarray]:
+def run_steps(
+    inst: Instance,
+    t0: float,
+    h: float,
+    n: int,
+    Fw0: float = 100.0,
+    speed: float = 5000.0,
+    engine_order: int = 3,
+    order: int = 8,
+    speed_slope: float = 0.0,
+) -> tuple[int, np.ndarray]:
     """n communication steps from t0 with inputs and derivatives set before each; returns the
     worst status and the (n, n_outputs) array of outputs after each step (stops at non-OK)."""
     omega = engine_order * 2 * math.pi * speed / 60.0
     fmi = Stepper(inst.f)  # the harness's call path (harness/fmu/stepper.py) on this raw instance
     c, inputs = fmi.c, Values(vr_of(["aeroLoad", "rotorSpeed"]))
-    aero, aero_values = Derivatives(vr_of(["aeroLoad"] * order), range(1, order + 1)), (ctypes.c_double * max(order, 1))()
+    aero, aero_values = (
+        Derivatives(vr_of(["aeroLoad"] * order), range(1, order + 1)),
+        (ctypes.c_double * max(order, 1))(),
+    )
     slope, slope_value = Derivatives(vr_of(["rotorSpeed"]), [1]), (ctypes.c_double * 1)(speed_slope)
     rows = []
     worst = OK
@@ -500,15 +570,16 @@ BLOB_MAGIC = b"SBLDSTAT"
 
 def fnv1a(data: bytes) -> int:
     """FNV-1a 64, the checksum of the blob format."""
-    h = 0xcbf29ce484222325
+    h = 0xCBF29CE484222325
     for b in data:
-        h = ((h ^ b) * 0x100000001b3) & 0xFFFFFFFFFFFFFFFF
+        h = ((h ^ b) * 0x100000001B3) & 0xFFFFFFFFFFFFFFFF
     return h
 
 
 def reseal(blob: bytes) -> bytes:
     """Recomputes the trailing checksum, so only the FMU's content checks can catch a change."""
     import struct
+
     return bytes(blob[:-8]) + struct.pack("<Q", fnv1a(bytes(blob[:-8])))
 
 
@@ -541,8 +612,9 @@ def _same(a: float, b: float) -> bool:
     return abs(a - b) <= 1e-5 * max(abs(a), abs(b)) or abs(a - b) < 1e-300
 
 
-def message_names_value_and_range(text: str, name: str, value: float,
-                                  low: float | None, high: float | None) -> list[str]:
+def message_names_value_and_range(
+    text: str, name: str, value: float, low: float | None, high: float | None
+) -> list[str]:
     """What a parameter/input error message lacks: [] when it names the variable, shows the
     rejected value and both finite bounds of the accepted range (pi/2 may be written 'pi/2')."""
     problems = []
@@ -552,8 +624,13 @@ def message_names_value_and_range(text: str, name: str, value: float,
     needed = [value] + [b for b in (low, high) if b is not None and math.isfinite(b)]
     pool = list(nums)
     for want in needed:
-        if low is not None and high is not None and want == high and abs(want - math.pi / 2) < 1e-12 \
-                and re.search(r"pi\s*/\s*2", text, re.IGNORECASE):
+        if (
+            low is not None
+            and high is not None
+            and want == high
+            and abs(want - math.pi / 2) < 1e-12
+            and re.search(r"pi\s*/\s*2", text, re.IGNORECASE)
+        ):
             continue
         hit = next((i for i, x in enumerate(pool) if _same(x, want)), None)
         if hit is None:
@@ -567,8 +644,10 @@ def message_names_value_and_range(text: str, name: str, value: float,
 # the sanitizer build (tests/c/CMakeLists.txt, option SB_SANITIZE)
 
 ASAN_BUILD_DIR = REPO_ROOT / "build-asan"
-SANITIZER_REPORT = re.compile(r"ERROR: AddressSanitizer|ERROR: LeakSanitizer|runtime error:|"
-                              r"SUMMARY: (Address|Undefined|Leak)Sanitizer")
+SANITIZER_REPORT = re.compile(
+    r"ERROR: AddressSanitizer|ERROR: LeakSanitizer|runtime error:|"
+    r"SUMMARY: (Address|Undefined|Leak)Sanitizer"
+)
 
 
 def build_asan() -> tuple[Path, Path]:
@@ -577,14 +656,30 @@ def build_asan() -> tuple[Path, Path]:
     -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all. Returns
     (FMI 2.0 FMU binary, importer)."""
     import sys
+
     d = ASAN_BUILD_DIR
     with _locked(d / ".build.lock"):
         if not (d / "CMakeCache.txt").exists():
-            subprocess.run(["cmake", "-S", str(REPO_ROOT), "-B", str(d), "-DSB_SANITIZE=ON",
-                            "-DCMAKE_BUILD_TYPE=RelWithDebInfo", f"-DPython3_EXECUTABLE={sys.executable}"],
-                           check=True, capture_output=True, text=True)
-        proc = subprocess.run(["cmake", "--build", str(d), "-j", "2", "--target", "ShroudedBlade",
-                               "ShroudedBlade3", "sb_importer"], capture_output=True, text=True)
+            subprocess.run(
+                [
+                    "cmake",
+                    "-S",
+                    str(REPO_ROOT),
+                    "-B",
+                    str(d),
+                    "-DSB_SANITIZE=ON",
+                    "-DCMAKE_BUILD_TYPE=RelWithDebInfo",
+                    f"-DPython3_EXECUTABLE={sys.executable}",
+                ],
+                check=True,
+                capture_output=True,
+                text=True,
+            )
+        proc = subprocess.run(
+            ["cmake", "--build", str(d), "-j", "2", "--target", "ShroudedBlade", "ShroudedBlade3", "sb_importer"],
+            capture_output=True,
+            text=True,
+        )
         if proc.returncode != 0:
             raise RuntimeError(f"sanitizer build failed:\n{proc.stdout[-4000:]}\n{proc.stderr[-4000:]}")
     return d / "ShroudedBlade.so", d / "tests" / "c" / "sb_importer"
@@ -601,12 +696,15 @@ def sanitizer_env(python: bool) -> dict[str, str]:
     # distinct exit codes: 99 = AddressSanitizer/LeakSanitizer, 98 = UndefinedBehaviorSanitizer
     env["UBSAN_OPTIONS"] = "print_stacktrace=1:halt_on_error=1:exitcode=98"
     if python:
-        libasan = subprocess.run(["cc", "-print-file-name=libasan.so"], capture_output=True,
-                                 text=True, check=True).stdout.strip()
+        libasan = subprocess.run(
+            ["cc", "-print-file-name=libasan.so"], capture_output=True, text=True, check=True
+        ).stdout.strip()
         env["LD_PRELOAD"] = str(Path(libasan).resolve())
         env["ASAN_OPTIONS"] = "detect_leaks=0:halt_on_error=1:abort_on_error=0:exitcode=99"
     else:
         env.pop("LD_PRELOAD", None)
-        env["ASAN_OPTIONS"] = ("detect_leaks=1:halt_on_error=1:abort_on_error=0:exitcode=99:"
-                               "detect_stack_use_after_return=1:strict_string_checks=1")
+        env["ASAN_OPTIONS"] = (
+            "detect_leaks=1:halt_on_error=1:abort_on_error=0:exitcode=99:"
+            "detect_stack_use_after_return=1:strict_string_checks=1"
+        )
     return env

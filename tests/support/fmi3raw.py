@@ -5,6 +5,7 @@ arrays, and each instance records every logMessage call as a LogRecord (FMI 3.0'
 instance name: the record carries the name the instance was created with). The invalid-input
 catalogue and the fuzz machine use this layer. The binary is the one packaged in the FMU
 (extracted once per process) unless SB_FMU3_BINARY names another build of it."""
+
 from __future__ import annotations
 
 import os
@@ -23,8 +24,9 @@ from harness.fmu.binding.library import Library
 FMU3_FILE = F.REPO_ROOT / "build" / "fmi3" / "ShroudedBlade.fmu"
 MODEL_DESCRIPTION3 = F.REPO_ROOT / "fmu_src" / "models" / "ShroudedBlade" / "modelDescription3.xml"
 TOKEN = ET.parse(MODEL_DESCRIPTION3).getroot().get("instantiationToken")
-VR3 = {v.get("name"): int(v.get("valueReference")) for v in ET.parse(MODEL_DESCRIPTION3).getroot()
-       .find("ModelVariables")}
+VR3 = {
+    v.get("name"): int(v.get("valueReference")) for v in ET.parse(MODEL_DESCRIPTION3).getroot().find("ModelVariables")
+}
 
 _built: list[bool] = []
 
@@ -35,6 +37,7 @@ def fmu3_binary() -> Path:
         return Path(env)
     if not _built:  # once per process: the FMU as the sources are now (a no-op when up to date)
         from harness.fmu import build as _build
+
         _build.build(("fmu3",))
         _built.append(True)
     return fmi3.binary_path(F.extract_fmu(FMU3_FILE), "ShroudedBlade")
@@ -65,13 +68,29 @@ def _vrs(vrs: Sequence[str | int]) -> np.ndarray:
 class Instance3:
     """One fmi3Instance (co-simulation) with a recording logger. Every method returns the raw status."""
 
-    def __init__(self, lib: Fmi3Library | None = None, name: str | None = "sb3", token: str | None = TOKEN,
-                 logging_on: bool = True, event_mode_used: bool = False, logger: bool = True,
-                 required: Sequence[int] = ()) -> None:
+    def __init__(
+        self,
+        lib: Fmi3Library | None = None,
+        name: str | None = "sb3",
+        token: str | None = TOKEN,
+        logging_on: bool = True,
+        event_mode_used: bool = False,
+        logger: bool = True,
+        required: Sequence[int] = (),
+    ) -> None:
         self.lib = lib or Fmi3Library.get()
         self.name = name
-        self.f = fmi3.Fmi3Instance(self.lib, name, token, None, logging_on=logging_on, event_mode_used=event_mode_used,
-                                   required=required, raw=True, logger=fmi3.DEFAULT if logger else None)
+        self.f = fmi3.Fmi3Instance(
+            self.lib,
+            name,
+            token,
+            None,
+            logging_on=logging_on,
+            event_mode_used=event_mode_used,
+            required=required,
+            raw=True,
+            logger=fmi3.DEFAULT if logger else None,
+        )
         self.log = self.f.log
 
     @property

@@ -7,6 +7,7 @@ build/fmi3/ShroudedBlade.fmu through tests/support/fmi3raw.py. The machine keeps
 Instantiated, Initialization Mode, Step Mode, Terminated, after an fmi3Error) and checks after
 every call: a valid status; calls outside their states and bad value references are fmi3Error; a
 valid step is not an fmi3Error; fmi3OK outputs are finite; the logger gets known categories only."""
+
 from __future__ import annotations
 
 import ctypes
@@ -20,12 +21,19 @@ from tests.support import fmi2raw as F
 from tests.support.fmi2raw import DISCARD, ERROR, OK, VALID_STATUSES, WARNING
 from tests.support.fmi3raw import VR3, Fmi3Library, Instance3
 
-INSTANTIATED, INIT, STEP, TERMINATED, ERRORED = "Instantiated", "Initialization Mode", "Step Mode", "Terminated", "error"
+INSTANTIATED, INIT, STEP, TERMINATED, ERRORED = (
+    "Instantiated",
+    "Initialization Mode",
+    "Step Mode",
+    "Terminated",
+    "error",
+)
 garbage = st.sampled_from([math.nan, math.inf, -math.inf, 1e308, -1e308, 5e-324, -0.0, 0.0, -1.0])
 REAL_OUT = [VR3[n] for n in F.REAL_OUTPUTS]
 UNDECLARED = sorted(v.vr for v in F.VARIABLES.values() if v.name not in VR3)
-some_vr = st.one_of(st.sampled_from(sorted(VR3.values())), st.sampled_from(UNDECLARED + [999, 2**32 - 1]),
-                    st.integers(0, 200))
+some_vr = st.one_of(
+    st.sampled_from(sorted(VR3.values())), st.sampled_from(UNDECLARED + [999, 2**32 - 1]), st.integers(0, 200)
+)
 
 
 class Fmi3Machine(RuleBasedStateMachine):
@@ -93,15 +101,30 @@ class Fmi3Machine(RuleBasedStateMachine):
         self.phase, self.t, self.stop = INSTANTIATED, 0.0, None
         self.touched = False
 
-    @rule(vrs=st.lists(some_vr, min_size=1, max_size=4), data=st.data(),
-          kind=st.sampled_from(["Float64", "Float64", "Int32", "Boolean"]), wrong_n=st.sampled_from([False] * 5 + [True]))
+    @rule(
+        vrs=st.lists(some_vr, min_size=1, max_size=4),
+        data=st.data(),
+        kind=st.sampled_from(["Float64", "Float64", "Int32", "Boolean"]),
+        wrong_n=st.sampled_from([False] * 5 + [True]),
+    )
     def set_values(self, vrs: list[int], data: st.DataObject, kind: str, wrong_n: bool) -> None:
-        vals = data.draw(st.lists(st.one_of(st.floats(-1e4, 1e4), garbage) if kind == "Float64" else
-                                  st.integers(-5, 110), min_size=len(vrs), max_size=len(vrs)))
+        vals = data.draw(
+            st.lists(
+                st.one_of(st.floats(-1e4, 1e4), garbage) if kind == "Float64" else st.integers(-5, 110),
+                min_size=len(vrs),
+                max_size=len(vrs),
+            )
+        )
         v = np.array(vrs, dtype=np.uint32)
         x = np.array(vals, dtype={"Float64": np.float64, "Int32": np.int32, "Boolean": np.bool_}[kind])
-        s = self.call(getattr(self.c.lib, f"fmi3Set{kind}"), self.c.c, v.ctypes.data, len(v), x.ctypes.data,
-                      len(v) + 1 if wrong_n else len(v))
+        s = self.call(
+            getattr(self.c.lib, f"fmi3Set{kind}"),
+            self.c.c,
+            v.ctypes.data,
+            len(v),
+            x.ctypes.data,
+            len(v) + 1 if wrong_n else len(v),
+        )
         if s == OK:
             assert not wrong_n and all(r in VR3.values() and r != 0 for r in vrs), (vrs, kind)
             assert self.phase in (INSTANTIATED, INIT, STEP)
@@ -127,8 +150,12 @@ class Fmi3Machine(RuleBasedStateMachine):
         if s == OK:
             assert np.all(np.isfinite(y[[r in REAL_OUT for r in vrs]])), y
 
-    @rule(n=st.integers(1, 20), h=st.sampled_from([1e-4, 5e-4, 1e-3]), speed=st.floats(1000.0, 12000.0),
-          load=st.sampled_from([0.0, 100.0, 1000.0]))
+    @rule(
+        n=st.integers(1, 20),
+        h=st.sampled_from([1e-4, 5e-4, 1e-3]),
+        speed=st.floats(1000.0, 12000.0),
+        load=st.sampled_from([0.0, 100.0, 1000.0]),
+    )
     def run_steps(self, n: int, h: float, speed: float, load: float) -> None:
         if self.phase == INSTANTIATED:
             assert self.call(self.c.enter_init) in (OK, WARNING), self.last_log
@@ -141,12 +168,18 @@ class Fmi3Machine(RuleBasedStateMachine):
         for i in range(n):
             if self.phase != STEP:
                 return
-            assert self.call(self.c.set_float64, ["aeroLoad", "rotorSpeed"],
-                             [load * math.sin(2 * math.pi * 250 * self.t), speed]) == OK
+            assert (
+                self.call(
+                    self.c.set_float64, ["aeroLoad", "rotorSpeed"], [load * math.sin(2 * math.pi * 250 * self.t), speed]
+                )
+                == OK
+            )
             self.do_step(0.0, h)
 
-    @rule(dt=st.one_of(st.just(0.0), st.floats(-1e-3, 1e-3), garbage),
-          h=st.one_of(st.sampled_from([1e-4, 1e-3]), st.floats(1e-6, 2e-3), garbage, st.sampled_from([1e6, 1e300])))
+    @rule(
+        dt=st.one_of(st.just(0.0), st.floats(-1e-3, 1e-3), garbage),
+        h=st.one_of(st.sampled_from([1e-4, 1e-3]), st.floats(1e-6, 2e-3), garbage, st.sampled_from([1e6, 1e300])),
+    )
     def do_step(self, dt: float, h: float) -> None:
         t = self.t + dt
         s = self.call(self.c.do_step, t, h)
@@ -155,7 +188,9 @@ class Fmi3Machine(RuleBasedStateMachine):
             return
         tol = 1e-9 * max(1.0, abs(self.t))
         bad = not (math.isfinite(t) and abs(t - self.t) <= tol and h > 0.0 and math.isfinite(h)) or t + h == t
-        past = self.stop is not None and math.isfinite(self.stop) and t + h > self.stop + 1e-9 * max(1.0, abs(self.stop))
+        past = (
+            self.stop is not None and math.isfinite(self.stop) and t + h > self.stop + 1e-9 * max(1.0, abs(self.stop))
+        )
         if bad or past:
             assert s in (ERROR, DISCARD), (t, h, s)
         elif h <= 2e-3:
@@ -187,7 +222,9 @@ class Fmi3Machine(RuleBasedStateMachine):
             size = ctypes.c_size_t()
             assert self.call(self.c.lib.fmi3SerializedFMUStateSize, self.c.c, h, ctypes.addressof(size)) == OK
             buf = ctypes.create_string_buffer(size.value)
-            assert self.call(self.c.lib.fmi3SerializeFMUState, self.c.c, h, ctypes.addressof(buf), size.value - 1) == ERROR
+            assert (
+                self.call(self.c.lib.fmi3SerializeFMUState, self.c.c, h, ctypes.addressof(buf), size.value - 1) == ERROR
+            )
         else:
             s, blob = self.call(self.c.serialize, h)
             assert s == OK

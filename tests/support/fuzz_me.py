@@ -10,6 +10,7 @@ and checks after every call: a valid status; a call outside its states is fmi2Er
 derivatives, event indicators and Real outputs are finite; non-finite states are refused
 (fmi2Discard) and leave the states unchanged; contactState, a discrete variable, does not change
 in continuous-time mode; the logger is used with our name and known categories only."""
+
 from __future__ import annotations
 
 import ctypes
@@ -24,15 +25,27 @@ from tests.support.fmi2me import NX, NZ, EventInfo, Me, arr
 from tests.support.fmi2raw import DISCARD, ERROR, OK, VALID_STATUSES, WARNING, Fmi2Library, Instance
 
 INSTANTIATED, INIT, EVENT, CT, TERMINATED, ERRORED = (
-    "instantiated", "initializationMode", "eventMode", "continuousTimeMode", "terminated", "error")
+    "instantiated",
+    "initializationMode",
+    "eventMode",
+    "continuousTimeMode",
+    "terminated",
+    "error",
+)
 GETTER_STATES = {INIT, EVENT, CT, TERMINATED, ERRORED}
 garbage = st.sampled_from([math.nan, math.inf, -math.inf, 1e300, -1e300, 5e-324, -0.0, 0.0, 1e-3])
 OUTPUT_VRS = [F.VR[n] for n in F.REAL_OUTPUTS]
 GOOD_PARAMS = {
-    "frictionModel": st.integers(1, 3), "amplitudeMode": st.integers(1, 2), "gating": st.integers(0, 1),
-    "kn": st.sampled_from([1e6, 1e7]), "d": st.floats(0.0, 6e-5), "B": st.floats(1e-6, 2e-4),
-    "tipDisplacement": st.floats(-2e-4, 2e-4), "tipVelocity": st.floats(-0.5, 0.5),
-    "gamma": st.floats(0.2, 1.4), "engineOrder": st.integers(1, 6),
+    "frictionModel": st.integers(1, 3),
+    "amplitudeMode": st.integers(1, 2),
+    "gating": st.integers(0, 1),
+    "kn": st.sampled_from([1e6, 1e7]),
+    "d": st.floats(0.0, 6e-5),
+    "B": st.floats(1e-6, 2e-4),
+    "tipDisplacement": st.floats(-2e-4, 2e-4),
+    "tipVelocity": st.floats(-0.5, 0.5),
+    "gamma": st.floats(0.2, 1.4),
+    "engineOrder": st.integers(1, 6),
 }
 
 
@@ -40,7 +53,7 @@ class MeMachine(RuleBasedStateMachine):
     sequences = 0
     calls = 0
     integrated = 0  # accepted explicit-Euler steps
-    events = 0      # event iterations after an indicator changed sign
+    events = 0  # event iterations after an indicator changed sign
     states = Bundle("me_states")
 
     def __init__(self) -> None:
@@ -154,7 +167,11 @@ class MeMachine(RuleBasedStateMachine):
         if not math.isfinite(t):
             assert s == ERROR
 
-    @rule(i=st.integers(0, NX - 1), v=st.one_of(st.floats(-1e-3, 1e-3), garbage), n=st.sampled_from([NX] * 4 + [0, NX - 1, NX + 1]))
+    @rule(
+        i=st.integers(0, NX - 1),
+        v=st.one_of(st.floats(-1e-3, 1e-3), garbage),
+        n=st.sampled_from([NX] * 4 + [0, NX - 1, NX + 1]),
+    )
     def set_states(self, i: int, v: float, n: int) -> None:
         x = arr(NX + 1)
         got = self.call(self.me.get_x, self.c.c, x, NX)
@@ -171,8 +188,11 @@ class MeMachine(RuleBasedStateMachine):
             else:
                 assert s == OK and got == OK
 
-    @rule(which=st.sampled_from(["x", "dx", "z", "nominal"]), n_off=st.sampled_from([0] * 6 + [-1, 1]),
-          null=st.sampled_from([False] * 6 + [True]))
+    @rule(
+        which=st.sampled_from(["x", "dx", "z", "nominal"]),
+        n_off=st.sampled_from([0] * 6 + [-1, 1]),
+        null=st.sampled_from([False] * 6 + [True]),
+    )
     def getter(self, which: str, n_off: int, null: bool) -> None:
         n = (NZ if which == "z" else NX) + n_off
         buf = arr(max(n, 1) + 1)

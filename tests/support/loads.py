@@ -1,5 +1,6 @@
 """Loads written in the tests, for BladeFMU.run's aero input (the aeroLoad path, the FMU's Fw0 = 0):
 independent of the FMUs' built-in load code."""
+
 from __future__ import annotations
 
 import math
@@ -20,4 +21,4 @@ class Sine:
 
     def derivatives(self, t, order: int) -> np.ndarray:
         x = self.omega * np.atleast_1d(np.asarray(t, dtype=float)) + self.lead
-        return np.array([self.amplitude * self.omega ** j * np.sin(x + j * math.pi / 2) for j in range(order + 1)])
+        return np.array([self.amplitude * self.omega**j * np.sin(x + j * math.pi / 2) for j in range(order + 1)])

@@ -2,6 +2,7 @@
 of eq. 21 by scipy's brentq, the eq. 20 shapes in long double (cosh of lambda l ~ 17 is 1e7: the
 plain formula keeps ~1e-12 of phi in 64-bit mantissas), scaled to phi_i(l) = 1, and the consistent
 matrices by scipy.integrate.quad, one integral at a time. Nothing here is shared with the C code."""
+
 from __future__ import annotations
 
 import warnings
@@ -42,7 +43,7 @@ class Modes:
         z = lam * LD(x)
         ch, sh, c, sn = np.cosh(z), np.sinh(z), np.cos(z), np.sin(z)
         d = [s * (ch - c) + sn - sh, s * (sh + sn) + c - ch, s * (ch + c) - sh - sn][k]
-        return d * lam ** k
+        return d * lam**k
 
     def phi(self, i: int, x: float, k: int = 0) -> float:
         return float(self._raw(i, x, k) / self.tip[i])
@@ -59,8 +60,12 @@ class Modes:
                 M[i, j] = self.rhoA * pp + self.m0
                 C[i, j] = self.c * pp
                 K[i, j] = self.EI * quad(lambda x: self.phi(i, x, 2) * self.phi(j, x, 2), 0.0, l, **opts)[0]
-                K2[i, j] = quad(lambda x: (0.5 * self.rhoA * (l * l - x * x) + self.m0 * l)
-                                * self.phi(i, x, 1) * self.phi(j, x, 1), 0.0, l, **opts)[0]
+                K2[i, j] = quad(
+                    lambda x: (0.5 * self.rhoA * (l * l - x * x) + self.m0 * l) * self.phi(i, x, 1) * self.phi(j, x, 1),
+                    0.0,
+                    l,
+                    **opts,
+                )[0]
                 for A_ in (M, C, K, K2):
                     A_[j, i] = A_[i, j]
         return M, C, K, K2, g

@@ -16,6 +16,7 @@ and F_i = -k_c u_i + k_c u_{i-1} = -k_c (2 q_i - q_{i+1} - q_{i-1}). With q_i = 
     (diag(Ks_i + Kw_i Omega^2 - omega^2 M_i + i omega C_i) + k_c L) Q = (g_i F_w0 e^{i phi_i}),
 L the ring's Laplacian (N = 2: the two contacts join the same pair, so L = [[2, -2], [-2, 2]]).
 """
+
 from __future__ import annotations
 
 import math

@@ -1,6 +1,7 @@
 """The ring with linear couplings (harness/system/linear_ring.py): its closed form against the
 independent time integration of its ODE, the whole co-simulation pipeline against the closed form, and
 Whitehead's bound approached, never exceeded."""
+
 from __future__ import annotations
 
 import math
@@ -28,8 +29,15 @@ def _k0(speed: float) -> float:
 
 def _ring(ratio: float, c: float = 298.0, pattern=PATTERN) -> Ring:
     """A mistuned linear ring whose coupling stiffness is `ratio` of the blade's K0 at 5000 rpm."""
-    return Ring(n=N, engine_order=EO, fw0=FW0, blade={"c": c}, blade_each=tuple({"EI": 343.0 * f} for f in pattern),
-                contact={**LR.LINEAR_CONTACT, "kn": LR.kn_for(ratio * _k0(5000.0))}, order=2)
+    return Ring(
+        n=N,
+        engine_order=EO,
+        fw0=FW0,
+        blade={"c": c},
+        blade_each=tuple({"EI": 343.0 * f} for f in pattern),
+        contact={**LR.LINEAR_CONTACT, "kn": LR.kn_for(ratio * _k0(5000.0))},
+        order=2,
+    )
 
 
 def _steady(t: np.ndarray, q: np.ndarray, omega: float) -> np.ndarray:

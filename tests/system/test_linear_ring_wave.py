@@ -18,6 +18,7 @@ Independent of the code under test: the blade constants by the reference reducti
 (bladeIndex i of bladeCount N, docs/model.md), the ODE integrated by scipy (DOP853) from the closed
 form's state over two periods.
 """
+
 from __future__ import annotations
 
 import math
@@ -35,8 +36,15 @@ PATTERN = (1.04, 0.97, 1.0, 0.95, 1.03)  # EI factors
 
 
 def _ring() -> Ring:
-    return Ring(n=N, engine_order=EO, fw0=FW0, speed=SPEED, blade={"c": 298.0},
-                blade_each=tuple({"EI": 343.0 * f} for f in PATTERN), contact={**LR.LINEAR_CONTACT, "kn": KN})
+    return Ring(
+        n=N,
+        engine_order=EO,
+        fw0=FW0,
+        speed=SPEED,
+        blade={"c": 298.0},
+        blade_each=tuple({"EI": 343.0 * f} for f in PATTERN),
+        contact={**LR.LINEAR_CONTACT, "kn": KN},
+    )
 
 
 def _ode(ring: Ring):
@@ -57,6 +65,7 @@ def _ode(ring: Ring):
         q, v = y[:N], y[N:]
         coupling = kc * (2 * q - np.roll(q, 1) - np.roll(q, -1))
         return np.concatenate([v, (G * FW0 * np.sin(w * t + phi) - C * v - K * q - coupling) / M])
+
     return rhs, w
 
 

@@ -19,6 +19,7 @@
 - Ring(coupling=...) accepts "feedthrough" and "libcosim" (with order 0 only): anything else is a
   ValueError naming the value and the accepted ones.
 """
+
 from __future__ import annotations
 
 import math
@@ -69,9 +70,18 @@ def test_open_contacts_equal_single_blade_with_its_load_bit_for_bit():
     build(("fmu",))
     with Unpacked(FMU_PATH) as sb:
         for i in range(ring.n):
-            s = sb.instance("alone", {"d": 1.0, "amplitudeMode": 1, "Fw0": ring.fw0, "bladeIndex": i,
-                                      "bladeCount": ring.n, "engineOrder": ring.engine_order},
-                            inputs={"rotorSpeed": ring.speed})
+            s = sb.instance(
+                "alone",
+                {
+                    "d": 1.0,
+                    "amplitudeMode": 1,
+                    "Fw0": ring.fw0,
+                    "bladeIndex": i,
+                    "bladeCount": ring.n,
+                    "engineOrder": ring.engine_order,
+                },
+                inputs={"rotorSpeed": ring.speed},
+            )
             rows = _stepped_alone(s, res, ring.n_steps, lambda k: s.set_inputs({"rotorSpeed": ring.speed}))
             assert np.abs(rows[:, 0]).max() > 1e-5
             assert np.array_equal(rows[:, 0], res["q"][:, i]) and np.array_equal(rows[:, 1], res["v"][:, i])
@@ -86,8 +96,12 @@ def test_open_contacts_equal_single_blade_bit_for_bit_excitation_fed():
         for i in range(ring.n):
             s = sb.instance("alone", {"d": 1.0, "amplitudeMode": 1, "Fw0": 0.0})
             load = res["aeroLoad"][:, i]
-            rows = _stepped_alone(s, res, ring.n_steps, lambda k: s.set_inputs(
-                {"aeroLoad": load[k][0], "rotorSpeed": ring.speed}, {"aeroLoad": load[k][1:]}))
+            rows = _stepped_alone(
+                s,
+                res,
+                ring.n_steps,
+                lambda k: s.set_inputs({"aeroLoad": load[k][0], "rotorSpeed": ring.speed}, {"aeroLoad": load[k][1:]}),
+            )
             assert np.abs(rows[:, 0]).max() > 1e-5
             assert np.array_equal(rows[:, 0], res["q"][:, i]) and np.array_equal(rows[:, 1], res["v"][:, i])
 
@@ -112,15 +126,19 @@ def test_ring_of_36():
 
 
 def test_stability_limit_kn_1e7():
-    with pytest.raises(RingDiverged, match=r"diverged at step \d+ \(t = .* s\): blade \d \|q\| = .* m > 0.01 m; "
-                       r"raise --order .* reduce --step \(now 0.0001 s"):
+    with pytest.raises(
+        RingDiverged,
+        match=r"diverged at step \d+ \(t = .* s\): blade \d \|q\| = .* m > 0.01 m; "
+        r"raise --order .* reduce --step \(now 0.0001 s",
+    ):
         run(Ring(n=4, stop_time=0.1, order=0, step=1e-4, **TUNED))  # grows without bound (1e23 m at 0.3 s)
     linear = run(Ring(n=4, stop_time=0.1, order=1, step=1e-4, **TUNED))
     assert np.abs(linear["q"]).max() < 1e-4
 
 
-@pytest.mark.parametrize("kw, word", [(dict(coupling="jacobi"), "'jacobi'"),
-                                      (dict(coupling="libcosim", order=1), "order must be 0")])
+@pytest.mark.parametrize(
+    "kw, word", [(dict(coupling="jacobi"), "'jacobi'"), (dict(coupling="libcosim", order=1), "order must be 0")]
+)
 def test_bad_coupling_is_refused(kw, word):
     with pytest.raises(ValueError, match=word) as e:
         Ring(**kw)

@@ -14,6 +14,7 @@ pitchfork.
   critical eigenvector must be genuine (period residual <= 1e-8; the shooting's tolerance is 1e-10)
   and break the symmetry (asymmetry above 1e-3; measured 3.4e-2): a pitchfork.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -47,7 +48,7 @@ def _asymmetry(pm: RingPeriodMap, x: np.ndarray, speed: float) -> float:
     """max |R x - x| / scale, R: blade i -> i + 1 with q -> -q (and phi -> -phi), the symmetry of the
     4-blade ring at EO 2 (rotation by a blade = half a period's delay = the sign change)."""
     m2 = 2 * pm.m
-    y, phi = x[: m2 * pm.n].reshape(pm.n, m2), x[m2 * pm.n:]
+    y, phi = x[: m2 * pm.n].reshape(pm.n, m2), x[m2 * pm.n :]
     Rx = np.append(-np.roll(y, 1, axis=0).ravel(), -np.roll(phi, 1))
     return float(np.max(np.abs(Rx - x) / pm.scales(x, speed)))
 

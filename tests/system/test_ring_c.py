@@ -11,6 +11,7 @@ the fmpy master (harness/system/ring.py), which does the same calls from Python:
   unchecked fmpy master reached 1e139 m) both masters stop at the same step, naming it, the blade and
   what to change; a bad order or coupling is refused.
 """
+
 from __future__ import annotations
 
 import math
@@ -33,16 +34,26 @@ def test_open_contacts_bit_for_bit():
         assert np.array_equal(a[k], b[k]), k
 
 
-@pytest.mark.parametrize("n, order, step, each", [
-    (4, 1, 1e-4, ()),
-    (6, 2, 2.5e-5, tuple({"EI": x} for x in (0.97, 1.02, 1.0, 1.05, 0.99, 1.01))),
-])
+@pytest.mark.parametrize(
+    "n, order, step, each",
+    [
+        (4, 1, 1e-4, ()),
+        (6, 2, 2.5e-5, tuple({"EI": x} for x in (0.97, 1.02, 1.0, 1.05, 0.99, 1.01))),
+    ],
+)
 def test_closing_contacts_equal_within_rounding(n, order, step, each):
     ring = Ring(n=n, stop_time=0.02, step=step, order=order, **CLOSING)
     if each:
         from harness.studies.mistuning import blade_value
-        ring = Ring(n=n, stop_time=0.02, step=step, order=order, **CLOSING,
-                    blade_each=tuple({"EI": blade_value(ring, "EI") * e["EI"]} for e in each))
+
+        ring = Ring(
+            n=n,
+            stop_time=0.02,
+            step=step,
+            order=order,
+            **CLOSING,
+            blade_each=tuple({"EI": blade_value(ring, "EI") * e["EI"]} for e in each),
+        )
     a, b = run(ring), ring_c.run(ring)
     assert np.any(a["state"] > 0)  # the contacts did close
     for k in a:
@@ -80,6 +91,7 @@ def test_bad_order_is_refused():
 
 def test_libcosim_data_flow_bit_for_bit():
     from harness.system import ring_libcosim
+
     ring = Ring(n=4, stop_time=0.01, step=2.5e-5, order=0, coupling="libcosim", **CLOSING)
     a, b = run(ring), ring_c.run(ring)
     assert np.any(a["state"] > 0)
@@ -99,6 +111,7 @@ def test_decimated_record_keeps_every_mth_point():
 
 def test_timed_run_is_the_same_run():
     import time
+
     ring = Ring(n=4, stop_time=0.02, step=2.5e-5, order=2, **CLOSING)
     a = ring_c.run(ring)
     t0 = time.perf_counter()

@@ -21,6 +21,7 @@ change of max |q| is <= 1e-12, the blade stored energy returns within 1e-12 of t
   C0) does not act in the steady period (it does at h >= 2.5e-5 s); its error against the
   monolithic reference is no worse than the plain master's (measured below).
 """
+
 from __future__ import annotations
 
 import math

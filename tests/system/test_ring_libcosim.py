@@ -23,6 +23,7 @@ inputs.
   the four blades are equal within 1e-4 relative (measured 3.4e-5, the transient's remainder) and
   the phase lags equal 2 pi EO i / N within 1e-4 rad (measured 1.9e-6).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -82,8 +83,10 @@ def test_libcosim_coupling_equals_libcosim_and_ecos_with_contacts_closing():
 @pytest.mark.parametrize("load", ["builtin", "excitation"])
 def test_c_loop_equals_libcosim_at_another_speed(load):
     from harness.system import ring_c
-    ring = Ring(n=4, engine_order=3, step=2.5e-5, stop_time=0.02, order=0, coupling="libcosim", speed=6300.0,
-                load=load, **TUNED)
+
+    ring = Ring(
+        n=4, engine_order=3, step=2.5e-5, stop_time=0.02, order=0, coupling="libcosim", speed=6300.0, load=load, **TUNED
+    )
     a, b = ring_c.run(ring), ring_libcosim.run(ring)
     assert np.abs(a["q"]).max() > 1e-5 and np.array_equal(a["q"], b["q"])
     if load == "builtin":

@@ -18,6 +18,7 @@ direction matters; turned the other way the response differs by order 1).
   The first harmonic is fitted by least squares over the last period (exact for a sinusoid, so no
   sampling error), after 0.5 s from rest (19 decay times 2 M / C0 = 0.027 s: the transient is 1e-8).
 """
+
 from __future__ import annotations
 
 import math
@@ -31,7 +32,14 @@ from harness.model.contact import STATE_STICK
 from harness.reference.ring import MonolithicRing, RingSpec, RingState, _Contact
 from harness.system.ring import Ring
 from harness.system.ring_c import run
-from tests.support.ring_closed_form import CONSISTENT, LinearRing, blade, contact_stiffness, first_harmonic, last_periods
+from tests.support.ring_closed_form import (
+    CONSISTENT,
+    LinearRing,
+    blade,
+    contact_stiffness,
+    first_harmonic,
+    last_periods,
+)
 
 N, EO, FW0, C = 5, 2, 300.0, 298.0
 PATTERN = (1.04, 0.97, 1.0, 0.95, 1.03)  # EI factors
@@ -50,20 +58,41 @@ def _linear() -> LinearRing:
 
 
 def _contact() -> dict:
-    return {"d": 0.0, "mu": 1e6, "kn": _kc() / contact_stiffness(1.0, KN_RATIO, GAMMA), "kdRatio": KN_RATIO,
-            "gamma": GAMMA}
+    return {
+        "d": 0.0,
+        "mu": 1e6,
+        "kn": _kc() / contact_stiffness(1.0, KN_RATIO, GAMMA),
+        "kdRatio": KN_RATIO,
+        "gamma": GAMMA,
+    }
 
 
 def _ring(speed: float, per_period: int, order: int = 2) -> Ring:
     T = 60 / (EO * speed)
-    return Ring(n=N, engine_order=EO, fw0=FW0, speed=speed, blade={"c": C, "formulation": CONSISTENT},
-                blade_each=tuple({"EI": 343.0 * f} for f in PATTERN), contact=_contact(), order=order,
-                step=round(T / per_period * 1e9) * 1e-9, stop_time=0.5)
+    return Ring(
+        n=N,
+        engine_order=EO,
+        fw0=FW0,
+        speed=speed,
+        blade={"c": C, "formulation": CONSISTENT},
+        blade_each=tuple({"EI": 343.0 * f} for f in PATTERN),
+        contact=_contact(),
+        order=order,
+        step=round(T / per_period * 1e9) * 1e-9,
+        stop_time=0.5,
+    )
 
 
 def _spec(speed: float) -> RingSpec:
-    return RingSpec(n=N, engine_order=EO, speed=speed, fw0=FW0, blade={"c": C, "formulation": CONSISTENT},
-                    blade_each=tuple({"EI": 343.0 * f} for f in PATTERN), contact=_contact())
+    return RingSpec(
+        n=N,
+        engine_order=EO,
+        speed=speed,
+        fw0=FW0,
+        blade={"c": C, "formulation": CONSISTENT},
+        blade_each=tuple({"EI": 343.0 * f} for f in PATTERN),
+        contact=_contact(),
+    )
 
 
 def test_closed_form_has_its_peak_where_stated_and_the_wave_direction_matters() -> None:

@@ -11,6 +11,7 @@ compared at every 1e-4 s, relative to the reference's max |q|), in the C loop:
   rings within 3e-3 of the reference (measured 2.0e-3 each) and within 1e-3 of each other
   (measured 4.9e-4).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -25,7 +26,9 @@ TUNED = dict(blade={"c": 298.0}, fw0=300.0)
 
 
 def reference(**kw) -> np.ndarray:
-    return MonolithicRing(RingSpec(n=4, engine_order=3, **TUNED, **kw)).solve(np.arange(round(T / 1e-4) + 1) * 1e-4)["q"]
+    return MonolithicRing(RingSpec(n=4, engine_order=3, **TUNED, **kw)).solve(np.arange(round(T / 1e-4) + 1) * 1e-4)[
+        "q"
+    ]
 
 
 def error(q: np.ndarray, ref: np.ndarray, h: float) -> float:
@@ -35,8 +38,11 @@ def error(q: np.ndarray, ref: np.ndarray, h: float) -> float:
 @pytest.mark.parametrize("h", [2.5e-5, 1e-4])
 def test_open_contacts_built_in_load_is_exact(h):
     ref = reference(contact={"d": 1.0})
-    run = {(load, p): ring_c.run(Ring(n=4, step=h, stop_time=T, order=p, load=load, contact={"d": 1.0}, **TUNED))["q"]
-           for load in ("builtin", "excitation") for p in (0, 2)}
+    run = {
+        (load, p): ring_c.run(Ring(n=4, step=h, stop_time=T, order=p, load=load, contact={"d": 1.0}, **TUNED))["q"]
+        for load in ("builtin", "excitation")
+        for p in (0, 2)
+    }
     for p in (0, 2):
         assert error(run["builtin", p], ref, h) <= 1e-8
     assert error(run["excitation", 0], ref, h) > 1e-2
@@ -46,7 +52,9 @@ def test_open_contacts_built_in_load_is_exact(h):
 def test_closing_contacts_both_rings_within_the_coupling_error():
     h = 2.5e-5
     ref = reference()
-    b, e = (ring_c.run(Ring(n=4, step=h, stop_time=T, order=2, load=load, **TUNED))["q"]
-            for load in ("builtin", "excitation"))
+    b, e = (
+        ring_c.run(Ring(n=4, step=h, stop_time=T, order=2, load=load, **TUNED))["q"]
+        for load in ("builtin", "excitation")
+    )
     assert error(b, ref, h) <= 3e-3 and error(e, ref, h) <= 3e-3
     assert np.abs(b - e).max() <= 1e-3 * np.abs(ref).max()

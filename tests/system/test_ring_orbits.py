@@ -19,6 +19,7 @@ Checks and tolerances:
 - a sweep's settled states (harness/system/ring_sweep.py, up and down) lie on the reported branches'
   stable orbits (tolerance: the settle rule's bound, see the test).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -127,8 +128,9 @@ def test_broken_jacobian_fails(pm, orbits, measured):
 
 def test_broken_stability_test_fails(orbits, measured):
     """Stability read as the largest |multiplier| above 1 (inverted): the check fails."""
-    assert not all(agrees(r, f, la, o.max_multiplier, o.max_multiplier > 1.0)
-                   for o, (r, f, la) in zip(orbits, measured))
+    assert not all(
+        agrees(r, f, la, o.max_multiplier, o.max_multiplier > 1.0) for o, (r, f, la) in zip(orbits, measured)
+    )
 
 
 SWEEP_SPEEDS = [5600.0, 6000.0, 6400.0]
@@ -160,14 +162,18 @@ def test_sweeps_settled_states_lie_on_the_branches():
                 assert dist <= SETTLE_RTOL * mu / (1 - mu) + MEASURE_RTOL, (d, s, dist, mu)
 
 
-@pytest.mark.parametrize("kw,words", [
-    ({"speeds": (6000.0, 5000.0)}, ["speeds", "FROM must be below TO"]),
-    ({"speeds": (5000.0, 6000.0), "seed_points": 1}, ["seed_points = 1", "[2, 200]"]),
-    ({"speeds": (5000.0, 6000.0), "steps_per_period": 4}, ["steps_per_period = 4", "[8, 100000]"]),
-    ({"speeds": "fast"}, ["speeds = 'fast'", "two speeds"]),
-])
+@pytest.mark.parametrize(
+    "kw,words",
+    [
+        ({"speeds": (6000.0, 5000.0)}, ["speeds", "FROM must be below TO"]),
+        ({"speeds": (5000.0, 6000.0), "seed_points": 1}, ["seed_points = 1", "[2, 200]"]),
+        ({"speeds": (5000.0, 6000.0), "steps_per_period": 4}, ["steps_per_period = 4", "[8, 100000]"]),
+        ({"speeds": "fast"}, ["speeds = 'fast'", "two speeds"]),
+    ],
+)
 def test_api_refuses_bad_input(kw, words):
     import harness
+
     with pytest.raises(harness.ParameterError) as e:
         harness.ring_branches(SMALL, **kw)
     for w in words:
@@ -177,6 +183,11 @@ def test_api_refuses_bad_input(kw, words):
 def test_cli_refuses_branches_without_band():
     import subprocess
     import sys
-    p = subprocess.run([sys.executable, "-m", "harness", "ring", "--blades", "4", "--branches"], capture_output=True,
-                       text=True, timeout=120)
+
+    p = subprocess.run(
+        [sys.executable, "-m", "harness", "ring", "--blades", "4", "--branches"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert p.returncode == 2 and "--branches" in p.stderr and "--speeds" in p.stderr, p.stderr

@@ -9,6 +9,7 @@
 - with contacts open, the SSP in libcosim equals the fmpy master with held inputs bit for bit;
 - N = 36 loads and runs in both tools, which agree within 1e-12.
 """
+
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET

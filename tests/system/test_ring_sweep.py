@@ -16,6 +16,7 @@
   about delta^4 / 64 = 3.7e-8 with delta = 2 pi / 160; the sampled maximum alone is off by up to
   1 - cos(delta / 2) = 1.9e-4).
 """
+
 from __future__ import annotations
 
 import math

@@ -22,6 +22,7 @@
   1e-12) blade 0 equals ShroudedBlade under the mapping within 2.3e-3 at h = T/320 (1.6e-4 at
   T/1280; tolerance 5e-3).
 """
+
 from __future__ import annotations
 
 import math
@@ -66,17 +67,35 @@ def _step(n: int, eo: int, speed: float, per_period: int) -> float:
 
 def test_open_contacts_give_the_single_blade_closed_form() -> None:
     pattern = (1.04, 0.97, 1.0, 0.95, 1.03)
-    ring = Ring(n=5, engine_order=2, fw0=100.0, speed=7000.0, blade={"formulation": CONSISTENT},
-                blade_each=tuple({"EI": 343.0 * f} for f in pattern), contact={"d": 1.0}, order=2,
-                step=_step(5, 2, 7000.0, 160), stop_time=0.1)
+    ring = Ring(
+        n=5,
+        engine_order=2,
+        fw0=100.0,
+        speed=7000.0,
+        blade={"formulation": CONSISTENT},
+        blade_each=tuple({"EI": 343.0 * f} for f in pattern),
+        contact={"d": 1.0},
+        order=2,
+        step=_step(5, 2, 7000.0, 160),
+        stop_time=0.1,
+    )
     err = _closed_form_error(ring, pattern)
     assert err <= 1e-7, err
 
 
 def test_in_phase_wave_leaves_the_contacts_unloaded() -> None:
     # EO = N: phases 2 pi i, the blades in phase; near resonance (4979 rpm) they reach 34 gaps
-    ring = Ring(n=3, engine_order=3, fw0=100.0, speed=5000.0, blade={"formulation": CONSISTENT},
-                contact={"kn": KN, "d": D}, order=2, step=_step(3, 3, 5000.0, 160), stop_time=0.1)
+    ring = Ring(
+        n=3,
+        engine_order=3,
+        fw0=100.0,
+        speed=5000.0,
+        blade={"formulation": CONSISTENT},
+        contact={"kn": KN, "d": D},
+        order=2,
+        step=_step(3, 3, 5000.0, 160),
+        stop_time=0.1,
+    )
     err = _closed_form_error(ring, (1.0, 1.0, 1.0))
     assert err <= 1e-7, err
 
@@ -85,8 +104,17 @@ def _alone_under_the_mapping(ring: Ring, t: np.ndarray, kn_factor: float = 4.0, 
     """ShroudedBlade alone (time-domain Jenkins element, kn' = 4 kn, d' = d / 2) with blade 0's load,
     stepped over the ring's communication points: q at every point."""
     build(("fmu",))
-    params = {**dict(ring.blade), "kn": kn_factor * KN, "d": d_factor * D, "frictionModel": 3, "amplitudeMode": 1,
-              "Fw0": ring.fw0, "bladeIndex": 0, "bladeCount": ring.n, "engineOrder": ring.engine_order}
+    params = {
+        **dict(ring.blade),
+        "kn": kn_factor * KN,
+        "d": d_factor * D,
+        "frictionModel": 3,
+        "amplitudeMode": 1,
+        "Fw0": ring.fw0,
+        "bladeIndex": 0,
+        "bladeCount": ring.n,
+        "engineOrder": ring.engine_order,
+    }
     with Unpacked(FMU_PATH) as sb:
         s = sb.instance("alone", params, inputs={"rotorSpeed": ring.speed})
         try:
@@ -101,8 +129,17 @@ def _alone_under_the_mapping(ring: Ring, t: np.ndarray, kn_factor: float = 4.0, 
 
 
 def _antisymmetric(n: int, eo: int, speed: float, per_period: int, stop: float) -> tuple[dict, Ring]:
-    ring = Ring(n=n, engine_order=eo, fw0=300.0, speed=speed, blade={"c": 298.0}, contact={"kn": KN, "d": D},
-                order=2, step=_step(n, eo, speed, per_period), stop_time=stop)
+    ring = Ring(
+        n=n,
+        engine_order=eo,
+        fw0=300.0,
+        speed=speed,
+        blade={"c": 298.0},
+        contact={"kn": KN, "d": D},
+        order=2,
+        step=_step(n, eo, speed, per_period),
+        stop_time=stop,
+    )
     return run(ring), ring
 
 

@@ -16,6 +16,7 @@ must not matter). Checks and tolerances:
   behind the extrapolated one and the element just reversed (FMU stick, reference slip), and
   there |F_f| equals the friction limit to 1e-6.
 """
+
 from __future__ import annotations
 
 import math
@@ -44,12 +45,15 @@ def contact():
 
 def harmonic_derivs(t: float, terms: list[tuple[float, float, float]], offset: float = 0.0) -> list[float]:
     """u^(k)(t), k = 0..9, of offset + sum A sin(w t + phi)."""
-    return [sum(A * w ** k * math.sin(w * t + ph + k * math.pi / 2) for A, w, ph in terms) + (offset if k == 0 else 0.0)
-            for k in range(10)]
+    return [
+        sum(A * w**k * math.sin(w * t + ph + k * math.pi / 2) for A, w, ph in terms) + (offset if k == 0 else 0.0)
+        for k in range(10)
+    ]
 
 
-def run_fmu(u: Unpacked, params: dict, t: np.ndarray, derivs, common=lambda t: 0.0, order: int = 8,
-            speed: float = 5000.0) -> np.ndarray:
+def run_fmu(
+    u: Unpacked, params: dict, t: np.ndarray, derivs, common=lambda t: 0.0, order: int = 8, speed: float = 5000.0
+) -> np.ndarray:
     """Drive the FMU: q_A = u + c, q_B = c (c common to both sides); u and q_A' from derivs(t). The
     start state is at u(t_0) (inputs set before the end of initialization), as the reference's."""
     D0, c0 = derivs(t[0]), common(t[0])
@@ -59,9 +63,16 @@ def run_fmu(u: Unpacked, params: dict, t: np.ndarray, derivs, common=lambda t: 0
         for k, tk in enumerate(t):
             D_ = derivs(tk)
             c = common(tk)
-            s.set_inputs({"displacementA": D_[0] + c, "velocityA": D_[1], "displacementB": c, "velocityB": 0.0,
-                          "rotorSpeed": speed},
-                         {"displacementA": D_[1:order + 1]} if order else None)
+            s.set_inputs(
+                {
+                    "displacementA": D_[0] + c,
+                    "velocityA": D_[1],
+                    "displacementB": c,
+                    "velocityB": 0.0,
+                    "rotorSpeed": speed,
+                },
+                {"displacementA": D_[1 : order + 1]} if order else None,
+            )
             rows.append(s.get(OUT))
             if k + 1 < len(t):
                 s.step(float(tk), float(t[k + 1] - tk))
@@ -77,8 +88,11 @@ def assert_opposite(r: np.ndarray) -> None:
 TWO_HARMONICS = [(2.2 * D, W, 0.0), (0.4 * D, 3 * W, 0.3)]  # stick, slip, open, reversals inside contact
 
 
-@pytest.mark.parametrize("params", [{}, {"gamma": math.pi / 7}, {"kdRatio": 0.8235, "mu": 0.5, "d": 2e-5}],
-                         ids=["default", "fullstick-angle", "mindlin"])
+@pytest.mark.parametrize(
+    "params",
+    [{}, {"gamma": math.pi / 7}, {"kdRatio": 0.8235, "mu": 0.5, "d": 2e-5}],
+    ids=["default", "fullstick-angle", "mindlin"],
+)
 def test_jenkins_vs_reference_harmonics(contact, params):
     t = np.arange(241) * H
     f = lambda x: harmonic_derivs(x, TWO_HARMONICS, 0.1 * D)  # noqa: E731
@@ -146,8 +160,17 @@ def test_describing_function_vs_reference(contact, model, gating):
     params = {"frictionModel": model, "gating": gating, "B": 7e-5, "projection": 2 if model == 2 else 1}
     r = run_fmu(contact, params, t, f, speed=4000.0)
     assert_opposite(r)
-    ref = df_pair({}, Motion(lambda x: f(x)[0], lambda x: f(x)[1]), t, 3 * 2 * math.pi * 4000 / 60, model, 7e-5,
-                  projection=params["projection"], gating=gating, dt_scan=H / 20)
+    ref = df_pair(
+        {},
+        Motion(lambda x: f(x)[0], lambda x: f(x)[1]),
+        t,
+        3 * 2 * math.pi * 4000 / 60,
+        model,
+        7e-5,
+        projection=params["projection"],
+        gating=gating,
+        dt_scan=H / 20,
+    )
     fmax = np.abs(ref["forceB"]).max()
     for i, k in enumerate(OUT[:4]):
         assert np.abs(r[:, i] - ref[k]).max() <= 1e-8 * fmax, k
@@ -160,12 +183,15 @@ def test_validate_fmu_clean():
         assert validate_fmu(str(p)) == [], p
 
 
-@pytest.mark.parametrize("name,value,words", [
-    ("gamma", 2.0, ["gamma", "2", "(0, 1.5708"]),
-    ("kn", -1.0, ["kn", "-1"]),
-    ("d", float("nan"), ["d", "nan"]),
-    ("frictionModel", 4, ["frictionModel", "4", "[1, 3]"]),
-])
+@pytest.mark.parametrize(
+    "name,value,words",
+    [
+        ("gamma", 2.0, ["gamma", "2", "(0, 1.5708"]),
+        ("kn", -1.0, ["kn", "-1"]),
+        ("d", float("nan"), ["d", "nan"]),
+        ("frictionModel", 4, ["frictionModel", "4", "[1, 3]"]),
+    ],
+)
 def test_invalid_parameters_give_error_with_message(contact, name, value, words):
     s = contact.instance("bad", initialize=False)
     try:
@@ -233,11 +259,23 @@ def test_inputs_carried_on_without_a_new_set(contact):
         s2 = contact.instance("c2", {})
         try:
             for k in range(20):
-                s2.set_inputs({"displacementA": 2.5 * D + 0.02 * k * H, "velocityA": 0.02,
-                               "displacementB": -0.5 * D - 0.01 * k * H, "velocityB": -0.01})
+                s2.set_inputs(
+                    {
+                        "displacementA": 2.5 * D + 0.02 * k * H,
+                        "velocityA": 0.02,
+                        "displacementB": -0.5 * D - 0.01 * k * H,
+                        "velocityB": -0.01,
+                    }
+                )
                 s2.step(k * H, H)
-            s2.set_inputs({"displacementA": 2.5 * D + 0.02 * 20 * H, "velocityA": 0.02,
-                           "displacementB": -0.5 * D - 0.01 * 20 * H, "velocityB": -0.01})
+            s2.set_inputs(
+                {
+                    "displacementA": 2.5 * D + 0.02 * 20 * H,
+                    "velocityA": 0.02,
+                    "displacementB": -0.5 * D - 0.01 * 20 * H,
+                    "velocityB": -0.01,
+                }
+            )
             a, b = s.get(["forceB", "dissipatedEnergy"]), s2.get(["forceB", "dissipatedEnergy"])
             assert np.allclose(a, b, rtol=1e-12, atol=0.0), (a, b)
         finally:
@@ -253,11 +291,17 @@ def test_random_motions_and_parameters(contact, seed):
     reference within 1e-7 (Taylor truncation (omega h)^9 / 9! <= 2e-8 at 900 Hz, h = 1e-4 s)."""
     rng = np.random.default_rng(seed)
     t = np.arange(161) * H
-    terms = [(rng.uniform(0.5, 3) * D, 2 * math.pi * rng.uniform(100, 400), rng.uniform(0, 6.3)),
-             (rng.uniform(0, 1) * D, 2 * math.pi * rng.uniform(300, 900), rng.uniform(0, 6.3))]
+    terms = [
+        (rng.uniform(0.5, 3) * D, 2 * math.pi * rng.uniform(100, 400), rng.uniform(0, 6.3)),
+        (rng.uniform(0, 1) * D, 2 * math.pi * rng.uniform(300, 900), rng.uniform(0, 6.3)),
+    ]
     off = rng.uniform(-1, 1) * D
-    params = {"gamma": rng.uniform(0.3, 1.3), "mu": rng.uniform(0.05, 0.8), "kdRatio": rng.uniform(0.3, 1.0),
-              "d": rng.uniform(0.5, 2) * D}
+    params = {
+        "gamma": rng.uniform(0.3, 1.3),
+        "mu": rng.uniform(0.05, 0.8),
+        "kdRatio": rng.uniform(0.3, 1.0),
+        "d": rng.uniform(0.5, 2) * D,
+    }
     f = lambda x: harmonic_derivs(x, terms, off)  # noqa: E731
     r = run_fmu(contact, params, t, f)
     assert_opposite(r)
@@ -293,11 +337,14 @@ def test_start_friction_force_vs_reference(contact, share):
     assert abs(r0[0, 3]) == 0.0
 
 
-@pytest.mark.parametrize("params,u0,words", [
-    ({"frictionModel": 1, "frictionForce": 5.0}, 3 * D, ["frictionForce = 5", "frictionModel", "[0, 0]"]),
-    ({"frictionForce": 5.0}, 0.5 * D, ["frictionForce = 5", "open", "[0, 0]"]),
-    ({"frictionForce": -200.0}, 2 * D, ["frictionForce = -200", "cone", "[-49.5", "49.5"]),
-])
+@pytest.mark.parametrize(
+    "params,u0,words",
+    [
+        ({"frictionModel": 1, "frictionForce": 5.0}, 3 * D, ["frictionForce = 5", "frictionModel", "[0, 0]"]),
+        ({"frictionForce": 5.0}, 0.5 * D, ["frictionForce = 5", "open", "[0, 0]"]),
+        ({"frictionForce": -200.0}, 2 * D, ["frictionForce = -200", "cone", "[-49.5", "49.5"]),
+    ],
+)
 def test_start_friction_force_refused(contact, params, u0, words):
     """A start value that does not fit the start state is an error at the end of initialization,
     naming the value and the accepted range (cone: 0.33 * 1e7 * cos(60 deg) * (2 d - d) = 49.5 N)."""

@@ -10,6 +10,7 @@ Every importer gets the very same input numbers at the same communication points
   results by ~1e-15: the issue's target 1e-10 holds with a wide margin.
 Scenarios are shortened to 0.05 s (500 steps) to keep the suite fast; `make crosscheck` runs 0.3 s.
 """
+
 from __future__ import annotations
 
 import math
@@ -57,7 +58,7 @@ def test_plan_matches_closed_form():
     n0, n1 = sc.speed
     T = sc.stop_time - sc.start_time
     n = n0 + (n1 - n0) * t / T
-    psi = 3 * 2 * math.pi / 60 * (n0 * t + 0.5 * (n1 - n0) / T * t ** 2)
+    psi = 3 * 2 * math.pi / 60 * (n0 * t + 0.5 * (n1 - n0) / T * t**2)
     assert np.allclose(plan.values("rotorSpeed"), n, rtol=0, atol=1e-9)
     assert np.allclose(plan.values("aeroLoad"), 100 * np.sin(psi), rtol=0, atol=1e-9)
     dpsi = 3 * 2 * math.pi / 60 * n
@@ -135,11 +136,13 @@ def _copy_with_md(fmu: Path, out: Path, edit) -> Path:
 
 def test_static_checker_detects_a_broken_model_description(fmu_path, tmp_path):
     """Drop the first output from <ModelStructure><Outputs>: fmutool -check must report it."""
+
     def edit(md: str) -> str:
         i = md.index("<Outputs>")
         j = md.index("/>", i) + 2
         start = md.index("<Unknown", i)
         return md[:start] + md[j:]
+
     broken = _copy_with_md(fmu_path, tmp_path / "ShroudedBlade.fmu", edit)
     r = xs.fmutool_check(broken)
     assert not r.ok and r.messages
@@ -162,8 +165,12 @@ def test_deliverables_follow_the_rules(deliverables):
     assert len(header) - 1 <= 10
     assert dl.in_csv.read_text().splitlines()[0] == '"time","aeroLoad","rotorSpeed"'
     opt = dict(ln.split(",") for ln in dl.ref_opt.read_text().splitlines())
-    assert {k.strip(): float(v) for k, v in opt.items()} == {"StartTime": 0.0, "StopTime": 0.3, "StepSize": 1e-4,
-                                                            "RelTol": 1e-6}
+    assert {k.strip(): float(v) for k, v in opt.items()} == {
+        "StartTime": 0.0,
+        "StopTime": 0.3,
+        "StepSize": 1e-4,
+        "RelTol": 1e-6,
+    }
     ref = read_csv(dl.ref_csv)
     assert ref["time"][0] == 0.0 and ref["time"][-1] == pytest.approx(0.3, abs=1e-12)
     assert dl.readme.exists() and dl.fmu.read_bytes() == Path(fmu).read_bytes()
@@ -226,8 +233,10 @@ def test_fmi4j_agrees(fmu_path):
 
     sc = SCENARIOS["steady"].shortened(SHORT)
     plan = make_plan(sc, 8)
-    for p, ref in ((plan.held(), xf.run_simulate_fmu(fmu_path, sc, plan.held())),
-                   (plan, xf.run_slave_loop(fmu_path, sc, plan))):
+    for p, ref in (
+        (plan.held(), xf.run_simulate_fmu(fmu_path, sc, plan.held())),
+        (plan, xf.run_slave_loop(fmu_path, sc, plan)),
+    ):
         run = xj.run(fmu_path, sc, p)
         d, worst = max_rel_diff(run.result, ref.result)
         assert d <= SAME_INPUTS_TOL, f"{run.inputs}: {worst} {d:.3e}"

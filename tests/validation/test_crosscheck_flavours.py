@@ -9,6 +9,7 @@ held inputs; measured 1.1e-7 (q, q'), 3.6e-8 (energy) relative to the largest va
 asserted < 1e-6. The ME reference (fmpy CVode, RelTol 1e-9, inputs as steps) and the co-simulation
 reference stay within fmpy's validate_result band to StopTime 0.1 s (measured 1.3e-4 in q).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -20,14 +21,15 @@ from harness.crosscheck.flavours import me_only_copy, probe
 from harness.crosscheck.plan import SCENARIOS, Scenario, make_plan
 
 
-
 @pytest.fixture(scope="module")
 def flavours(fmu_path, fmu3_path, tmp_path_factory):
     root = tmp_path_factory.mktemp("xcf")
     sc = SCENARIOS["steady"]
-    return root, {("2.0", "cs"): xd.generate(fmu_path, sc, root),
-                  ("2.0", "me"): xd.generate(fmu_path, sc.shortened(xd.ME_STOP_TIME), root, "2.0", "me"),
-                  ("3.0", "cs"): xd.generate(fmu3_path, sc, root, "3.0", "cs")}
+    return root, {
+        ("2.0", "cs"): xd.generate(fmu_path, sc, root),
+        ("2.0", "me"): xd.generate(fmu_path, sc.shortened(xd.ME_STOP_TIME), root, "2.0", "me"),
+        ("3.0", "cs"): xd.generate(fmu3_path, sc, root, "3.0", "cs"),
+    }
 
 
 def test_every_flavour_follows_the_rules(flavours):

@@ -12,6 +12,7 @@ within 1.5e-4 of the largest (measured 7.1e-5), the mistuned blades within 5e-3 
 coupling error where the impacts sharpen the response), the ratio of the largest blades within
 1e-3 (5.2e-4: 1.42844 against 1.42918).
 """
+
 from __future__ import annotations
 
 import math
@@ -32,8 +33,15 @@ WORST = 55
 def reference_amplitudes(ring, t_end: float = 0.2) -> np.ndarray:
     """max |q| per blade over the last excitation period of the reference run from rest to t_end."""
     T = 2 * math.pi / ring.omega
-    spec = RingSpec(n=ring.n, engine_order=ring.engine_order, speed=ring.speed, fw0=ring.fw0, blade=ring.blade,
-                    contact=ring.contact, blade_each=ring.blade_each)
+    spec = RingSpec(
+        n=ring.n,
+        engine_order=ring.engine_order,
+        speed=ring.speed,
+        fw0=ring.fw0,
+        blade=ring.blade,
+        contact=ring.contact,
+        blade_each=ring.blade_each,
+    )
     t = np.concatenate([np.arange(0, t_end - T, 1e-4), np.linspace(t_end - T, t_end, 4001)])
     q = MonolithicRing(spec, rtol=1e-9).solve(t)["q"]
     return np.abs(q[t >= t_end - T - 1e-12]).max(axis=0)

@@ -2,6 +2,7 @@
 integrals) against the product's (harness.model.galerkin: brentq, adaptive quadrature) and the
 docs/model.md check values. Two independent derivations of the same constants: they must agree to
 1e-12 relative (measured: within 2e-15 on these cases)."""
+
 from __future__ import annotations
 
 import math

@@ -14,6 +14,7 @@ roundoff is bounded by 1e-13 of the loop's force scale max|F_f| / B. The rewritt
 checked against the exact area of the loop, which is a polygon in the (v, F_f) plane (every piece
 of eq. 4 is affine in v), by the shoelace/trapezoid formula: exact up to roundoff.
 """
+
 from __future__ import annotations
 
 import itertools
@@ -69,18 +70,37 @@ def _printed(p: dict, B: float, model: int) -> tuple[float, float, float]:
         return 0.0, 4 * Ns * (1 - d / B) / (math.pi * B), pk
     t1 = math.acos((kdt * B + 2 * mkn * d - mkn * B) / (kdt * B + mkn * B))
     t3 = math.acos(-(d * kdt + mkn * (B - d)) / (B * kdt))
-    fk = 2 / (math.pi * B) * (
-        0.25 * B * kd * sg * (2 * t1 + math.sin(2 * t1) - 4 * math.sin(t1))
-        + 0.25 * mu * kn * cg * (2 * B * t1 + B * math.sin(2 * t1) - 4 * d * math.sin(t1))
-        - Ns * (math.sin(t2) - math.sin(t1) - math.sin(t3))
-        + 0.25 * kd * sg * (2 * B * (t2 + t3 - math.pi) + B * (math.sin(2 * t3) + math.sin(2 * t2))
-                            + 4 * d * (math.sin(t3) - math.sin(t2))))
-    fcw = -2 / (math.pi * B) * (
-        0.25 * B * kd * sg * (4 * math.cos(t1) - math.cos(2 * t1) - 3)
-        + 0.25 * mu * kn * cg * (B + 4 * d * math.cos(t1) - B * math.cos(2 * t1) - 4 * d)
-        + Ns * (math.cos(t2) - math.cos(t1))
-        + 0.25 * kd * sg * (B * math.cos(2 * t2) - B * math.cos(2 * t3) - 4 * d * math.cos(t3) - 4 * d * math.cos(t2))
-        - Ns * (1 + math.cos(t3)))
+    fk = (
+        2
+        / (math.pi * B)
+        * (
+            0.25 * B * kd * sg * (2 * t1 + math.sin(2 * t1) - 4 * math.sin(t1))
+            + 0.25 * mu * kn * cg * (2 * B * t1 + B * math.sin(2 * t1) - 4 * d * math.sin(t1))
+            - Ns * (math.sin(t2) - math.sin(t1) - math.sin(t3))
+            + 0.25
+            * kd
+            * sg
+            * (
+                2 * B * (t2 + t3 - math.pi)
+                + B * (math.sin(2 * t3) + math.sin(2 * t2))
+                + 4 * d * (math.sin(t3) - math.sin(t2))
+            )
+        )
+    )
+    fcw = (
+        -2
+        / (math.pi * B)
+        * (
+            0.25 * B * kd * sg * (4 * math.cos(t1) - math.cos(2 * t1) - 3)
+            + 0.25 * mu * kn * cg * (B + 4 * d * math.cos(t1) - B * math.cos(2 * t1) - 4 * d)
+            + Ns * (math.cos(t2) - math.cos(t1))
+            + 0.25
+            * kd
+            * sg
+            * (B * math.cos(2 * t2) - B * math.cos(2 * t3) - 4 * d * math.cos(t3) - 4 * d * math.cos(t2))
+            - Ns * (1 + math.cos(t3))
+        )
+    )
     return fk, fcw, pk
 
 
@@ -119,8 +139,16 @@ def _loop_area(p: dict, B: float, model: int) -> float:
     return area
 
 
-@pytest.mark.parametrize("kdr,gamma,model", [(KD[0], math.pi / 3, 1), (KD[1], math.pi / 7, 1), (KD[0], math.pi / 5, 1),
-                                             (KD[0], math.pi / 3, 2), (KD[1], math.pi / 4, 2)])
+@pytest.mark.parametrize(
+    "kdr,gamma,model",
+    [
+        (KD[0], math.pi / 3, 1),
+        (KD[1], math.pi / 7, 1),
+        (KD[0], math.pi / 5, 1),
+        (KD[0], math.pi / 3, 2),
+        (KD[1], math.pi / 4, 2),
+    ],
+)
 @pytest.mark.parametrize("r", [1.05, 1.5, 4.0, 50.0])
 def test_energy_identity(kdr: float, gamma: float, model: int, r: float) -> None:
     """closed integral of F_f dv = pi omega B^2 f_c (docs/model.md s.3), the loop run in the direction of
@@ -142,12 +170,20 @@ def test_fc_fix_of_eq8_matters() -> None:
     sg, cg = math.sin(cc.gamma), math.cos(cc.gamma)
     kd, kn, mu, d = cc.kd, cc.kn, cc.mu, cc.d
     Ns = mu * kn * cg * (B - d)
-    printed = -2.0 / (math.pi * B) * (
-        0.25 * B * kd * sg * (math.cos(t1) - math.cos(2 * t1) - 3)
-        + 0.25 * mu * kn * cg * (B + 4 * d * math.cos(t1) - B * math.cos(2 * t1) - 4 * d)
-        + Ns * (math.cos(t2) - math.cos(t1))
-        + 0.25 * kd * sg * (B * math.cos(2 * t2) - B * math.cos(2 * t3) - 4 * d * math.cos(t3) - 4 * d * math.cos(t2))
-        - Ns * (1 + math.cos(t3)))
+    printed = (
+        -2.0
+        / (math.pi * B)
+        * (
+            0.25 * B * kd * sg * (math.cos(t1) - math.cos(2 * t1) - 3)
+            + 0.25 * mu * kn * cg * (B + 4 * d * math.cos(t1) - B * math.cos(2 * t1) - 4 * d)
+            + Ns * (math.cos(t2) - math.cos(t1))
+            + 0.25
+            * kd
+            * sg
+            * (B * math.cos(2 * t2) - B * math.cos(2 * t3) - 4 * d * math.cos(t3) - 4 * d * math.cos(t2))
+            - Ns * (1 + math.cos(t3))
+        )
+    )
     area = _loop_area(p, B, 1)
     assert abs(math.pi * B * B * printed - area) > 0.01 * area
     assert math.pi * B * B * describing_function(p, B, OMEGA).fcOmega == pytest.approx(area, rel=1e-10)
@@ -175,8 +211,8 @@ def test_regime_boundary() -> None:
         # a (v + d), from 0 at v = -d to -N* at v = -B, gives N* (B - d) / 2: f_c omega > 0
         cc = contact_consts(above)
         Ns = cc.mu * cc.kn * math.cos(cc.gamma) * (6e-5 - cc.d)
-        assert math.pi * 6e-5 ** 2 * a.fcOmega == pytest.approx(_loop_area(above, 6e-5, 1), rel=1e-9)
-        assert math.pi * 6e-5 ** 2 * a.fcOmega == pytest.approx(Ns * (6e-5 - cc.d), rel=1e-7)  # gamma* (1 + 1e-9)
+        assert math.pi * 6e-5**2 * a.fcOmega == pytest.approx(_loop_area(above, 6e-5, 1), rel=1e-9)
+        assert math.pi * 6e-5**2 * a.fcOmega == pytest.approx(Ns * (6e-5 - cc.d), rel=1e-7)  # gamma* (1 + 1e-9)
         assert a.fcOmega > 0.05 * a.pk and Ns > 0
     # the printed kdRatio puts pi/7 in full stick, Mindlin's value does not (docs/model.md s.3)
     assert regime(_params(KD[0], math.pi / 7, 1e7), 6e-5) == 2
@@ -253,7 +289,10 @@ def test_loop_closes_and_is_continuous_except_separation(model: int) -> None:
     for th, (before, after) in jumps.items():
         assert abs(reference.loop_friction(cc, B, th - 1e-12, model) - before) <= 1e-6 * Ns
         assert abs(reference.loop_friction(cc, B, th + 1e-12, model) - after) <= 1e-6 * Ns
-    closing = (float(reference.loop_friction(cc, B, 2 * pi - 1e-13, model)), float(reference.loop_friction(cc, B, 0.0, model)))
+    closing = (
+        float(reference.loop_friction(cc, B, 2 * pi - 1e-13, model)),
+        float(reference.loop_friction(cc, B, 0.0, model)),
+    )
     assert closing[0] == pytest.approx(Ns, rel=1e-9)  # sliding up at full N* before the reversal
     assert closing[1] == pytest.approx(Ns if model == 1 else -Ns, rel=1e-9)  # Coulomb reverses at once
 
@@ -264,8 +303,13 @@ def test_loop_state_intervals() -> None:
     B = 6e-5
     t1, t2, t3 = loop_angles(cc, B)
     pi = math.pi
-    mids = [0.5 * (a + b) for a, b in zip([0, t1, t2, pi - t2, t3, pi, pi + t1, pi + t2, 2 * pi - t2, pi + t3],
-                                          [t1, t2, pi - t2, t3, pi, pi + t1, pi + t2, 2 * pi - t2, pi + t3, 2 * pi])]
+    mids = [
+        0.5 * (a + b)
+        for a, b in zip(
+            [0, t1, t2, pi - t2, t3, pi, pi + t1, pi + t2, 2 * pi - t2, pi + t3],
+            [t1, t2, pi - t2, t3, pi, pi + t1, pi + t2, 2 * pi - t2, pi + t3, 2 * pi],
+        )
+    ]
     assert list(reference.loop_state(cc, B, np.array(mids))) == [1, 2, 0, 1, 2, 1, 2, 0, 1, 2]
     assert list(reference.loop_state(cc, B, np.array(mids), 2)) == [2, 2, 0, 2, 2, 2, 2, 0, 2, 2]  # Coulomb: no stick
     assert reference.loop_state(_params(KD[0], math.pi / 7, 1e7), B, 1.0) == 1  # full stick

@@ -8,6 +8,7 @@ prescribed motion must reproduce its own closed-form loop (harness.reference.con
 .jenkins_cycle_dissipation) to integration accuracy (1e-9). The exact piecewise stepper of
 reference_fixedpoint is a second, independent integrator for the fixed-B describing-function model.
 """
+
 from __future__ import annotations
 
 import math
@@ -17,8 +18,14 @@ import pytest
 
 from harness.analysis.harmonic_balance import harmonic_balance
 from harness.reference.blade import galerkin
-from harness.reference.contact import (contact_consts, describing_function, jenkins_cycle_dissipation, loop_angles,
-                                       loop_friction, loop_state)
+from harness.reference.contact import (
+    contact_consts,
+    describing_function,
+    jenkins_cycle_dissipation,
+    loop_angles,
+    loop_friction,
+    loop_state,
+)
 from harness.reference.dynamics import SimulationError, jenkins_prescribed, simulate
 from harness.reference.fixedpoint import PiecewiseStepper
 from harness.reference.tracked import tracked_radii
@@ -38,7 +45,7 @@ def test_no_contact_steady_amplitude_is_linear_closed_form(formulation: int) -> 
     g = galerkin(p)
     aero, speed, om = sine(n)
     Om = om / EO
-    Blin = 100.0 * g.loadGain / abs(g.K0(Om) - g.M * om ** 2 + 1j * om * g.C0)
+    Blin = 100.0 * g.loadGain / abs(g.K0(Om) - g.M * om**2 + 1j * om * g.C0)
     r = simulate(p, 5.0, aero, speed, [0.0, 5.0])
     assert r["amplitude"][-1] == pytest.approx(Blin, rel=1e-6)
     assert r["regime"][-1] == 0 and r["contactState"][-1] == 0 and r["Keq"][-1] == 0.0
@@ -93,25 +100,28 @@ def _energy_residual(p: dict, stop: float, n: float) -> tuple[float, float]:
     f = np.array([aero(t) for t in te[:-1]])
     W = np.concatenate([[0.0], np.cumsum(g.loadGain * f * np.diff(q))])
     Om = 2 * math.pi * n / 60
-    kin_pot = 0.5 * g.M * v ** 2 + 0.5 * g.K0(Om) * q ** 2
+    kin_pot = 0.5 * g.M * v**2 + 0.5 * g.K0(Om) * q**2
     over = np.maximum(np.abs(q) - cc.d, 0.0)
     if int(p.get("frictionModel", 1)) == 3:
         # normal spring k_n cos^2 g (|q| - d)^2 / 2 and tangential spring F_f^2 / (2 k_d)
-        kin_pot += 0.5 * cc.kn * math.cos(cc.gamma) ** 2 * over ** 2 + r["frictionForce"] ** 2 / (2 * cc.kd)
+        kin_pot += 0.5 * cc.kn * math.cos(cc.gamma) ** 2 * over**2 + r["frictionForce"] ** 2 / (2 * cc.kd)
     else:
         # gated K_eq q: potential K_eq (q^2 - d^2) / 2 outside the gap (continuous at |q| = d)
         df = describing_function(p, p["B"], 1.0, int(p.get("frictionModel", 1)), int(p.get("projection", 1)))
-        kin_pot += np.where(np.abs(q) > cc.d, 0.5 * df.Keq * (q ** 2 - cc.d ** 2), 0.0)
+        kin_pot += np.where(np.abs(q) > cc.d, 0.5 * df.Keq * (q**2 - cc.d**2), 0.0)
     return float(np.max(np.abs(W - kin_pot - E))), float(np.max(np.abs(W)))
 
 
-@pytest.mark.parametrize("params", [
-    {"frictionModel": 3},  # Jenkins, stick-slip
-    {"frictionModel": 3, "gamma": math.pi / 7},  # Jenkins, full stick (printed kdRatio)
-    {"frictionModel": 3, "kn": 1e5, "d": 1e-5},
-    {"frictionModel": 1, "amplitudeMode": 1, "B": 4e-5},  # gated DF
-    {"frictionModel": 2, "amplitudeMode": 1, "B": 4e-5, "projection": 2},
-])
+@pytest.mark.parametrize(
+    "params",
+    [
+        {"frictionModel": 3},  # Jenkins, stick-slip
+        {"frictionModel": 3, "gamma": math.pi / 7},  # Jenkins, full stick (printed kdRatio)
+        {"frictionModel": 3, "kn": 1e5, "d": 1e-5},
+        {"frictionModel": 1, "amplitudeMode": 1, "B": 4e-5},  # gated DF
+        {"frictionModel": 2, "amplitudeMode": 1, "B": 4e-5, "projection": 2},
+    ],
+)
 def test_energy_balance(params: dict) -> None:
     """Work of the aero load = kinetic + potential (blade, contact springs) + dissipated energy."""
     p = dict(params)
@@ -129,8 +139,16 @@ def test_energy_balance_exercises_contact() -> None:
     assert r["dissipatedEnergy"][-1] > 0
 
 
-@pytest.mark.parametrize("params,r", [({}, 1.01), ({}, 1.5), ({}, 20.0), ({"kdRatio": 0.8235294117647058}, 3.0),
-                                      ({"kn": 1e5, "gamma": math.pi / 4}, 2.0)])
+@pytest.mark.parametrize(
+    "params,r",
+    [
+        ({}, 1.01),
+        ({}, 1.5),
+        ({}, 20.0),
+        ({"kdRatio": 0.8235294117647058}, 3.0),
+        ({"kn": 1e5, "gamma": math.pi / 4}, 2.0),
+    ],
+)
 def test_jenkins_prescribed_motion_loop(params: dict, r: float) -> None:
     """The time-domain element driven by q = B cos(theta) (stick-slip regime):
     - its steady cycle work equals sin(g) * closed integral of F_f dv of the Jenkins loop (the
@@ -221,11 +239,16 @@ def test_period_ends_follow_the_phase_in_a_run_up() -> None:
     """psi' = omega(t): with n(t) = n0 + a t the k-th period ends at psi(t_k) = 2 pi k exactly."""
     n0, a = 3000.0, 20000.0  # rpm, rpm/s
     c = EO * 2 * math.pi / 60
-    tk = [(-n0 + math.sqrt(n0 ** 2 + 2 * a * 2 * math.pi * k / c)) / a for k in range(1, 8)]
+    tk = [(-n0 + math.sqrt(n0**2 + 2 * a * 2 * math.pi * k / c)) / a for k in range(1, 8)]
     eps = 1e-8
     te = np.sort(np.concatenate([[0.0], np.array(tk) - eps, np.array(tk) + eps]))
-    r = simulate({"amplitudeMode": 2}, tk[-1] + 2 * eps, lambda t: 100 * math.sin(c * (n0 * t + a * t * t / 2)),
-                 lambda t: n0 + a * t, te)
+    r = simulate(
+        {"amplitudeMode": 2},
+        tk[-1] + 2 * eps,
+        lambda t: 100 * math.sin(c * (n0 * t + a * t * t / 2)),
+        lambda t: n0 + a * t,
+        te,
+    )
     amp = r["amplitude"]
     before, after = amp[1::2], amp[2::2]
     assert np.all(before[1:] == after[:-1])  # constant inside a period
@@ -244,8 +267,7 @@ def test_taylor_input_with_breakpoints_matches_smooth_input() -> None:
         k = k + 1 if (k + 1) * h <= t else (k - 1 if k * h > t else k)  # exact piece of t
         tk = k * h
         dt = t - tk
-        return 100 * sum(om ** j * math.sin(om * tk + j * math.pi / 2) * dt ** j / math.factorial(j)
-                         for j in range(9))
+        return 100 * sum(om**j * math.sin(om * tk + j * math.pi / 2) * dt**j / math.factorial(j) for j in range(9))
 
     te = np.linspace(0, 0.05, 51)
     p = {"frictionModel": 3}
@@ -287,10 +309,20 @@ def test_segment_runner_finds_an_excursion_inside_one_step() -> None:
 
     level = 1 - 1e-6
     y0 = np.array([math.cos(-0.1), -math.sin(-0.1)])
-    res = run_segment(lambda t, y: [y[1], -y[0]], -0.1, y0, 0.5, [(lambda t, y: y[0] - level, 1.0)],
-                      lambda ts, Y: (Y[0], Y[1]), 1e-6, 1e-9, track_qmax=True)
+    res = run_segment(
+        lambda t, y: [y[1], -y[0]],
+        -0.1,
+        y0,
+        0.5,
+        [(lambda t, y: y[0] - level, 1.0)],
+        lambda ts, Y: (Y[0], Y[1]),
+        1e-6,
+        1e-9,
+        track_qmax=True,
+    )
     assert res.fired == 0
     assert res.t == pytest.approx(-math.acos(level), abs=1e-7)
-    res = run_segment(lambda t, y: [y[1], -y[0]], -0.1, y0, 0.5, [], lambda ts, Y: (Y[0], Y[1]), 1e-6, 1e-9,
-                      track_qmax=True)
+    res = run_segment(
+        lambda t, y: [y[1], -y[0]], -0.1, y0, 0.5, [], lambda ts, Y: (Y[0], Y[1]), 1e-6, 1e-9, track_qmax=True
+    )
     assert res.fired is None and res.qmax == pytest.approx(1.0, abs=1e-9)  # the max between knots

@@ -10,6 +10,7 @@ solution. The fixed point
 A(B) = B is checked against the linear closed form (no contact) and, for a contact case, against
 the DOP853 simulation (slow).
 """
+
 from __future__ import annotations
 
 import math
@@ -62,8 +63,9 @@ def test_all_roots_found(params: dict) -> None:
     for n in (5000.0, 6000.0, 7000.0, 8000.0, 9000.0):
         D0, F, w = _lin(params, n)
         Bs = np.linspace(d * (1 + 1e-7), 10 * d, 20001)
-        df = closed_form.describing_function(params, Bs, w, int(params.get("frictionModel", 1)),
-                                             int(params.get("projection", 1)))
+        df = closed_form.describing_function(
+            params, Bs, w, int(params.get("frictionModel", 1)), int(params.get("projection", 1))
+        )
         R = Bs * np.abs(D0 + df.Keq + 1j * df.CeqOmega) - F
         count = int(np.count_nonzero(np.sign(R[1:]) != np.sign(R[:-1]))) + int(F / abs(D0) <= d)
         sols = [s for s in harmonic_balance(params, n) if s.open or s.B <= 10 * d]
@@ -127,8 +129,14 @@ def test_slow_flow_stability_flag(params: dict) -> None:
 def _run_from_periodic_state(p: dict, n: float, s, rel: float, stop: float) -> np.ndarray:
     om = 3 * 2 * math.pi * n / 60
     q0, v0 = s.B * math.sin(s.phase), s.B * om * math.cos(s.phase)
-    r = simulate(dict(p, B=s.B * (1 + rel)), stop, lambda t: 100 * math.sin(om * t), lambda t: n,
-                 np.linspace(0, stop, 11), initial=(q0, v0))
+    r = simulate(
+        dict(p, B=s.B * (1 + rel)),
+        stop,
+        lambda t: 100 * math.sin(om * t),
+        lambda t: n,
+        np.linspace(0, stop, 11),
+        initial=(q0, v0),
+    )
     return r["amplitude"] / s.B - 1
 
 
@@ -224,6 +232,7 @@ def test_fixed_point_root_against_simulation() -> None:
     T = 2 * math.pi / om
     stop = 500 * T
     te = np.linspace(stop - T, stop, 4001)
-    r = simulate({"kn": 1e5, "amplitudeMode": 1, "B": root.B}, stop, lambda t: 100 * math.sin(om * t),
-                 lambda t: 5000.0, te)
+    r = simulate(
+        {"kn": 1e5, "amplitudeMode": 1, "B": root.B}, stop, lambda t: 100 * math.sin(om * t), lambda t: 5000.0, te
+    )
     assert np.max(np.abs(r["tipDisplacement"])) == pytest.approx(root.B, rel=1e-5)

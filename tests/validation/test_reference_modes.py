@@ -7,6 +7,7 @@ relative errors of the m-mode frequencies against it (docs/model.md s.2, "More t
 modes 1..3 at 10000 rpm: m = 1: 1.15e-3; m = 3: 2.9e-5, 2.8e-5, 1.0e-5; m = 6: 1.20e-6,
 1.11e-6, 9.2e-7; at 30000 rpm (the FMU's top speed), m = 6: 4.4e-5, 5.7e-5, 6.0e-5.
 """
+
 from __future__ import annotations
 
 import math
@@ -32,8 +33,13 @@ def fe():
 
 def test_one_mode_is_the_consistent_reduction():
     g, mg = galerkin(CONSISTENT, 2), modal_galerkin(CONSISTENT, 1)
-    for a, b in ((g.M, mg.M), (g.C0, mg.C0), (g.K0static, mg.K0static), (g.K0omega2, mg.K0omega2),
-                 (g.loadGain, mg.loadGain)):
+    for a, b in (
+        (g.M, mg.M),
+        (g.C0, mg.C0),
+        (g.K0static, mg.K0static),
+        (g.K0omega2, mg.K0omega2),
+        (g.loadGain, mg.loadGain),
+    ):
         assert float(np.ravel(b)[0]) == pytest.approx(a, rel=1e-12)
 
 
@@ -58,7 +64,7 @@ def test_galerkin_frequencies_approach_fe_from_above(fe, rpm):
     err = np.full((6, 3), np.nan)
     for m in range(1, 7):
         f = modal_galerkin(CONSISTENT, m).frequencies_hz(rpm)[:3]
-        err[m - 1, :f.size] = (f - exact[:f.size]) / exact[:f.size]
+        err[m - 1, : f.size] = (f - exact[: f.size]) / exact[: f.size]
     for k in range(3):
         col = err[k:, k]  # mode k + 1 exists from m = k + 1 on
         assert np.all(col > -1e-8), f"mode {k + 1} below the FE value: {col}"
@@ -77,14 +83,19 @@ def test_open_contact_forced_response_is_the_complex_solve():
     te = np.linspace(0.4 - T, 0.4, 121)
     r = simulate(p, 0.4, lambda t: 100 * math.sin(om * t), lambda t: n, te, modes=3)
     mg = modal_galerkin(p, 3)
-    qa = np.linalg.solve(mg.K0(2 * math.pi * n / 60) - om ** 2 * mg.M + 1j * om * mg.C0, 100 * mg.loadGain)
+    qa = np.linalg.solve(mg.K0(2 * math.pi * n / 60) - om**2 * mg.M + 1j * om * mg.C0, 100 * mg.loadGain)
     # q(t) = Im(qa e^{i omega t}) for the load F_w0 sin(omega t)
     for i in range(3):
         want = np.imag(qa[i] * np.exp(1j * om * te))
         np.testing.assert_allclose(r[f"modalDisplacement[{i + 1}]"], want, rtol=0, atol=1e-6 * abs(qa).max())
-    np.testing.assert_allclose(r["tipDisplacement"], np.imag(qa.sum() * np.exp(1j * om * te)), atol=1e-6 * abs(qa.sum()))
-    np.testing.assert_allclose(r["rootMoment"], np.imag(mg.EI * (mg.rootCurvature @ qa) * np.exp(1j * om * te)),
-                               atol=1e-6 * abs(mg.EI * (mg.rootCurvature @ qa)))
+    np.testing.assert_allclose(
+        r["tipDisplacement"], np.imag(qa.sum() * np.exp(1j * om * te)), atol=1e-6 * abs(qa.sum())
+    )
+    np.testing.assert_allclose(
+        r["rootMoment"],
+        np.imag(mg.EI * (mg.rootCurvature @ qa) * np.exp(1j * om * te)),
+        atol=1e-6 * abs(mg.EI * (mg.rootCurvature @ qa)),
+    )
     assert abs(beam_fe(p, 120).forced_tip(n, om, 100.0)) == pytest.approx(abs(qa.sum()), rel=2e-4)
 
 

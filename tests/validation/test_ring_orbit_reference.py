@@ -20,6 +20,7 @@ Broken on purpose: a period map that runs 1.002 T gives an orbit the reference l
 (fails); one that starts every contact with half its friction force lands on an orbit with every
 contact open at phase 0 (fails the precondition).
 """
+
 from __future__ import annotations
 
 import math
@@ -45,7 +46,7 @@ def reference_state(x: np.ndarray, spec: RingSpec) -> tuple[RingState, np.ndarra
     limit |phi| = 1, else sticking with the friction force phi L anchored at this u)."""
     m = MonolithicRing(spec)
     cc = m.cc
-    q, v, phi = x[0:2 * N:2], x[1:2 * N:2], x[2 * N:]
+    q, v, phi = x[0 : 2 * N : 2], x[1 : 2 * N : 2], x[2 * N :]
     u = q - np.roll(q, -1)
     contacts = []
     for j in range(N):
@@ -96,15 +97,15 @@ def _distances(orb) -> np.ndarray:
 
 def _step_difference(o160, o320) -> float:
     w = EO * 2 * math.pi * SPEED / 60
-    S = np.abs(o160.x[0:2 * N:2]).max()
+    S = np.abs(o160.x[0 : 2 * N : 2]).max()
     scale = np.array([S, S * w] * N)
-    return float(np.abs((o160.x[:2 * N] - o320.x[:2 * N]) / scale).max())
+    return float(np.abs((o160.x[: 2 * N] - o320.x[: 2 * N]) / scale).max())
 
 
 def test_reference_stays_on_a_stable_cosimulation_orbit(orbits) -> None:
     o160, o320 = orbits[160], orbits[320]
     assert o160.stable and o320.stable, (o160.max_multiplier, o320.max_multiplier)
-    q = o160.x[0:2 * N:2]
+    q = o160.x[0 : 2 * N : 2]
     assert np.sum(np.abs(q - np.roll(q, -1)) > 3e-5) >= 2  # contacts closed at the start: their state converted
     step_difference = _step_difference(o160, o320)
     d160, d320 = _distances(o160), _distances(o320)

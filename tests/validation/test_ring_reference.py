@@ -13,6 +13,7 @@ to it (harness/validation/ring_convergence.py).
   extrapolation of the input derivatives (measured 1.11, 1.86, 2.11); at h = 1.25e-5 s with
   quadratic extrapolation within 1e-3 of max |q| (measured 4.7e-4).
 """
+
 from __future__ import annotations
 
 import math
@@ -35,15 +36,15 @@ def test_energy_books_close():
     cc = contact_consts({})
     cg = math.cos(cc.gamma)
     pen = np.maximum(np.abs(u) - cc.d, 0.0)
-    normal = 0.5 * cc.kn * cg * cg * pen ** 2  # F_n cos g = kn cos^2 g (|u| - d) (eq. 3, 14)
+    normal = 0.5 * cc.kn * cg * cg * pen**2  # F_n cos g = kn cos^2 g (|u| - d) (eq. 3, 14)
     # the tangential spring energy F_f^2 / (2 kd) is not an output: bounded by |F_f| <= mu |F_n|
     fmax = cc.mu * cc.kn * cg * pen
-    stored = (0.5 * m.M * v ** 2 + 0.5 * m.K0 * q ** 2).sum(1) + normal.sum(1)
+    stored = (0.5 * m.M * v**2 + 0.5 * m.K0 * q**2).sum(1) + normal.sum(1)
     W, Ev, Ef = r["Waero"].sum(1), r["Evisc"].sum(1), r["Efric"].sum(1)
     gap = W - (stored + Ev + Ef)  # = tangential spring energy, in [0, sum fmax^2 / (2 kd)]
     tol = 1e-8 * np.abs(W).max()
     assert np.all(gap >= -tol)
-    assert np.all(gap <= (fmax ** 2 / (2 * cc.kd)).sum(1) + tol)
+    assert np.all(gap <= (fmax**2 / (2 * cc.kd)).sum(1) + tol)
     # a steady period: the stored energies return
     T = 2 * math.pi / m.omega
     k1 = len(t) - 1

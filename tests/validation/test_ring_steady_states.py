@@ -15,6 +15,7 @@ From rest, 0.3 s (96 periods, 14 decay times), both runs:
   by |mu| = 3.41 (co-sim) and 3.44 (reference) per period, its largest Floquet multiplier off the
   wave; the test asks for > 2 in both and agreement within 5 %.
 """
+
 from __future__ import annotations
 
 import numpy as np

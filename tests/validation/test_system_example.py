@@ -11,6 +11,7 @@ Checks, each against something computed independently of the code under test:
 - the excitation's travelling wave: blade i of N gets the load 2 pi EO i / N ahead (closed form,
   1e-11 of F_w0), and a blade index off the disk is refused with a message naming the range.
 """
+
 from __future__ import annotations
 
 import math
@@ -57,8 +58,14 @@ def test_libcosim_equals_fmpy_master(runs):
 def test_blades_in_the_system_equal_standalone_runs(runs):
     fmu, a, _ = runs
     t = ns_time_grid(0.0, SYSTEM.step, SYSTEM.n_steps)
-    plan = InputPlan(t, {"aeroLoad": a["excitation.aeroLoad"][None, :].copy(),
-                         "rotorSpeed": a["excitation.rotorSpeed"][None, :].copy()}, 0)
+    plan = InputPlan(
+        t,
+        {
+            "aeroLoad": a["excitation.aeroLoad"][None, :].copy(),
+            "rotorSpeed": a["excitation.rotorSpeed"][None, :].copy(),
+        },
+        0,
+    )
     with SlaveLoop(fmu) as loop:
         for name, params in SYSTEM.blades.items():
             alone = loop.run(plan, params)
@@ -77,7 +84,7 @@ def test_parameters_reached_the_instances(runs, name):
     p = validate(dict(SYSTEM.blades[name]))
     g = galerkin(p)
     omega = 2 * math.pi * SYSTEM.excitation["n0"] / 60
-    f = math.sqrt((g.K0static + g.K0omega2 * omega ** 2) / g.M) / (2 * math.pi)
+    f = math.sqrt((g.K0static + g.K0omega2 * omega**2) / g.M) / (2 * math.pi)
     for res in (a, b):
         assert res[f"{name}.naturalFrequency"][0] == pytest.approx(f, rel=1e-8)
 
@@ -89,7 +96,6 @@ def test_mistuned_blade_responds_differently(runs):
     assert ta > 0 and tb > 0 and abs(ta - tb) > 1e-3 * ta
 
 
-
 @pytest.mark.parametrize("index,count", [(0, 1), (3, 7), (35, 36)])
 def test_excitation_travelling_wave_phase(index, count):
     """Blade `index` of `count` sees the engine-fixed load 2 pi EO index / count earlier: aeroLoad
@@ -99,8 +105,13 @@ def test_excitation_travelling_wave_phase(index, count):
 
     from harness.model.excitation import Constant
 
-    r = simulate_fmu(str(se.build_excitation_fmu()), stop_time=0.01, output_interval=1e-4, output=["aeroLoad"],
-                     start_values={"bladeIndex": index, "bladeCount": count, "n0": 6000.0, "n1": 6000.0})
+    r = simulate_fmu(
+        str(se.build_excitation_fmu()),
+        stop_time=0.01,
+        output_interval=1e-4,
+        output=["aeroLoad"],
+        start_values={"bladeIndex": index, "bladeCount": count, "n0": 6000.0, "n1": 6000.0},
+    )
     load = AeroLoad(100.0, 3, Constant(6000.0))
     expected = 100.0 * np.sin(load.phase(r["time"]) + 2 * math.pi * 3 * index / count)
     assert np.max(np.abs(r["aeroLoad"] - expected)) <= 1e-11 * 100.0
@@ -116,6 +127,12 @@ def test_excitation_blade_off_the_disk_is_refused():
         messages.append(message.decode())
 
     with pytest.raises(FMICallException):
-        simulate_fmu(str(se.build_excitation_fmu()), stop_time=0.01, output_interval=1e-4, logger=logger, debug_logging=True,
-                     start_values={"bladeIndex": 7, "bladeCount": 7})
+        simulate_fmu(
+            str(se.build_excitation_fmu()),
+            stop_time=0.01,
+            output_interval=1e-4,
+            logger=logger,
+            debug_logging=True,
+            start_values={"bladeIndex": 7, "bladeCount": 7},
+        )
     assert any("bladeIndex = 7" in m and "[0, 6]" in m for m in messages), messages

@@ -1,5 +1,6 @@
 """FMU vs the independent reference (harness.validation.validate) on a reduced matrix, and the input path:
 input derivatives bring the FMU closer to the exact-signal reference than held inputs."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -17,8 +18,11 @@ BASE = dict(frictionModel=1, formulation=1, projection=1, gating=True, amplitude
 REDUCED = [
     ("paper setting, 5000 rpm", BASE, Constant(5000.0)),
     ("ungated fixed B, 5000 rpm", {**BASE, "gating": False, "amplitudeMode": 1}, Constant(5000.0)),
-    ("ungated tracked B consistent, run-up", {**BASE, "gating": False, "formulation": 2, "projection": 2},
-     LinearRamp(4000.0, 6000.0, 0.0, 0.03)),
+    (
+        "ungated tracked B consistent, run-up",
+        {**BASE, "gating": False, "formulation": 2, "projection": 2},
+        LinearRamp(4000.0, 6000.0, 0.0, 0.03),
+    ),
     ("Coulomb DF gated, 8000 rpm", {**BASE, "frictionModel": 2}, Constant(8000.0)),
     ("Jenkins element, 5000 rpm", {**BASE, "frictionModel": 3}, Constant(5000.0)),
 ]
@@ -35,10 +39,14 @@ def test_time_domain_agrees_with_reference(fmu, name, options, speed):
     assert not bad, bad
 
 
-@pytest.mark.parametrize("options, rpm", [
-    (dict(BASE, gating=False, projection=2), 6000.0),  # contact branch, tracked map radius 0.87
-    (dict(BASE, gating=False), 5000.0),  # every HB root unreachable by the tracked update
-], ids=["contact-branch-6000", "unreachable-5000"])
+@pytest.mark.parametrize(
+    "options, rpm",
+    [
+        (dict(BASE, gating=False, projection=2), 6000.0),  # contact branch, tracked map radius 0.87
+        (dict(BASE, gating=False), 5000.0),  # every HB root unreachable by the tracked update
+    ],
+    ids=["contact-branch-6000", "unreachable-5000"],
+)
 def test_steady_state_agrees_with_harmonic_balance(fmu, options, rpm):
     rows = compare_hb(fmu, Case("HB", options, Constant(rpm), 0.0, kind="hb", rpm=rpm))
     assert all(r.passed for r in rows), [(r.quantity, r.error, r.note) for r in rows]
@@ -49,7 +57,7 @@ def test_steady_state_agrees_with_harmonic_balance(fmu, options, rpm):
 
 
 def _no_steady_state_for_the_named_reason(fmu, p, rpm, row):
-    """"No steady state (as predicted)" passes only for its reason, the tracked-B update: the
+    """ "No steady state (as predicted)" passes only for its reason, the tracked-B update: the
     reference's period map is unstable at every stable HB root (radius > 1, computed here on its
     own), the FMU did not settle, and the same FMU with B held at each such root (amplitudeMode 1,
     no update) does settle on it within TOL_HB: the orbit is there and the run can reach it, so

@@ -12,6 +12,7 @@ B = A(B) sit in a window of B narrower than any scan grid (at 9000 rpm in the ba
 um wide; closing at the fold, 9431 rpm), but the branch through them is traced from speeds where
 the search finds it.
 """
+
 from __future__ import annotations
 
 import math
@@ -53,9 +54,14 @@ def seed_speeds(lo: float, hi: float, step: float) -> list[float]:
     return list(np.linspace(lo, hi, n + 1))
 
 
-def trace_branches(fmu: BladeFMU, params: Mapping[str, Any] | None, model: str, speed_range: tuple[float, float],
-                   s: BranchSettings = BranchSettings(),
-                   pm: PeriodMap | None = None) -> tuple[list[Branch], TraceStats]:
+def trace_branches(
+    fmu: BladeFMU,
+    params: Mapping[str, Any] | None,
+    model: str,
+    speed_range: tuple[float, float],
+    s: BranchSettings = BranchSettings(),
+    pm: PeriodMap | None = None,
+) -> tuple[list[Branch], TraceStats]:
     """(branches, statistics) of `model` over speed_range [rpm] (with the period map pm, if given:
     its evaluations count there)."""
     lo, hi = (float(v) for v in speed_range)

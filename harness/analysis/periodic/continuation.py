@@ -17,6 +17,7 @@ stability between neighbours are the branch's bifurcations: fold (det(DP - I) ch
 period doubling (det(DP + I) changes sign), Neimark-Sacker (the number of complex multipliers
 outside the circle changes).
 """
+
 from __future__ import annotations
 
 import csv
@@ -131,8 +132,9 @@ class Branch:
                 tol = rtol * max(a.amplitude, b.amplitude) + 0.5 * abs(b.amplitude - a.amplitude) * (hi > lo)
                 if abs(amplitude - amp) <= max(tol, rtol * amplitude):
                     return True
-        return any(abs(p.speed - speed) <= 1e-6 * speed and abs(p.amplitude - amplitude) <= rtol * amplitude
-                   for p in pts)
+        return any(
+            abs(p.speed - speed) <= 1e-6 * speed and abs(p.amplitude - amplitude) <= rtol * amplitude for p in pts
+        )
 
 
 def write_branches_csv(path: Path, branches: list[Branch], columns: dict[str, list] | None = None) -> None:
@@ -160,20 +162,51 @@ def write_branches_csv(path: Path, branches: list[Branch], columns: dict[str, li
         "q0": digits.column(t[0] for t in tips),
         "v0": digits.column(t[1] for t in tips),
         "mu": digits.column(np.max(np.abs(p.multipliers)) for _, _, p, _, _ in rows),
-        "lead": [digits.column(r[4][k] for r in rows) if rows and isinstance(rows[0][4][k], float) else None
-                 for k in range(len(columns))],
+        "lead": [
+            digits.column(r[4][k] for r in rows) if rows and isinstance(rows[0][4][k], float) else None
+            for k in range(len(columns))
+        ],
     }
     e_mu = digits.exponent(1.0)
     with open(tmp, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(list(columns) + ["branch", "kind", "model", "speed_rpm", "amplitude_m", "B_m", "q0_m", "v0_m_s",
-                                    "stable", "label", "mu_abs_max", "multipliers"])
+        w.writerow(
+            list(columns)
+            + [
+                "branch",
+                "kind",
+                "model",
+                "speed_rpm",
+                "amplitude_m",
+                "B_m",
+                "q0_m",
+                "v0_m_s",
+                "stable",
+                "label",
+                "mu_abs_max",
+                "multipliers",
+            ]
+        )
         for j, (i, kind, p, label, lead) in enumerate(rows):
             lead_text = [num["lead"][k][j] if num["lead"][k] is not None else v for k, v in enumerate(lead)]
             mus = " ".join(_complex_text(m, e_mu) for m in p.multipliers)
-            w.writerow(lead_text + [i, kind, branches[i].model, num["speed"][j], num["amplitude"][j],
-                                    num["B"][j] if has_B[j] else "", num["q0"][j], num["v0"][j], int(p.stable), label,
-                                    num["mu"][j], mus])
+            w.writerow(
+                lead_text
+                + [
+                    i,
+                    kind,
+                    branches[i].model,
+                    num["speed"][j],
+                    num["amplitude"][j],
+                    num["B"][j] if has_B[j] else "",
+                    num["q0"][j],
+                    num["v0"][j],
+                    int(p.stable),
+                    label,
+                    num["mu"][j],
+                    mus,
+                ]
+            )
     tmp.replace(path)
 
 
@@ -187,7 +220,7 @@ def tip_state(x: np.ndarray) -> tuple[float, float]:
     """(q0, q0') at the tip from a branch point's unknowns: 2m or 2m + 1 of them (period_map), the
     modal ones summed for m > 1."""
     m = len(x) // 2
-    return (float(x[0]), float(x[1])) if m == 1 else (float(np.sum(x[:m])), float(np.sum(x[m:2 * m])))
+    return (float(x[0]), float(x[1])) if m == 1 else (float(np.sum(x[:m])), float(np.sum(x[m : 2 * m])))
 
 
 class BranchProblem:
@@ -275,9 +308,15 @@ def _tangent(Jz: np.ndarray, prev: np.ndarray | None) -> np.ndarray:
     return t / np.linalg.norm(t)
 
 
-def continue_branch(pm: PeriodMap, x: np.ndarray, speed: float, speed_range: tuple[float, float],
-                    settings: ContinuationSettings = ContinuationSettings(), directions: tuple[int, ...] = (-1, 1),
-                    stop: Callable[[BranchPoint], str | None] | None = None) -> Branch:
+def continue_branch(
+    pm: PeriodMap,
+    x: np.ndarray,
+    speed: float,
+    speed_range: tuple[float, float],
+    settings: ContinuationSettings = ContinuationSettings(),
+    directions: tuple[int, ...] = (-1, 1),
+    stop: Callable[[BranchPoint], str | None] | None = None,
+) -> Branch:
     """Trace the branch through the periodic orbit x at `speed` (a converged root of the period
     map) in both speed directions (or those in `directions`: -1 down, +1 up at the start) until it
     leaves speed_range (or stop(point) gives a reason to end there, e.g. it joined a branch traced
@@ -307,9 +346,16 @@ def continue_branch(pm: PeriodMap, x: np.ndarray, speed: float, speed_range: tup
     return Branch(pm.model, down + [first] + up, reasons, closed)
 
 
-def _march(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, rng: tuple[float, float],
-           s: ContinuationSettings, z_first: np.ndarray, stop: Callable[[BranchPoint], str | None] | None = None
-           ) -> tuple[list[BranchPoint], str, bool]:
+def _march(
+    prob: BranchProblem,
+    z: np.ndarray,
+    t: np.ndarray,
+    Jz: np.ndarray,
+    rng: tuple[float, float],
+    s: ContinuationSettings,
+    z_first: np.ndarray,
+    stop: Callable[[BranchPoint], str | None] | None = None,
+) -> tuple[list[BranchPoint], str, bool]:
     pts: list[BranchPoint] = []
     kinks: list[str] = []  # kinks stepped past
     ds = s.ds
@@ -348,8 +394,9 @@ def _with(reason: str, kinks: list[str]) -> str:
     return "; ".join([*kinks, reason])
 
 
-def _past_kink(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, s: ContinuationSettings
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, BranchPoint] | None:
+def _past_kink(
+    prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, s: ContinuationSettings
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, BranchPoint] | None:
     """(z, tangent, dH/dz, point) a step of s.kink_steps past a kink the corrector could not
     cross, or None: the corrector from z + ds t with a fresh Jacobian per iteration, accepted if it
     ends within ds / 2 of its predictor (the branch through z, not another one)."""
@@ -387,8 +434,9 @@ def _past_kink(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray
     return None
 
 
-def _step(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, ds: float, s: ContinuationSettings
-          ) -> tuple[bool, np.ndarray, np.ndarray, np.ndarray, BranchPoint | None]:
+def _step(
+    prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, ds: float, s: ContinuationSettings
+) -> tuple[bool, np.ndarray, np.ndarray, np.ndarray, BranchPoint | None]:
     """One predictor-corrector step from the branch point z (tangent t, dH/dz Jz there). The
     corrector is first quasi-Newton: Jz updated by Broyden after every iteration (one period per
     iteration); where that fails (a kink of the map: an event appears or vanishes) Newton with a
@@ -396,7 +444,7 @@ def _step(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, ds:
     multipliers and the next tangent."""
     fail = (False, z, t, Jz, None)
     zp = z + ds * t
-    for quasi in ((True, False) if s.fresh_fallback else (True,)):
+    for quasi in (True, False) if s.fresh_fallback else (True,):
         try:
             done = correct(prob, zp, t, Jz, s, quasi)
         except (FMUError, ParameterError):  # the FMU refused the start, or the speed left its range
@@ -416,8 +464,9 @@ def _step(prob: BranchProblem, z: np.ndarray, t: np.ndarray, Jz: np.ndarray, ds:
     return True, zk, _tangent(Jz_new, t), Jz_new, BranchPoint(n, x, A, multipliers(DP), it)
 
 
-def correct(prob: BranchProblem, zp: np.ndarray, t: np.ndarray, Jz: np.ndarray, s: ContinuationSettings, quasi: bool
-             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, int] | None:
+def correct(
+    prob: BranchProblem, zp: np.ndarray, t: np.ndarray, Jz: np.ndarray, s: ContinuationSettings, quasi: bool
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, int] | None:
     """Newton on (H(z) = 0, t . (z - zp) = 0) from the predictor zp: (z, H, P, amplitude,
     iterations) or None. quasi: Jz, Broyden-updated; else a fresh Jacobian every iteration."""
     zk = zp.copy()

@@ -7,6 +7,7 @@ harness.analysis.periodic.branches in one worker with one FMU instance. `trace_c
 harness.studies.paper maps over a Runner; `curve_summary` turns a curve into a CurveSummary, the numbers
 the study rows (and through them the claims table and the study CSVs) use.
 """
+
 from __future__ import annotations
 
 import math
@@ -44,8 +45,9 @@ def trace_curve(task: CurveTask) -> Curve:
     return Curve(task, branches, replace(stats, wall=time.perf_counter() - t0))
 
 
-def peak_orbit(branches: list[Branch], stable_only: bool = True,
-               speed_range: tuple[float, float] = (0.0, math.inf)) -> Any:
+def peak_orbit(
+    branches: list[Branch], stable_only: bool = True, speed_range: tuple[float, float] = (0.0, math.inf)
+) -> Any:
     """The (stable) orbit of largest max |q| inside speed_range: a located peak or fold (a fold that
     bounds a stable part is the limit of its stable orbits) or a sampled point (the largest may sit
     at a branch end), with its unknowns x; None if there is none."""
@@ -58,8 +60,9 @@ def peak_orbit(branches: list[Branch], stable_only: bool = True,
     return best
 
 
-def peak(branches: list[Branch], stable_only: bool = True,
-         speed_range: tuple[float, float] = (0.0, math.inf)) -> tuple[float, float]:
+def peak(
+    branches: list[Branch], stable_only: bool = True, speed_range: tuple[float, float] = (0.0, math.inf)
+) -> tuple[float, float]:
     """(largest max |q| [m], its speed [rpm]) of `peak_orbit`; nan if there is none."""
     p = peak_orbit(branches, stable_only, speed_range)
     return (math.nan, math.nan) if p is None else (p.amplitude, p.speed)
@@ -130,5 +133,14 @@ def curve_summary(curve: Curve) -> CurveSummary:
     d, rng = float(curve.task.params["d"]), curve.task.speed_range
     a, n = peak(curve.branches, speed_range=rng)
     a_any, n_any = peak(curve.branches, stable_only=False, speed_range=rng)
-    return CurveSummary(a, n, a_any, n_any, jump_speed(curve.branches, a, n), len(curve.branches),
-                        sum(len(b.points) for b in curve.branches), unstable_ranges(curve.branches, d), curve.stats)
+    return CurveSummary(
+        a,
+        n,
+        a_any,
+        n_any,
+        jump_speed(curve.branches, a, n),
+        len(curve.branches),
+        sum(len(b.points) for b in curve.branches),
+        unstable_ranges(curve.branches, d),
+        curve.stats,
+    )

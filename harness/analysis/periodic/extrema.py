@@ -11,6 +11,7 @@ H(z) = 0, a . z = sigma (harness.analysis.periodic.continuation.correct). Along 
 found by Brent's bounded search (scipy.optimize.minimize_scalar) to SIGMA_TOL (1e-4 rpm of speed
 for a unit secant along the speed). The multipliers are those of the located orbit.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -52,12 +53,23 @@ class Extremum:
         if self.kind == "peak":
             return _said(classify(self.multipliers))
         a, b = (_said(s) for s in self.sides)
-        return f"turning point between two {a} orbits" if a == b else f"turning point between a {a} and an {b} orbit" \
-            if b.startswith("unstable") else f"turning point between an {a} and a {b} orbit"
+        return (
+            f"turning point between two {a} orbits"
+            if a == b
+            else f"turning point between a {a} and an {b} orbit"
+            if b.startswith("unstable")
+            else f"turning point between an {a} and a {b} orbit"
+        )
 
     def as_dict(self) -> dict:
-        return {"kind": self.kind, "speed_rpm": self.speed, "amplitude_m": self.amplitude, "stable": self.stable,
-                "stability": self.stability, "mu_abs_max": float(np.max(np.abs(self.multipliers)))}
+        return {
+            "kind": self.kind,
+            "speed_rpm": self.speed,
+            "amplitude_m": self.amplitude,
+            "stable": self.stable,
+            "stability": self.stability,
+            "mu_abs_max": float(np.max(np.abs(self.multipliers))),
+        }
 
 
 def _said(label: str) -> str:
@@ -82,7 +94,7 @@ class _Section:
 
     def __init__(self, pm: PeriodMap, branch: Branch, i: int, settings: ContinuationSettings):
         self.settings = settings
-        pts = branch.points[i - 1: i + 2]
+        pts = branch.points[i - 1 : i + 2]
         self.prob = BranchProblem(pm, pm.scales(pts[1].x, pts[1].speed))
         self.z = [self.prob.to_z(p.x, p.speed) for p in pts]
         self.amplitudes = [p.amplitude for p in pts]
@@ -114,8 +126,13 @@ class _Section:
                 return self.solved[sigma]
         return None
 
-    def located(self, kind: str, objective: Callable[[np.ndarray, float], float], sides: tuple[str, str],
-                xatol: float = SIGMA_TOL) -> Extremum | None:
+    def located(
+        self,
+        kind: str,
+        objective: Callable[[np.ndarray, float], float],
+        sides: tuple[str, str],
+        xatol: float = SIGMA_TOL,
+    ) -> Extremum | None:
         """The minimum of objective(z, amplitude) over sigma between the neighbours."""
         # where the corrector finds no branch point the objective is undefined: a finite value above
         # the three sampled points' keeps Brent away from it (an infinite one turns its parabola
@@ -142,8 +159,13 @@ class _Section:
         return Extremum(kind, n, amp, x, multipliers(DP), sides)
 
 
-def locate(pm: PeriodMap, branch: Branch, settings: ContinuationSettings = ContinuationSettings(),
-           keep: Callable[[int, str], bool] | None = None, xatol: float = SIGMA_TOL) -> list[Extremum]:
+def locate(
+    pm: PeriodMap,
+    branch: Branch,
+    settings: ContinuationSettings = ContinuationSettings(),
+    keep: Callable[[int, str], bool] | None = None,
+    xatol: float = SIGMA_TOL,
+) -> list[Extremum]:
     """The located peaks and folds of `branch` (in arc order); an extremum whose refinement fails
     is left out (its sampled point stays on the branch). keep(index, kind): locate only the
     candidates it accepts (default: all); xatol: Brent's tolerance in sigma."""

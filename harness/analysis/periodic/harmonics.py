@@ -9,6 +9,7 @@ one harmonic, gating off) is compared with a1 and with max |q|: ungated, the fix
 h = 0 and HB equals the orbit (tests/analysis/test_periodic.py); gated, and for the Jenkins element, h
 measures what one harmonic cannot hold.
 """
+
 from __future__ import annotations
 
 import math
@@ -48,8 +49,9 @@ class HarmonicRow:
         return (self.hb - self.amplitude) / self.amplitude
 
     def as_dict(self) -> dict[str, Any]:
-        return dict(asdict(self), higher_rel=self.higher_rel, hb_vs_a1=self.hb_vs_a1,
-                    hb_vs_amplitude=self.hb_vs_amplitude)
+        return dict(
+            asdict(self), higher_rel=self.higher_rel, hb_vs_a1=self.hb_vs_a1, hb_vs_amplitude=self.hb_vs_amplitude
+        )
 
 
 def fourier_amplitudes(q: np.ndarray) -> np.ndarray:
@@ -63,20 +65,36 @@ def fourier_amplitudes(q: np.ndarray) -> np.ndarray:
 def orbit_samples(pm: PeriodMap, x: np.ndarray, speed: float, n: int = SAMPLES) -> np.ndarray:
     """q at t = k T / n, k = 0..n - 1, by the FMU started on the orbit through x at load phase 0."""
     T = 2.0 * math.pi / omega(pm.p, speed)
-    r = pm.fmu.run(dict(pm.p, **pm.start_values(x)), T, T / n, speed=speed, outputs=["tipDisplacement"],
-                   input_fit="chebyshev", carry_values=True)
+    r = pm.fmu.run(
+        dict(pm.p, **pm.start_values(x)),
+        T,
+        T / n,
+        speed=speed,
+        outputs=["tipDisplacement"],
+        input_fit="chebyshev",
+        carry_values=True,
+    )
     return np.asarray(r["tipDisplacement"][:n], dtype=float)
 
 
-def harmonic_row(pm: PeriodMap, x: np.ndarray, speed: float, amplitude: float, stable: bool,
-                 hb_params: Mapping[str, Any]) -> HarmonicRow:
+def harmonic_row(
+    pm: PeriodMap, x: np.ndarray, speed: float, amplitude: float, stable: bool, hb_params: Mapping[str, Any]
+) -> HarmonicRow:
     """The Fourier content of the orbit through x at `speed` (max |q| = amplitude) and the HB
     contact root (B > d) nearest its first harmonic (HB of hb_params; nan if HB has none there)."""
     a = fourier_amplitudes(orbit_samples(pm, x, speed))
     hb = [s.B for s in harmonic_balance(hb_params, speed) if s.B > pm.d]  # HB's contact roots
     nearest = min(hb, key=lambda B: abs(B - a[1])) if hb else math.nan
-    return HarmonicRow(pm.model, float(speed), bool(stable), float(amplitude), float(a[1]),
-                       float(np.sqrt(np.sum(a[2:] ** 2))), float(a[3]), float(nearest))
+    return HarmonicRow(
+        pm.model,
+        float(speed),
+        bool(stable),
+        float(amplitude),
+        float(a[1]),
+        float(np.sqrt(np.sum(a[2:] ** 2))),
+        float(a[3]),
+        float(nearest),
+    )
 
 
 def hb_parameters(pm: PeriodMap) -> dict[str, Any]:
@@ -85,8 +103,9 @@ def hb_parameters(pm: PeriodMap) -> dict[str, Any]:
     return dict(pm.p, frictionModel=1 if pm.model == "jenkins" else pm.p["frictionModel"])
 
 
-def branch_harmonics(fmu: Any, params: Mapping[str, Any], model: str, branches: Sequence[Branch],
-                     spacing: float = 250.0) -> list[HarmonicRow]:
+def branch_harmonics(
+    fmu: Any, params: Mapping[str, Any], model: str, branches: Sequence[Branch], spacing: float = 250.0
+) -> list[HarmonicRow]:
     """Rows for the contact orbits (max |q| > d) of traced branches, at least `spacing` rpm apart
     along each branch."""
     pm = PeriodMap(fmu, params, model)
@@ -118,7 +137,10 @@ def summarize(rows: Sequence[HarmonicRow]) -> dict[str, HarmonicRange]:
         rs = [r for r in rows if r.model == model and math.isfinite(r.hb)]
         if not rs:
             continue
-        out[model] = HarmonicRange(len(rs), (min(r.higher_rel for r in rs), max(r.higher_rel for r in rs)),
-                                   (min(r.hb_vs_a1 for r in rs), max(r.hb_vs_a1 for r in rs)),
-                                   (min(r.hb_vs_amplitude for r in rs), max(r.hb_vs_amplitude for r in rs)))
+        out[model] = HarmonicRange(
+            len(rs),
+            (min(r.higher_rel for r in rs), max(r.higher_rel for r in rs)),
+            (min(r.hb_vs_a1 for r in rs), max(r.hb_vs_a1 for r in rs)),
+            (min(r.hb_vs_amplitude for r in rs), max(r.hb_vs_amplitude for r in rs)),
+        )
     return out

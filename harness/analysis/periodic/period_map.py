@@ -27,6 +27,7 @@ quantity the contact, B and max |q| refer to). For m > 1 DP comes from the FMU's
 jenkinsForce, runningMaximum, amplitude; columns the start values of the modal state, of
 jenkinsForce and B), the sub-matrix of the m modes; an FMU without it: finite differences.
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -49,8 +50,9 @@ _OUT = ("tipDisplacement", "tipVelocity", "jenkinsForce", "runningMaximum", "amp
 
 def modal_names(m: int) -> tuple[str, ...]:
     """The FMU's modal start values / outputs (q_1..q_m, q_1'..q_m')."""
-    return tuple(f"modalDisplacement[{i}]" for i in range(1, m + 1)) + \
-        tuple(f"modalVelocity[{i}]" for i in range(1, m + 1))
+    return tuple(f"modalDisplacement[{i}]" for i in range(1, m + 1)) + tuple(
+        f"modalVelocity[{i}]" for i in range(1, m + 1)
+    )
 
 
 def modal_sensitivities(m: int) -> tuple[str, ...]:
@@ -63,6 +65,8 @@ def modal_sensitivities(m: int) -> tuple[str, ...]:
 def modes_of(params: Mapping[str, Any]) -> int:
     """m = params["modes"] (1 where the parameter set has none)."""
     return int(params.get("modes", 1))
+
+
 # the FMU's sensitivities: d(row)/d(column), rows as _OUT, columns the start values q0, q0', F0 and B
 _SENS = tuple(f"d{r[0].upper()}{r[1:]}_d{c}" for r in _OUT for c in ("Q0", "V0", "F0", "B"))
 
@@ -101,8 +105,10 @@ def model_params(params: Mapping[str, Any] | None, model: str) -> dict[str, Any]
     elif model == "coulomb":
         p["frictionModel"] = 2
     elif int(p["frictionModel"]) == 3:
-        raise ParameterError(f"model {model!r} needs a describing-function frictionModel (1 or 2), got 3;"
-                             " use --model jenkins for the time-domain element")
+        raise ParameterError(
+            f"model {model!r} needs a describing-function frictionModel (1 or 2), got 3;"
+            " use --model jenkins for the time-domain element"
+        )
     p["amplitudeMode"] = 2  # see the module doc: B fixed inside the period, extrema located
     return p
 
@@ -115,8 +121,13 @@ def omega(params: Mapping[str, Any], speed: float) -> float:
 class PeriodMap:
     """P(x) at a speed for one model and parameter set, evaluated with one BladeFMU instance."""
 
-    def __init__(self, fmu: BladeFMU, params: Mapping[str, Any] | None, model: str,
-                 settings: ShootingSettings = ShootingSettings()):
+    def __init__(
+        self,
+        fmu: BladeFMU,
+        params: Mapping[str, Any] | None,
+        model: str,
+        settings: ShootingSettings = ShootingSettings(),
+    ):
         self.fmu, self.model, self.s = fmu, model, settings.check()
         self.p = model_params(params, model)
         self.m = modes_of(self.p)
@@ -145,8 +156,11 @@ class PeriodMap:
         self._ints = Values([v[k].valueReference for k, _ in ints], [int(x) for _, x in ints], ctypes.c_int)
         self._bools = Values([v[k].valueReference for k, _ in bools], [int(bool(x)) for _, x in bools], ctypes.c_int)
         self._isens = next((i for i, (k, _) in enumerate(bools) if k == "sensitivities"), None)
-        out = (_OUT + (_SENS if settings.sensitivities else ())) if self.m == 1 else \
-            _OUT + modal_names(self.m) + (modal_sensitivities(self.m) if settings.sensitivities else ())
+        out = (
+            (_OUT + (_SENS if settings.sensitivities else ()))
+            if self.m == 1
+            else _OUT + modal_names(self.m) + (modal_sensitivities(self.m) if settings.sensitivities else ())
+        )
         self._out = Values([v[k].valueReference for k in out])
         K = MAX_ORDER
         # per step the load's derivatives 1..K; the speed's stay 0 from the reset (constant speed)
@@ -164,8 +178,9 @@ class PeriodMap:
             speed = 60.0 / int(self.p["engineOrder"])  # T = 1 s
             grid = np.arange(N + 1) / N
             grid[-1] = 1.0
-            self._unit = step_inputs(AeroLoad(self.p["Fw0"], self.p["engineOrder"], Constant(speed)), grid,
-                                     MAX_ORDER, "chebyshev")
+            self._unit = step_inputs(
+                AeroLoad(self.p["Fw0"], self.p["engineOrder"], Constant(speed)), grid, MAX_ORDER, "chebyshev"
+            )
         return self._unit
 
     def _prepare(self, speed: float) -> None:
@@ -195,7 +210,7 @@ class PeriodMap:
     def tip(self, x: np.ndarray) -> tuple[float, float]:
         """(q0, q0') at the tip: the unknowns themselves for m = 1, else the sums of the modal ones."""
         m = self.m
-        return (float(x[0]), float(x[1])) if m == 1 else (float(np.sum(x[:m])), float(np.sum(x[m:2 * m])))
+        return (float(x[0]), float(x[1])) if m == 1 else (float(np.sum(x[:m])), float(np.sum(x[m : 2 * m])))
 
     def lift(self, q0: float, v0: float, third: float | None = None) -> np.ndarray:
         """Unknowns from a one-mode guess: the tip state in the first mode, the others at rest."""
@@ -208,8 +223,8 @@ class PeriodMap:
         tip's (every modal coordinate of a mode gets the same scale)."""
         q0, v0 = self.tip(x)
         if self.m > 1:  # a modal state may cancel at the tip: its largest coordinate counts too
-            q0 = max(abs(q0), float(np.max(np.abs(x[:self.m]))))
-            v0 = max(abs(v0), float(np.max(np.abs(x[self.m:2 * self.m]))))
+            q0 = max(abs(q0), float(np.max(np.abs(x[: self.m]))))
+            v0 = max(abs(v0), float(np.max(np.abs(x[self.m : 2 * self.m]))))
         S = max(abs(q0), abs(v0) / omega(self.p, speed), self.d, 1e-9)
         m = self.m
         if self.dim == 2 * m:
@@ -263,12 +278,13 @@ class PeriodMap:
         A = amp if ended else max(run_max, abs(q))
         arow = 4 if ended else (3 if run_max >= abs(q) else -1)
         if want and m == 1:
-            self.DP = self._dp(o[len(_OUT):len(_OUT) + len(_SENS)], q0, F0, q, F, arow)
+            self.DP = self._dp(o[len(_OUT) : len(_OUT) + len(_SENS)], q0, F0, q, F, arow)
         elif want:
             k = len(_OUT) + 2 * m
-            self.DP = self._dp_modal(np.array(o[k:k + (2 * m + 3) * (2 * m + 2)]).reshape(2 * m + 3, 2 * m + 2),
-                                     q0, F0, q, F, arow)
-        state = [q, v] if m == 1 else list(o[len(_OUT):len(_OUT) + 2 * m])
+            self.DP = self._dp_modal(
+                np.array(o[k : k + (2 * m + 3) * (2 * m + 2)]).reshape(2 * m + 3, 2 * m + 2), q0, F0, q, F, arow
+            )
+        state = [q, v] if m == 1 else list(o[len(_OUT) : len(_OUT) + 2 * m])
         if self.dim == 2 * m:
             return np.array(state), A
         if self.model == "jenkins":
@@ -283,7 +299,7 @@ class PeriodMap:
         if self.dim == 2:
             return np.array([[s[0], s[1]], [s[4], s[5]]])
         if arow >= 0:
-            a = s[4 * arow:4 * arow + 4]
+            a = s[4 * arow : 4 * arow + 4]
         else:
             a = [math.copysign(1.0, q) * g for g in s[0:4]]
         if self.model != "jenkins":
@@ -305,11 +321,11 @@ class PeriodMap:
         amplitude; columns: 2m state, F0, B), as _dp does for one mode; the tip is the sum of the
         modal displacements, so d|q_tip| and dL/dq0 act on every modal displacement alike."""
         n = 2 * self.m
-        st = S[:n + 1]  # the state rows and the jenkinsForce row
+        st = S[: n + 1]  # the state rows and the jenkinsForce row
         if arow >= 0:
             a = S[n + arow - 2]  # runningMaximum (arow 3) or amplitude (arow 4)
         else:
-            a = math.copysign(1.0, q) * S[:self.m].sum(axis=0)
+            a = math.copysign(1.0, q) * S[: self.m].sum(axis=0)
         if self.model == "fixedB":
             return st[:n, :n].copy()
         if self.model != "jenkins":
@@ -320,11 +336,11 @@ class PeriodMap:
         phi0 = F0 / L0 if L0 > 0.0 else 0.0
         J = np.empty((n + 1, n + 1))
         J[:, :n] = st[:, :n]
-        J[:, :self.m] += st[:, [n]] * (phi0 * dL0)  # F0 = phi0 L(sum q0_i)
+        J[:, : self.m] += st[:, [n]] * (phi0 * dL0)  # F0 = phi0 L(sum q0_i)
         J[:, n] = st[:, n] * L0
         if L > 0.0:
             dL = F / L * self.muKnCos * math.copysign(1.0, q)
-            J[n] = (J[n] - dL * J[:self.m].sum(axis=0)) / L
+            J[n] = (J[n] - dL * J[: self.m].sum(axis=0)) / L
         else:
             J[n] = 0.0
         return J

@@ -11,6 +11,7 @@ Seeds, each refined by Newton shooting (harness.analysis.periodic.shooting), dup
   of the fixed-B periodic orbit, not of a transient from rest, so roots on orbits that a
   transient does not reach are found as well.
 """
+
 from __future__ import annotations
 
 import math
@@ -69,7 +70,7 @@ def _guesses(pm: PeriodMap, speed: float, s: SearchSettings, hb: list | None = N
             # the B scan of fixed_point_candidates covers every amplitude level systematically
             break
     if pm.model != "fixedB":
-        for sol in (harmonic_balance(p, speed) if hb is None else hb):
+        for sol in harmonic_balance(p, speed) if hb is None else hb:
             states.append((sol.B * math.sin(sol.phase), sol.B * w * math.cos(sol.phase), sol.B))
     out = []
     for q0, v0, B in states:
@@ -90,8 +91,9 @@ def _add(pm: PeriodMap, found: list[Solution], sol: Solution | None, speed: floa
         found.append(sol)
 
 
-def solutions_at(pm: PeriodMap, speed: float, s: SearchSettings = SearchSettings(),
-                 hb: list | None = None) -> list[Solution]:
+def solutions_at(
+    pm: PeriodMap, speed: float, s: SearchSettings = SearchSettings(), hb: list | None = None
+) -> list[Solution]:
     """Every root of the period map found at `speed` (no multipliers), sorted by amplitude (hb:
     the harmonic-balance solutions at `speed`, if already known: hb_guesses)."""
     found: list[Solution] = []

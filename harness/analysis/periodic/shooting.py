@@ -11,6 +11,7 @@ multiplier lies inside the unit circle; an unstable one is labelled by how it lo
 "fold" (a real multiplier > 1), "period-doubling" (a real one < -1), "Neimark-Sacker" (a complex
 pair outside).
 """
+
 from __future__ import annotations
 
 import math
@@ -49,12 +50,19 @@ class Orbit:
         return classify(self.multipliers)
 
     def as_dict(self) -> dict:
-        return {"model": self.model, "speed_rpm": self.speed, "amplitude_m": self.amplitude,
-                "B_m": None if math.isnan(self.B) else self.B, "stable": self.stable, "label": self.label,
-                "stability": describe(self.multipliers),
-                "multipliers": [{"re": float(m.real), "im": float(m.imag), "abs": float(abs(m))}
-                                for m in self.multipliers],
-                "start_values": self.start_values, "residual": self.residual, "iterations": self.iterations}
+        return {
+            "model": self.model,
+            "speed_rpm": self.speed,
+            "amplitude_m": self.amplitude,
+            "B_m": None if math.isnan(self.B) else self.B,
+            "stable": self.stable,
+            "label": self.label,
+            "stability": describe(self.multipliers),
+            "multipliers": [{"re": float(m.real), "im": float(m.imag), "abs": float(abs(m))} for m in self.multipliers],
+            "start_values": self.start_values,
+            "residual": self.residual,
+            "iterations": self.iterations,
+        }
 
 
 def classify(mu: np.ndarray) -> str:
@@ -153,7 +161,7 @@ def multipliers(J: np.ndarray) -> np.ndarray:
 def broyden(J: np.ndarray, dx: np.ndarray, dP: np.ndarray, sc: np.ndarray) -> np.ndarray:
     """Broyden's ("good") rank-one update of a Jacobian J ~ DP after the step dx moved P by dP:
     the least change (in the unknowns' scales sc) with J dx = dP."""
-    w = dx / sc ** 2
+    w = dx / sc**2
     den = float(dx @ w)
     return J + np.outer(dP - J @ dx, w) / den if den > 0.0 else J
 
@@ -171,8 +179,14 @@ class Solution:
     exact: bool = False  # J is DP at x from the FMU's sensitivities (the monodromy matrix)
 
 
-def newton(pm: PeriodMap, x0: np.ndarray, speed: float, J0: np.ndarray | None = None,
-           tol: float | None = None, quasi: bool = True) -> Solution | None:
+def newton(
+    pm: PeriodMap,
+    x0: np.ndarray,
+    speed: float,
+    J0: np.ndarray | None = None,
+    tol: float | None = None,
+    quasi: bool = True,
+) -> Solution | None:
     """Damped Newton on R(x) = P(x) - x from x0, or None. With the FMU's sensitivities (the
     default settings) every evaluation brings DP at its point: Newton proper, J0 and quasi unused.
     Without them, quasi (default) makes it a quasi-Newton method: DP from J0 (DP of a nearby
@@ -243,5 +257,14 @@ def orbit(pm: PeriodMap, sol: Solution, speed: float, central: bool = True) -> O
     x = sol.x
     J = sol.J if sol.exact else jacobian(pm, x, speed, sol.Px, central=central)
     B = math.nan if pm.model == "jenkins" else (pm.B if pm.model == "fixedB" else float(x[-1]))
-    return Orbit(pm.model, float(speed), x.copy(), sol.amplitude, B, multipliers(J), sol.residual, sol.iterations,
-                 pm.start_values(x))
+    return Orbit(
+        pm.model,
+        float(speed),
+        x.copy(),
+        sol.amplitude,
+        B,
+        multipliers(J),
+        sol.residual,
+        sol.iterations,
+        pm.start_values(x),
+    )

@@ -7,6 +7,7 @@ derivatives: inputs are held. Values set with `set_real("blade::aeroLoad", ...)`
 next step starts; parameters and the inputs at t_0 go in as a parameter set applied in
 initialization mode; outputs are read after every step with `get_real`/`get_integer`.
 """
+
 from __future__ import annotations
 
 from importlib.metadata import version as dist_version
@@ -66,8 +67,9 @@ def run(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
                 raise RuntimeError("ecos: simulation init failed")
             rows = np.empty((plan.n_steps + 1, len(outs)))
             times = np.empty(plan.n_steps + 1)
-            getters = [(sim.get_real if o.type in ("Real", "Float64") else sim.get_integer, ident[o.name])
-                       for o in outs]  # FMI 2.0 or 3.0 type names
+            getters = [
+                (sim.get_real if o.type in ("Real", "Float64") else sim.get_integer, ident[o.name]) for o in outs
+            ]  # FMI 2.0 or 3.0 type names
             rows[0] = [g(i) for g, i in getters]
             times[0] = sim.get_time()
             values = np.column_stack([plan.values(n) for n in INPUTS])
@@ -83,6 +85,11 @@ def run(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
         return rows, times
 
     (rows, times), wall = timed(go)
-    return Run("Ecos (ecospy)", version(), "held",
-               result_array(times, {o.name: rows[:, i] for i, o in enumerate(outs)}), wall,
-               note="accumulated time t += h; inputs held (set_real before each step)")
+    return Run(
+        "Ecos (ecospy)",
+        version(),
+        "held",
+        result_array(times, {o.name: rows[:, i] for i, o in enumerate(outs)}),
+        wall,
+        note="accumulated time t += h; inputs held (set_real before each step)",
+    )

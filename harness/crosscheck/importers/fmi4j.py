@@ -6,6 +6,7 @@ the grid is the plan's own, nothing accumulated) and, for a plan of order > 0, s
 derivatives through FMI4j's `setRealInputDerivatives`. `build()` runs Maven (offline first, online
 if the local repository lacks something); `run()` calls `java` and reads the output CSV back.
 """
+
 from __future__ import annotations
 
 import os
@@ -55,12 +56,20 @@ def build(quiet: bool = True) -> None:
 
 
 def _is_built() -> bool:
-    return (JAVA_DIR / "target" / "classes" / "shroudedblade" / "Fmi4jDriver.class").exists() and \
-        (JAVA_DIR / "target" / "lib").is_dir()
+    return (JAVA_DIR / "target" / "classes" / "shroudedblade" / "Fmi4jDriver.class").exists() and (
+        JAVA_DIR / "target" / "lib"
+    ).is_dir()
 
 
-def run(fmu: Path, scenario: Scenario, plan: InputPlan, *, build_first: bool = True,
-        model_exchange: bool = False, substep: float = 1e-6) -> Run:
+def run(
+    fmu: Path,
+    scenario: Scenario,
+    plan: InputPlan,
+    *,
+    build_first: bool = True,
+    model_exchange: bool = False,
+    substep: float = 1e-6,
+) -> Run:
     """Run the plan through FMI4j; the wall time is the driver's own (no JVM start-up).
     model_exchange: through FMI4j's ModelExchangeInstance (Fmi4jMeDriver: held inputs, RK4 with
     `substep` [s], events located by bisection); else co-simulation."""
@@ -74,8 +83,19 @@ def run(fmu: Path, scenario: Scenario, plan: InputPlan, *, build_first: bool = T
         plan_csv = plan.write_csv(Path(tmp) / "plan.csv")
         out_csv = Path(tmp) / "out.csv"
         # FMI4j extracts its JNI library and the FMU under java.io.tmpdir and leaves them: keep them in tmp
-        cmd = [java, f"-Djava.io.tmpdir={tmp}", "-cp", _classpath(), ME_CLASS if model_exchange else MAIN_CLASS,
-               "--fmu", str(Path(fmu).resolve()), "--plan", str(plan_csv), "--out", str(out_csv)]
+        cmd = [
+            java,
+            f"-Djava.io.tmpdir={tmp}",
+            "-cp",
+            _classpath(),
+            ME_CLASS if model_exchange else MAIN_CLASS,
+            "--fmu",
+            str(Path(fmu).resolve()),
+            "--plan",
+            str(plan_csv),
+            "--out",
+            str(out_csv),
+        ]
         if model_exchange:
             # --set takes Real parameters there (the FMU's Fw0 = 0 when the plan feeds aeroLoad)
             if any(not isinstance(v, float) for v in scenario.fmu_overrides().values()) or plan.order != 0:
@@ -87,7 +107,9 @@ def run(fmu: Path, scenario: Scenario, plan: InputPlan, *, build_first: bool = T
         proc = subprocess.run(cmd, capture_output=True, text=True)
         total = _time.perf_counter() - t0
         if proc.returncode != 0:
-            raise Fmi4jError(f"`{' '.join(cmd)}` exited {proc.returncode}:\n{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}")
+            raise Fmi4jError(
+                f"`{' '.join(cmd)}` exited {proc.returncode}:\n{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}"
+            )
         m = re.search(r"wallTime=([0-9.eE+-]+)", proc.stdout)
         wall = float(m.group(1)) if m else total
         data = np.genfromtxt(out_csv, delimiter=",", names=True, dtype=np.float64, deletechars="")
@@ -97,11 +119,22 @@ def run(fmu: Path, scenario: Scenario, plan: InputPlan, *, build_first: bool = T
     inputs = "held" if plan.order == 0 else f"taylor{plan.order}"
     if model_exchange:
         m = re.search(r"events=(\d+)", proc.stdout)
-        return Run("FMI4j model exchange (Java driver, RK4)", version(), inputs,
-                   result_array(data["time"], {n: data[n] for n in names}), wall,
-                   note=f"ModelExchangeInstance, RK4 substep {substep!r} s, {m.group(1) if m else '?'} events located "
-                        f"by bisection; JVM incl. start-up {total:.2f} s", extra={"total_time": total})
-    return Run("FMI4j (Java driver)", version(), inputs,
-               result_array(data["time"], {n: data[n] for n in names}), wall,
-               note=f"t_k and h from the plan; JVM incl. start-up {total:.2f} s",
-               extra={"total_time": total})
+        return Run(
+            "FMI4j model exchange (Java driver, RK4)",
+            version(),
+            inputs,
+            result_array(data["time"], {n: data[n] for n in names}),
+            wall,
+            note=f"ModelExchangeInstance, RK4 substep {substep!r} s, {m.group(1) if m else '?'} events located "
+            f"by bisection; JVM incl. start-up {total:.2f} s",
+            extra={"total_time": total},
+        )
+    return Run(
+        "FMI4j (Java driver)",
+        version(),
+        inputs,
+        result_array(data["time"], {n: data[n] for n in names}),
+        wall,
+        note=f"t_k and h from the plan; JVM incl. start-up {total:.2f} s",
+        extra={"total_time": total},
+    )

@@ -7,6 +7,7 @@ the project's FMI binding (harness.fmu.binding; fmpy extracts the FMU) that pass
 and h exactly from the plan and, for a plan of order > 0, sets the input derivatives with
 fmi2SetRealInputDerivatives after the values.
 """
+
 from __future__ import annotations
 
 import shutil
@@ -36,14 +37,27 @@ def run_simulate_fmu(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
     table = plan.held().input_table()
 
     def go() -> np.ndarray:
-        return simulate_fmu(str(fmu), fmi_type="CoSimulation", start_time=scenario.start_time,
-                            stop_time=float(plan.time[-1]), output_interval=scenario.step,
-                            start_values=_start_values(scenario.fmu_overrides()), input=table,
-                            output=names, validate=False)
+        return simulate_fmu(
+            str(fmu),
+            fmi_type="CoSimulation",
+            start_time=scenario.start_time,
+            stop_time=float(plan.time[-1]),
+            output_interval=scenario.step,
+            start_values=_start_values(scenario.fmu_overrides()),
+            input=table,
+            output=names,
+            validate=False,
+        )
 
     res, wall = timed(go)
-    return Run("fmpy simulate_fmu", VERSION, "held", as_float_result(res, names), wall,
-               note="input table on the communication grid, sampled at the step start")
+    return Run(
+        "fmpy simulate_fmu",
+        VERSION,
+        "held",
+        as_float_result(res, names),
+        wall,
+        note="input table on the communication grid, sampled at the step start",
+    )
 
 
 class SlaveLoop:
@@ -136,5 +150,4 @@ def run_slave_loop(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
             return loop.run(plan, overrides)
 
     res, wall = timed(go)
-    return Run(SLAVE_LOOP, "-", inputs, res, wall,
-               note="t_k and h_k from the plan")
+    return Run(SLAVE_LOOP, "-", inputs, res, wall, note="t_k and h_k from the plan")

@@ -7,6 +7,7 @@ fmi2SetRealInputDerivatives: inputs are held over a step. They are set through a
 manipulator before every step (libcosim applies it when the step commences) and as initial values
 before initialization; outputs come from a time-series observer (step 0 = after initialization).
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -20,6 +21,7 @@ from harness.fmu.libcosim import last_error, samples
 from harness.system.time_grid import NS_PER_S, to_ns
 from harness.fmu.slave import variables_by_name
 from harness.optional import require
+
 
 class _Version(ctypes.Structure):
     _fields_ = [("major", ctypes.c_int), ("minor", ctypes.c_int), ("patch", ctypes.c_int)]
@@ -66,9 +68,11 @@ def run(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
             raise RuntimeError(f"libcosim could not load {fmu}: {last_error()}")
         for name, value in scenario.fmu_overrides().items():
             vr, typ = vars_[name]
-            ok = {"Real": lambda: execution.real_initial_value(idx, vr, float(value)),
-                  "Integer": lambda: execution.integer_initial_value(idx, vr, int(value)),
-                  "Boolean": lambda: execution.boolean_initial_value(idx, vr, bool(value))}[typ]()
+            ok = {
+                "Real": lambda: execution.real_initial_value(idx, vr, float(value)),
+                "Integer": lambda: execution.integer_initial_value(idx, vr, int(value)),
+                "Boolean": lambda: execution.boolean_initial_value(idx, vr, bool(value)),
+            }[typ]()
             if not ok:
                 raise RuntimeError(f"libcosim refused the initial value {name} = {value}: {last_error()}")
         for vr, name in zip(in_vrs, INPUTS):
@@ -100,6 +104,11 @@ def run(fmu: Path, scenario: Scenario, plan: InputPlan) -> Run:
 
     (rows, t_ns), wall = timed(go)
     t = t_ns / NS_PER_S  # libcosim's own communication points, as it converts them for fmi2DoStep
-    return Run("libcosim (libcosimpy)", version(), "held",
-               result_array(t, {o.name: rows[:, i] for i, o in enumerate(outs)}), wall,
-               note="integer-ns time; inputs held (override manipulator)")
+    return Run(
+        "libcosim (libcosimpy)",
+        version(),
+        "held",
+        result_array(t, {o.name: rows[:, i] for i, o in enumerate(outs)}),
+        wall,
+        note="integer-ns time; inputs held (override manipulator)",
+    )

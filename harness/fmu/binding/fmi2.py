@@ -12,6 +12,7 @@ it, with '%%' read as '%' -- our FMUs format their messages themselves and escap
 of the printf syntax is not interpreted) and the C library's calloc/free as memory callbacks
 (FMI 2.0 requires them). A caller may pass its own fmi2CallbackFunctions instead (callbacks=...,
 None for a NULL pointer), e.g. a C logger that formats with vsnprintf."""
+
 from __future__ import annotations
 
 import ctypes
@@ -39,15 +40,27 @@ Logger = CFUNCTYPE(None, c_void_p, c_char_p, c_int, c_char_p, c_char_p)  # varia
 
 class CallbackFunctions(Structure):
     """fmi2CallbackFunctions with plain pointers, so any member can be NULL."""
-    _fields_ = [("logger", c_void_p), ("allocateMemory", c_void_p), ("freeMemory", c_void_p),
-                ("stepFinished", c_void_p), ("componentEnvironment", c_void_p)]
+
+    _fields_ = [
+        ("logger", c_void_p),
+        ("allocateMemory", c_void_p),
+        ("freeMemory", c_void_p),
+        ("stepFinished", c_void_p),
+        ("componentEnvironment", c_void_p),
+    ]
 
 
 class EventInfo(Structure):
     """fmi2EventInfo (fmi2NewDiscreteStates)."""
-    _fields_ = [("newDiscreteStatesNeeded", c_int), ("terminateSimulation", c_int),
-                ("nominalsOfContinuousStatesChanged", c_int), ("valuesOfContinuousStatesChanged", c_int),
-                ("nextEventTimeDefined", c_int), ("nextEventTime", c_double)]
+
+    _fields_ = [
+        ("newDiscreteStatesNeeded", c_int),
+        ("terminateSimulation", c_int),
+        ("nominalsOfContinuousStatesChanged", c_int),
+        ("valuesOfContinuousStatesChanged", c_int),
+        ("nextEventTimeDefined", c_int),
+        ("nextEventTime", c_double),
+    ]
 
 
 _LIBC = ctypes.CDLL(None)
@@ -89,11 +102,23 @@ class Fmi2Instance(Instance):
 
     FREE = "fmi2FreeInstance"
 
-    def __init__(self, lib: Library, name: str | bytes | None, guid: str | bytes | None,
-                 resource_uri: str | bytes | None, kind: int = CO_SIMULATION, *, visible: bool = False,
-                 logging_on: bool = False, raw: bool = False, callbacks: Any = DEFAULT,
-                 log: MutableSequence[LogRecord] | None = None, log_limit: int | None = None,
-                 on_log: LogHook | None = None, on_call: Callable[[str, int], None] | None = None):
+    def __init__(
+        self,
+        lib: Library,
+        name: str | bytes | None,
+        guid: str | bytes | None,
+        resource_uri: str | bytes | None,
+        kind: int = CO_SIMULATION,
+        *,
+        visible: bool = False,
+        logging_on: bool = False,
+        raw: bool = False,
+        callbacks: Any = DEFAULT,
+        log: MutableSequence[LogRecord] | None = None,
+        log_limit: int | None = None,
+        on_log: LogHook | None = None,
+        on_call: Callable[[str, int], None] | None = None,
+    ):
         super().__init__(lib, raw, log, log_limit, on_log, on_call)
         self.name = decode(name) if isinstance(name, bytes) else name
         if callbacks is DEFAULT:
@@ -101,17 +126,27 @@ class Fmi2Instance(Instance):
             callbacks = CallbackFunctions(ctypes.cast(self._logger, c_void_p).value, CALLOC, FREE, None, None)
         self.callbacks = callbacks  # kept alive until after fmi2FreeInstance
         self._name_buf = _enc(name)
-        self.c = lib.fmi2Instantiate(self._name_buf, kind, _enc(guid), _enc(resource_uri),
-                                     None if callbacks is None else ctypes.addressof(callbacks),
-                                     int(visible), int(logging_on))
+        self.c = lib.fmi2Instantiate(
+            self._name_buf,
+            kind,
+            _enc(guid),
+            _enc(resource_uri),
+            None if callbacks is None else ctypes.addressof(callbacks),
+            int(visible),
+            int(logging_on),
+        )
         if not self.c and not raw:
             raise FmiError("fmi2Instantiate", ERROR, self.last_message())
 
-    def _record(self, env: Any, instance: bytes | None, status: int, category: bytes | None,
-                message: bytes | None) -> None:
+    def _record(
+        self, env: Any, instance: bytes | None, status: int, category: bytes | None, message: bytes | None
+    ) -> None:
         text = decode(message)
-        self._append(LogRecord(decode(instance), int(status), decode(category),
-                               None if text is None else text.replace("%%", "%")))
+        self._append(
+            LogRecord(
+                decode(instance), int(status), decode(category), None if text is None else text.replace("%%", "%")
+            )
+        )
 
     # --- lifecycle
     def set_debug_logging(self, on: bool, categories: Sequence[str | None] | None = (), n: int | None = None) -> int:
@@ -119,13 +154,23 @@ class Fmi2Instance(Instance):
         if categories is None:
             return self.check("fmi2SetDebugLogging", self.lib.fmi2SetDebugLogging(self.c, int(on), n or 0, None))
         bufs = (c_char_p * max(1, len(categories)))(*[None if s is None else s.encode() for s in categories])
-        return self.check("fmi2SetDebugLogging", self.lib.fmi2SetDebugLogging(
-            self.c, int(on), len(categories) if n is None else n, ctypes.addressof(bufs)))
+        return self.check(
+            "fmi2SetDebugLogging",
+            self.lib.fmi2SetDebugLogging(self.c, int(on), len(categories) if n is None else n, ctypes.addressof(bufs)),
+        )
 
     def setup_experiment(self, start: float = 0.0, stop: float | None = None, tolerance: float | None = None) -> int:
-        return self.check("fmi2SetupExperiment", self.lib.fmi2SetupExperiment(
-            self.c, int(tolerance is not None), 0.0 if tolerance is None else tolerance, start,
-            int(stop is not None), 0.0 if stop is None else stop))
+        return self.check(
+            "fmi2SetupExperiment",
+            self.lib.fmi2SetupExperiment(
+                self.c,
+                int(tolerance is not None),
+                0.0 if tolerance is None else tolerance,
+                start,
+                int(stop is not None),
+                0.0 if stop is None else stop,
+            ),
+        )
 
     def enter_initialization_mode(self) -> int:
         return self.check("fmi2EnterInitializationMode", self.lib.fmi2EnterInitializationMode(self.c))
@@ -186,23 +231,36 @@ class Fmi2Instance(Instance):
 
     def set_real_input_derivatives(self, vrs: Any, orders: Any, values: Any) -> int:
         n = len(vrs)
-        return self.check("fmi2SetRealInputDerivatives", self.lib.fmi2SetRealInputDerivatives(
-            self.c, (c_uint * n)(*vrs), n, (c_int * max(n, len(orders)))(*orders),
-            (c_double * max(n, len(values)))(*values)))
+        return self.check(
+            "fmi2SetRealInputDerivatives",
+            self.lib.fmi2SetRealInputDerivatives(
+                self.c,
+                (c_uint * n)(*vrs),
+                n,
+                (c_int * max(n, len(orders)))(*orders),
+                (c_double * max(n, len(values)))(*values),
+            ),
+        )
 
     def get_real_output_derivatives(self, vrs: Any, orders: Any) -> np.ndarray:
         v, o = _u32(vrs), np.ascontiguousarray(orders, dtype=np.int32)
         out = np.full(len(v), math.nan)
-        self.check("fmi2GetRealOutputDerivatives", self.lib.fmi2GetRealOutputDerivatives(
-            self.c, v.ctypes.data, len(v), o.ctypes.data, out.ctypes.data))
+        self.check(
+            "fmi2GetRealOutputDerivatives",
+            self.lib.fmi2GetRealOutputDerivatives(self.c, v.ctypes.data, len(v), o.ctypes.data, out.ctypes.data),
+        )
         return out
 
     def get_directional_derivative(self, unknowns: Any, knowns: Any, seed: Any) -> np.ndarray:
         u, k = _u32(unknowns), _u32(knowns)
         s = np.ascontiguousarray(seed, dtype=np.float64)
         out = np.full(len(u), math.nan)
-        self.check("fmi2GetDirectionalDerivative", self.lib.fmi2GetDirectionalDerivative(
-            self.c, u.ctypes.data, len(u), k.ctypes.data, len(k), s.ctypes.data, out.ctypes.data))
+        self.check(
+            "fmi2GetDirectionalDerivative",
+            self.lib.fmi2GetDirectionalDerivative(
+                self.c, u.ctypes.data, len(u), k.ctypes.data, len(k), s.ctypes.data, out.ctypes.data
+            ),
+        )
         return out
 
     # --- co-simulation
@@ -250,7 +308,9 @@ class Fmi2Instance(Instance):
 
     def serialized_fmu_state_size(self, handle: int | None) -> int:
         n = c_size_t(0)
-        self.check("fmi2SerializedFMUstateSize", self.lib.fmi2SerializedFMUstateSize(self.c, handle, ctypes.addressof(n)))
+        self.check(
+            "fmi2SerializedFMUstateSize", self.lib.fmi2SerializedFMUstateSize(self.c, handle, ctypes.addressof(n))
+        )
         return n.value
 
     def serialize_fmu_state(self, handle: int | None) -> bytes:
@@ -262,16 +322,18 @@ class Fmi2Instance(Instance):
         self.check("fmi2SerializeFMUstate", self.lib.fmi2SerializeFMUstate(self.c, handle, ctypes.addressof(buf), n))
         return buf.raw[:n]
 
-    def deserialize_fmu_state(self, blob: bytes | None, size: int | None = None,
-                              handle: int | None = None) -> int | None:
+    def deserialize_fmu_state(
+        self, blob: bytes | None, size: int | None = None, handle: int | None = None
+    ) -> int | None:
         """blob None: a NULL buffer (with size, default 0); size defaults to len(blob)."""
         s = c_void_p(handle)
         if blob is None:
             st = self.lib.fmi2DeSerializeFMUstate(self.c, None, size or 0, ctypes.addressof(s))
         else:
             buf = ctypes.create_string_buffer(bytes(blob), max(1, len(blob)))
-            st = self.lib.fmi2DeSerializeFMUstate(self.c, ctypes.addressof(buf), len(blob) if size is None else size,
-                                                  ctypes.addressof(s))
+            st = self.lib.fmi2DeSerializeFMUstate(
+                self.c, ctypes.addressof(buf), len(blob) if size is None else size, ctypes.addressof(s)
+            )
         self.check("fmi2DeSerializeFMUstate", st)
         return s.value
 
@@ -290,8 +352,12 @@ class Fmi2Instance(Instance):
     def completed_integrator_step(self, no_prior: bool = True) -> tuple[bool, bool]:
         """(enterEventMode, terminateSimulation)."""
         enter, stop = c_int(0), c_int(0)
-        self.check("fmi2CompletedIntegratorStep", self.lib.fmi2CompletedIntegratorStep(
-            self.c, int(no_prior), ctypes.addressof(enter), ctypes.addressof(stop)))
+        self.check(
+            "fmi2CompletedIntegratorStep",
+            self.lib.fmi2CompletedIntegratorStep(
+                self.c, int(no_prior), ctypes.addressof(enter), ctypes.addressof(stop)
+            ),
+        )
         return bool(enter.value), bool(stop.value)
 
     def set_time(self, t: float) -> int:

@@ -2,6 +2,7 @@
 co-simulation): name -> (restype, argtypes). Every pointer or array argument is a plain address
 (c_void_p; None is NULL) so callers pass preallocated buffers without conversions; fmi2Boolean and
 the enums (fmi2Status, fmi2Type, fmi2StatusKind) are C ints; strings passed by value are char*."""
+
 from __future__ import annotations
 
 from ctypes import c_char_p, c_double, c_int, c_size_t

@@ -2,6 +2,7 @@
 co-simulation; clocks and scheduled execution are left out: no FMU of the project has them):
 name -> (restype, argtypes). Pointers, arrays, callbacks and the instance environment are plain
 addresses (c_void_p; None is NULL); fmi3Boolean is C's bool; strings passed by value are char*."""
+
 from __future__ import annotations
 
 from ctypes import c_bool, c_char_p, c_double, c_int, c_size_t, c_uint32
@@ -10,8 +11,20 @@ from typing import Any
 
 _S, _B, _F, _N, _I = c_char_p, c_bool, c_double, c_size_t, c_int  # fmi3String, Boolean, Float64, size_t, fmi3Status
 _GET = [_P, _P, _N, _P, _N]  # (instance, vr[], nvr, values[], nValues)
-_TYPES = ("Float32", "Float64", "Int8", "UInt8", "Int16", "UInt16", "Int32", "UInt32", "Int64", "UInt64",
-          "Boolean", "String")
+_TYPES = (
+    "Float32",
+    "Float64",
+    "Int8",
+    "UInt8",
+    "Int16",
+    "UInt16",
+    "Int32",
+    "UInt32",
+    "Int64",
+    "UInt64",
+    "Boolean",
+    "String",
+)
 
 COMMON: dict[str, tuple[Any, list[Any]]] = {
     "fmi3GetVersion": (_S, []),

@@ -1,5 +1,6 @@
 """What FMI 2.0 and FMI 3.0 instances share: the log, the status of the last call, the check that
 turns a failed status into FmiError (checked mode) or lets it through (raw mode), and freeing."""
+
 from __future__ import annotations
 
 from typing import Any, Callable, MutableSequence
@@ -16,8 +17,15 @@ class Instance:
 
     FREE = ""  # the free function of the FMI version (fmi2FreeInstance, fmi3FreeInstance)
 
-    def __init__(self, lib: Library, raw: bool, log: MutableSequence[LogRecord] | None, log_limit: int | None,
-                 on_log: LogHook | None, on_call: Callable[[str, int], None] | None):
+    def __init__(
+        self,
+        lib: Library,
+        raw: bool,
+        log: MutableSequence[LogRecord] | None,
+        log_limit: int | None,
+        on_log: LogHook | None,
+        on_call: Callable[[str, int], None] | None,
+    ):
         self.lib, self.raw = lib, raw
         self.log = new_log(log_limit) if log is None else log
         self.on_log, self.on_call = on_log, on_call

@@ -1,6 +1,7 @@
 """A loaded FMU binary: its own ctypes handle with the prototype of every exported function of a
 signature table set once, so `lib.fmi2DoStep(c, t, h, 1)` is a raw call returning the status int.
 The handle is private to this object: other importers of the same binary (fmpy) keep theirs."""
+
 from __future__ import annotations
 
 import _ctypes

@@ -1,4 +1,5 @@
 """Log capture: what an FMU reports through its logger callback, one record per call."""
+
 from __future__ import annotations
 
 import collections

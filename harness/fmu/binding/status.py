@@ -1,5 +1,6 @@
 """Status codes shared by FMI 2.0 and FMI 3.0 (fmi2Status/fmi3Status have the same values), and the
 exception a checked call raises when the FMU does not return OK or Warning."""
+
 from __future__ import annotations
 
 OK, WARNING, DISCARD, ERROR, FATAL, PENDING = 0, 1, 2, 3, 4, 5

@@ -15,6 +15,7 @@ over the stable points, the located peaks that are stable, and the stability bou
 bounding a stable part, a branch point, period doubling or Neimark-Sacker point next to a stable
 point).
 """
+
 from __future__ import annotations
 
 import math
@@ -52,14 +53,20 @@ class RingBranches:
 
     def as_dict(self) -> dict:
         nan = math.isnan(self.peak_stable_amplitude)
-        return {"band_rpm": list(self.band), "branches": [b.as_dict() for b in self.branches],
-                "peak_stable_amplitude_m": None if nan else self.peak_stable_amplitude,
-                "peak_stable_speed_rpm": None if nan else self.peak_stable_speed,
-                "peak_stable_blade": None if nan else self.peak_stable_blade,
-                "peak_stable_at_band_edge": (not nan) and self.peak_stable_speed in self.band,
-                "seeds": self.seeds, "evaluations": self.evaluations, "continuation_points": self.points,
-                "periods_per_point": self.evaluations / max(self.points, 1), "wall_time_s": self.wall_time,
-                **self.stats}
+        return {
+            "band_rpm": list(self.band),
+            "branches": [b.as_dict() for b in self.branches],
+            "peak_stable_amplitude_m": None if nan else self.peak_stable_amplitude,
+            "peak_stable_speed_rpm": None if nan else self.peak_stable_speed,
+            "peak_stable_blade": None if nan else self.peak_stable_blade,
+            "peak_stable_at_band_edge": (not nan) and self.peak_stable_speed in self.band,
+            "seeds": self.seeds,
+            "evaluations": self.evaluations,
+            "continuation_points": self.points,
+            "periods_per_point": self.evaluations / max(self.points, 1),
+            "wall_time_s": self.wall_time,
+            **self.stats,
+        }
 
 
 def on_branch(br: RingBranch, speed: float, amps: np.ndarray, maps: list[np.ndarray], rtol: float) -> bool:
@@ -129,11 +136,19 @@ def default_seed_points(band: tuple[float, float], spacing: float = SEED_SPACING
     return max(4, math.ceil((band[1] - band[0]) / spacing) + 1)
 
 
-def ring_branches(ring: Ring, band: tuple[float, float], points: int | None = None,
-                  settings: RingShootingSettings = RingShootingSettings(), switch_branches: bool = True,
-                  max_branches: int = 24, settle: float = 1e-3, max_periods: int = 300,
-                  max_switches: int = 8, sweep_speeds: Sequence[float] | None = None,
-                  seed_kinds: Sequence[str] = SEED_KINDS) -> RingBranches:
+def ring_branches(
+    ring: Ring,
+    band: tuple[float, float],
+    points: int | None = None,
+    settings: RingShootingSettings = RingShootingSettings(),
+    switch_branches: bool = True,
+    max_branches: int = 24,
+    settle: float = 1e-3,
+    max_periods: int = 300,
+    max_switches: int = 8,
+    sweep_speeds: Sequence[float] | None = None,
+    seed_kinds: Sequence[str] = SEED_KINDS,
+) -> RingBranches:
     """Every branch found from the seeds at `points` speeds across `band` [rpm] (default: at most
     SEED_SPACING apart) and a C-loop sweep at `sweep_speeds` (default: across the band at most
     SWEEP_SPACING apart); only the seeds of `seed_kinds` (see the module docstring). Raises
@@ -156,11 +171,12 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int | None = No
     maps = index_maps(ring)
     symmetric = tuned(ring)
     with RingPeriodMap(ring, settings) as pm:
-        seeds = (travelling_wave(pm, grid, settle, max_periods) if symmetric and "travelling wave" in seed_kinds
-                 else []) + \
-            (from_rest(pm, grid, settle, max_periods) if "rest" in seed_kinds else []) + \
-            (sweep(pm, grid, settle, max_periods) if "map sweep" in seed_kinds else []) + \
-            (settled_states(pm, ring, sweep_speeds) if "C-loop sweep" in seed_kinds else [])
+        seeds = (
+            (travelling_wave(pm, grid, settle, max_periods) if symmetric and "travelling wave" in seed_kinds else [])
+            + (from_rest(pm, grid, settle, max_periods) if "rest" in seed_kinds else [])
+            + (sweep(pm, grid, settle, max_periods) if "map sweep" in seed_kinds else [])
+            + (settled_states(pm, ring, sweep_speeds) if "C-loop sweep" in seed_kinds else [])
+        )
         e_seeds = pm.evaluations
         todo: list = []  # orbits to continue (from seeds, then from branch points)
         switches, switch_cost = 0, 0
@@ -176,9 +192,17 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int | None = No
                 continue
             orb = shoot(pm, sd.x, sd.speed)
             if swept:
-                sweep_orbits.append({"origin": sd.origin, "speed_rpm": sd.speed, "seed_amplitudes_m": amps.tolist(),
-                                     "seed_residual": sd.change, "orbit": None if orb is None else
-                                     {k: orb.as_dict()[k] for k in ("amplitudes_m", "max_multiplier", "period_residual")}})
+                sweep_orbits.append(
+                    {
+                        "origin": sd.origin,
+                        "speed_rpm": sd.speed,
+                        "seed_amplitudes_m": amps.tolist(),
+                        "seed_residual": sd.change,
+                        "orbit": None
+                        if orb is None
+                        else {k: orb.as_dict()[k] for k in ("amplitudes_m", "max_multiplier", "period_residual")},
+                    }
+                )
             if orb is None or known(branches, orb.speed, orb.amplitudes, maps, SAME_RTOL):
                 continue
             todo.append((orb, f"{sd.origin} at {sd.speed:.1f} rpm"))
@@ -196,8 +220,7 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int | None = No
                     st = br.stable
                     for b in br.bifurcations:
                         # the branch points that bound a stable part: where stable branches emanate
-                        if b.kind != "branch point" or switches >= max_switches or \
-                                not (st[b.index - 1] or st[b.index]):
+                        if b.kind != "branch point" or switches >= max_switches or not (st[b.index - 1] or st[b.index]):
                             continue
                         switches += 1
                         e_sw = pm.evaluations
@@ -212,10 +235,23 @@ def ring_branches(ring: Ring, band: tuple[float, float], points: int | None = No
         branches = merged(in_band(branches, (lo, hi)), maps)
         amp, speed, blade = peak_stable(branches, (lo, hi))
         npts = sum(len(b.orbits) for b in branches)
-        return RingBranches(branches, (lo, hi), amp, speed, blade, len(seeds), pm.evaluations,
-                            time.perf_counter() - t0, npts,
-                            {"seed_evaluations": e_seeds, "sweep_orbits": sweep_orbits, "steps_per_period": settings.steps_per_period,
-                             "evaluations_by_stage": {"seeds": e_seeds, **stage, "switching": switch_cost}})
+        return RingBranches(
+            branches,
+            (lo, hi),
+            amp,
+            speed,
+            blade,
+            len(seeds),
+            pm.evaluations,
+            time.perf_counter() - t0,
+            npts,
+            {
+                "seed_evaluations": e_seeds,
+                "sweep_orbits": sweep_orbits,
+                "steps_per_period": settings.steps_per_period,
+                "evaluations_by_stage": {"seeds": e_seeds, **stage, "switching": switch_cost},
+            },
+        )
 
 
 def crossings(pm: RingPeriodMap, branches: list[RingBranch], speed: float) -> list[tuple[np.ndarray, float]]:

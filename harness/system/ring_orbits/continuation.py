@@ -15,6 +15,7 @@ Bifurcations (crossings.py: detected beyond the multipliers' noise, located by b
 - period doubling: the number of real multipliers below -1 changes;
 - Neimark-Sacker: the number of complex multipliers outside the unit circle changes.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -22,8 +23,7 @@ from typing import Callable
 
 import numpy as np
 
-from harness.analysis.periodic.continuation import (Branch, BranchProblem, ContinuationSettings, continue_branch,
-                                                    correct)
+from harness.analysis.periodic.continuation import Branch, BranchProblem, ContinuationSettings, continue_branch, correct
 from harness.analysis.periodic.extrema import locate
 from harness.analysis.periodic.shooting import UNIT_CIRCLE_TOL
 from harness.fmu.blade import FMUError
@@ -35,8 +35,16 @@ from harness.system.ring_orbits.shooting import RingOrbit, monodromy, shoot
 # no fresh-Jacobian retry of a failed corrector (up to 8 x 19 periods on 6 blades; a halved step costs a
 # few): on the 6-blade study ring over 5500-7200 rpm 21773 -> 15475 periods in all (continuation 15942 ->
 # 10908), the same largest stable state (4.94023e-5 m at 5794.83 rpm)
-RING_CONTINUATION = ContinuationSettings(ds=0.05, ds_min=1e-3, ds_max=0.3, max_points=300, max_corrector=8,
-                                         ds_fold=0.02, fresh_fallback=False, kink_steps=(0.01, 0.03, 0.1))
+RING_CONTINUATION = ContinuationSettings(
+    ds=0.05,
+    ds_min=1e-3,
+    ds_max=0.3,
+    max_points=300,
+    max_corrector=8,
+    ds_fold=0.02,
+    fresh_fallback=False,
+    kink_steps=(0.01, 0.03, 0.1),
+)
 
 
 EXTREMUM_TOL = 1e-5  # Brent's tolerance locating a peak or fold: 1e-5 of the scaled arc, 0.01 rpm along the speed
@@ -57,12 +65,19 @@ class Bifurcation:
     between: tuple[int, int] = (-1, -1)  # the decided points around it (crossings.detect)
 
     def as_dict(self) -> dict:
-        out = {"kind": self.kind, "speed_rpm": self.speed, "amplitude_m": self.amplitude,
-               "amplitudes_m": self.amplitudes.tolist()}
+        out = {
+            "kind": self.kind,
+            "speed_rpm": self.speed,
+            "amplitude_m": self.amplitude,
+            "amplitudes_m": self.amplitudes.tolist(),
+        }
         if self.kind != "fold":
-            out.update(located=self.located, test_function=None if self.value != self.value else self.value,
-                       bracket_arc=None if self.bracket != self.bracket else self.bracket,
-                       jump=self.located and abs(self.value) > JUMP)
+            out.update(
+                located=self.located,
+                test_function=None if self.value != self.value else self.value,
+                bracket_arc=None if self.bracket != self.bracket else self.bracket,
+                jump=self.located and abs(self.value) > JUMP,
+            )
         return out
 
 
@@ -94,13 +109,27 @@ class RingBranch:
         return np.array([o.stable for o in self.orbits])
 
     def as_dict(self) -> dict:
-        return {"speeds_rpm": self.speeds.tolist(), "amplitudes_m": self.amplitudes.tolist(),
-                "stable": self.stable.tolist(), "max_multiplier": [o.max_multiplier for o in self.orbits],
-                "period_residual": [o.residual for o in self.orbits],
-                "bifurcations": [b.as_dict() for b in self.bifurcations],
-                "peaks": [{"speed_rpm": p.speed, "amplitude_m": p.amplitude, "amplitudes_m": p.amplitudes.tolist(),
-                           "stable": p.stable, "max_multiplier": p.max_multiplier} for p in self.peaks],
-                "end_reasons": self.end_reasons, "closed": self.closed, "origin": self.origin}
+        return {
+            "speeds_rpm": self.speeds.tolist(),
+            "amplitudes_m": self.amplitudes.tolist(),
+            "stable": self.stable.tolist(),
+            "max_multiplier": [o.max_multiplier for o in self.orbits],
+            "period_residual": [o.residual for o in self.orbits],
+            "bifurcations": [b.as_dict() for b in self.bifurcations],
+            "peaks": [
+                {
+                    "speed_rpm": p.speed,
+                    "amplitude_m": p.amplitude,
+                    "amplitudes_m": p.amplitudes.tolist(),
+                    "stable": p.stable,
+                    "max_multiplier": p.max_multiplier,
+                }
+                for p in self.peaks
+            ],
+            "end_reasons": self.end_reasons,
+            "closed": self.closed,
+            "origin": self.origin,
+        }
 
 
 def _orbit(pm: RingPeriodMap, x: np.ndarray, speed: float, mu: np.ndarray, it: int = 0) -> RingOrbit:
@@ -108,8 +137,9 @@ def _orbit(pm: RingPeriodMap, x: np.ndarray, speed: float, mu: np.ndarray, it: i
     return RingOrbit(float(speed), np.array(x, dtype=float), amp.copy(), mu, res, it)
 
 
-def bifurcations(pm: RingPeriodMap, br: Branch, folds: list, settings: ContinuationSettings = RING_CONTINUATION
-                 ) -> list[Bifurcation]:
+def bifurcations(
+    pm: RingPeriodMap, br: Branch, folds: list, settings: ContinuationSettings = RING_CONTINUATION
+) -> list[Bifurcation]:
     """The bifurcations of br (see the module docstring): folds as located by extrema, the others
     detected beyond the multipliers' noise and located by bisection (crossings.py)."""
     out: list[Bifurcation] = []
@@ -124,17 +154,33 @@ def bifurcations(pm: RingPeriodMap, br: Branch, folds: list, settings: Continuat
             if kind == "branch point" and turned:
                 continue  # a fold (located by extrema)
             loc = locate_crossing(pm, pts[k], pts[k + 1], kind, settings)
-            amp = pm.measures(loc.x, loc.speed)[0] if loc.located else \
-                0.5 * (pm.measures(pts[k].x, pts[k].speed)[0] + pm.measures(pts[k + 1].x, pts[k + 1].speed)[0])
+            amp = (
+                pm.measures(loc.x, loc.speed)[0]
+                if loc.located
+                else 0.5 * (pm.measures(pts[k].x, pts[k].speed)[0] + pm.measures(pts[k + 1].x, pts[k + 1].speed)[0])
+            )
             vec = None
-            if kind == "branch point" and any(st[i:j + 1]):  # the switching direction (branches.py)
+            if kind == "branch point" and any(st[i : j + 1]):  # the switching direction (branches.py)
                 J = loc.DP if loc.DP is not None else monodromy(pm, pts[k + 1].x, pts[k + 1].speed)
                 w, V = np.linalg.eig(J)
                 real = np.abs(w.imag) <= UNIT_CIRCLE_TOL * np.maximum(np.abs(w), 1e-300)
                 c = int(np.argmin(np.where(real & (w.real > 0), np.abs(w.real - 1.0), np.inf)))
                 vec = np.real(V[:, c])
-            out.append(Bifurcation(kind, float(loc.speed), float(amp.max()), amp, k + 1, loc.x, vec,
-                                   loc.located, loc.value, loc.bracket, (i, j)))
+            out.append(
+                Bifurcation(
+                    kind,
+                    float(loc.speed),
+                    float(amp.max()),
+                    amp,
+                    k + 1,
+                    loc.x,
+                    vec,
+                    loc.located,
+                    loc.value,
+                    loc.bracket,
+                    (i, j),
+                )
+            )
     for e in folds:
         amp = pm.measures(e.x, e.speed)[0]
         i = int(np.argmin(np.abs(n - e.speed)))
@@ -142,25 +188,34 @@ def bifurcations(pm: RingPeriodMap, br: Branch, folds: list, settings: Continuat
     return sorted(out, key=lambda b: b.index)
 
 
-def trace(pm: RingPeriodMap, orbit: RingOrbit, band: tuple[float, float],
-          settings: ContinuationSettings = RING_CONTINUATION, directions: tuple[int, ...] = (-1, 1),
-          joined: Callable[[float, np.ndarray], bool] | None = None) -> RingBranch:
+def trace(
+    pm: RingPeriodMap,
+    orbit: RingOrbit,
+    band: tuple[float, float],
+    settings: ContinuationSettings = RING_CONTINUATION,
+    directions: tuple[int, ...] = (-1, 1),
+    joined: Callable[[float, np.ndarray], bool] | None = None,
+) -> RingBranch:
     """The branch through `orbit` across `band` [rpm] (both directions; an end that left the band
     replaced by the orbit at the band's edge), with its located peaks, folds and bifurcations; a
     direction ends where joined(speed, per-blade amplitudes) says the branch ran onto one traced
     before."""
     stop = None
     if joined is not None:
+
         def stop(p) -> str | None:
-            return (f"joined a branch traced before at {p.speed:.1f} rpm"
-                    if joined(p.speed, pm.measures(p.x, p.speed)[0]) else None)
+            return (
+                f"joined a branch traced before at {p.speed:.1f} rpm"
+                if joined(p.speed, pm.measures(p.x, p.speed)[0])
+                else None
+            )
+
     e0 = pm.evaluations
     br = continue_branch(pm, orbit.x, orbit.speed, band, settings, directions, stop)
     e1 = pm.evaluations
     st = [p.stable for p in br.points]  # (the last point of a direction may lie just outside the band)
     try:  # only the peaks and folds next to a stable point: those bound the stable steady states
-        br.extrema = locate(pm, br, settings, keep=lambda i, kind: st[i - 1] or st[i] or st[i + 1],
-                            xatol=EXTREMUM_TOL)
+        br.extrema = locate(pm, br, settings, keep=lambda i, kind: st[i - 1] or st[i] or st[i + 1], xatol=EXTREMUM_TOL)
     except FMUError:
         br.extrema = []
     e2 = pm.evaluations
@@ -176,14 +231,26 @@ def trace(pm: RingPeriodMap, orbit: RingOrbit, band: tuple[float, float],
     folds = [e for e in br.extrema if e.kind == "fold"]
     peaks = [_orbit(pm, e.x, e.speed, e.multipliers) for e in br.extrema if e.kind == "peak"]
     e3 = pm.evaluations
-    out = RingBranch(orbits, br.end_reasons, bifurcations(pm, br, folds), peaks,
-                     [_orbit(pm, e.x, e.speed, e.multipliers) for e in folds], [e.stable for e in folds], br.closed)
+    out = RingBranch(
+        orbits,
+        br.end_reasons,
+        bifurcations(pm, br, folds),
+        peaks,
+        [_orbit(pm, e.x, e.speed, e.multipliers) for e in folds],
+        [e.stable for e in folds],
+        br.closed,
+    )
     out.cost = {"continuation": e1 - e0, "extrema": e2 - e1, "band_edges": e3 - e2, "bifurcations": pm.evaluations - e3}
     return out
 
 
-def switch(pm: RingPeriodMap, br: RingBranch, bif: Bifurcation, eps: float = 0.05,
-           settings: ContinuationSettings = RING_CONTINUATION) -> list[RingOrbit]:
+def switch(
+    pm: RingPeriodMap,
+    br: RingBranch,
+    bif: Bifurcation,
+    eps: float = 0.05,
+    settings: ContinuationSettings = RING_CONTINUATION,
+) -> list[RingOrbit]:
     """Orbits of the other branch through a branch point: from the point moved by +-eps (scaled
     arc) along the critical eigenvector, the corrector on the plane normal to it (so it cannot fall
     back onto this branch). Multipliers are filled in by the caller's continuation."""

@@ -24,6 +24,7 @@ zero between the ends, also `located` False. A located crossing whose test funct
 beyond JUMP at the bracket's better end is a jump of the multiplier through the circle (a kink of the
 map), not a smooth crossing: `jump` True (no branch need emanate there).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -104,14 +105,20 @@ def segment(mus: list[np.ndarray], i: int, j: int, kind: str) -> int:
     return i
 
 
-def locate(pm: RingPeriodMap, a: BranchPoint, b: BranchPoint, kind: str, settings: ContinuationSettings
-           ) -> Located:
+def locate(pm: RingPeriodMap, a: BranchPoint, b: BranchPoint, kind: str, settings: ContinuationSettings) -> Located:
     """The zero of the test function of `kind` on the branch between its neighbouring points a, b
     (see the module docstring)."""
     ga, gb = critical_value(a.multipliers, kind), critical_value(b.multipliers, kind)
     f_lin = 0.5 if not (np.isfinite(ga) and np.isfinite(gb)) or ga == gb else min(1.0, max(0.0, ga / (ga - gb)))
-    interpolated = Located(a.x + f_lin * (b.x - a.x), a.speed + f_lin * (b.speed - a.speed),
-                           a.multipliers if f_lin < 0.5 else b.multipliers, None, float("nan"), float("nan"), False)
+    interpolated = Located(
+        a.x + f_lin * (b.x - a.x),
+        a.speed + f_lin * (b.speed - a.speed),
+        a.multipliers if f_lin < 0.5 else b.multipliers,
+        None,
+        float("nan"),
+        float("nan"),
+        False,
+    )
     if not (np.isfinite(ga) and np.isfinite(gb)) or ga * gb > 0.0:
         return interpolated
     prob = BranchProblem(pm, pm.scales(a.x, a.speed))
@@ -130,8 +137,9 @@ def locate(pm: RingPeriodMap, a: BranchPoint, b: BranchPoint, kind: str, setting
         n += 1
         f = 0.5 * (lo[0] + hi[0])
         try:
-            done = correct(prob, za + f * chord, t, Jz, settings, quasi=True) or \
-                correct(prob, za + f * chord, t, Jz, settings, quasi=False)
+            done = correct(prob, za + f * chord, t, Jz, settings, quasi=True) or correct(
+                prob, za + f * chord, t, Jz, settings, quasi=False
+            )
             if done is None:
                 break  # a kink of the map inside the bracket: the multiplier jumps there
             zk, Hz, Px, _, _ = done

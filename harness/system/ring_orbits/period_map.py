@@ -24,6 +24,7 @@ The amplitude of blade i is max |q_i| over the period, the largest of the K samp
 the parabola through it and its neighbours (the sweeps' measure, ring_sweep.window_amplitude, with
 the period's points wrapped round).
 """
+
 from __future__ import annotations
 
 import ctypes as C
@@ -81,10 +82,12 @@ class _Restart:
             groups[t][1].append(float(v) if t == "Real" else int(v))
         vr_r = groups["Real"][0] + [slave.vr(n) for n in starts]
         self.real = ((C.c_uint * len(vr_r))(*vr_r), (C.c_double * len(vr_r))(*groups["Real"][1], *[0.0] * len(starts)))
-        self.starts = np.frombuffer(self.real[1], dtype=np.float64)[len(groups["Real"][1]):]
-        self.ints = [(f, (C.c_uint * len(vrs))(*vrs), (C.c_int * len(vrs))(*vals))
-                     for f, (vrs, vals) in (("fmi2SetInteger", groups["Integer"]),
-                                            ("fmi2SetBoolean", groups["Boolean"])) if vrs]
+        self.starts = np.frombuffer(self.real[1], dtype=np.float64)[len(groups["Real"][1]) :]
+        self.ints = [
+            (f, (C.c_uint * len(vrs))(*vrs), (C.c_int * len(vrs))(*vals))
+            for f, (vrs, vals) in (("fmi2SetInteger", groups["Integer"]), ("fmi2SetBoolean", groups["Boolean"]))
+            if vrs
+        ]
 
     def _check(self, function: str, status: int) -> None:
         if status > 1:  # above fmi2Warning
@@ -119,8 +122,10 @@ class RingPeriodMap:
 
     def __init__(self, ring: Ring, settings: RingShootingSettings = RingShootingSettings()):
         if ring.load != "builtin":
-            raise ValueError("the period map needs the blades' built-in load (load 'builtin'): its phase "
-                             "restarts at 0 with every evaluation")
+            raise ValueError(
+                "the period map needs the blades' built-in load (load 'builtin'): its phase "
+                "restarts at 0 with every evaluation"
+            )
         if ring.coupling != "feedthrough":
             raise ValueError(f"coupling {ring.coupling!r}: the period map runs the Jacobi master's 'feedthrough'")
         self.s = settings.check()
@@ -140,13 +145,16 @@ class RingPeriodMap:
         self.d, self.muKnCos = float(d), float(mu * kn * math.cos(gamma))
         # phi of a contact arriving in stick (model-notes s.2: it sticks iff kd tan(gamma) <= mu kn)
         self.arrival = min(1.0, kd_ratio * kn * math.sin(gamma) / self.muKnCos) if self.muKnCos > 0 else 1.0
-        names = [f"modalDisplacement[{k}]" for k in range(1, self.m + 1)] + \
-            [f"modalVelocity[{k}]" for k in range(1, self.m + 1)]
-        self._brestart = [_Restart(b, ring.blade_instance_params(i), names + ["rotorSpeed"])
-                          for i, b in enumerate(self.blades)]
+        names = [f"modalDisplacement[{k}]" for k in range(1, self.m + 1)] + [
+            f"modalVelocity[{k}]" for k in range(1, self.m + 1)
+        ]
+        self._brestart = [
+            _Restart(b, ring.blade_instance_params(i), names + ["rotorSpeed"]) for i, b in enumerate(self.blades)
+        ]
         cpar = {**dict(ring.contact), "engineOrder": ring.engine_order}
-        self._crestart = [_Restart(c, cpar, ["frictionForce", "displacementA", "displacementB", "rotorSpeed"])
-                          for c in self.contacts]
+        self._crestart = [
+            _Restart(c, cpar, ["frictionForce", "displacementA", "displacementB", "rotorSpeed"]) for c in self.contacts
+        ]
         self._vr_modal = [self.blades[0].vr(n) for n in names]
         self._vr_cout = [c0.vr(n) for n in ("frictionForce", "relativeDisplacement")]
         # (x bytes, rpm) -> (P(x), per-blade max |q| [m], period residual max |P(x) - x| / scales)
@@ -168,12 +176,12 @@ class RingPeriodMap:
         return np.asarray(x[: 2 * self.m * self.n]).reshape(self.n, 2 * self.m)
 
     def phi(self, x: np.ndarray) -> np.ndarray:
-        return np.asarray(x[2 * self.m * self.n:])
+        return np.asarray(x[2 * self.m * self.n :])
 
     def tips(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(q, q') at every blade's tip (the modal coordinates summed: every mode is 1 at the tip)."""
         y = self.modal(x)
-        return y[:, : self.m].sum(axis=1), y[:, self.m:].sum(axis=1)
+        return y[:, : self.m].sum(axis=1), y[:, self.m :].sum(axis=1)
 
     def gaps(self, x: np.ndarray) -> np.ndarray:
         """u_j = q_j - q_{j+1} at the tips."""
@@ -194,13 +202,15 @@ class RingPeriodMap:
 
     def state(self, q_modal: np.ndarray, v_modal: np.ndarray, friction: np.ndarray) -> np.ndarray:
         """x from the blades' modal states (N, m) each and the contacts' friction forces [N]."""
-        y = np.hstack([np.asarray(q_modal, float).reshape(self.n, self.m),
-                       np.asarray(v_modal, float).reshape(self.n, self.m)])
+        y = np.hstack(
+            [np.asarray(q_modal, float).reshape(self.n, self.m), np.asarray(v_modal, float).reshape(self.n, self.m)]
+        )
         x = np.append(y.ravel(), np.zeros(self.n))
         u = self.gaps(x)
         L = self.limits(u)
-        x[2 * self.m * self.n:] = np.where(np.abs(u) > self.d, np.asarray(friction, float) / np.where(L > 0, L, 1.0),
-                                           self.touching(x))
+        x[2 * self.m * self.n :] = np.where(
+            np.abs(u) > self.d, np.asarray(friction, float) / np.where(L > 0, L, 1.0), self.touching(x)
+        )
         return x
 
     def read(self, blades: list, contacts: list) -> np.ndarray:
@@ -208,7 +218,7 @@ class RingPeriodMap:
         forces at their inputs): this map's own ring or another run of the same ring."""
         ym = np.array([b.s.get_real(self._vr_modal) for b in blades])
         out = np.array([c.s.get_real(self._vr_cout) for c in contacts])
-        return self.state(ym[:, : self.m], ym[:, self.m:], out[:, 0])
+        return self.state(ym[:, : self.m], ym[:, self.m :], out[:, 0])
 
     def bounded(self, x: np.ndarray) -> np.ndarray:
         """x moved into the domain: |phi_j| <= 1, phi_j its touching value while contact j is open."""
@@ -234,8 +244,14 @@ class RingPeriodMap:
         w = self.omega(speed)
         y = self.modal(x)
         q, v = self.tips(x)
-        S = max(float(np.max(np.abs(q))), float(np.max(np.abs(v))) / w, float(np.max(np.abs(y[:, : self.m]))),
-                float(np.max(np.abs(y[:, self.m:]))) / w, self.d, 1e-9)
+        S = max(
+            float(np.max(np.abs(q))),
+            float(np.max(np.abs(v))) / w,
+            float(np.max(np.abs(y[:, : self.m]))),
+            float(np.max(np.abs(y[:, self.m :]))) / w,
+            self.d,
+            1e-9,
+        )
         per_blade = [S] * self.m + [S * w] * self.m
         return np.array(per_blade * self.n + [1.0] * self.n)
 

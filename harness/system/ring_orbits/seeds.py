@@ -23,6 +23,7 @@ between changes); the advance takes whole steps, then one step of the remainder 
 1e-6 rad of 0). Each such seed's `change` is its scaled period residual |P(x) - x| / scale, which is
 small only if the phase is right and the state settled.
 """
+
 from __future__ import annotations
 
 import math
@@ -48,8 +49,9 @@ class Seed:
 KICK = 1e-7  # [m] blade 0's start displacement in the asymmetric starts (1/300 of the gap d)
 
 
-def settle(pm: RingPeriodMap, x: np.ndarray, rpm: float, settle: float, max_periods: int, min_periods: int = 0
-           ) -> tuple[np.ndarray, float]:
+def settle(
+    pm: RingPeriodMap, x: np.ndarray, rpm: float, settle: float, max_periods: int, min_periods: int = 0
+) -> tuple[np.ndarray, float]:
     """Iterates P at rpm from x until the scaled change per period is below `settle`."""
     change = np.inf
     for k in range(max_periods):
@@ -68,19 +70,28 @@ def kicked(pm: RingPeriodMap, kick: float = KICK) -> np.ndarray:
     return x
 
 
-def travelling_wave(pm: RingPeriodMap, speeds: Sequence[float], settle_tol: float = 1e-3, max_periods: int = 300
-                    ) -> list[Seed]:
+def travelling_wave(
+    pm: RingPeriodMap, speeds: Sequence[float], settle_tol: float = 1e-3, max_periods: int = 300
+) -> list[Seed]:
     """From rest exactly (the tuned ring stays on its travelling wave)."""
     return _settled_from(pm, np.zeros(pm.dim), "travelling wave", speeds, settle_tol, max_periods)
 
 
-def from_rest(pm: RingPeriodMap, speeds: Sequence[float], settle_tol: float = 1e-3, max_periods: int = 300,
-              min_periods: int = 60) -> list[Seed]:
+def from_rest(
+    pm: RingPeriodMap, speeds: Sequence[float], settle_tol: float = 1e-3, max_periods: int = 300, min_periods: int = 60
+) -> list[Seed]:
     return _settled_from(pm, kicked(pm), "rest", speeds, settle_tol, max_periods, min_periods)
 
 
-def _settled_from(pm: RingPeriodMap, x0: np.ndarray, label: str, speeds: Sequence[float], settle_tol: float,
-                  max_periods: int, *min_periods: int) -> list[Seed]:
+def _settled_from(
+    pm: RingPeriodMap,
+    x0: np.ndarray,
+    label: str,
+    speeds: Sequence[float],
+    settle_tol: float,
+    max_periods: int,
+    *min_periods: int,
+) -> list[Seed]:
     """A seed per speed: the map iterated from x0 until it settles (speeds where the map fails are left out)."""
     out = []
     for s in speeds:
@@ -92,8 +103,9 @@ def _settled_from(pm: RingPeriodMap, x0: np.ndarray, label: str, speeds: Sequenc
     return out
 
 
-def sweep(pm: RingPeriodMap, speeds: Sequence[float], settle_tol: float = 1e-3, max_periods: int = 300,
-          min_periods: int = 60) -> list[Seed]:
+def sweep(
+    pm: RingPeriodMap, speeds: Sequence[float], settle_tol: float = 1e-3, max_periods: int = 300, min_periods: int = 60
+) -> list[Seed]:
     """Up from rest at the lowest speed, then down from the highest: a seed per speed and direction."""
     sp = sorted(float(s) for s in speeds)
     out = []
@@ -135,14 +147,24 @@ class _AtPhaseZero:
         cr.restore(saved)
 
 
-def settled_states(pm: RingPeriodMap, ring: Ring, speeds: Sequence[float], rtol: float = 1e-4, periods: int = 5,
-                   max_time: float = 1.0) -> list[Seed]:
+def settled_states(
+    pm: RingPeriodMap, ring: Ring, speeds: Sequence[float], rtol: float = 1e-4, periods: int = 5, max_time: float = 1.0
+) -> list[Seed]:
     """The states of a C-loop sweep up and down `speeds` (ring_sweep.sweep, "both", its settle rule
     rtol / periods / max_time, pm's steps per period) at load phase 0 where it leaves each speed (see
     the module docstring); a state whose period map fails is left out."""
     hook = _AtPhaseZero(pm)
-    c_sweep(ring, speeds, "both", rtol=rtol, periods=periods, max_time=max_time,
-            steps_per_period=pm.s.steps_per_period, refine=False, on_settled=hook)
+    c_sweep(
+        ring,
+        speeds,
+        "both",
+        rtol=rtol,
+        periods=periods,
+        max_time=max_time,
+        steps_per_period=pm.s.steps_per_period,
+        refine=False,
+        on_settled=hook,
+    )
     out = []
     for d, s, x in hook.states:
         try:

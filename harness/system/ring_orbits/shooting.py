@@ -7,6 +7,7 @@ phi sits on the slip limit), its eigenvalues the Floquet multipliers. The period
 is max |P(x) - x| / scale (scales: the largest displacement for every displacement, times omega for
 every rate, 1 for every phi).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -45,9 +46,15 @@ class RingOrbit:
         return classify(self.multipliers)
 
     def as_dict(self) -> dict:
-        return {"speed_rpm": self.speed, "amplitudes_m": self.amplitudes.tolist(), "stable": self.stable,
-                "label": self.label, "max_multiplier": self.max_multiplier, "period_residual": self.residual,
-                "multipliers": [{"re": float(m.real), "im": float(m.imag)} for m in self.multipliers]}
+        return {
+            "speed_rpm": self.speed,
+            "amplitudes_m": self.amplitudes.tolist(),
+            "stable": self.stable,
+            "label": self.label,
+            "max_multiplier": self.max_multiplier,
+            "period_residual": self.residual,
+            "multipliers": [{"re": float(m.real), "im": float(m.imag)} for m in self.multipliers],
+        }
 
 
 def monodromy(pm: RingPeriodMap, x: np.ndarray, speed: float, Px: np.ndarray | None = None) -> np.ndarray:

@@ -14,6 +14,7 @@ The time shifts do not act on the period map's state at load phase 0 as a permut
 compared by what the symmetries keep: the per-blade amplitude vectors, permuted. A mistuned ring
 has no symmetry (the identity only).
 """
+
 from __future__ import annotations
 
 import numpy as np
