@@ -174,8 +174,8 @@ def test_broken_stability_test_fails(orbits, measured):
 
 SWEEP_SPEEDS = [5600.0, 6000.0, 6400.0]
 SETTLE_RTOL = 1e-4  # the sweep's settle rule: per-period change below this over 5 periods
-MEASURE_RTOL = 1e-4  # the sweep's own measure against a continuous run from the orbit (6e-5: its grid of
-# whole ns drifts against the period) plus the period map's restarted history (1.8e-5), measured at 6000 rpm
+MEASURE_RTOL = 1e-4  # the sweep's own measure against a continuous run from the orbit (6e-5 at 6000 rpm: its
+# grid of whole ns drifts against the period; the period map is the continuous run's own)
 
 
 def test_sweeps_settled_states_lie_on_the_branches():
@@ -186,7 +186,7 @@ def test_sweeps_settled_states_lie_on_the_branches():
     the sweep's seeds there is no branch, and the test fails. Tolerance: a state whose per-period
     change is below the settle rule's 1e-4 is within 1e-4 mu / (1 - mu) of the stable orbit it
     approaches (mu its largest multiplier, the geometric series of the remaining changes), plus
-    MEASURE_RTOL: 6.7e-4..7.7e-4; measured 3.5e-5..5.7e-4."""
+    MEASURE_RTOL: 6.7e-4..7.6e-4; measured 1.3e-5..2.3e-4."""
     r = ring_branches(SMALL, (5500.0, 6500.0), points=2, sweep_speeds=SWEEP_SPEEDS, seed_kinds=("C-loop sweep",))
     sw = sweep(SMALL, SWEEP_SPEEDS, "both", refine=False, rtol=SETTLE_RTOL)
     maps = index_maps(SMALL)
