@@ -101,9 +101,9 @@ def simulate(
     **parameters: Any,
 ) -> np.ndarray:
     """Run the FMU from rest for `stop_time` [s] at constant `speed_rpm` [rpm] with communication step
-    `step` [s] under the FMU's built-in aerodynamic load Fw0 sin(EO * phase); returns a numpy record
-    array with 'time' and the outputs (all, or `outputs`) at every step. `parameters`: FMU parameters
-    (Fw0 among them) by name (e.g. d=4e-5, gating=False). `fmu`: another FMU file (default `fmu_path()`).
+    `step` [s] under the aerodynamic load Fw0 sin(EO * phase); returns a numpy record array with
+    'time' and the outputs (all, or `outputs`) at every step. `parameters`: FMU parameters (Fw0
+    among them) by name (e.g. d=4e-5, gating=False). `fmu`: another FMU file (default `fmu_path()`).
     As `harness simulate` (harness.cli.simulate) without the files."""
     where = "harness.simulate"
     params = _parameters(parameters, f"{where}(**parameters)")
