@@ -15,14 +15,15 @@ It is located on the segment between neighbours where the test function changes 
 else the one next to the decided point before): Newton on the plane normal to the chord at the arc
 fraction f (quasi-Newton from the last DP taken, the segment start's from the map's memo), the
 multipliers there from a fresh DP, and f chosen by Brent's method (secant and inverse quadratic steps
-on the test function, bisection where they do not shrink the bracket fast enough: 4-6 DPs per smooth
-crossing where bisection took 10-12) until the bracket of both signs is ARC_TOL of scaled arc long
-(about 0.1 rpm where the branch runs along the speed), at most MAX_STEPS solves; the located orbit is
-the bracket's end with the smaller |test function|. Where the corrector fails inside the bracket (a
-kink of the map: the multiplier jumps through 1 there rather than crossing it) the search stops and the bracket's better
-end is returned with its length, flagged `located` False; where it fails at once or the test
-function has the same sign at both ends (another multiplier came closer), the point is the linear
-zero between the ends, also `located` False. A located crossing whose test function is still
+on the test function, bisection where they do not shrink the bracket fast enough) until the bracket
+of both signs is ARC_TOL of scaled arc long (about 0.1 rpm where the branch runs along the speed), at
+most MAX_STEPS DPs; the located orbit is the bracket's end with the smaller |test function|. On the
+6-blade study ring a smooth crossing takes 1-4 DPs this way; a jump (below) 6-15, as by bisection:
+the test function is discontinuous there. Where the corrector fails inside the bracket (a kink of
+the map: the multiplier jumps through 1 there rather than crossing it) the search stops and the
+bracket's better end is returned with its length, flagged `located` False; where it fails at once or
+the test function has the same sign at both ends (another multiplier came closer), the point is the
+linear zero between the ends, also `located` False. A located crossing whose test function is still
 beyond JUMP at the bracket's better end is a jump of the multiplier through the circle (a kink of the
 map), not a smooth crossing: `jump` True (no branch need emanate there).
 """
