@@ -253,11 +253,6 @@ def ring_branches(
     """
     where = "harness.ring_branches"
     _check_ring(ring, where)
-    if ring.load != "builtin":
-        raise _error(
-            f"load = {ring.load!r} (from {where}(ring=Ring(load=...))): the periodic orbits need the "
-            "blades' built-in load ('builtin')"
-        )
     try:
         lo, hi = (float(v) for v in speeds)
     except (TypeError, ValueError):

@@ -286,7 +286,6 @@ def sweep_overhead(
     return out
 
 
-RING_LOADS = {"builtin": "built-in load", "excitation": "former ring, Excitation FMUs"}
 CLI_SECTION = "## Command line start-up"
 # (row, command): ours through the installed console script, fmpy's CLI as its user runs it
 CLI_COMMANDS = (
@@ -362,9 +361,8 @@ def _fastest(repeats: int, f, *a, **kw) -> tuple[Any, float, float]:
 
 def ring_cost(repeats: int = 3, setup: Mapping[str, Any] = RING_BENCH) -> dict[str, Any]:
     """The 24-blade ring (RING_BENCH) on the blades' built-in load in the fmpy master (feedthrough,
-    linear extrapolation; and libcosim's data flow, held inputs), in libcosim, and in our C loop;
-    and the former ring (24 Excitation FMUs feeding the blades) in libcosim and the C loop, in the
-    same run: wall of each whole run (instantiating the FMUs included) against the FMUs' own
+    linear extrapolation; and libcosim's data flow, held inputs), in libcosim, and in our C loop:
+    wall of each whole run (instantiating the FMUs included) against the FMUs' own
     compute, the time inside fmi2DoStep of all FMUs, measured in C around each call
     (harness/system/ring_c.py, time_dosteps) for each data flow. libcosim's trajectory is checked to
     equal the C loop's in its data flow bit for bit, so that run's inside time is libcosim's compute.
@@ -377,33 +375,31 @@ def ring_cost(repeats: int = 3, setup: Mapping[str, Any] = RING_BENCH) -> dict[s
         "repeats": repeats,
         "load_before": os.getloadavg()[0],
     }
-    for load in RING_LOADS:
-        ft = Ring(**setup, order=1, load=load)
-        lc_flow = Ring(**setup, order=0, coupling="libcosim", load=load)
-        ring_c.run(Ring(**{**setup, "stop_time": 10 * setup["step"]}, load=load))  # build, load once
-        n = (3 if load == "excitation" else 2) * ft.n * ft.n_steps
-        inside = {
-            k: min(float(ring_c.run(r, time_dosteps=True)["inside_doStep"]) for _ in range(repeats))
-            for k, r in (("ft", ft), ("lc", lc_flow))
-        }
-        g: dict[str, Any] = {"fmus": n // ft.n_steps}
-        c_ft, wall, cpu = _fastest(repeats, ring_c.run, ft)
-        g["C loop"] = _row(wall, cpu, inside["ft"], n, c_ft["q"])
-        c_lc = ring_c.run(lc_flow)
-        if load == "builtin":  # the Python loop: 25 s a run, measured for the ring as it is
-            r, wall, cpu = _timed(ring_run, ft)
-            g["fmpy feedthrough"] = _row(wall, cpu, inside["ft"], n, r["q"])
-            g["C loop"]["deviation_from_fmpy"] = float(np.abs(c_ft["q"] - r["q"]).max() / np.abs(r["q"]).max())
-            r, wall, cpu = _timed(ring_run, lc_flow)
-            g["fmpy libcosim data flow"] = _row(wall, cpu, inside["lc"], n, r["q"])
-        lc, wall, cpu = _fastest(repeats, ring_libcosim.run, Ring(**setup, order=0, load=load))
-        g["libcosim"] = {
-            **_row(wall, cpu, inside["lc"], n, lc["q"]),
-            "step_wall": float(lc["step_wall"]),
-            "ratio_step_wall": float(lc["step_wall"]) / inside["lc"],
-            "equals_fmpy_libcosim_data_flow": bool(np.array_equal(lc["q"], c_lc["q"])),
-        }
-        out[load] = g
+    ft = Ring(**setup, order=1)
+    lc_flow = Ring(**setup, order=0, coupling="libcosim")
+    ring_c.run(Ring(**{**setup, "stop_time": 10 * setup["step"]}))  # build, load once
+    n = 2 * ft.n * ft.n_steps
+    inside = {
+        k: min(float(ring_c.run(r, time_dosteps=True)["inside_doStep"]) for _ in range(repeats))
+        for k, r in (("ft", ft), ("lc", lc_flow))
+    }
+    g: dict[str, Any] = {"fmus": n // ft.n_steps}
+    c_ft, wall, cpu = _fastest(repeats, ring_c.run, ft)
+    g["C loop"] = _row(wall, cpu, inside["ft"], n, c_ft["q"])
+    c_lc = ring_c.run(lc_flow)
+    r, wall, cpu = _timed(ring_run, ft)  # the Python loop: 25 s a run
+    g["fmpy feedthrough"] = _row(wall, cpu, inside["ft"], n, r["q"])
+    g["C loop"]["deviation_from_fmpy"] = float(np.abs(c_ft["q"] - r["q"]).max() / np.abs(r["q"]).max())
+    r, wall, cpu = _timed(ring_run, lc_flow)
+    g["fmpy libcosim data flow"] = _row(wall, cpu, inside["lc"], n, r["q"])
+    lc, wall, cpu = _fastest(repeats, ring_libcosim.run, Ring(**setup, order=0))
+    g["libcosim"] = {
+        **_row(wall, cpu, inside["lc"], n, lc["q"]),
+        "step_wall": float(lc["step_wall"]),
+        "ratio_step_wall": float(lc["step_wall"]) / inside["lc"],
+        "equals_fmpy_libcosim_data_flow": bool(np.array_equal(lc["q"], c_lc["q"])),
+    }
+    out["builtin"] = g
     out["load_after"] = os.getloadavg()[0]
     return out
 
@@ -724,8 +720,7 @@ def _ring_section(g: dict[str, Any], run_date: str) -> list[str]:
         f"{RING_SECTION} ({st['n']} blades): the masters vs the FMUs' own compute (goal <= 2x for libcosim)",
         "",
         f"{st['n']} blades + {st['n']} shroud contacts, the blades making their load (built-in load, "
-        f"{g['builtin']['fmus']} FMUs), side by side with the former ring, whose {st['n']} Excitation FMUs feed "
-        f"the blades' aeroLoad ({g['excitation']['fmus']} FMUs). EO {st['engine_order']}, 5000 rpm, "
+        f"{g['builtin']['fmus']} FMUs). EO {st['engine_order']}, 5000 rpm, "
         f"c = {st['blade']['c']:g} N s/m2, F_w0 = {st['fw0']:g} N/m, default contacts (k_n = 1e7), "
         f"{st['stop_time']:g} s at h = {st['step']:g} s in every master. Wall = the whole run (instantiating the "
         "FMUs included); inside = the time inside fmi2DoStep of all FMUs, measured in C around each call by the C "
@@ -733,8 +728,8 @@ def _ring_section(g: dict[str, Any], run_date: str) -> list[str]:
         "libcosim's (held inputs, the forces of the contacts' previous step). libcosim steps the FMUs on its own "
         "worker threads (CPU counts all threads)." + when,
         "",
-        "| ring | master | doSteps | wall | CPU | inside fmi2DoStep | wall / inside | CPU / inside | max abs q |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| master | doSteps | wall | CPU | inside fmi2DoStep | wall / inside | CPU / inside | max abs q |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     labels = {
         "fmpy feedthrough": "fmpy master (feedthrough, linear extrapolation)",
@@ -742,30 +737,24 @@ def _ring_section(g: dict[str, Any], run_date: str) -> list[str]:
         "libcosim": "libcosim (fixed step, held inputs)",
         "C loop": "our C loop (feedthrough, linear extrapolation)",
     }
-    for load, name in RING_LOADS.items():
-        for k, label in labels.items():
-            if k not in g[load]:
-                continue
-            v = g[load][k]
-            L.append(
-                f"| {name} | {label} | {v['doSteps']} | {v['wall']:.2f} s | {v['cpu']:.2f} s | "
-                f"{v['inside_doStep']:.2f} s | **{v['ratio_wall']:.2f}** | {v['ratio_cpu']:.2f} | "
-                f"{v['max_q']:.3g} m{'' if v['finite'] else ' (NOT finite)'} |"
-            )
-    lc, old, cl = g["builtin"]["libcosim"], g["excitation"]["libcosim"], g["builtin"]["C loop"]
-    same = all(g[x]["libcosim"]["equals_fmpy_libcosim_data_flow"] for x in RING_LOADS)
+    for k, label in labels.items():
+        v = g["builtin"][k]
+        L.append(
+            f"| {label} | {v['doSteps']} | {v['wall']:.2f} s | {v['cpu']:.2f} s | "
+            f"{v['inside_doStep']:.2f} s | **{v['ratio_wall']:.2f}** | {v['ratio_cpu']:.2f} | "
+            f"{v['max_q']:.3g} m{'' if v['finite'] else ' (NOT finite)'} |"
+        )
+    lc, cl = g["builtin"]["libcosim"], g["builtin"]["C loop"]
     L += [
         "",
-        f"libcosim: wall / FMU compute = **{lc['ratio_wall']:.2f}x** on the built-in load, "
-        f"{old['ratio_wall']:.2f}x on the former ring (wall {lc['wall']:.2f} s vs {old['wall']:.2f} s: "
-        f"{old['wall'] / lc['wall']:.2f}x faster); goal <= 2x {'met' if lc['ratio_wall'] <= 2 else 'not met'}; "
-        f"its stepping alone (CosimExecution.step, loading and initialization left out) {lc['step_wall']:.2f} s "
-        f"= {lc['ratio_step_wall']:.2f}x ({old['ratio_step_wall']:.2f}x on the former ring). "
-        f"libcosim's trajectory equals the C loop's in its data flow bit for bit, both rings: "
-        f"{'yes' if same else 'NO'}. One doStep costs {lc['inside_doStep'] / lc['doSteps'] * 1e6:.2f} us "
-        "inside the FMU, so a master's per-step data handling decides. Our C loop makes the fmpy master's "
-        f"calls without Python between them (q within {cl['deviation_from_fmpy']:.1e} of the fmpy master): "
-        f"**{cl['ratio_wall']:.2f}x** ({g['excitation']['C loop']['ratio_wall']:.2f}x on the former ring).",
+        f"libcosim: wall / FMU compute = **{lc['ratio_wall']:.2f}x**; goal <= 2x "
+        f"{'met' if lc['ratio_wall'] <= 2 else 'not met'}; its stepping alone (CosimExecution.step, loading and "
+        f"initialization left out) {lc['step_wall']:.2f} s = {lc['ratio_step_wall']:.2f}x. "
+        f"libcosim's trajectory equals the C loop's in its data flow bit for bit: "
+        f"{'yes' if lc['equals_fmpy_libcosim_data_flow'] else 'NO'}. One doStep costs "
+        f"{lc['inside_doStep'] / lc['doSteps'] * 1e6:.2f} us inside the FMU, so a master's per-step data handling "
+        "decides. Our C loop makes the fmpy master's calls without Python between them (q within "
+        f"{cl['deviation_from_fmpy']:.1e} of the fmpy master): **{cl['ratio_wall']:.2f}x**.",
         "",
     ]
     return L
@@ -834,7 +823,7 @@ def run_bench(
         old = out.with_suffix(".json")
         data = json.loads(old.read_text()) if old.is_file() else {"machine": machine(), "date": ""}
         if only == "ring":
-            print("24-blade ring: built-in load and the former ring ...", flush=True)
+            print("24-blade ring ...", flush=True)
             data["ring"] = ring_cost()
             heading, section = RING_SECTION, _ring_section(data["ring"], data["date"])
         elif only == "ring-orbits":

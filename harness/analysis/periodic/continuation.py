@@ -23,7 +23,7 @@ from __future__ import annotations
 import csv
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 
@@ -32,6 +32,9 @@ from harness.fmu.blade import SPEED_RANGE, FMUError
 from harness.model.params import ParameterError
 from harness.analysis.periodic.period_map import PeriodMap
 from harness.analysis.periodic.shooting import at_bound, bounded, classify, fd_direction, multipliers, newton
+
+if TYPE_CHECKING:  # extrema imports this module
+    from harness.analysis.periodic.extrema import Extremum
 
 SPEED_SCALE = 1000.0  # [rpm] per unit of arc
 MAX_KINKS = 8  # kinks stepped past per direction of a branch
@@ -83,9 +86,9 @@ class Branch:
     points: list[BranchPoint] = field(default_factory=list)
     end_reasons: list[str] = field(default_factory=list)  # why each end of the branch stopped
     closed: bool = False  # an isola that closed on itself
-    extrema: list = field(default_factory=list)  # located peaks and folds (extrema.Extremum), arc order
+    extrema: list[Extremum] = field(default_factory=list)  # located peaks and folds, arc order
 
-    def located(self, kind: str) -> list:
+    def located(self, kind: str) -> list[Extremum]:
         """The located extrema of one kind ("peak" or "fold")."""
         return [e for e in self.extrema if e.kind == kind]
 
@@ -137,7 +140,7 @@ class Branch:
         )
 
 
-def write_branches_csv(path: Path, branches: list[Branch], columns: dict[str, list] | None = None) -> None:
+def write_branches_csv(path: Path, branches: list[Branch], columns: dict[str, list[Any]] | None = None) -> None:
     """One row per point: [extra columns,] branch, kind ("point": a continuation point; "peak",
     "fold": a located extremum, after the branch's points), model, speed [rpm], amplitude [m], B [m]
     (or empty), q0 [m], q0' [m/s], stable, label, |mu|max and the multipliers. `columns` maps a
@@ -148,14 +151,14 @@ def write_branches_csv(path: Path, branches: list[Branch], columns: dict[str, li
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(path.suffix + ".tmp")
     columns = columns or {}
-    rows = []  # (branch, kind, point, label, lead)
+    rows: list[tuple[int, str, BranchPoint | Extremum, str, list[Any]]] = []  # (branch, kind, point, label, lead)
     for i, br in enumerate(branches):
         lead = [columns[c][i] for c in columns]
         rows += [(i, "point", p, p.label, lead) for p in br.points]
         rows += [(i, e.kind, e, e.stability, lead) for e in br.extrema]
     has_B = [branches[i].model not in ("fixedB", "jenkins") for i, *_ in rows]
     tips = [tip_state(p.x) for _, _, p, _, _ in rows]
-    num = {
+    num: dict[str, Any] = {
         "speed": digits.column(p.speed for _, _, p, _, _ in rows),
         "amplitude": digits.column(p.amplitude for _, _, p, _, _ in rows),
         "B": digits.column(p.x[-1] if b else 0.0 for (_, _, p, _, _), b in zip(rows, has_B)),
@@ -275,7 +278,9 @@ class BranchProblem:
         x, n = self.from_z(z)
         Px, A = self.pm(x, n)
         if self.sens:
-            self._last = (z.copy(), self.pm.DP)
+            DP = self.pm.DP
+            assert DP is not None  # with sensitivities every evaluation sets DP
+            self._last = (z.copy(), DP)
         return (Px - z[:-1] * self.sc) / self.sc, Px, A
 
     def state_columns(self, z: np.ndarray) -> np.ndarray | None:
@@ -283,7 +288,8 @@ class BranchProblem:
         at z (else None): DP_ij sc_j / sc_i - delta_ij."""
         if self._last is None or not np.array_equal(self._last[0], z):
             return None
-        return self._last[1] * self.sc[None, :] / self.sc[:, None] - np.eye(self.m)
+        cols: np.ndarray = self._last[1] * self.sc[None, :] / self.sc[:, None] - np.eye(self.m)
+        return cols
 
     def speed_column(self, z: np.ndarray, Hz: np.ndarray) -> np.ndarray:
         """dH/dn (scaled) by a forward difference (backward at the top of the rotorSpeed range)."""
@@ -293,7 +299,8 @@ class BranchProblem:
         zp = z.copy()
         zp[-1] += h
         x, n = self.from_z(zp)
-        return ((self.pm(x, n, jacobian=False)[0] - zp[:-1] * self.sc) / self.sc - Hz) / h
+        col: np.ndarray = ((self.pm(x, n, jacobian=False)[0] - zp[:-1] * self.sc) / self.sc - Hz) / h
+        return col
 
     def jac(self, z: np.ndarray, Hz: np.ndarray, Px: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(dH/dz (m x m+1), DP in physical units (m x m)): central differences in the unknowns
@@ -306,6 +313,7 @@ class BranchProblem:
             if cols is None:
                 Hz, Px, _ = self.H(z)
                 cols = self.state_columns(z)
+            assert cols is not None and self._last is not None  # H(z) just evaluated at z
             DP = self._last[1]
             return np.column_stack([cols, self.speed_column(z, Hz)]), DP
         known = self.memo.get(x, n) if self.memo is not None else None
@@ -341,7 +349,8 @@ def _tangent(Jz: np.ndarray, prev: np.ndarray | None) -> np.ndarray:
     t = Vt[-1]
     if prev is not None and float(t @ prev) < 0:
         t = -t
-    return t / np.linalg.norm(t)
+    unit: np.ndarray = t / np.linalg.norm(t)
+    return unit
 
 
 def continue_branch(
@@ -410,6 +419,7 @@ def _march(
             kinks.append(f"stepped past a kink at {z[-1] * SPEED_SCALE:.1f} rpm to {jumped[3].speed:.1f} rpm")
             z_new, t_new, Jz_new, point = jumped
             ds = s.ds
+        assert point is not None  # a step that is ok has its point
         pts.append(point)
         if not lo <= point.speed <= hi:
             return pts, _with(f"left the speed range at {point.speed:.1f} rpm", kinks), False
