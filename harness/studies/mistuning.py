@@ -37,6 +37,7 @@ from typing import Any, Sequence
 
 from fmpy import read_model_description
 import numpy as np
+import numpy.typing as npt
 
 from harness.analysis.cache import PointCache, point_key
 from harness.fmu.slave import build_ring_fmus
@@ -137,7 +138,7 @@ def blade_value(ring: Ring, name: str) -> float:
     return _start_value(name)
 
 
-def mistuned(ring: Ring, parameter: str, f: Sequence[float]) -> Ring:
+def mistuned(ring: Ring, parameter: str, f: Sequence[float] | npt.NDArray[np.float64]) -> Ring:
     """`ring` with blade i's `parameter` = tuned value * f[i]."""
     if parameter not in PARAMETERS:
         raise ValueError(f"mistuned parameter {parameter!r}: one of {', '.join(PARAMETERS)}")
