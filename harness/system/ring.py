@@ -33,6 +33,7 @@ from typing import Any, Callable, Mapping
 
 import numpy as np
 
+from harness.fmu.slave import Slave
 from harness.system.ring_instances import open_ring
 
 
@@ -47,20 +48,54 @@ class RingDiverged(RuntimeError):
 
 @dataclass(frozen=True)
 class Ring:
-    """A tuned ring: N blades, N contacts, constant speed; parameters of the FMUs by name."""
+    """A ring of N blades coupled by N shroud contacts at constant speed (a frozen record).
+
+    Parameters
+    ----------
+    n : int
+        Number of blades N (and of contacts).
+    engine_order : int
+        Engine order EO of the aerodynamic load.
+    speed : float
+        Rotor speed n [rpm].
+    fw0 : float
+        Amplitude Fw0 of every blade's built-in aerodynamic load [N/m].
+    blade : Mapping[str, Any]
+        BladeExternalContact parameters by name, common to every blade.
+    contact : Mapping[str, Any]
+        ShroudContact parameters by name, common to every contact.
+    blade_each : tuple of Mapping[str, Any]
+        Per-blade overrides of `blade` (mistuning): empty (a tuned ring) or N of them.
+    step : float
+        Communication step h [s].
+    stop_time : float
+        Stop time of a run [s].
+    order : int
+        Extrapolation order of the input derivatives (0: inputs held over a step).
+    coupling : str
+        How the blades get the contact forces, one of COUPLINGS: "feedthrough" (read at the q, v
+        just set) or "libcosim" (libcosim's fixed-step data flow; needs `order` 0).
+    q_limit : float
+        A blade |q| above it stops the run with RingDiverged [m] (about 1000x the forced response).
+
+    Raises
+    ------
+    ValueError
+        An unknown `coupling`, or "libcosim" with `order` other than 0.
+    """
 
     n: int = 4
     engine_order: int = 3
-    speed: float = 5000.0  # [rpm]
-    fw0: float = 100.0  # [N/m]
-    blade: Mapping[str, Any] = field(default_factory=dict)  # BladeExternalContact parameters
-    contact: Mapping[str, Any] = field(default_factory=dict)  # ShroudContact parameters
-    blade_each: tuple[Mapping[str, Any], ...] = ()  # per-blade overrides of `blade` (mistuning), empty or N
-    step: float = 1e-4  # communication step h [s]
-    stop_time: float = 0.1  # [s]
-    order: int = 1  # extrapolation order of the input derivatives (0: held inputs)
-    coupling: str = "feedthrough"  # one of COUPLINGS: how the blades get the contact forces
-    q_limit: float = 1e-2  # [m] a blade |q| above it stops the run (about 1000x the forced response)
+    speed: float = 5000.0
+    fw0: float = 100.0
+    blade: Mapping[str, Any] = field(default_factory=dict)
+    contact: Mapping[str, Any] = field(default_factory=dict)
+    blade_each: tuple[Mapping[str, Any], ...] = ()
+    step: float = 1e-4
+    stop_time: float = 0.1
+    order: int = 1
+    coupling: str = "feedthrough"
+    q_limit: float = 1e-2
 
     def __post_init__(self) -> None:
         if self.coupling not in COUPLINGS:
@@ -71,15 +106,38 @@ class Ring:
 
     @property
     def n_steps(self) -> int:
+        """Communication steps of a run: stop_time / step, rounded."""
         return round(self.stop_time / self.step)
 
     def blade_params(self, i: int) -> dict[str, Any]:
-        """Parameters of blade i: the common ones with blade i's own overrides on top."""
+        """Parameters of one blade.
+
+        Parameters
+        ----------
+        i : int
+            The blade, 0..N-1.
+
+        Returns
+        -------
+        dict[str, Any]
+            The common parameters (`blade`) with blade i's own overrides (`blade_each[i]`) on top.
+        """
         return {**dict(self.blade), **(dict(self.blade_each[i]) if self.blade_each else {})}
 
     def blade_instance_params(self, i: int) -> dict[str, Any]:
-        """What every master sets on blade i: its parameters and its built-in load's (Fw0 always
-        explicit; blade i's place in the travelling wave)."""
+        """What every master sets on one blade's FMU.
+
+        Parameters
+        ----------
+        i : int
+            The blade, 0..N-1.
+
+        Returns
+        -------
+        dict[str, Any]
+            `blade_params(i)` and its built-in load's: Fw0 (always explicit), engineOrder and blade
+            i's place in the travelling wave (bladeIndex, bladeCount).
+        """
         return {
             **self.blade_params(i),
             "Fw0": float(self.fw0),
@@ -200,7 +258,7 @@ def run(ring: Ring, correction: Callable[..., float] | None = None) -> dict[str,
     return res
 
 
-def _set_derivatives(slave, vrs: list[int], orders: list[int], values: list[float]) -> None:
+def _set_derivatives(slave: Slave, vrs: list[int], orders: list[int], values: list[float]) -> None:
     slave.s.set_real_input_derivatives(vrs, orders, values)
 
 
@@ -215,7 +273,8 @@ def harmonic(res: Mapping[str, np.ndarray], omega: float, periods: int = 1) -> n
     w = np.full(len(ts), ts[1] - ts[0])
     w[0] = w[-1] = 0.5 * (ts[1] - ts[0])
     e = np.exp(-1j * omega * ts)
-    return 2.0 / T * (w * e) @ qs
+    coefficients: np.ndarray = 2.0 / T * (w * e) @ qs
+    return coefficients
 
 
 def amplitudes(time: np.ndarray, q: np.ndarray, omega: float) -> np.ndarray:
@@ -224,4 +283,5 @@ def amplitudes(time: np.ndarray, q: np.ndarray, omega: float) -> np.ndarray:
     T = 2 * math.pi / omega
     if time[-1] - time[0] < T * (1 - 1e-9):
         raise ValueError(f"the run ({time[-1] - time[0]:g} s) is shorter than one excitation period ({T:g} s)")
-    return np.abs(q[time >= time[-1] - T - 1e-12]).max(axis=0)
+    amplitude: np.ndarray = np.abs(q[time >= time[-1] - T - 1e-12]).max(axis=0)
+    return amplitude

@@ -32,6 +32,7 @@ from dataclasses import dataclass, field, replace
 from typing import Callable, Sequence
 
 import numpy as np
+import numpy.typing as npt
 
 from harness.system.ring import Ring
 from harness.system.ring_c import CRing
@@ -147,7 +148,7 @@ class _Sweeper:
 
 def sweep(
     ring: Ring,
-    speeds_rpm: Sequence[float],
+    speeds_rpm: Sequence[float] | npt.NDArray[np.float64],
     direction: str = "up",
     master: str = "c",
     *,
