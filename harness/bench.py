@@ -2,12 +2,11 @@
 
 Measured in one run on this machine: the FMU's internal step cost (the C benchmark
 build/bench_step when it exists), the cost of one fmi2DoStep through the harness loop on fmpy
-(small and large communication steps), the Python overhead of a time-domain sweep against the
-FMU's own compute for the same work (time spent inside fmi2DoStep), the same stepped-speed run
-through the Python reference as a ratio, harmonic balance for all studies, the wall time of
-`reproduce` (the studies as periodic-orbit branches) with its breakdown and the time spent in the
-FMI calls, side by side the former transient path of the same studies, and a 24-blade ring in
-the fmpy master and in libcosim against the FMUs' own compute.
+(small and large communication steps) against the FMU's own compute for the same work (time
+spent inside fmi2DoStep), the same stepped-speed run through the Python reference as a ratio,
+harmonic balance for all studies, the wall time of `reproduce` (the studies as periodic-orbit
+branches) with its breakdown and the time spent in the FMI calls, and a 24-blade ring in the fmpy
+master and in libcosim against the FMUs' own compute.
 """
 
 from __future__ import annotations
@@ -21,7 +20,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -29,21 +28,19 @@ import fmpy
 import numpy as np
 
 from harness import reference as ref
-from harness.analysis import curves as sw
-from harness.analysis.curves import SweepSettings, SweepSpec, fmu_identity, hb_curve, run_sweeps
+from harness.analysis.cache import fmu_identity
+from harness.analysis.curves import hb_curve
 from harness.analysis.executor import Runner
 from harness.files.atomic import atomic_write_text
 from harness.analysis.periodic.branches import BranchSettings, trace_branches
 from harness.analysis.periodic.period_map import ShootingSettings
-from harness.analysis.plateau import PLATEAU_OUTPUTS
 from harness.bench_ring_orbits import SECTION as RING_ORBITS_SECTION
 from harness.bench_ring_orbits import ring_orbits_cost
 from harness.bench_ring_orbits import section as ring_orbits_section
 from harness.fmu.blade import BladeFMU
 from harness.fmu.build import BUILD_DIR, REPO_ROOT, build
-from harness.fmu.pool import worker_fmu
 from harness.model.excitation import AeroLoad, Stepped, fmu_view
-from harness.studies.paper import SIZES, STUDIES, Size, base_params, study_specs
+from harness.studies.paper import SIZES, STUDIES, Size, base_params
 from harness.system import ring_c, ring_libcosim
 from harness.system.ring import Ring, run as ring_run
 from harness.validation.reproduction import reproduce
@@ -64,7 +61,6 @@ class BenchSize:
     name: str
     repeats: int = 5  # best of, for the doStep and RK4 step costs
     sim_scale: float = 1.0  # on the simulated times of the doStep and reference rows
-    sweep_speeds: tuple[float, ...] = tuple(float(n) for n in np.arange(3000.0, 10001.0, 500.0))
     ring: Mapping[str, Any] = field(default_factory=lambda: dict(RING_BENCH))
     ring_repeats: int = 3
     hb_values: int | None = None  # per study (None: all)
@@ -73,7 +69,7 @@ class BenchSize:
     jacobian_range: tuple[float, float] = (3000.0, 12000.0)
     cli_repeats: int = 15
     ring_orbits: Mapping[str, Any] = field(default_factory=dict)  # ring_orbits_cost's sizes ({}: its defaults)
-    reproduce: str | Size = "default"  # the reproduce / transient rows' size (`--size`)
+    reproduce: str | Size = "default"  # the reproduce row's size (`--size`)
     extras: bool = True  # reproduce's Fig. 2, 4/5, Campbell, iteration (fixed sizes: tens of seconds)
     step_args: tuple[str, ...] = ()  # for build/bench_step
 
@@ -221,24 +217,14 @@ def _inside(fmu: Any, fn, repeats: int) -> tuple[float, int]:
 
 
 def dostep_cost(fmu: Any, params: dict, repeats: int = 5, sim_scale: float = 1.0) -> dict[str, Any]:
-    """Cost of one doStep of BladeFMU.run at 5000 rpm for four communication steps; the last one
-    as the sweeps step (Chebyshev-fitted load, values carried by the FMU, one sample per period)."""
+    """Cost of one doStep of BladeFMU.run at 5000 rpm for three communication steps."""
     out = {}
     T = 60.0 / (5000.0 * params["engineOrder"])
-    spp = SweepSettings().steps_per_period
     plain = {"outputs": ["tipDisplacement", "amplitude"]}
-    sweep_like = {"outputs": list(PLATEAU_OUTPUTS), "input_fit": "chebyshev", "carry_values": True, "sample_every": spp}
     for label, h, t_stop, kw in (
         ("h = maxStep = 1e-5 s (1 internal step)", 1e-5, 0.2, plain),
         ("h = T/8 = 0.5 ms (50 internal steps)", T / 8, 1.0, plain),
         ("h = T/4 = 1 ms (100 internal steps)", T / 4, 1.0, plain),
-        (
-            f"h = T/{spp} = {T / spp * 1e3:g} ms ({T / spp / 1e-5:.0f} internal steps), as in the sweeps: "
-            "Chebyshev-fitted load, values carried, 1 sample per period",
-            T / spp,
-            1.0,
-            sweep_like,
-        ),
     ):
         fmu.run(params, 10 * h, h)  # warm-up
 
@@ -260,33 +246,6 @@ def dostep_cost(fmu: Any, params: dict, repeats: int = 5, sim_scale: float = 1.0
     return out
 
 
-def sweep_overhead(
-    fmu_path: str, repeats: int = 3, speeds: tuple[float, ...] = BenchSize("full").sweep_speeds
-) -> dict[str, Any]:
-    """One up sweep (base case, 3000..10000 rpm every 500, no refinement, no cache): the wall and
-    CPU time of the Python-driven sweep against the time spent inside fmi2DoStep for the same work."""
-    out = {}
-    for spp in (sw.SweepSettings().steps_per_period, 8):
-        s = sw.SweepSettings(refine_levels=0, steps_per_period=spp)
-        task = sw.ChainTask(base_params(), tuple(speeds), "up", s, *sw.fmu_identity(fmu_path), None)
-        fmu = worker_fmu(task.fmu_path)
-        sw.run_chain(task)  # warm-up
-        wall, cpu, recs = _best(lambda: sw.run_chain(task), repeats)
-        inside, n = _inside(fmu, lambda: sw.run_chain(task), repeats)
-        out[f"{spp} steps per period"] = {
-            "plateaus": len(recs),
-            "sim_time": sum(r.sim_time for r in recs),
-            "wall": wall,
-            "cpu": cpu,
-            "inside_doStep": inside,
-            "doSteps": n,
-            "ratio_wall": wall / inside,
-            "ratio_cpu": cpu / inside,
-        }
-    return out
-
-
-RING_LOADS = {"builtin": "built-in load", "excitation": "former ring, Excitation FMUs"}
 CLI_SECTION = "## Command line start-up"
 # (row, command): ours through the installed console script, fmpy's CLI as its user runs it
 CLI_COMMANDS = (
@@ -362,9 +321,8 @@ def _fastest(repeats: int, f, *a, **kw) -> tuple[Any, float, float]:
 
 def ring_cost(repeats: int = 3, setup: Mapping[str, Any] = RING_BENCH) -> dict[str, Any]:
     """The 24-blade ring (RING_BENCH) on the blades' built-in load in the fmpy master (feedthrough,
-    linear extrapolation; and libcosim's data flow, held inputs), in libcosim, and in our C loop;
-    and the former ring (24 Excitation FMUs feeding the blades) in libcosim and the C loop, in the
-    same run: wall of each whole run (instantiating the FMUs included) against the FMUs' own
+    linear extrapolation; and libcosim's data flow, held inputs), in libcosim, and in our C loop:
+    wall of each whole run (instantiating the FMUs included) against the FMUs' own
     compute, the time inside fmi2DoStep of all FMUs, measured in C around each call
     (harness/system/ring_c.py, time_dosteps) for each data flow. libcosim's trajectory is checked to
     equal the C loop's in its data flow bit for bit, so that run's inside time is libcosim's compute.
@@ -377,33 +335,31 @@ def ring_cost(repeats: int = 3, setup: Mapping[str, Any] = RING_BENCH) -> dict[s
         "repeats": repeats,
         "load_before": os.getloadavg()[0],
     }
-    for load in RING_LOADS:
-        ft = Ring(**setup, order=1, load=load)
-        lc_flow = Ring(**setup, order=0, coupling="libcosim", load=load)
-        ring_c.run(Ring(**{**setup, "stop_time": 10 * setup["step"]}, load=load))  # build, load once
-        n = (3 if load == "excitation" else 2) * ft.n * ft.n_steps
-        inside = {
-            k: min(float(ring_c.run(r, time_dosteps=True)["inside_doStep"]) for _ in range(repeats))
-            for k, r in (("ft", ft), ("lc", lc_flow))
-        }
-        g: dict[str, Any] = {"fmus": n // ft.n_steps}
-        c_ft, wall, cpu = _fastest(repeats, ring_c.run, ft)
-        g["C loop"] = _row(wall, cpu, inside["ft"], n, c_ft["q"])
-        c_lc = ring_c.run(lc_flow)
-        if load == "builtin":  # the Python loop: 25 s a run, measured for the ring as it is
-            r, wall, cpu = _timed(ring_run, ft)
-            g["fmpy feedthrough"] = _row(wall, cpu, inside["ft"], n, r["q"])
-            g["C loop"]["deviation_from_fmpy"] = float(np.abs(c_ft["q"] - r["q"]).max() / np.abs(r["q"]).max())
-            r, wall, cpu = _timed(ring_run, lc_flow)
-            g["fmpy libcosim data flow"] = _row(wall, cpu, inside["lc"], n, r["q"])
-        lc, wall, cpu = _fastest(repeats, ring_libcosim.run, Ring(**setup, order=0, load=load))
-        g["libcosim"] = {
-            **_row(wall, cpu, inside["lc"], n, lc["q"]),
-            "step_wall": float(lc["step_wall"]),
-            "ratio_step_wall": float(lc["step_wall"]) / inside["lc"],
-            "equals_fmpy_libcosim_data_flow": bool(np.array_equal(lc["q"], c_lc["q"])),
-        }
-        out[load] = g
+    ft = Ring(**setup, order=1)
+    lc_flow = Ring(**setup, order=0, coupling="libcosim")
+    ring_c.run(Ring(**{**setup, "stop_time": 10 * setup["step"]}))  # build, load once
+    n = 2 * ft.n * ft.n_steps
+    inside = {
+        k: min(float(ring_c.run(r, time_dosteps=True)["inside_doStep"]) for _ in range(repeats))
+        for k, r in (("ft", ft), ("lc", lc_flow))
+    }
+    g: dict[str, Any] = {"fmus": n // ft.n_steps}
+    c_ft, wall, cpu = _fastest(repeats, ring_c.run, ft)
+    g["C loop"] = _row(wall, cpu, inside["ft"], n, c_ft["q"])
+    c_lc = ring_c.run(lc_flow)
+    r, wall, cpu = _timed(ring_run, ft)  # the Python loop: 25 s a run
+    g["fmpy feedthrough"] = _row(wall, cpu, inside["ft"], n, r["q"])
+    g["C loop"]["deviation_from_fmpy"] = float(np.abs(c_ft["q"] - r["q"]).max() / np.abs(r["q"]).max())
+    r, wall, cpu = _timed(ring_run, lc_flow)
+    g["fmpy libcosim data flow"] = _row(wall, cpu, inside["lc"], n, r["q"])
+    lc, wall, cpu = _fastest(repeats, ring_libcosim.run, Ring(**setup, order=0))
+    g["libcosim"] = {
+        **_row(wall, cpu, inside["lc"], n, lc["q"]),
+        "step_wall": float(lc["step_wall"]),
+        "ratio_step_wall": float(lc["step_wall"]) / inside["lc"],
+        "equals_fmpy_libcosim_data_flow": bool(np.array_equal(lc["q"], c_lc["q"])),
+    }
+    out["builtin"] = g
     out["load_after"] = os.getloadavg()[0]
     return out
 
@@ -510,40 +466,6 @@ def reproduce_cold(size: str | Size, workers: int | None, extras: bool = True) -
     }
 
 
-def transient_studies(size: str | Size, workers: int | None) -> dict[str, Any]:
-    """The former path of the same studies from a cold cache: time-domain up/down sweeps, fixed
-    points A(B) = B from transients and HB for Figs. 6-9, time-domain + HB Coulomb curves."""
-    sz, base = (SIZES[size] if isinstance(size, str) else size), base_params()
-    specs = [e[2] for e in study_specs(sz, list(STUDIES), base)]
-    for name in ("kn", "angle"):
-        st = STUDIES[name]
-        values = st.values if sz.values is None else sz.values.get(name, st.values)
-        specs += [
-            SweepSpec(
-                dict(base, frictionModel=2, **{st.param: v}),
-                sz.speeds,
-                label=f"Coulomb {st.label(v)}",
-                methods=("time", "hb"),
-                hb_speeds=sz.hb_speeds,
-                settings=sz.settings,
-            )
-            for v in values
-        ]
-    with tempfile.TemporaryDirectory() as tmp:
-        t = time.perf_counter()
-        with Runner(workers=workers, progress=False) as runner:
-            res = run_sweeps(specs, runner, cache_dir=Path(tmp) / "cache")
-        wall = time.perf_counter() - t
-    return {
-        "wall": wall,
-        "curves": len(specs),
-        "plateaus": sum(len(r.time) for r in res),
-        "sim_time": float(sum(r.stats.sim_time for r in res)),
-        "fixed_evals": int(sum(r.stats.fixed_evals for r in res)),
-        "workers": workers or os.cpu_count(),
-    }
-
-
 def write_results(path: Path, data: dict[str, Any]) -> None:
     m = data["machine"]
     L = [
@@ -581,28 +503,6 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
             L.append(
                 f"| {k} | {v['steps']} | {v['us_per_doStep']:.2f} | {v['cpu_us_per_doStep']:.2f} | "
                 f"{v['us_inside_doStep']:.2f} | {v['ratio_wall']:.2f} | {v['ratio_cpu']:.2f} |"
-            )
-        L.append("")
-    if "sweep" in data:
-        st = data.get("sweep_settings", {})
-        L += [
-            "## A time-domain sweep driven from Python vs the FMU's own compute (target <= 1.5x)",
-            "",
-            "One up sweep of the base case, 3000..10000 rpm every 500 rpm, no refinement, no cache (plateaus "
-            "with steady-state checks, state carried); the FMU's own compute = time spent inside "
-            "fmi2DoStep for the same work. Minimum over 3 repeats. Default settings: "
-            f"{st.get('steps_per_period', '?')} steps per period with the load's degree-8 "
-            f"{st.get('input_fit', '?')} polynomial per step, rtol {st.get('rtol', '?')}, cap "
-            f"{st.get('max_time', '?')} s per plateau; the second row only changes the steps per period "
-            "(more doSteps for the same physics).",
-            "",
-            "| communication step | plateaus | simulated | doSteps | wall | CPU | inside fmi2DoStep | wall / inside | CPU / inside |",
-            "|---|---|---|---|---|---|---|---|---|",
-        ]
-        for k, v in data["sweep"].items():
-            L.append(
-                f"| {k} | {v['plateaus']} | {v['sim_time']:.1f} s | {v['doSteps']} | {v['wall']:.3f} s | "
-                f"{v['cpu']:.3f} s | {v['inside_doStep']:.3f} s | **{v['ratio_wall']:.2f}** | {v['ratio_cpu']:.2f} |"
             )
         L.append("")
     if "reference" in data:
@@ -676,29 +576,6 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
             f"- Fig. 2, 4/5, Campbell, the paper's iteration: {r.get('extras_wall', nan):.1f} s",
             "",
         ]
-        if "transient" in data:
-            t = data["transient"]
-            studies = r.get("branches_wall", nan) + r.get("hb_wall", 0.0)
-            L += [
-                "### Side by side: the same studies by transients (the former `make run`, same run)",
-                "",
-                f"{t['curves']} curves (Figs. 6-9: up/down time-domain sweeps, fixed points A(B) = B from "
-                f"transients, HB; section 4: Coulomb time domain + HB), cold cache, {t['workers']} workers: "
-                f"**{t['wall']:.1f} s wall**, {t['plateaus']} plateaus + {t['fixed_evals']} A(B) transients = "
-                f"{t['sim_time']:.0f} s of blade time.",
-                "",
-                f"Studies: transients {t['wall']:.1f} s vs branches {studies:.1f} s (HB included): "
-                f"**{t['wall'] / studies:.2f}x less wall time**, with every branch, its stability and the "
-                f"Jenkins element in addition."
-                + (
-                    f" Whole reproduction (the extras are the same code in both): "
-                    f"{t['wall'] + r['extras_wall']:.1f} s vs {r['wall']:.1f} s: "
-                    f"**{(t['wall'] + r['extras_wall']) / r['wall']:.2f}x**."
-                    if math.isfinite(r.get("extras_wall", nan))
-                    else ""
-                ),
-                "",
-            ]
     atomic_write_text(path, "\n".join(L))
 
 
@@ -724,8 +601,7 @@ def _ring_section(g: dict[str, Any], run_date: str) -> list[str]:
         f"{RING_SECTION} ({st['n']} blades): the masters vs the FMUs' own compute (goal <= 2x for libcosim)",
         "",
         f"{st['n']} blades + {st['n']} shroud contacts, the blades making their load (built-in load, "
-        f"{g['builtin']['fmus']} FMUs), side by side with the former ring, whose {st['n']} Excitation FMUs feed "
-        f"the blades' aeroLoad ({g['excitation']['fmus']} FMUs). EO {st['engine_order']}, 5000 rpm, "
+        f"{g['builtin']['fmus']} FMUs). EO {st['engine_order']}, 5000 rpm, "
         f"c = {st['blade']['c']:g} N s/m2, F_w0 = {st['fw0']:g} N/m, default contacts (k_n = 1e7), "
         f"{st['stop_time']:g} s at h = {st['step']:g} s in every master. Wall = the whole run (instantiating the "
         "FMUs included); inside = the time inside fmi2DoStep of all FMUs, measured in C around each call by the C "
@@ -733,8 +609,8 @@ def _ring_section(g: dict[str, Any], run_date: str) -> list[str]:
         "libcosim's (held inputs, the forces of the contacts' previous step). libcosim steps the FMUs on its own "
         "worker threads (CPU counts all threads)." + when,
         "",
-        "| ring | master | doSteps | wall | CPU | inside fmi2DoStep | wall / inside | CPU / inside | max abs q |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| master | doSteps | wall | CPU | inside fmi2DoStep | wall / inside | CPU / inside | max abs q |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     labels = {
         "fmpy feedthrough": "fmpy master (feedthrough, linear extrapolation)",
@@ -742,30 +618,24 @@ def _ring_section(g: dict[str, Any], run_date: str) -> list[str]:
         "libcosim": "libcosim (fixed step, held inputs)",
         "C loop": "our C loop (feedthrough, linear extrapolation)",
     }
-    for load, name in RING_LOADS.items():
-        for k, label in labels.items():
-            if k not in g[load]:
-                continue
-            v = g[load][k]
-            L.append(
-                f"| {name} | {label} | {v['doSteps']} | {v['wall']:.2f} s | {v['cpu']:.2f} s | "
-                f"{v['inside_doStep']:.2f} s | **{v['ratio_wall']:.2f}** | {v['ratio_cpu']:.2f} | "
-                f"{v['max_q']:.3g} m{'' if v['finite'] else ' (NOT finite)'} |"
-            )
-    lc, old, cl = g["builtin"]["libcosim"], g["excitation"]["libcosim"], g["builtin"]["C loop"]
-    same = all(g[x]["libcosim"]["equals_fmpy_libcosim_data_flow"] for x in RING_LOADS)
+    for k, label in labels.items():
+        v = g["builtin"][k]
+        L.append(
+            f"| {label} | {v['doSteps']} | {v['wall']:.2f} s | {v['cpu']:.2f} s | "
+            f"{v['inside_doStep']:.2f} s | **{v['ratio_wall']:.2f}** | {v['ratio_cpu']:.2f} | "
+            f"{v['max_q']:.3g} m{'' if v['finite'] else ' (NOT finite)'} |"
+        )
+    lc, cl = g["builtin"]["libcosim"], g["builtin"]["C loop"]
     L += [
         "",
-        f"libcosim: wall / FMU compute = **{lc['ratio_wall']:.2f}x** on the built-in load, "
-        f"{old['ratio_wall']:.2f}x on the former ring (wall {lc['wall']:.2f} s vs {old['wall']:.2f} s: "
-        f"{old['wall'] / lc['wall']:.2f}x faster); goal <= 2x {'met' if lc['ratio_wall'] <= 2 else 'not met'}; "
-        f"its stepping alone (CosimExecution.step, loading and initialization left out) {lc['step_wall']:.2f} s "
-        f"= {lc['ratio_step_wall']:.2f}x ({old['ratio_step_wall']:.2f}x on the former ring). "
-        f"libcosim's trajectory equals the C loop's in its data flow bit for bit, both rings: "
-        f"{'yes' if same else 'NO'}. One doStep costs {lc['inside_doStep'] / lc['doSteps'] * 1e6:.2f} us "
-        "inside the FMU, so a master's per-step data handling decides. Our C loop makes the fmpy master's "
-        f"calls without Python between them (q within {cl['deviation_from_fmpy']:.1e} of the fmpy master): "
-        f"**{cl['ratio_wall']:.2f}x** ({g['excitation']['C loop']['ratio_wall']:.2f}x on the former ring).",
+        f"libcosim: wall / FMU compute = **{lc['ratio_wall']:.2f}x**; goal <= 2x "
+        f"{'met' if lc['ratio_wall'] <= 2 else 'not met'}; its stepping alone (CosimExecution.step, loading and "
+        f"initialization left out) {lc['step_wall']:.2f} s = {lc['ratio_step_wall']:.2f}x. "
+        f"libcosim's trajectory equals the C loop's in its data flow bit for bit: "
+        f"{'yes' if lc['equals_fmpy_libcosim_data_flow'] else 'NO'}. One doStep costs "
+        f"{lc['inside_doStep'] / lc['doSteps'] * 1e6:.2f} us inside the FMU, so a master's per-step data handling "
+        "decides. Our C loop makes the fmpy master's calls without Python between them (q within "
+        f"{cl['deviation_from_fmpy']:.1e} of the fmpy master): **{cl['ratio_wall']:.2f}x**.",
         "",
     ]
     return L
@@ -774,11 +644,8 @@ def _ring_section(g: dict[str, Any], run_date: str) -> list[str]:
 # `--quick`: every row once at tiny sizes (tests/project/test_bench_quick.py runs it in `make test`)
 TINY_REPRODUCE = Size(
     "tiny",
-    speeds=(3000.0, 4000.0),
-    fixed_speeds=(4000.0,),
     hb_speeds=(3000.0, 3500.0, 4000.0),
     values={"gap": (2e-5,), "mass": (0.02,), "angle": (math.pi / 3,), "kn": (1e5,)},
-    settings=SweepSettings(refine_levels=0, max_time=0.1, fixed_max_time=0.1, n_scan=4),
     fig45_time=0.05,
     coulomb=False,
     iteration_steps=2,
@@ -791,7 +658,6 @@ QUICK = BenchSize(
     "quick",
     repeats=1,
     sim_scale=0.02,
-    sweep_speeds=(3000.0, 3500.0),
     ring={**RING_BENCH, "n": 4, "stop_time": 0.005},
     ring_repeats=1,
     hb_values=1,
@@ -834,7 +700,7 @@ def run_bench(
         old = out.with_suffix(".json")
         data = json.loads(old.read_text()) if old.is_file() else {"machine": machine(), "date": ""}
         if only == "ring":
-            print("24-blade ring: built-in load and the former ring ...", flush=True)
+            print("24-blade ring ...", flush=True)
             data["ring"] = ring_cost()
             heading, section = RING_SECTION, _ring_section(data["ring"], data["date"])
         elif only == "ring-orbits":
@@ -875,10 +741,6 @@ def measure(out: Path, size: BenchSize, workers: int | None, skip_reproduce: boo
         data["reference"] = reference_ratio(fmu, p, size.sim_scale)
         print("branch Jacobians: sensitivities vs finite differences ...", flush=True)
         data["jacobians"] = branch_jacobians(fmu, size.jacobian_curves, size.jacobian_range)
-    print("sweep overhead ...", flush=True)
-    data["sweep"] = sweep_overhead(path, min(size.repeats, 3), size.sweep_speeds)
-
-    data["sweep_settings"] = asdict(SweepSettings())
     print("harmonic balance ...", flush=True)
     data["hb"] = hb_all(size.hb_values, size.hb_speeds)
     print(f"{size.ring['n']}-blade ring: fmpy master and libcosim ...", flush=True)
@@ -892,8 +754,6 @@ def measure(out: Path, size: BenchSize, workers: int | None, skip_reproduce: boo
         name = size.reproduce if isinstance(size.reproduce, str) else size.reproduce.name
         print(f"reproduce --size {name} (branches) ...", flush=True)
         data["reproduce"] = reproduce_cold(size.reproduce, workers, size.extras)
-        print("the same studies by transients from a cold cache (the former path) ...", flush=True)
-        data["transient"] = transient_studies(size.reproduce, workers)
     write_results(out, data)
     sec = "\n".join(ring_orbits_section(data["ring_orbits"], _machine_text(data["machine"], load), data["date"]))
     atomic_write_text(out, replace_section(out.read_text(), RING_ORBITS_SECTION, sec))

@@ -34,7 +34,13 @@ def _installed() -> str | None:
 
 @lru_cache(maxsize=1)
 def version() -> str:
-    """The installed distribution's version, else pyproject.toml's (a bare checkout)."""
+    """The harness's version.
+
+    Returns
+    -------
+    str
+        The installed distribution's version, else pyproject.toml's (a bare checkout).
+    """
     found = _installed()
     if found is not None:
         return found

@@ -15,9 +15,10 @@ import argparse
 import json
 import math
 from pathlib import Path
+from typing import Any
 
 from harness.analysis.periodic.branches import BranchSettings, trace_branches
-from harness.analysis.periodic.continuation import write_branches_csv
+from harness.analysis.periodic.continuation import Branch, write_branches_csv
 from harness.analysis.periodic.period_map import MODELS
 from harness.cli.options import add_fmu_option, add_start_values, check_outputs, parse_start_values
 from harness.fmu.blade import SPEED_RANGE, BladeFMU
@@ -105,10 +106,10 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def sampled_changes(b) -> list[tuple[float, float, str]]:
+def sampled_changes(b: Branch) -> list[tuple[float, float, str]]:
     """(low, high [rpm], kind) of the stability changes that are not folds (period doubling,
     Neimark-Sacker): bracketed by the sampled points only."""
-    out = []
+    out: list[tuple[float, float, str]] = []
     for j, kind in b.bifurcations():
         rest = [k for k in kind.split("+") if k != "fold"]
         if rest:
@@ -117,7 +118,7 @@ def sampled_changes(b) -> list[tuple[float, float, str]]:
     return out
 
 
-def branch_dict(b) -> dict:
+def branch_dict(b: Branch) -> dict[str, Any]:
     """A branch for --json: its points and its located peaks and folds."""
     return {
         "points": [

@@ -25,6 +25,7 @@ import tempfile
 import time
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 from fmpy import read_model_description
 import numpy as np
@@ -37,7 +38,7 @@ from harness.outputs import check_dir, check_file
 from harness.studies import mistuning, run_plots
 from harness.system import ring_c, ring_libcosim, ring_values, ssp
 from harness.system.ring import Ring, RingDiverged, amplitudes, diverged_message, harmonic, run as ring_run
-from harness.system.ring_sweep import DIRECTIONS, per_period_settling, period_step, sweep
+from harness.system.ring_sweep import DIRECTIONS, RingSweep, per_period_settling, period_step, sweep
 from harness.system.ring_tables import write_curves_csv
 from harness.system.ring_values import max_blades
 
@@ -222,7 +223,7 @@ def check(args: argparse.Namespace) -> None:
         )
 
 
-def make_ring(args: argparse.Namespace):
+def make_ring(args: argparse.Namespace) -> Ring:
     order = (2 if args.order is None else args.order) if args.master in EXTRAPOLATING else 0
     ring = Ring(n=args.blades, speed=args.speed, stop_time=args.stop_time, step=args.step or 2.5e-5, order=order)
     ring = ring_values.apply(ring, parse_start_values(args.start_values))
@@ -239,7 +240,7 @@ def make_ring(args: argparse.Namespace):
     return ring
 
 
-def simulate(ring, master: str) -> dict:
+def simulate(ring: Ring, master: str) -> dict[str, Any]:
     if master == "fmpy":
         return ring_run(ring)
     if master == "c":
@@ -250,7 +251,7 @@ def simulate(ring, master: str) -> dict:
         return ssp.run_ecos(ssp.write(ring, Path(d) / "ring"), ring)
 
 
-def _common(ring, args) -> dict:
+def _common(ring: Ring, args: argparse.Namespace) -> dict[str, Any]:
     return {
         "blades": ring.n,
         "engine_order": ring.engine_order,
@@ -287,7 +288,7 @@ def run(args: argparse.Namespace) -> int:
         raise ParameterError(str(e)) from None
 
 
-def _check_diverged(ring, res: dict, master: str) -> None:
+def _check_diverged(ring: Ring, res: dict[str, Any], master: str) -> None:
     """libcosim and Ecos run on their own: the same divergence check on the run they return."""
     bad = ~(np.abs(res["q"]) <= ring.q_limit)
     if bad.any():
@@ -295,7 +296,7 @@ def _check_diverged(ring, res: dict, master: str) -> None:
         raise RingDiverged(diverged_message(ring, int(k), float(res["time"][k]), int(i), float(res["q"][k, i]), master))
 
 
-def run_one(ring, args) -> int:
+def run_one(ring: Ring, args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     res = simulate(ring, args.master)
     wall = time.perf_counter() - t0
@@ -340,7 +341,7 @@ def run_one(ring, args) -> int:
     return 0
 
 
-def _sweep_json(r) -> dict:
+def _sweep_json(r: RingSweep) -> dict[str, Any]:
     return {
         "speeds_rpm": r.speeds_rpm.tolist(),
         "sweep": list(r.amplitudes_m),
@@ -359,7 +360,7 @@ def _sweep_json(r) -> dict:
     }
 
 
-def run_sweep(ring, args) -> int:
+def run_sweep(ring: Ring, args: argparse.Namespace) -> int:
     speeds = np.linspace(args.speeds[0], args.speeds[1], args.points)
     step = args.step  # None: T/160 at the highest speed (ring_sweep.default_step)
     kw = dict(

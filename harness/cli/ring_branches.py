@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+from typing import Any
 
 import numpy as np
 
@@ -20,7 +21,7 @@ from harness.system.ring_sweep import sweep
 from harness.system.ring_tables import write_branches_csv
 
 
-def run_branches(ring: Ring, args: argparse.Namespace, common: dict) -> int:
+def run_branches(ring: Ring, args: argparse.Namespace, common: dict[str, Any]) -> int:
     lo, hi = args.speeds
     r = ring_branches(
         ring, (lo, hi), points=args.seed_points, settings=RingShootingSettings(steps_per_period=args.steps_per_period)

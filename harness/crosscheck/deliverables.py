@@ -253,6 +253,16 @@ def validate_tree(root: Path) -> tuple[int, str]:
     return proc.returncode, proc.stdout + proc.stderr
 
 
+def vendor_repo_summary(rc: int, out: str, root: Path) -> str:
+    """The validator's verdict as one Markdown line, with the tree named by its folder name (the
+    validator prints the absolute path, which differs between checkouts)."""
+    summary = [ln.strip() for ln in out.splitlines() if "problems found" in ln or "Validated" in ln]
+    text = "; ".join(summary)
+    for full in sorted({str(root), str(root.resolve())}, key=len, reverse=True):
+        text = text.replace(full, root.name)
+    return f"`python -m fmpy.cross_check.validate_vendor_repo {root.name}`: exit {rc}; {text}"
+
+
 def check_result(result: np.ndarray, deliverables: Deliverables, stop_time: bool = True) -> float:
     """fmpy.util.validate_result of a result against the reference CSV: the fraction of samples
     outside the band (0 = pass; 1 also when the result ends before StopTime, unless `stop_time` is
@@ -432,12 +442,7 @@ def make_all(
         ok &= flavour_ok
     rc, out = validate_tree(root)
     ok &= rc == 0
-    summary = [ln for ln in out.splitlines() if "problems found" in ln or "Validated" in ln]
-    lines += [
-        "",
-        f"`python -m fmpy.cross_check.validate_vendor_repo {root.name}`: exit {rc}; "
-        + "; ".join(s.strip() for s in summary),
-    ]
+    lines += ["", vendor_repo_summary(rc, out, Path(root))]
     size = dl.ref_csv.stat().st_size
     lines.append(f"`{dl.ref_csv.name}`: {size / 1e6:.2f} MB, {len(read_csv(dl.ref_csv).dtype.names) - 1} variables.")
     if rebuild:

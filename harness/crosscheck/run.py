@@ -8,8 +8,10 @@ fed the same derivatives. A tool that passes its own communication points/step s
 integer nanoseconds; Ecos: accumulated time, constant h) is also compared with the binding loop fed that
 very (t_k, h_k) sequence, which isolates the FMU from the tool. The static checkers
 (fmu-manipulation-toolbox, fmpy.validation) run on the archive. Prints the agreement table
-(importer, version, inputs, max relative difference, wall time) and writes it to
-`crosscheck/agreement.md`; `make crosscheck` also regenerates the cross-check deliverables.
+(importer, version, inputs, max relative difference) and writes it to `crosscheck/agreement.md`;
+`make crosscheck` also regenerates the cross-check deliverables. The wall times go to a file of their
+own beside it (`crosscheck/agreement-timings.md`, not committed): they change from run to run, the
+agreement does not, so a second `make crosscheck` leaves the checkout as it was.
 """
 
 from __future__ import annotations
@@ -37,6 +39,7 @@ from harness.fmu.build import REPO_ROOT
 from harness.system.time_grid import ns_time_grid
 
 AGREEMENT_FILE = REPO_ROOT / "crosscheck" / "agreement.md"
+TIMINGS_SUFFIX = "-timings.md"  # agreement.md -> agreement-timings.md (ignored by git)
 TOOLS = ("fmpy", "libcosim", "ecos", "fmi4j")
 #: agreement target for a tool fed the same inputs, communication points and step sizes as fmpy
 TOLERANCE = 1e-10
@@ -142,9 +145,8 @@ def table(report: ScenarioReport) -> str:
     lines = [
         f"### {sc.name}: {sc.description}; {sc.stop_time:g} s, step {sc.step:g} s ({sc.n_steps()} steps)",
         "",
-        "| importer | version | inputs | max rel. diff to fmpy | worst output | same (t_k, h_k) as the tool | "
-        "wall time [s] | status |",
-        "|---|---|---|---|---|---|---|---|",
+        "| importer | version | inputs | max rel. diff to fmpy | worst output | same (t_k, h_k) as the tool | status |",
+        "|---|---|---|---|---|---|---|",
     ]
     for r in report.rows:
         run = r.run
@@ -155,8 +157,7 @@ def table(report: ScenarioReport) -> str:
             status = f"FAILED: {run.error}"
         lines.append(
             f"| {run.importer} | {run.version} | {run.inputs} | {_fmt(r.diff) if run.ok else '-'} | "
-            f"{r.worst or '-'} | {_fmt(r.own_grid_diff)} | "
-            f"{'-' if math.isnan(run.wall_time) else f'{run.wall_time:.3f}'} | {status} |"
+            f"{r.worst or '-'} | {_fmt(r.own_grid_diff)} | {status} |"
         )
     lines += [
         "",
@@ -167,16 +168,45 @@ def table(report: ScenarioReport) -> str:
     return "\n".join(lines)
 
 
-def static_table(fmu: Path) -> tuple[str, bool]:
+#: one wall time: (section, what, seconds)
+Timing = tuple[str, str, float]
+
+
+def scenario_timings(report: ScenarioReport) -> list[Timing]:
+    """The wall time of every run of a scenario (FMI4j: the driver's own, the JVM's start-up beside it)."""
+    out = []
+    for r in report.rows:
+        what = f"{r.run.importer}, {r.run.inputs}"
+        if "total_time" in r.run.extra:
+            what += f" (JVM incl. start-up {r.run.extra['total_time']:.2f} s)"
+        out.append((report.scenario.name, what, r.run.wall_time))
+    return out
+
+
+def timings_table(timings: list[Timing]) -> str:
+    """Markdown table of the wall times (the file beside the agreement table, not committed)."""
+    lines = [
+        "# ShroudedBlade cross-check wall times",
+        "",
+        "Written by `python -m harness crosscheck` beside the agreement table; machine load changes them.",
+        "",
+        "| section | run | wall time [s] |",
+        "|---|---|---|",
+    ]
+    lines += [f"| {sec} | {what} | {'-' if math.isnan(t) else f'{t:.3f}'} |" for sec, what, t in timings]
+    return "\n".join(lines) + "\n"
+
+
+def static_table(fmu: Path) -> tuple[str, bool, list[Timing]]:
     rows = [fmutool_check(fmu), fmpy_validate(fmu)]
-    lines = ["| checker | version | result | wall time [s] | messages |", "|---|---|---|---|---|"]
+    lines = ["| checker | version | result | messages |", "|---|---|---|---|"]
     for r in rows:
         msg = "; ".join(r.messages[-3:]) if not r.ok else "no error"
-        lines.append(f"| {r.tool} | {r.version} | {'pass' if r.ok else 'FAIL'} | {r.wall_time:.2f} | {msg} |")
-    return "\n".join(lines), all(r.ok for r in rows)
+        lines.append(f"| {r.tool} | {r.version} | {'pass' if r.ok else 'FAIL'} | {msg} |")
+    return "\n".join(lines), all(r.ok for r in rows), [("static checks", r.tool, r.wall_time) for r in rows]
 
 
-def system_section(fmu: Path, stop_time: float | None) -> tuple[str, bool]:
+def system_section(fmu: Path, stop_time: float | None) -> tuple[str, bool, list[Timing]]:
     """The system example (Excitation FMU + two blades) in the binding master and in libcosim."""
     system = se.System() if stop_time is None else se.System(stop_time=stop_time)
     exc = se.build_excitation_fmu()
@@ -191,13 +221,13 @@ def system_section(fmu: Path, stop_time: float | None) -> tuple[str, bool]:
         f"### System example: Excitation FMU (run-up {system.excitation['n0']:g} -> {system.excitation['n1']:g} rpm) "
         f"driving two blades ({blades}); {system.stop_time:g} s, step {system.step:g} s",
         "",
-        "| master | recorded variables | max rel. diff to the binding master | wall time [s] |",
-        "|---|---|---|---|",
-        f"| FMI binding loop | {len(a.dtype.names) - 1} | (reference) | {t1 - t0:.3f} |",
-        f"| libcosim (libcosimpy) | {len(b.dtype.names) - 1} | {_fmt(d)}{' (' + worst + ')' if d else ''} | "
-        f"{t2 - t1:.3f} |",
+        "| master | recorded variables | max rel. diff to the binding master |",
+        "|---|---|---|",
+        f"| FMI binding loop | {len(a.dtype.names) - 1} | (reference) |",
+        f"| libcosim (libcosimpy) | {len(b.dtype.names) - 1} | {_fmt(d)}{' (' + worst + ')' if d else ''} |",
     ]
-    return "\n".join(lines), d <= TOLERANCE
+    timings = [("system example", "FMI binding loop", t1 - t0), ("system example", "libcosim", t2 - t1)]
+    return "\n".join(lines), d <= TOLERANCE, timings
 
 
 def snapshot(fmu: Path, directory: Path) -> Path:
@@ -240,6 +270,7 @@ def _run(
         return 2
     names = sorted(SCENARIOS) if scenario == "all" else [scenario]
     ok = True
+    timings: list[Timing] = []
     parts = [
         "# ShroudedBlade cross-tool agreement",
         "",
@@ -251,16 +282,19 @@ def _run(
         if stop_time is not None:
             sc = sc.shortened(stop_time)
         rep = run_scenario(fmu, sc, tools)
+        timings += scenario_timings(rep)
         text = table(rep)
         print(text + "\n", flush=True)
         parts += [text, ""]
         ok &= all(r.ok or r.compared_with.startswith("(reference") for r in rep.rows)
     if "libcosim" in tools and "fmpy" in tools:
-        text, sys_ok = system_section(fmu, stop_time)
+        text, sys_ok, sys_times = system_section(fmu, stop_time)
+        timings += sys_times
         print(text + "\n")
         parts += [text, ""]
         ok &= sys_ok
-    st, st_ok = static_table(fmu)
+    st, st_ok, st_times = static_table(fmu)
+    timings += st_times
     print(st + "\n")
     parts += ["### Static checks", "", st, ""]
     ok &= st_ok
@@ -272,5 +306,8 @@ def _run(
         ok &= d_ok
     output_file.parent.mkdir(parents=True, exist_ok=True)
     output_file.write_text("\n".join(parts))
-    print(f"wrote {output_file}")
+    timings_file = output_file.with_name(output_file.stem + TIMINGS_SUFFIX)
+    timings_file.write_text(timings_table(timings))
+    print(timings_table(timings))
+    print(f"wrote {output_file} and {timings_file.name} (wall times, not committed)")
     return 0 if ok else 1

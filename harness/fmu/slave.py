@@ -14,7 +14,8 @@ from typing import Any, Mapping, Sequence
 from fmpy import extract, read_model_description
 
 from harness.fmu.binding import FmiError, LogRecord, fmi2
-from harness.fmu.build import BUILD_DIR, build
+from harness.fmu.build import build
+from harness.paths import BUILD_DIR
 
 BLADE_EXTERNAL_FMU = BUILD_DIR / "BladeExternalContact.fmu"
 SHROUD_CONTACT_FMU = BUILD_DIR / "ShroudContact.fmu"
@@ -99,7 +100,7 @@ class Slave:
         self.messages.append(rec.message or "")
 
     def vr(self, name: str) -> int:
-        return self.u.vars[name].valueReference
+        return int(self.u.vars[name].valueReference)
 
     def set_params(self, params: Mapping[str, Any]) -> None:
         for k, v in params.items():

@@ -6,12 +6,11 @@
  * point t_k = (baseNs + (k - baseK) stepNs) / 1e9 (libcosim's integer-nanosecond grid; a sweep
  * changes the step with the speed and starts a new base there), or t_k = (k - baseK) exactStep when
  * exactStep > 0 (the ring's period map: K steps make exactly one load period T, from t = 0):
- *   1. reads every blade's q, v, E, W (and, with Excitation FMUs, every excitation's aeroLoad and
- *      rotorSpeed; without, the blades make their load and the speed is the setup's rpm);
+ *   1. reads every blade's q, v, E, W (the blades make their own load; the speed is the setup's rpm);
  *   2. sets each contact j's inputs (blade j side A, blade j+1 side B) with the velocities'
  *      extrapolated derivatives, reads forceA, forceB, dissipatedEnergy, contactState;
- *   3. sets blade i's rotorSpeed, contactForce = forceB(i-1) + forceA(i) (and aeroLoad) with the
- *      derivatives of contactForce (and aeroLoad);
+ *   3. sets blade i's rotorSpeed, contactForce = forceB(i-1) + forceA(i) with the derivatives of
+ *      contactForce;
  *   4. steps every FMU from t_k to t_{k+1}.
  * One call does the points first..last-1 with their steps, and point `last` without a step when
  * `finish` is set: a run may be cut into calls (a speed sweep changes rpm between them); the
@@ -49,17 +48,16 @@ typedef struct {
     int recordEvery;              /* record t_k for (k - first) a multiple of it: row (k - first) / recordEvery */
     long long stepNs, baseNs;     /* communication step [ns]; t_baseK [ns] */
     int baseK;
-    double rpm;                   /* rotor speed without Excitation FMUs */
+    double rpm;                   /* rotor speed [rpm] of every blade and contact */
     double qLimit;                /* divergence: |q| above it [m] */
     const double *weights;        /* W[(q (p+1) + m) (p+1) + j]: derivative m at t_k of the order-q fit, value j steps back */
-    RingApi blade, contact, excitation;
-    void **blades, **contacts, **excitations; /* fmi2Component of each instance; excitations NULL: built-in load */
+    RingApi blade, contact;
+    void **blades, **contacts;    /* fmi2Component of each instance */
     unsigned int bladeOut[4];     /* tipDisplacement, tipVelocity, dissipatedEnergy, contactWork */
-    unsigned int excitationOut[2];/* aeroLoad, rotorSpeed */
     unsigned int contactIn[5];    /* displacementA, velocityA, displacementB, velocityB, rotorSpeed */
     unsigned int contactOut[3];   /* forceA, forceB, dissipatedEnergy */
     unsigned int contactState;
-    unsigned int bladeIn[3];      /* aeroLoad, rotorSpeed, contactForce */
+    unsigned int bladeIn[2];      /* rotorSpeed, contactForce */
     double exactStep;             /* > 0: t_k = (k - baseK) exactStep [s] (an exact period T = K exactStep), not the ns grid */
 } RingSetup;
 
@@ -91,7 +89,7 @@ static void historyPush(History *h, const RingSetup *s, const double *y, double 
         }
 }
 
-/* Sets derivatives 1..p of the inputs vr[0..count-1] from columns col of the arrays d[0..count-1]. */
+/* Sets derivatives 1..p of the inputs vrs[0..count-1] from columns col of the arrays d[0..count-1]. */
 static int setDerivatives(const RingApi *api, void *c, const RingSetup *s, int count, const unsigned int *vrs,
                           const double *const *d, const int *col) {
     fmi2ValueReference vr[2 * RING_MAX_ORDER];
@@ -133,29 +131,25 @@ static int readContact(const RingSetup *s, int j, double *fA, double *fB, RingRe
     return 0;
 }
 
-/* Runs the loop; work holds 3 (p + 1) N + 3 p N + 20 N doubles, filled 3 ints (zero at the start
- * of a run; both kept between the calls of one run). */
+/* Runs the loop; work holds 2 (p + 1) N + 2 p N + 18 N doubles (the histories of v and of the
+ * contact force first), filled 2 ints (zero at the start of a run; both kept between the calls of
+ * one run). */
 int ringRun(const RingSetup *s, RingRecord *rec, double *work, int *filled, int *failStep, int *failFmu,
             double *inside) {
-    const int n = s->n, p = s->order, ex = s->excitations != NULL;
+    const int n = s->n, p = s->order;
     if (n < 2 || s->first < 0 || s->last < s->first || p < 0 || p > RING_MAX_ORDER || s->recordEvery < 1 ||
         (s->last - s->first) % s->recordEvery || s->stepNs <= 0)
         return RING_BAD_SETUP;
-    History hv = {work, filled}, hf = {work + (p + 1) * n, filled + 1}, ha = {work + 2 * (p + 1) * n, filled + 2};
-    double *dv = work + 3 * (p + 1) * n, *df = dv + p * n, *da = df + p * n;
-    double *aero = da + p * n, *speed = aero + n, *q = speed + n, *v = q + n, *fA = v + n, *fB = fA + n;
+    History hv = {work, filled}, hf = {work + (p + 1) * n, filled + 1};
+    double *dv = work + 2 * (p + 1) * n, *df = dv + p * n;
+    double *q = df + p * n, *v = q + n, *fA = v + n, *fB = fA + n;
     double *force = fB + n, *st = force + n; /* st: one blade's 4 values, then 9 scratch records */
     RingRecord scratch = {st + 4 * n, st + 5 * n, st + 6 * n, st + 7 * n, st + 8 * n, st + 9 * n, st + 10 * n,
                           st + 11 * n, st + 12 * n}; /* rows not kept are written here (row 0) */
-    fmi2GetRealTYPE *bGet = s->blade.getReal, *eGet = s->excitation.getReal;
+    fmi2GetRealTYPE *bGet = s->blade.getReal;
     fmi2SetRealTYPE *cSet = s->contact.setReal, *bSet = s->blade.setReal;
     const int timed = s->timeDoSteps;
-    /* blade inputs: with excitations aeroLoad, rotorSpeed, contactForce (derivatives of the first and
-     * last); built-in load: rotorSpeed, contactForce (derivatives of contactForce) */
-    const unsigned int *bIn = ex ? s->bladeIn : s->bladeIn + 1;
-    const int nIn = ex ? 3 : 2;
-    const unsigned int dVr[2] = {s->bladeIn[0], s->bladeIn[2]};
-    const double *const dBlade[2] = {ex ? da : df, df};
+    const double *const dBlade[1] = {df};
     const double *const dContact[2] = {dv, dv};
     const unsigned int cVr[2] = {s->contactIn[1], s->contactIn[3]};
     for (int k = s->first; k <= s->last; k++) {
@@ -166,23 +160,15 @@ int ringRun(const RingSetup *s, RingRecord *rec, double *work, int *filled, int 
         *failStep = k;
         for (int i = 0; i < n; i++) {
             if (bGet(s->blades[i], s->bladeOut, 4, st) > fmi2Warning) FAIL(RING_GET, i);
-            if (ex) {
-                double e[2];
-                if (eGet(s->excitations[i], s->excitationOut, 2, e) > fmi2Warning) FAIL(RING_GET, 2 * n + i);
-                aero[i] = e[0], speed[i] = e[1];
-            } else {
-                aero[i] = 0.0, speed[i] = s->rpm;
-            }
             q[i] = st[0], v[i] = st[1];
             r->q[row + i] = st[0], r->v[row + i] = st[1], r->E[row + i] = st[2], r->W[row + i] = st[3];
             if (!(fabs(st[0]) <= s->qLimit)) FAIL(RING_DIVERGED, i);
         }
         historyPush(&hv, s, v, dv);
-        if (ex) historyPush(&ha, s, aero, da);
         const int lagged = s->afterStep && k > 0; /* libcosim: the outputs of the step just done */
         for (int j = 0; j < n; j++) {
             const int a = j, b = (j + 1) % n;
-            const double in[5] = {q[a], v[a], q[b], v[b], speed[a]};
+            const double in[5] = {q[a], v[a], q[b], v[b], s->rpm};
             const int cols[2] = {a, b};
             if (lagged && readContact(s, j, fA, fB, r, row)) FAIL(RING_GET, n + j);
             if (cSet(s->contacts[j], s->contactIn, 5, in) > fmi2Warning) FAIL(RING_SET, n + j);
@@ -195,11 +181,10 @@ int ringRun(const RingSetup *s, RingRecord *rec, double *work, int *filled, int 
         memcpy(r->contactForce + row, force, sizeof(double) * (size_t)n);
         if (k == s->last) break;
         for (int i = 0; i < n; i++) {
-            const double all[3] = {aero[i], speed[i], force[i]};
-            const int cols[2] = {i, i};
-            if (bSet(s->blades[i], bIn, (size_t)nIn, ex ? all : all + 1) > fmi2Warning) FAIL(RING_SET, i);
-            if (p > 0 && setDerivatives(&s->blade, s->blades[i], s, ex ? 2 : 1, ex ? dVr : dVr + 1,
-                                        ex ? dBlade : dBlade + 1, cols))
+            const double in[2] = {s->rpm, force[i]};
+            const int cols[1] = {i};
+            if (bSet(s->blades[i], s->bladeIn, 2, in) > fmi2Warning) FAIL(RING_SET, i);
+            if (p > 0 && setDerivatives(&s->blade, s->blades[i], s, 1, s->bladeIn + 1, dBlade, cols))
                 FAIL(RING_DERIVATIVES, i);
         }
         const double t = s->exactStep > 0.0 ? (double)(k - s->baseK) * s->exactStep
@@ -210,9 +195,6 @@ int ringRun(const RingSetup *s, RingRecord *rec, double *work, int *filled, int 
             if (doStep(s->blade.doStep, s->blades[i], t, h, timed, inside)) FAIL(RING_STEP, i);
         for (int j = 0; j < n; j++)
             if (doStep(s->contact.doStep, s->contacts[j], t, h, timed, inside)) FAIL(RING_STEP, n + j);
-        if (ex)
-            for (int i = 0; i < n; i++)
-                if (doStep(s->excitation.doStep, s->excitations[i], t, h, timed, inside)) FAIL(RING_STEP, 2 * n + i);
     }
     return RING_OK;
 }

@@ -4,7 +4,7 @@ Jenkins contacts as ONE ODE, integrated by scipy (DOP853) with its own event loc
 
 Blade i (Galerkin constants of harness.reference.galerkin, constant speed):
     M q_i'' + C0 q_i' + K0(Omega) q_i = G f_i(t) - F_c,i + F_c,i-1,
-    f_i(t) = F_w0 sin(omega t + 2 pi EO i / N)   (the Excitation FMU's travelling wave),
+    f_i(t) = F_w0 sin(omega t + 2 pi EO i / N)   (the blades' built-in travelling wave),
 contact j between blade j and blade j+1 mod N on u_j = q_j - q_{j+1}: the time-domain element of
 harness.reference.shroud_contact written on the ODE state (friction force F_f as the stick state,
 F_c = F_n cos g + F_f sin g, eq. 14). Extra states: the friction energy of every contact, and per

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 import numpy as np
+import numpy.typing as npt
 from scipy.optimize import brentq
 
 from harness.files.tables import write_csv
@@ -83,7 +84,10 @@ def mode_frequencies(fmu: Any, params: Mapping[str, Any], speed: float) -> np.nd
 
 
 def campbell(
-    fmu: Any, params: Mapping[str, Any], speeds: Sequence[float], orders: Sequence[int] = ORDERS
+    fmu: Any,
+    params: Mapping[str, Any],
+    speeds: Sequence[float] | npt.NDArray[np.float64],
+    orders: Sequence[int] = ORDERS,
 ) -> CampbellModes:
     """The frequencies on the speed grid and every crossing of a mode with an engine-order line inside it."""
     speeds = np.array([check_speed(float(n)) for n in speeds])

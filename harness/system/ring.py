@@ -2,18 +2,15 @@
 ShroudContact FMUs, each blade loaded by its built-in aerodynamic load (travelling wave: blade i's
 load leads blade 0's by 2 pi EO i / N; the FMU integrates the phase from rotorSpeed, so the load is
 exact at any step), run by a fixed-step Jacobi master on the project's FMI binding (harness.fmu.slave).
-Ring.load "excitation" is the former ring: the load comes from N Excitation FMUs through the
-blades' aeroLoad input (held or extrapolated: it costs accuracy), the blades' own load off (Fw0 = 0).
 
 Coupling (docs/model.md s.8): contact j joins blade j (side A) and blade j+1 mod N (side B),
 u_j = q_j - q_{j+1}. At each communication point t_k the master
-1. reads every blade's tipDisplacement q and tipVelocity v (state outputs: no feedthrough) (and
-   every excitation's aeroLoad and rotorSpeed);
+1. reads every blade's tipDisplacement q and tipVelocity v (state outputs: no feedthrough);
 2. sets each contact's displacementA/velocityA, displacementB/velocityB (the velocities with the
    derivatives extrapolated from their history, so u(tau) inside the step is a polynomial of
    order `order` + 1) and rotorSpeed, and reads its forces (direct feedthrough, at the q just set);
 3. sets each blade's contactForce_i = forceB_{i-1} + forceA_i (equal and opposite pairs: the sum
-   over the ring is 0) and rotorSpeed (and aeroLoad), with derivatives of order 1..`order`
+   over the ring is 0) and rotorSpeed, with the derivatives of order 1..`order` of contactForce
    extrapolated from the last `order` + 1 communication points (order 0: inputs held);
 4. steps every FMU from t_k to t_{k+1} (Jacobi: all from the data at t_k); t_k are libcosim's
    integer-nanosecond points (harness/system/ring_libcosim.py runs the same ring in libcosim).
@@ -36,15 +33,13 @@ from typing import Any, Callable, Mapping
 
 import numpy as np
 
+from harness.fmu.slave import Slave
 from harness.system.ring_instances import open_ring
 
 
 # "feedthrough": the blades get the contact forces read at the q, v just set (our Jacobi master);
 # "libcosim": the forces read after the contacts' previous step (libcosim's fixed-step algorithm)
 COUPLINGS = ("feedthrough", "libcosim")
-# "builtin": the blades' own load (Fw0, bladeIndex, bladeCount, engineOrder set by the ring);
-# "excitation": N Excitation FMUs feed the blades' aeroLoad input (the former ring)
-LOADS = ("builtin", "excitation")
 
 
 class RingDiverged(RuntimeError):
@@ -53,21 +48,54 @@ class RingDiverged(RuntimeError):
 
 @dataclass(frozen=True)
 class Ring:
-    """A tuned ring: N blades, N contacts, constant speed; parameters of the FMUs by name."""
+    """A ring of N blades coupled by N shroud contacts at constant speed (a frozen record).
+
+    Parameters
+    ----------
+    n : int
+        Number of blades N (and of contacts).
+    engine_order : int
+        Engine order EO of the aerodynamic load.
+    speed : float
+        Rotor speed n [rpm].
+    fw0 : float
+        Amplitude Fw0 of every blade's built-in aerodynamic load [N/m].
+    blade : Mapping[str, Any]
+        BladeExternalContact parameters by name, common to every blade.
+    contact : Mapping[str, Any]
+        ShroudContact parameters by name, common to every contact.
+    blade_each : tuple of Mapping[str, Any]
+        Per-blade overrides of `blade` (mistuning): empty (a tuned ring) or N of them.
+    step : float
+        Communication step h [s].
+    stop_time : float
+        Stop time of a run [s].
+    order : int
+        Extrapolation order of the input derivatives (0: inputs held over a step).
+    coupling : str
+        How the blades get the contact forces, one of COUPLINGS: "feedthrough" (read at the q, v
+        just set) or "libcosim" (libcosim's fixed-step data flow; needs `order` 0).
+    q_limit : float
+        A blade |q| above it stops the run with RingDiverged [m] (about 1000x the forced response).
+
+    Raises
+    ------
+    ValueError
+        An unknown `coupling`, or "libcosim" with `order` other than 0.
+    """
 
     n: int = 4
     engine_order: int = 3
-    speed: float = 5000.0  # [rpm]
-    fw0: float = 100.0  # [N/m]
-    blade: Mapping[str, Any] = field(default_factory=dict)  # BladeExternalContact parameters
-    contact: Mapping[str, Any] = field(default_factory=dict)  # ShroudContact parameters
-    blade_each: tuple[Mapping[str, Any], ...] = ()  # per-blade overrides of `blade` (mistuning), empty or N
-    step: float = 1e-4  # communication step h [s]
-    stop_time: float = 0.1  # [s]
-    order: int = 1  # extrapolation order of the input derivatives (0: held inputs)
-    coupling: str = "feedthrough"  # one of COUPLINGS: how the blades get the contact forces
-    load: str = "builtin"  # one of LOADS: where the aerodynamic load comes from
-    q_limit: float = 1e-2  # [m] a blade |q| above it stops the run (about 1000x the forced response)
+    speed: float = 5000.0
+    fw0: float = 100.0
+    blade: Mapping[str, Any] = field(default_factory=dict)
+    contact: Mapping[str, Any] = field(default_factory=dict)
+    blade_each: tuple[Mapping[str, Any], ...] = ()
+    step: float = 1e-4
+    stop_time: float = 0.1
+    order: int = 1
+    coupling: str = "feedthrough"
+    q_limit: float = 1e-2
 
     def __post_init__(self) -> None:
         if self.coupling not in COUPLINGS:
@@ -75,22 +103,41 @@ class Ring:
         if self.coupling == "libcosim" and self.order != 0:
             # libcosim sets values only: its data flow has no input derivatives
             raise ValueError(f"coupling 'libcosim' holds the inputs: order must be 0, got {self.order}")
-        if self.load not in LOADS:
-            raise ValueError(f"load {self.load!r}: not one of {', '.join(map(repr, LOADS))}")
 
     @property
     def n_steps(self) -> int:
+        """Communication steps of a run: stop_time / step, rounded."""
         return round(self.stop_time / self.step)
 
     def blade_params(self, i: int) -> dict[str, Any]:
-        """Parameters of blade i: the common ones with blade i's own overrides on top."""
+        """Parameters of one blade.
+
+        Parameters
+        ----------
+        i : int
+            The blade, 0..N-1.
+
+        Returns
+        -------
+        dict[str, Any]
+            The common parameters (`blade`) with blade i's own overrides (`blade_each[i]`) on top.
+        """
         return {**dict(self.blade), **(dict(self.blade_each[i]) if self.blade_each else {})}
 
     def blade_instance_params(self, i: int) -> dict[str, Any]:
-        """What every master sets on blade i: its parameters and the load's (Fw0 always explicit,
-        0 when Excitation FMUs feed aeroLoad: the FMU's default would add a second load)."""
-        if self.load == "excitation":
-            return {**self.blade_params(i), "Fw0": 0.0}
+        """What every master sets on one blade's FMU.
+
+        Parameters
+        ----------
+        i : int
+            The blade, 0..N-1.
+
+        Returns
+        -------
+        dict[str, Any]
+            `blade_params(i)` and its built-in load's: Fw0 (always explicit), engineOrder and blade
+            i's place in the travelling wave (bladeIndex, bladeCount).
+        """
         return {
             **self.blade_params(i),
             "Fw0": float(self.fw0),
@@ -147,38 +194,29 @@ def diverged_message(ring: Ring, k: int, t: float, blade: int, q: float, master:
     )
 
 
-def run(
-    ring: Ring, record_inputs: bool = False, correction: Callable[..., float] | None = None
-) -> dict[str, np.ndarray]:
+def run(ring: Ring, correction: Callable[..., float] | None = None) -> dict[str, np.ndarray]:
     """Runs the ring from rest; returns time [s] and, per blade (columns), q, v, dissipatedEnergy,
     contactWork, contactForce (the input set at t_k), the contacts' forceA, forceB, dissipatedEnergy,
     contactState, all at the communication points t_0..t_K (inputs and forces: those set/read at t_k,
     the last row repeats the last set; coupling "libcosim": the forces read after the step to t_k).
-    With record_inputs (load "excitation"): the aeroLoad value and derivatives each blade got (for a
-    replay into ShroudedBlade). `correction(k, q, v, dv, fB, res)` (feedthrough
+    `correction(k, q, v, dv, fB, res)` (feedthrough
     only; harness/system/ring_conserving.py) returns lambda_k: the blades then get contactForce +
     lambda_k v with derivatives df + lambda_k dv, and res["contactForce"] records that.
     Raises RingDiverged when a blade's |q| passes ring.q_limit."""
     if correction is not None and ring.coupling != "feedthrough":
         raise ValueError(f"a coupling correction needs the feedthrough coupling, got {ring.coupling!r}")
-    if record_inputs and ring.load != "excitation":
-        raise ValueError("record_inputs needs load 'excitation' (the built-in load is made inside the blades)")
     N, h, K, p = ring.n, ring.step, ring.n_steps, ring.order
     res = {k: np.zeros((K + 1, N)) for k in ("q", "v", "E", "W", "contactForce", "forceA", "forceB", "Ec", "state")}
-    if record_inputs:
-        res["aeroLoad"] = np.zeros((K + 1, N, p + 1))
     after_step = ring.coupling == "libcosim"  # blades get the forces read after the contacts' step
     # libcosim's communication points (integer nanoseconds), so both masters see the same times
-    with open_ring(ring) as (tk, blades, contacts, excs):
+    with open_ring(ring) as (tk, blades, contacts):
         res["time"] = tk
         bv = [blades[0].vr(n) for n in ("tipDisplacement", "tipVelocity", "dissipatedEnergy", "contactWork")]
-        ev = [excs[0].vr("aeroLoad"), excs[0].vr("rotorSpeed")] if excs else []
         c_in = [contacts[0].vr(n) for n in ("displacementA", "velocityA", "displacementB", "velocityB", "rotorSpeed")]
         c_out = [contacts[0].vr(n) for n in ("forceA", "forceB", "dissipatedEnergy")]
         c_state = contacts[0].vr("contactState")
-        # blade inputs: the load's (aeroLoad from an Excitation FMU) only with load "excitation"
-        b_in = [blades[0].vr(n) for n in (("aeroLoad",) if excs else ()) + ("rotorSpeed", "contactForce")]
-        hv, hf, ha = _History(p, h, N), _History(p, h, N), _History(p, h, N)
+        b_in = [blades[0].vr(n) for n in ("rotorSpeed", "contactForce")]
+        hv, hf = _History(p, h, N), _History(p, h, N)
         for k in range(K + 1):
             t = float(tk[k])
             st = np.array([b.s.get_real(bv) for b in blades])  # q, v, E, W
@@ -187,20 +225,14 @@ def run(
             bad = np.flatnonzero(~(np.abs(q) <= ring.q_limit))
             if bad.size:
                 raise RingDiverged(diverged_message(ring, k, t, int(bad[0]), float(q[bad[0]]), "fmpy"))
-            ex = (
-                np.array([e.s.get_real(ev) for e in excs])
-                if excs
-                else np.column_stack([np.zeros(N), np.full(N, ring.speed)])
-            )
             dv = hv.push(v)
-            da = ha.push(ex[:, 0]) if excs else None
             fA, fB = np.zeros(N), np.zeros(N)
             for j, c in enumerate(contacts):
                 a, b = j, (j + 1) % N
                 if after_step and k > 0:  # libcosim: the outputs of the step just done
                     fA[j], fB[j], res["Ec"][k, j] = c.s.get_real(c_out)
                     res["state"][k, j] = c.s.get_integer([c_state])[0]
-                c.s.set_real(c_in, [q[a], v[a], q[b], v[b], ex[a, 1]])
+                c.s.set_real(c_in, [q[a], v[a], q[b], v[b], ring.speed])
                 if p > 0:
                     _set_derivatives(
                         c, [c_in[1]] * p + [c_in[3]] * p, list(range(1, p + 1)) * 2, list(dv[:, a]) + list(dv[:, b])
@@ -215,31 +247,18 @@ def run(
                 lam = correction(k, q, v, dv, fB, res)
                 force, df = force + lam * v, df + lam * dv
             res["contactForce"][k] = force
-            if record_inputs:
-                res["aeroLoad"][k, :, 0] = ex[:, 0]
-                res["aeroLoad"][k, :, 1:] = da.T
             if k == K:
                 break
             for i, bl in enumerate(blades):
-                if excs:
-                    bl.s.set_real(b_in, [ex[i, 0], ex[i, 1], force[i]])
-                    if p > 0:
-                        _set_derivatives(
-                            bl,
-                            [b_in[0]] * p + [b_in[2]] * p,
-                            list(range(1, p + 1)) * 2,
-                            list(da[:, i]) + list(df[:, i]),
-                        )
-                else:
-                    bl.s.set_real(b_in, [ring.speed, force[i]])
-                    if p > 0:
-                        _set_derivatives(bl, [b_in[1]] * p, list(range(1, p + 1)), list(df[:, i]))
-            for fmu in (*blades, *contacts, *excs):
+                bl.s.set_real(b_in, [ring.speed, force[i]])
+                if p > 0:
+                    _set_derivatives(bl, [b_in[1]] * p, list(range(1, p + 1)), list(df[:, i]))
+            for fmu in (*blades, *contacts):
                 fmu.s.do_step(t, float(tk[k + 1] - tk[k]))
     return res
 
 
-def _set_derivatives(slave, vrs: list[int], orders: list[int], values: list[float]) -> None:
+def _set_derivatives(slave: Slave, vrs: list[int], orders: list[int], values: list[float]) -> None:
     slave.s.set_real_input_derivatives(vrs, orders, values)
 
 
@@ -254,7 +273,8 @@ def harmonic(res: Mapping[str, np.ndarray], omega: float, periods: int = 1) -> n
     w = np.full(len(ts), ts[1] - ts[0])
     w[0] = w[-1] = 0.5 * (ts[1] - ts[0])
     e = np.exp(-1j * omega * ts)
-    return 2.0 / T * (w * e) @ qs
+    coefficients: np.ndarray = 2.0 / T * (w * e) @ qs
+    return coefficients
 
 
 def amplitudes(time: np.ndarray, q: np.ndarray, omega: float) -> np.ndarray:
@@ -263,4 +283,5 @@ def amplitudes(time: np.ndarray, q: np.ndarray, omega: float) -> np.ndarray:
     T = 2 * math.pi / omega
     if time[-1] - time[0] < T * (1 - 1e-9):
         raise ValueError(f"the run ({time[-1] - time[0]:g} s) is shorter than one excitation period ({T:g} s)")
-    return np.abs(q[time >= time[-1] - T - 1e-12]).max(axis=0)
+    amplitude: np.ndarray = np.abs(q[time >= time[-1] - T - 1e-12]).max(axis=0)
+    return amplitude

@@ -1,9 +1,9 @@
 """The ring of harness/system/ring.py with its communication loop in C (harness/native/ring_master.c):
 the same instances (made, parameterised and initialised through fmpy), the same data flow (both
-couplings, both loads) and extrapolation weights, but no Python between the FMI calls. `run`
+couplings) and extrapolation weights, but no Python between the FMI calls. `run`
 returns what `ring.run` returns (the fmpy master stays the readable reference; tests/system/test_ring_c.py
 holds the two together). `CRing` keeps a ring open between calls: `advance` runs it on by a number
-of steps at a rotor speed (a speed sweep steps rotorSpeed between calls; built-in load only),
+of steps at a rotor speed (a speed sweep steps rotorSpeed between calls),
 `set_step` changes the communication step from the current point on (the extrapolation history
 restarts, as at t_0), `save`/`restore` keep and put back the whole state (FMU states and the
 master's histories).
@@ -59,16 +59,13 @@ class _Setup(C.Structure):
         ("weights", C.POINTER(C.c_double)),
         ("blade", _Api),
         ("contact", _Api),
-        ("excitation", _Api),
         ("blades", C.POINTER(C.c_void_p)),
         ("contacts", C.POINTER(C.c_void_p)),
-        ("excitations", C.POINTER(C.c_void_p)),
         ("bladeOut", C.c_uint * 4),
-        ("excitationOut", C.c_uint * 2),
         ("contactIn", C.c_uint * 5),
         ("contactOut", C.c_uint * 3),
         ("contactState", C.c_uint),
-        ("bladeIn", C.c_uint * 3),
+        ("bladeIn", C.c_uint * 2),
         ("exactStep", C.c_double),
     ]
 
@@ -124,12 +121,11 @@ class CRing:
         self.ring, self.k, self.rpm = ring, 0, ring.speed
         self._lib = _library()
         self._stack = ExitStack()
-        tk, self.blades, self.contacts, self.excs = self._stack.enter_context(open_ring(ring))
+        tk, self.blades, self.contacts = self._stack.enter_context(open_ring(ring))
         N, p = ring.n, ring.order
         b0, c0 = self.blades[0], self.contacts[0]
         self._W = np.ascontiguousarray(weights(p, ring.step))
-        groups = (self.blades, self.contacts, self.excs)
-        self._handles = [(C.c_void_p * N)(*(x.s.c for x in g)) if g else None for g in groups]
+        self._handles = [(C.c_void_p * N)(*(x.s.c for x in g)) for g in (self.blades, self.contacts)]
         s = self.setup = _Setup(
             n=N,
             order=p,
@@ -143,17 +139,14 @@ class CRing:
             blades=self._handles[0],
             contacts=self._handles[1],
         )
-        if self.excs:
-            e0 = self.excs[0]
-            s.excitation, s.excitations = _api(e0), self._handles[2]
-            s.excitationOut[:] = [e0.vr("aeroLoad"), e0.vr("rotorSpeed")]
         s.bladeOut[:] = [b0.vr(n) for n in ("tipDisplacement", "tipVelocity", "dissipatedEnergy", "contactWork")]
         s.contactIn[:] = [c0.vr(n) for n in ("displacementA", "velocityA", "displacementB", "velocityB", "rotorSpeed")]
         s.contactOut[:] = [c0.vr(n) for n in ("forceA", "forceB", "dissipatedEnergy")]
         s.contactState = c0.vr("contactState")
-        s.bladeIn[:] = [b0.vr(n) for n in ("aeroLoad", "rotorSpeed", "contactForce")]
-        self._work = np.zeros(3 * (p + 1) * N + 3 * p * N + 20 * N)
-        self._filled = (C.c_int * 3)(0, 0, 0)
+        s.bladeIn[:] = [b0.vr(n) for n in ("rotorSpeed", "contactForce")]
+        # the C loop's histories (of v, then of the contact force) and scratch; filled: their lengths
+        self._work = np.zeros(2 * (p + 1) * N + 2 * p * N + 18 * N)
+        self._filled = (C.c_int * 2)(0, 0)
         self.inside = 0.0  # time inside fmi2DoStep so far [s] (with time_dosteps)
 
     def __enter__(self) -> "CRing":
@@ -181,7 +174,7 @@ class CRing:
             self.ring = replace(self.ring, step=h)
             self._W[:] = weights(self.ring.order, h)
         self._work[:] = 0.0
-        self._filled[:] = (0, 0, 0)
+        self._filled[:] = (0, 0)
 
     def history(self) -> tuple[np.ndarray, np.ndarray]:
         """Copies of the master's extrapolation history as it is now: the blades' tip velocities and
@@ -219,17 +212,15 @@ class CRing:
         s.baseNs, s.baseK, s.stepNs = s.baseNs + (self.k - s.baseK) * s.stepNs, self.k, ns
         self.ring = replace(self.ring, step=h)
         self._W[:] = weights(self.ring.order, h)
-        self._filled[:] = (0, 0, 0)
+        self._filled[:] = (0, 0)
 
     def advance(
         self, steps: int, rpm: float | None = None, record_every: int = 1, finish: bool = False
     ) -> dict[str, np.ndarray]:
         """Runs points k..k+steps-1 with their steps (and point k+steps, not stepped, with finish)
-        at rotor speed rpm (built-in load; default: the last one); returns the records of the kept
+        at rotor speed rpm (default: the last one); returns the records of the kept
         points (every record_every-th from k) and their times; raises RingDiverged or RuntimeError."""
         if rpm is not None and rpm != self.rpm:
-            if self.excs:
-                raise ValueError("the rotor speed of a ring with Excitation FMUs is their parameter")
             self.rpm = float(rpm)
         if record_every < 1 or steps % record_every:
             raise ValueError(f"record_every {record_every}: must be >= 1 and divide the {steps} steps")
@@ -251,7 +242,7 @@ class CRing:
                 q = self.blades[fmu.value].get(["tipDisplacement"])[0]
             raise RingDiverged(diverged_message(self.ring, step.value, self.time(step.value), fmu.value, q, "c"))
         if rc != 0:
-            who = [*self.blades, *self.contacts, *self.excs][fmu.value] if fmu.value >= 0 else None
+            who = [*self.blades, *self.contacts][fmu.value] if fmu.value >= 0 else None
             name = who.s.name if who else "the setup"
             said = "; ".join(who.messages) if who and who.messages else "no message"
             raise RuntimeError(
@@ -264,8 +255,6 @@ class CRing:
 
     def save(self) -> tuple:
         """The whole state: every FMU's (fmi2GetFMUstate; freed with the ring) and the master's."""
-        if self.excs:
-            raise ValueError("the Excitation FMU cannot save its state: save needs the built-in load")
         fmus = [x.s.get_fmu_state() for x in (*self.blades, *self.contacts)]
         for x, h in zip((*self.blades, *self.contacts), fmus):
             self._stack.callback(x.s.free_fmu_state, h)
@@ -292,7 +281,7 @@ class CRing:
 
 
 def run(ring: Ring, time_dosteps: bool = False, record_every: int = 1) -> dict[str, np.ndarray]:
-    """As harness.system.ring.run(ring) (without record_inputs), the loop in C; with time_dosteps,
+    """As harness.system.ring.run(ring), the loop in C; with time_dosteps,
     res["inside_doStep"] is the time spent inside fmi2DoStep of all FMUs [s]; record_every = m keeps
     the communication points t_0, t_m, t_2m, ... (m must divide the number of steps)."""
     K = ring.n_steps

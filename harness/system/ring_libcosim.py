@@ -6,8 +6,7 @@ Connections: blade j -> contact j side A and blade j+1 -> contact j side B (tipD
 displacement*, tipVelocity -> velocity*); contact j forceA -> blade j contactForce2, contact j forceB
 -> blade j+1 contactForce (libcosim cannot add two outputs into one input: the blade adds its two
 force inputs). Built-in load: every blade gets Fw0, bladeIndex, bladeCount, engineOrder, and blades
-and contacts rotorSpeed as the inputs' initial value (constant speed). Load "excitation" (the former
-ring): excitation i -> blade i (aeroLoad, rotorSpeed), excitation j rotorSpeed -> contact j.
+and contacts rotorSpeed as the inputs' initial value (constant speed).
 After a step the contact's outputs are those at the end of its step (u moved along the held
 velocities, harness/system/ring.py docs), so the blades get the force of the extrapolated u.
 """
@@ -18,7 +17,6 @@ import time
 
 import numpy as np
 
-from harness.fmu.build import EXCITATION_FMU, build
 from harness.fmu.libcosim import last_error, samples
 from harness.system.time_grid import to_ns
 from harness.fmu.slave import variables_by_name
@@ -40,20 +38,13 @@ def run(ring: Ring) -> dict[str, np.ndarray]:
 
     log_output_level(CosimLogLevel.ERROR)
     bx, sc = build_ring_fmus()
-    excited = ring.load == "excitation"
     N, K = ring.n, ring.n_steps
     ex = CosimExecution.from_step_size(step_size=to_ns(ring.step))
-    speed = {} if excited else {"rotorSpeed": float(ring.speed)}  # the inputs' initial value
+    speed = {"rotorSpeed": float(ring.speed)}  # the inputs' initial value
     params = {
         "blade": (bx, None),
         "contact": (sc, {**dict(ring.contact), "engineOrder": ring.engine_order, **speed}),
     }
-    if excited:
-        build(("excitation_fmu",))
-        params["exc"] = (
-            EXCITATION_FMU,
-            {"Fw0": ring.fw0, "n0": ring.speed, "n1": ring.speed, "engineOrder": ring.engine_order, "bladeCount": N},
-        )
     var = {p: variables_by_name(p) for p, _ in params.values()}
     idx: dict[tuple[str, int], int] = {}
     keep = []
@@ -65,13 +56,7 @@ def run(ring: Ring) -> dict[str, np.ndarray]:
             if k < 0:
                 raise RuntimeError(f"libcosim could not load {path}: {last_error()}")
             idx[kind, i] = k
-            vals = (
-                {**p, "bladeIndex": i}
-                if kind == "exc"
-                else {**ring.blade_instance_params(i), **speed}
-                if kind == "blade"
-                else p
-            )
+            vals = {**ring.blade_instance_params(i), **speed} if kind == "blade" else p
             for name, v in vals.items():
                 vr, typ = var[path][name]
                 ok = {
@@ -89,10 +74,6 @@ def run(ring: Ring) -> dict[str, np.ndarray]:
 
     for i in range(N):
         j = (i + 1) % N
-        if excited:
-            connect(("exc", i), "aeroLoad", ("blade", i), "aeroLoad")
-            connect(("exc", i), "rotorSpeed", ("blade", i), "rotorSpeed")
-            connect(("exc", i), "rotorSpeed", ("contact", i), "rotorSpeed")
         connect(("blade", i), "tipDisplacement", ("contact", i), "displacementA")
         connect(("blade", i), "tipVelocity", ("contact", i), "velocityA")
         connect(("blade", j), "tipDisplacement", ("contact", i), "displacementB")

@@ -32,6 +32,7 @@ from dataclasses import dataclass, field, replace
 from typing import Callable, Sequence
 
 import numpy as np
+import numpy.typing as npt
 
 from harness.system.ring import Ring
 from harness.system.ring_c import CRing
@@ -147,7 +148,7 @@ class _Sweeper:
 
 def sweep(
     ring: Ring,
-    speeds_rpm: Sequence[float],
+    speeds_rpm: Sequence[float] | npt.NDArray[np.float64],
     direction: str = "up",
     master: str = "c",
     *,
@@ -172,8 +173,6 @@ def sweep(
         raise ValueError(f"master {master!r}: the sweep runs on the C loop ('c') only")
     if direction not in DIRECTIONS:
         raise ValueError(f"direction {direction!r}: not one of {', '.join(DIRECTIONS)}")
-    if ring.load != "builtin":
-        raise ValueError("a sweep steps rotorSpeed: it needs the blades' built-in load (load 'builtin')")
     speeds = np.array(sorted(float(s) for s in speeds_rpm))
     if len(speeds) < 1 or np.any(speeds <= 0) or len(np.unique(speeds)) != len(speeds):
         raise ValueError(f"speeds_rpm {list(speeds_rpm)}: need distinct positive speeds")

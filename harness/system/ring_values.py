@@ -1,5 +1,5 @@
 """Start values for a whole ring: `--start-values NAME VALUE ...` goes to every FMU instance that has
-the variable (BladeExternalContact, ShroudContact, and the Excitation FMU of the former ring), typed
+the variable (BladeExternalContact, ShroudContact), typed
 and range-checked against the FMUs' model descriptions before any instance is made (the FMU's own
 error would surface as an unexplained fmi2Error in the middle of a run). The load's Fw0 and
 engineOrder are the ring's (every blade and contact gets them); its bladeIndex and bladeCount are
@@ -15,17 +15,12 @@ from typing import Any, Mapping
 
 from fmpy import read_model_description
 
-from harness.fmu.build import EXCITATION_FMU, build
 from harness.fmu.slave import build_ring_fmus
 from harness.model.params import ParameterError
 from harness.system.ring import Ring
 
-# load parameters that the ring sets itself (constant speed, the blade's place in the ring)
+# what the ring sets itself (constant speed, the blade's place in the ring)
 RING_OWNED = {
-    "n0": "--speed",
-    "n1": "--speed",
-    "t0": "--speed (constant)",
-    "t1": "--speed (constant)",
     "bladeIndex": "the ring (blade i)",
     "bladeCount": "--blades",
     "rotorSpeed": "--speed",
@@ -34,12 +29,11 @@ RING_OWNED = {
 
 @lru_cache(maxsize=None)
 def settable() -> dict[str, dict[str, tuple[str, float, float]]]:
-    """{"blade"|"contact"|"excitation": {name: (type, min, max)}}: parameters and settable start
+    """{"blade"|"contact": {name: (type, min, max)}}: parameters and settable start
     values (initial="exact" outputs) of each ring FMU, inputs left out (the master sets them)."""
     bx, sc = build_ring_fmus()
-    build(("excitation_fmu",))
     out: dict[str, dict[str, tuple[str, float, float]]] = {}
-    for kind, path in (("blade", bx), ("contact", sc), ("excitation", EXCITATION_FMU)):
+    for kind, path in (("blade", bx), ("contact", sc)):
         md = read_model_description(str(path))
         out[kind] = {
             v.name: (
@@ -83,7 +77,7 @@ def apply(ring: Ring, values: Mapping[str, Any], origin: str = "--start-values")
     for name, text in values.items():
         if name in RING_OWNED:
             raise ParameterError(f"{origin} {name}: set by the ring ({RING_OWNED[name]}), not a start value")
-        owners = [k for k in ("blade", "contact", "excitation") if name in var[k]]
+        owners = [k for k in ("blade", "contact") if name in var[k]]
         if not owners:
             known = sorted(set().union(*var.values()) - set(RING_OWNED))
             raise ParameterError(f"{origin} {name}: no FMU of the ring has this variable; known: {', '.join(known)}")

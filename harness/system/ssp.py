@@ -1,7 +1,7 @@
 """The ring (harness/system/ring.py) as an SSP 1.0 system: SystemStructure.ssd with N
-BladeExternalContact and N ShroudContact components (and N Excitation components with load
-"excitation"), their parameters as inline parameter sets (with the built-in load: Fw0, bladeIndex,
-bladeCount, engineOrder, and the constant rotorSpeed as the input's start value) and the one-to-one
+BladeExternalContact and N ShroudContact components, their parameters as inline parameter sets (the
+built-in load's Fw0, bladeIndex, bladeCount, engineOrder, and the constant rotorSpeed as the input's
+start value) and the one-to-one
 connections of harness/system/ring_libcosim.py; the FMUs in resources/.
 `write(ring, out)` writes the directory `out` and the archive `out.ssp`; libcosim
 (CosimExecution.from_ssp_file, `run_libcosim`) and Ecos (EcosSimulation(ssp_path=...), `run_ecos`)
@@ -20,7 +20,6 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from harness.fmu.build import EXCITATION_FMU, build
 from harness.fmu.libcosim import last_error, samples
 from harness.system.time_grid import to_ns
 from harness.fmu.slave import BLADE_EXTERNAL_FMU, build_ring_fmus, variables_by_name
@@ -53,20 +52,13 @@ CONTACT_IO = {
     "frictionForce": "output",
     "dissipatedEnergy": "output",
 }
-EXC_IO = {"aeroLoad": "output", "rotorSpeed": "output"}
 
 
-def connections(n: int, excited: bool = False) -> list[tuple[str, str, str, str]]:
-    """(start element, start connector, end element, end connector) of the ring (with Excitation FMUs)."""
+def connections(n: int) -> list[tuple[str, str, str, str]]:
+    """(start element, start connector, end element, end connector) of the ring."""
     out = []
     for i in range(n):
         j = (i + 1) % n
-        if excited:
-            out += [
-                (f"exc{i}", "aeroLoad", f"blade{i}", "aeroLoad"),
-                (f"exc{i}", "rotorSpeed", f"blade{i}", "rotorSpeed"),
-                (f"exc{i}", "rotorSpeed", f"contact{i}", "rotorSpeed"),
-            ]
         out += [
             (f"blade{i}", "tipDisplacement", f"contact{i}", "displacementA"),
             (f"blade{i}", "tipVelocity", f"contact{i}", "velocityA"),
@@ -115,26 +107,10 @@ def _component(name: str, source: str, io: Mapping[str, str], params: Mapping[st
 
 def ssd(ring: Ring) -> str:
     """The SystemStructure.ssd text."""
-    n, excited = ring.n, ring.load == "excitation"
-    speed = {} if excited else {"rotorSpeed": float(ring.speed)}  # the unconnected input's start value
+    n = ring.n
+    speed = {"rotorSpeed": float(ring.speed)}  # the unconnected input's start value
     comps = []
     for i in range(n):
-        if excited:
-            comps.append(
-                _component(
-                    f"exc{i}",
-                    "resources/Excitation.fmu",
-                    EXC_IO,
-                    {
-                        "Fw0": float(ring.fw0),
-                        "n0": float(ring.speed),
-                        "n1": float(ring.speed),
-                        "engineOrder": int(ring.engine_order),
-                        "bladeIndex": i,
-                        "bladeCount": n,
-                    },
-                )
-            )
         comps.append(
             _component(
                 f"blade{i}", "resources/BladeExternalContact.fmu", BLADE_IO, {**ring.blade_instance_params(i), **speed}
@@ -150,7 +126,7 @@ def ssd(ring: Ring) -> str:
         )
     conns = "".join(
         f'<ssd:Connection startElement="{a}" startConnector="{b}" endElement="{c}" endConnector="{d}"/>'
-        for a, b, c, d in connections(n, excited)
+        for a, b, c, d in connections(n)
     )
     return (
         f'<?xml version="1.0" encoding="UTF-8"?>\n'
@@ -165,12 +141,10 @@ def ssd(ring: Ring) -> str:
 def write(ring: Ring, out: Path) -> Path:
     """Writes the directory `out` (SystemStructure.ssd, resources/) and `out`.ssp; returns the directory."""
     bx, sc = build_ring_fmus()
-    if ring.load == "excitation":
-        build(("excitation_fmu",))
     out = Path(out)
     shutil.rmtree(out, ignore_errors=True)
     (out / "resources").mkdir(parents=True)
-    for p in (bx, sc, *((EXCITATION_FMU,) if ring.load == "excitation" else ())):
+    for p in (bx, sc):
         shutil.copy(p, out / "resources" / p.name)
     (out / "SystemStructure.ssd").write_text(ssd(ring))
     with zipfile.ZipFile(out.with_suffix(".ssp"), "w", zipfile.ZIP_DEFLATED) as z:

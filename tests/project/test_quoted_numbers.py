@@ -98,20 +98,6 @@ def test_make_run_wall_times(bench):
     assert m.group(1) == f"{r['wall']:.1f}" and int(m.group(2)) == r["workers"]
 
 
-def test_branches_vs_transient_path(bench):
-    m = _one(
-        PERFORMANCE,
-        r"\| ([\d.]+) s vs ([\d.]+) s: \*\*([\d.]+)x\*\* less wall \(whole reproduction ([\d.]+)x; "
-        r"blade time (\d+) s vs (\d+) s\)",
-    )
-    r, t = bench["reproduce"], bench["transient"]
-    studies = r["hb_wall"] + r["branches_wall"]
-    assert m.group(1) == f"{studies:.1f}" and m.group(2) == f"{t['wall']:.1f}"
-    assert m.group(3) == f"{t['wall'] / studies:.2f}"
-    assert m.group(4) == f"{(t['wall'] + r['extras_wall']) / r['wall']:.2f}"
-    assert (int(m.group(5)), int(m.group(6))) == (round(r["branches_simulated_s"]), round(t["sim_time"]))
-
-
 def test_worker_time_over_fmi_time(bench):
     m = _one(
         PERFORMANCE,
@@ -145,22 +131,20 @@ def test_rk4_step_cost(bench):
 
 def test_ring_row(bench):
     """The 24-blade ring row: wall / time inside fmi2DoStep (measured in C) for libcosim (whole run
-    and stepping alone; and on the former Excitation-fed ring), the fmpy master (feedthrough and
+    and stepping alone), the fmpy master (feedthrough and
     libcosim's data flow) and the C loop, and the compute per doStep; the same ratios where README
     and the ring page quote them."""
     m = _one(
         PERFORMANCE,
-        r"\| a 24-blade ring[^|]*\| libcosim \*\*([\d.]+)x\*\* \(stepping alone ([\d.]+)x; "
-        r"([\d.]+)x on the former ring\), fmpy master ([\d.]+)x \(in libcosim's data flow ([\d.]+)x\), "
+        r"\| a 24-blade ring[^|]*\| libcosim \*\*([\d.]+)x\*\* \(stepping alone ([\d.]+)x\), fmpy master ([\d.]+)x \(in libcosim's data flow ([\d.]+)x\), "
         r"C loop \*\*([\d.]+)x\*\*; ([\d.]+) µs per doStep",
     )
-    g, old = bench["ring"]["builtin"], bench["ring"]["excitation"]
+    g = bench["ring"]["builtin"]
     lc = g["libcosim"]
     c_loop = f"{g['C loop']['ratio_wall']:.2f}"
     assert m.groups() == (
         f"{lc['ratio_wall']:.2f}",
         f"{lc['ratio_step_wall']:.2f}",
-        f"{old['libcosim']['ratio_wall']:.2f}",
         f"{g['fmpy feedthrough']['ratio_wall']:.2f}",
         f"{g['fmpy libcosim data flow']['ratio_wall']:.2f}",
         c_loop,

@@ -1,7 +1,7 @@
 """The ring as an SSP file (harness/system/ssp.py) in libcosim and Ecos.
 
-- the SSD has N blades and N contacts with the built-in load's parameters (Fw0 explicit; 3 N
-  components with the Excitation FMUs of load "excitation", and their Fw0 0 on the blades);
+- the SSD has N blades and N contacts (2 N components, 6 N connections) with the built-in load's
+  parameters (Fw0 explicit, blade i's bladeIndex, bladeCount N, engineOrder);
 - libcosim from the SSP equals libcosim built through its API (harness/system/ring_libcosim.py)
   bit for bit (N = 4, EO = 3, contacts closing);
 - Ecos from the same SSP equals it within 1e-12 of max |q| (Ecos accumulates t += h: its
@@ -15,7 +15,6 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 
 import numpy as np
-import pytest
 
 from harness.fmu.build import BUILD_DIR
 from harness.system import ring_libcosim, ssp
@@ -25,21 +24,19 @@ from harness.system.ring import Ring, run
 TUNED = dict(blade={"c": 298.0}, fw0=300.0)
 
 
-@pytest.mark.parametrize("load, components, connections", [("builtin", 10, 6 * 5), ("excitation", 15, 9 * 5)])
-def test_ssd_is_well_formed_and_complete(tmp_path, load, components, connections):
-    ring = Ring(n=5, load=load, **TUNED)
+def test_ssd_is_well_formed_and_complete(tmp_path):
+    ring = Ring(n=5, **TUNED)
     d = ssp.write(ring, tmp_path / "ring5")
     root = ET.parse(d / "SystemStructure.ssd").getroot()
     ns = {"ssd": ssp.SSD, "ssv": ssp.SSV}
-    assert len(root.findall(".//ssd:Component", ns)) == components
-    assert len(root.findall(".//ssd:Connection", ns)) == connections
+    assert len(root.findall(".//ssd:Component", ns)) == 2 * 5
+    assert len(root.findall(".//ssd:Connection", ns)) == 6 * 5
     assert (d.with_suffix(".ssp")).is_file()
     blade3 = next(c for c in root.findall(".//ssd:Component", ns) if c.get("name") == "blade3")
     values = {p.get("name"): p[0].get("value") for p in blade3.findall(".//ssv:Parameter", ns)}
-    # Fw0 explicit on every blade: the ring's, or 0 when Excitation FMUs feed aeroLoad
-    assert values["Fw0"] == ("300.0" if load == "builtin" else "0.0")
-    if load == "builtin":
-        assert (values["bladeIndex"], values["bladeCount"], values["engineOrder"]) == ("3", "5", "3")
+    # Fw0 explicit on every blade (the FMU's default is another value)
+    assert values["Fw0"] == "300.0"
+    assert (values["bladeIndex"], values["bladeCount"], values["engineOrder"]) == ("3", "5", "3")
 
 
 def test_libcosim_ssp_equals_api_and_ecos():

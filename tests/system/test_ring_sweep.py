@@ -76,8 +76,6 @@ def test_bad_arguments_are_refused():
         sweep(TUNED4, [5000.0], master="fmpy")
     with pytest.raises(ValueError, match="direction 'sideways'"):
         sweep(TUNED4, [5000.0], direction="sideways")
-    with pytest.raises(ValueError, match="built-in load"):
-        sweep(Ring(load="excitation"), [5000.0])
 
 
 def test_located_peak_matches_a_fine_scan():

@@ -23,7 +23,7 @@ from __future__ import annotations
 import csv
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 
@@ -32,6 +32,9 @@ from harness.fmu.blade import SPEED_RANGE, FMUError
 from harness.model.params import ParameterError
 from harness.analysis.periodic.period_map import PeriodMap
 from harness.analysis.periodic.shooting import at_bound, bounded, classify, fd_direction, multipliers, newton
+
+if TYPE_CHECKING:  # extrema imports this module
+    from harness.analysis.periodic.extrema import Extremum
 
 SPEED_SCALE = 1000.0  # [rpm] per unit of arc
 MAX_KINKS = 8  # kinks stepped past per direction of a branch
@@ -83,9 +86,9 @@ class Branch:
     points: list[BranchPoint] = field(default_factory=list)
     end_reasons: list[str] = field(default_factory=list)  # why each end of the branch stopped
     closed: bool = False  # an isola that closed on itself
-    extrema: list = field(default_factory=list)  # located peaks and folds (extrema.Extremum), arc order
+    extrema: list[Extremum] = field(default_factory=list)  # located peaks and folds, arc order
 
-    def located(self, kind: str) -> list:
+    def located(self, kind: str) -> list[Extremum]:
         """The located extrema of one kind ("peak" or "fold")."""
         return [e for e in self.extrema if e.kind == kind]
 
@@ -137,7 +140,7 @@ class Branch:
         )
 
 
-def write_branches_csv(path: Path, branches: list[Branch], columns: dict[str, list] | None = None) -> None:
+def write_branches_csv(path: Path, branches: list[Branch], columns: dict[str, list[Any]] | None = None) -> None:
     """One row per point: [extra columns,] branch, kind ("point": a continuation point; "peak",
     "fold": a located extremum, after the branch's points), model, speed [rpm], amplitude [m], B [m]
     (or empty), q0 [m], q0' [m/s], stable, label, |mu|max and the multipliers. `columns` maps a
@@ -148,14 +151,14 @@ def write_branches_csv(path: Path, branches: list[Branch], columns: dict[str, li
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(path.suffix + ".tmp")
     columns = columns or {}
-    rows = []  # (branch, kind, point, label, lead)
+    rows: list[tuple[int, str, BranchPoint | Extremum, str, list[Any]]] = []  # (branch, kind, point, label, lead)
     for i, br in enumerate(branches):
         lead = [columns[c][i] for c in columns]
         rows += [(i, "point", p, p.label, lead) for p in br.points]
         rows += [(i, e.kind, e, e.stability, lead) for e in br.extrema]
     has_B = [branches[i].model not in ("fixedB", "jenkins") for i, *_ in rows]
     tips = [tip_state(p.x) for _, _, p, _, _ in rows]
-    num = {
+    num: dict[str, Any] = {
         "speed": digits.column(p.speed for _, _, p, _, _ in rows),
         "amplitude": digits.column(p.amplitude for _, _, p, _, _ in rows),
         "B": digits.column(p.x[-1] if b else 0.0 for (_, _, p, _, _), b in zip(rows, has_B)),
@@ -223,6 +226,32 @@ def tip_state(x: np.ndarray) -> tuple[float, float]:
     return (float(x[0]), float(x[1])) if m == 1 else (float(np.sum(x[:m])), float(np.sum(x[m : 2 * m])))
 
 
+class JacobianMemo:
+    """DP and dP/dn (physical units) where they were taken, found again at the same point (x and n
+    equal within the rounding of a round trip through another branch problem's scaled coordinates,
+    1e-12 relative): a peak's or a crossing's refinement, a branch switch and a continuation from a
+    shot orbit start at a point whose DP was already taken. A period map carrying one as
+    `jacobians` shares it among all its branch problems."""
+
+    RTOL = 1e-12
+
+    def __init__(self, size: int = 256):
+        self.size = size
+        self.items: list[tuple[np.ndarray, float, np.ndarray, np.ndarray | None]] = []  # (x, n, DP, dP/dn)
+
+    def get(self, x: np.ndarray, n: float) -> tuple[np.ndarray, np.ndarray | None] | None:
+        """(DP, dP/dn or None) taken at (x, n), or None."""
+        for xi, ni, DP, dn in reversed(self.items):
+            if abs(n - ni) <= self.RTOL * abs(ni) and np.all(np.abs(x - xi) <= self.RTOL * np.abs(xi)):
+                return DP.copy(), None if dn is None else dn.copy()  # (a caller may change its copy)
+        return None
+
+    def put(self, x: np.ndarray, n: float, DP: np.ndarray, dn: np.ndarray | None = None) -> None:
+        if len(self.items) >= self.size:
+            self.items.pop(0)
+        self.items.append((np.array(x, dtype=float), float(n), DP.copy(), None if dn is None else dn.copy()))
+
+
 class BranchProblem:
     """H(z) in scaled coordinates for one branch."""
 
@@ -234,6 +263,7 @@ class BranchProblem:
         # False: the ring's, whose DP from forward and central differences agree to 1e-4)
         self.central = getattr(pm, "central_differences", True)
         self._last: tuple[np.ndarray, np.ndarray] | None = None  # (z, DP) of the last evaluation
+        self.memo: JacobianMemo | None = getattr(pm, "jacobians", None)
 
     def to_z(self, x: np.ndarray, n: float) -> np.ndarray:
         return np.append(x / self.sc, n / SPEED_SCALE)
@@ -248,7 +278,9 @@ class BranchProblem:
         x, n = self.from_z(z)
         Px, A = self.pm(x, n)
         if self.sens:
-            self._last = (z.copy(), self.pm.DP)
+            DP = self.pm.DP
+            assert DP is not None  # with sensitivities every evaluation sets DP
+            self._last = (z.copy(), DP)
         return (Px - z[:-1] * self.sc) / self.sc, Px, A
 
     def state_columns(self, z: np.ndarray) -> np.ndarray | None:
@@ -256,7 +288,8 @@ class BranchProblem:
         at z (else None): DP_ij sc_j / sc_i - delta_ij."""
         if self._last is None or not np.array_equal(self._last[0], z):
             return None
-        return self._last[1] * self.sc[None, :] / self.sc[:, None] - np.eye(self.m)
+        cols: np.ndarray = self._last[1] * self.sc[None, :] / self.sc[:, None] - np.eye(self.m)
+        return cols
 
     def speed_column(self, z: np.ndarray, Hz: np.ndarray) -> np.ndarray:
         """dH/dn (scaled) by a forward difference (backward at the top of the rotorSpeed range)."""
@@ -266,7 +299,8 @@ class BranchProblem:
         zp = z.copy()
         zp[-1] += h
         x, n = self.from_z(zp)
-        return ((self.pm(x, n, jacobian=False)[0] - zp[:-1] * self.sc) / self.sc - Hz) / h
+        col: np.ndarray = ((self.pm(x, n, jacobian=False)[0] - zp[:-1] * self.sc) / self.sc - Hz) / h
+        return col
 
     def jac(self, z: np.ndarray, Hz: np.ndarray, Px: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(dH/dz (m x m+1), DP in physical units (m x m)): central differences in the unknowns
@@ -279,8 +313,16 @@ class BranchProblem:
             if cols is None:
                 Hz, Px, _ = self.H(z)
                 cols = self.state_columns(z)
+            assert cols is not None and self._last is not None  # H(z) just evaluated at z
             DP = self._last[1]
             return np.column_stack([cols, self.speed_column(z, Hz)]), DP
+        known = self.memo.get(x, n) if self.memo is not None else None
+        if known is not None:  # dH/dz from the DP taken there: DP_ij sc_j / sc_i - delta_ij, dP/dn scaled
+            DP, dn = known
+            speed = self.speed_column(z, Hz) if dn is None else dn * SPEED_SCALE / self.sc
+            if dn is None:
+                self.memo.put(x, n, DP, speed * self.sc / SPEED_SCALE)
+            return np.column_stack([DP * self.sc[None, :] / self.sc[:, None] - np.eye(self.m), speed]), DP
         eps = self.pm.s.fd_rel
         Jz = np.empty((self.m, self.m + 1))
         for j in range(self.m + 1):
@@ -297,6 +339,8 @@ class BranchProblem:
             else:
                 Jz[:, j] = (Hp - Hz) / h
         DP = (Jz[:, :-1] + np.eye(self.m)) * self.sc[:, None] / self.sc[None, :]
+        if self.memo is not None:
+            self.memo.put(x, n, DP, Jz[:, -1] * self.sc / SPEED_SCALE)
         return Jz, DP
 
 
@@ -305,7 +349,8 @@ def _tangent(Jz: np.ndarray, prev: np.ndarray | None) -> np.ndarray:
     t = Vt[-1]
     if prev is not None and float(t @ prev) < 0:
         t = -t
-    return t / np.linalg.norm(t)
+    unit: np.ndarray = t / np.linalg.norm(t)
+    return unit
 
 
 def continue_branch(
@@ -374,6 +419,7 @@ def _march(
             kinks.append(f"stepped past a kink at {z[-1] * SPEED_SCALE:.1f} rpm to {jumped[3].speed:.1f} rpm")
             z_new, t_new, Jz_new, point = jumped
             ds = s.ds
+        assert point is not None  # a step that is ok has its point
         pts.append(point)
         if not lo <= point.speed <= hi:
             return pts, _with(f"left the speed range at {point.speed:.1f} rpm", kinks), False

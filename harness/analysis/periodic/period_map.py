@@ -196,7 +196,7 @@ class PeriodMap:
             self._inputs = Values([VR_AERO, VR_SPEED], [float(ua[0, 0]), 0.0])
             self._addr = (self._derivs.ctypes.data + 8 * K * np.arange(N)).tolist()
             self._ks = np.arange(1, K + 1, dtype=float)
-        np.multiply(self._unit[1:].T, (1.0 / T) ** self._ks, out=self._derivs)
+        np.multiply(self._unit_load()[1:].T, (1.0 / T) ** self._ks, out=self._derivs)
         self._inputs.value[1] = float(speed)
         grid = [T * k / N for k in range(N)] + [T]
         self._steps = [(grid[k], grid[k + 1] - grid[k], self._addr[k]) for k in range(N)]

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any, cast
 
 import numpy as np
 
@@ -39,7 +40,7 @@ class Orbit:
     multipliers: np.ndarray  # Floquet multipliers (complex), largest modulus first
     residual: float  # max scaled |P(x) - x|
     iterations: int
-    start_values: dict = field(default_factory=dict)  # FMU start values that start a run on the orbit
+    start_values: dict[str, Any] = field(default_factory=dict)  # FMU start values that start a run on the orbit
 
     @property
     def stable(self) -> bool:
@@ -49,7 +50,7 @@ class Orbit:
     def label(self) -> str:
         return classify(self.multipliers)
 
-    def as_dict(self) -> dict:
+    def as_dict(self) -> dict[str, Any]:
         return {
             "model": self.model,
             "speed_rpm": self.speed,
@@ -108,7 +109,7 @@ def bounded(pm: PeriodMap, x: np.ndarray) -> np.ndarray:
     """x moved into the unknowns' domain: B > 0, |phi| <= 1 (and phi = 0 while open). A period map
     with its own domain (a method `bounded`, e.g. the ring's) moves x itself."""
     if hasattr(pm, "bounded"):
-        return pm.bounded(x)
+        return cast(np.ndarray, pm.bounded(x))
     x = x.copy()
     if pm.model == "jenkins":
         x[-1] = 0.0 if abs(pm.tip(x)[0]) <= pm.d else min(max(float(x[-1]), -1.0), 1.0)
@@ -121,7 +122,7 @@ def fd_direction(pm: PeriodMap, x: np.ndarray, j: int) -> float:
     """+1, or -1 where a forward step would leave the domain (phi at +1, B near 0); the period
     map's own rule if it has one (`fd_direction`)."""
     if hasattr(pm, "fd_direction"):
-        return pm.fd_direction(x, j)
+        return float(pm.fd_direction(x, j))
     if pm.model == "jenkins" and j == pm.dim - 1 and x[j] > 0.0:
         return -1.0
     return 1.0
@@ -131,7 +132,7 @@ def at_bound(pm: PeriodMap, x: np.ndarray, j: int) -> bool:
     """True if unknown j sits on its bound (the Jenkins element's slip limit |phi| = 1), where only
     a one-sided difference stays in the domain; the period map's own rule if it has one."""
     if hasattr(pm, "at_bound"):
-        return pm.at_bound(x, j)
+        return bool(pm.at_bound(x, j))
     return pm.model == "jenkins" and j == pm.dim - 1 and abs(x[j]) >= 1.0
 
 
@@ -213,6 +214,7 @@ def newton(
                 J, fresh = Jx, True
             elif J is None:
                 J, fresh = jacobian(pm, x, speed, Px), True
+            assert J is not None  # with sensitivities every evaluation sets DP
             dx = np.linalg.solve(J - np.eye(pm.dim), -(Px - x))
         except (FMUError, ParameterError, np.linalg.LinAlgError):
             return None
@@ -256,6 +258,7 @@ def orbit(pm: PeriodMap, sol: Solution, speed: float, central: bool = True) -> O
     forward ones), its multipliers and the FMU start values that start a run on it."""
     x = sol.x
     J = sol.J if sol.exact else jacobian(pm, x, speed, sol.Px, central=central)
+    assert J is not None  # an exact solution carries its DP
     B = math.nan if pm.model == "jenkins" else (pm.B if pm.model == "fixedB" else float(x[-1]))
     return Orbit(
         pm.model,

@@ -142,11 +142,6 @@ class RingPeriodMap:
     # phi column) costs no period
 
     def __init__(self, ring: Ring, settings: RingShootingSettings = RingShootingSettings()):
-        if ring.load != "builtin":
-            raise ValueError(
-                "the period map needs the blades' built-in load (load 'builtin'): its phase "
-                "restarts at 0 with every evaluation"
-            )
         if ring.coupling != "feedthrough":
             raise ValueError(f"coupling {ring.coupling!r}: the period map runs the Jacobi master's 'feedthrough'")
         self.s = settings.check()
