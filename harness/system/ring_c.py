@@ -189,8 +189,6 @@ class CRing:
         the next point pushes its own values in front and extrapolates at the full order p, as a run
         that had been going on would (the C loop's History: newest first, `filled` = p)."""
         p, N = self.ring.order, self.ring.n
-        if self.excs:
-            raise ValueError("set_history: the ring's Excitation FMUs keep a load history too (built-in load only)")
         w = self._work
         for k, a in enumerate((v, f)):
             a = np.asarray(a, dtype=float)
@@ -198,7 +196,7 @@ class CRing:
                 raise ValueError(f"set_history: need ({p}, {N}) values (order p, blades N), got {a.shape}")
             w[k * (p + 1) * N : k * (p + 1) * N + p * N] = a.ravel()
             w[k * (p + 1) * N + p * N : (k + 1) * (p + 1) * N] = 0.0
-        self._filled[:] = (p, p, 0)
+        self._filled[:] = (p, p)
 
     def set_step(self, h: float) -> None:
         """Communication step h [s, whole ns] from the current point on; the input derivatives'
