@@ -165,10 +165,10 @@ def test_sweeps_settled_states_lie_on_the_branches():
 @pytest.mark.parametrize(
     "kw,words",
     [
-        ({"speeds": (6000.0, 5000.0)}, ["speeds", "FROM must be below TO"]),
-        ({"speeds": (5000.0, 6000.0), "seed_points": 1}, ["seed_points = 1", "[2, 200]"]),
-        ({"speeds": (5000.0, 6000.0), "steps_per_period": 4}, ["steps_per_period = 4", "[8, 100000]"]),
-        ({"speeds": "fast"}, ["speeds = 'fast'", "two speeds"]),
+        ({"speed_range_rpm": (6000.0, 5000.0)}, ["speed_range_rpm", "FROM must be below TO"]),
+        ({"speed_range_rpm": (5000.0, 6000.0), "seed_points": 1}, ["seed_points = 1", "[2, 200]"]),
+        ({"speed_range_rpm": (5000.0, 6000.0), "steps_per_period": 4}, ["steps_per_period = 4", "[8, 100000]"]),
+        ({"speed_range_rpm": "fast"}, ["speed_range_rpm = 'fast'", "two speeds"]),
     ],
 )
 def test_api_refuses_bad_input(kw, words):

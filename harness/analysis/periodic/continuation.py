@@ -226,6 +226,32 @@ def tip_state(x: np.ndarray) -> tuple[float, float]:
     return (float(x[0]), float(x[1])) if m == 1 else (float(np.sum(x[:m])), float(np.sum(x[m : 2 * m])))
 
 
+class JacobianMemo:
+    """DP and dP/dn (physical units) where they were taken, found again at the same point (x and n
+    equal within the rounding of a round trip through another branch problem's scaled coordinates,
+    1e-12 relative): a peak's or a crossing's refinement, a branch switch and a continuation from a
+    shot orbit start at a point whose DP was already taken. A period map carrying one as
+    `jacobians` shares it among all its branch problems."""
+
+    RTOL = 1e-12
+
+    def __init__(self, size: int = 256):
+        self.size = size
+        self.items: list[tuple[np.ndarray, float, np.ndarray, np.ndarray | None]] = []  # (x, n, DP, dP/dn)
+
+    def get(self, x: np.ndarray, n: float) -> tuple[np.ndarray, np.ndarray | None] | None:
+        """(DP, dP/dn or None) taken at (x, n), or None."""
+        for xi, ni, DP, dn in reversed(self.items):
+            if abs(n - ni) <= self.RTOL * abs(ni) and np.all(np.abs(x - xi) <= self.RTOL * np.abs(xi)):
+                return DP.copy(), None if dn is None else dn.copy()  # (a caller may change its copy)
+        return None
+
+    def put(self, x: np.ndarray, n: float, DP: np.ndarray, dn: np.ndarray | None = None) -> None:
+        if len(self.items) >= self.size:
+            self.items.pop(0)
+        self.items.append((np.array(x, dtype=float), float(n), DP.copy(), None if dn is None else dn.copy()))
+
+
 class BranchProblem:
     """H(z) in scaled coordinates for one branch."""
 
@@ -237,6 +263,7 @@ class BranchProblem:
         # False: the ring's, whose DP from forward and central differences agree to 1e-4)
         self.central = getattr(pm, "central_differences", True)
         self._last: tuple[np.ndarray, np.ndarray] | None = None  # (z, DP) of the last evaluation
+        self.memo: JacobianMemo | None = getattr(pm, "jacobians", None)
 
     def to_z(self, x: np.ndarray, n: float) -> np.ndarray:
         return np.append(x / self.sc, n / SPEED_SCALE)
@@ -289,6 +316,13 @@ class BranchProblem:
             assert cols is not None and self._last is not None  # H(z) just evaluated at z
             DP = self._last[1]
             return np.column_stack([cols, self.speed_column(z, Hz)]), DP
+        known = self.memo.get(x, n) if self.memo is not None else None
+        if known is not None:  # dH/dz from the DP taken there: DP_ij sc_j / sc_i - delta_ij, dP/dn scaled
+            DP, dn = known
+            speed = self.speed_column(z, Hz) if dn is None else dn * SPEED_SCALE / self.sc
+            if dn is None:
+                self.memo.put(x, n, DP, speed * self.sc / SPEED_SCALE)
+            return np.column_stack([DP * self.sc[None, :] / self.sc[:, None] - np.eye(self.m), speed]), DP
         eps = self.pm.s.fd_rel
         Jz = np.empty((self.m, self.m + 1))
         for j in range(self.m + 1):
@@ -305,6 +339,8 @@ class BranchProblem:
             else:
                 Jz[:, j] = (Hp - Hz) / h
         DP = (Jz[:, :-1] + np.eye(self.m)) * self.sc[:, None] / self.sc[None, :]
+        if self.memo is not None:
+            self.memo.put(x, n, DP, Jz[:, -1] * self.sc / SPEED_SCALE)
         return Jz, DP
 
 

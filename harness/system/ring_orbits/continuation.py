@@ -7,7 +7,7 @@ blade's max |q|) and folds (speed turning points) are located by the single blad
 harness.analysis.periodic.extrema where a neighbour is stable (the others stay sampled). A corrector
 that cannot cross a kink of the map (ds below ds_min: a contact opening or closing exactly at the
 period's start, a grazing) is retried a step of kink_steps past it before the branch ends there.
-Bifurcations (crossings.py: detected beyond the multipliers' noise, located by bisection in the arc):
+Bifurcations (crossings.py: detected beyond the multipliers' noise, located in the arc by Brent's method):
 - fold: the speed turns (located by extrema);
 - branch point: the number of real multipliers above +1 changes where the speed does not turn (a
   symmetry-breaking pitchfork of the tuned ring passes +1 with a double multiplier: the sign of
@@ -30,7 +30,7 @@ from harness.fmu.blade import FMUError
 from harness.system.ring_orbits.crossings import JUMP, KINDS, detect, segment
 from harness.system.ring_orbits.crossings import locate as locate_crossing
 from harness.system.ring_orbits.period_map import RingPeriodMap
-from harness.system.ring_orbits.shooting import RingOrbit, monodromy, shoot
+from harness.system.ring_orbits.shooting import RingOrbit, jacobians, monodromy, shoot
 
 # no fresh-Jacobian retry of a failed corrector (up to 8 x 19 periods on 6 blades; a halved step costs a
 # few): on the 6-blade study ring over 5500-7200 rpm 21773 -> 15475 periods in all (continuation 15942 ->
@@ -61,7 +61,7 @@ class Bifurcation:
     vector: np.ndarray | None = None  # critical eigenvector of DP (branch points: the switching direction)
     located: bool = True  # False: linear between two points (crossings.py)
     value: float = float("nan")  # the test function at the located point (crossings.py)
-    bracket: float = float("nan")  # the bisection's final bracket [scaled arc]
+    bracket: float = float("nan")  # the location's final bracket [scaled arc]
     between: tuple[int, int] = (-1, -1)  # the decided points around it (crossings.detect)
 
     def as_dict(self) -> dict:
@@ -141,7 +141,7 @@ def bifurcations(
     pm: RingPeriodMap, br: Branch, folds: list, settings: ContinuationSettings = RING_CONTINUATION
 ) -> list[Bifurcation]:
     """The bifurcations of br (see the module docstring): folds as located by extrema, the others
-    detected beyond the multipliers' noise and located by bisection (crossings.py)."""
+    detected beyond the multipliers' noise and located by Brent's method (crossings.py)."""
     out: list[Bifurcation] = []
     pts = br.points
     n = br.speeds
@@ -200,6 +200,7 @@ def trace(
     replaced by the orbit at the band's edge), with its located peaks, folds and bifurcations; a
     direction ends where joined(speed, per-blade amplitudes) says the branch ran onto one traced
     before."""
+    jacobians(pm)  # the map's memo of DPs: the extrema, crossings and switches start from the points' DPs
     stop = None
     if joined is not None:
 
@@ -256,6 +257,7 @@ def switch(
     back onto this branch). Multipliers are filled in by the caller's continuation."""
     if bif.vector is None or bif.x is None:
         return []
+    jacobians(pm)
     sc = pm.scales(bif.x, bif.speed)
     prob = BranchProblem(pm, sc)
     z0 = prob.to_z(bif.x, bif.speed)

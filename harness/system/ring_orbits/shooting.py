@@ -2,8 +2,11 @@
 
 Newton on R(x) = P(x) - x is the single blade's (harness.analysis.periodic.shooting.newton: damped,
 quasi-Newton with a forward-difference DP updated by Broyden, scaled by the map's `scales`). The
-monodromy matrix at a converged orbit is DP by central differences over the state (one-sided where a
-phi sits on the slip limit), its eigenvalues the Floquet multipliers. The period residual reported
+monodromy matrix at a converged orbit is DP by forward differences over the state (backward where a
+phi sits in its upper half; the ring's DP from forward and central differences agree to 1e-4, the
+period_map's `central_differences`), its eigenvalues the Floquet multipliers; it is kept in the map's
+memo of DPs (`jacobians`, continuation.JacobianMemo), so a continuation from the orbit starts without
+another one. The period residual reported
 is max |P(x) - x| / scale (scales: the largest displacement for every displacement, times omega for
 every rate, 1 for every phi).
 """
@@ -14,7 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from harness.analysis.periodic.shooting import UNIT_CIRCLE_TOL, classify, jacobian, multipliers, newton
+from harness.analysis.periodic.continuation import JacobianMemo
+from harness.analysis.periodic.shooting import UNIT_CIRCLE_TOL, classify, multipliers, newton
 from harness.system.ring_orbits.period_map import RingMapFailed, RingPeriodMap
 
 
@@ -57,11 +61,34 @@ class RingOrbit:
         }
 
 
+def jacobians(pm: RingPeriodMap) -> JacobianMemo:
+    """The map's memo of DPs, shared by every branch problem on it (attached on first use)."""
+    memo = getattr(pm, "jacobians", None)
+    if memo is None:
+        memo = pm.jacobians = JacobianMemo()
+    return memo
+
+
 def monodromy(pm: RingPeriodMap, x: np.ndarray, speed: float, Px: np.ndarray | None = None) -> np.ndarray:
-    """DP at x by central differences (one-sided at a bound), in physical units."""
+    """DP at x by forward differences (one-sided away from a bound), in physical units; from the
+    map's memo where it was taken before."""
+    memo = jacobians(pm)
+    known = memo.get(x, speed)
+    if known is not None:
+        return known[0]
     if Px is None:
         Px = pm(x, speed)[0]
-    return jacobian(pm, x, speed, Px, central=True)
+    sc = pm.scales(x, speed)
+    J = np.zeros((pm.dim, pm.dim))
+    for j in range(pm.dim):
+        h = pm.s.fd_rel * sc[j] * pm.fd_direction(x, j)
+        xp = x.copy()
+        xp[j] += h
+        if pm.bounded(xp)[j] != xp[j]:
+            continue  # an open contact's phi: it does not act (the column is 0, as the continuation's)
+        J[:, j] = (pm(xp, speed)[0] - Px) / h
+    memo.put(x, speed, J)
+    return J
 
 
 def shoot(pm: RingPeriodMap, x0: np.ndarray, speed: float, tol: float | None = None) -> RingOrbit | None:
