@@ -68,13 +68,13 @@ def _finite(name: str, value: Any, where: str) -> float:
     return v
 
 
-def _speed(speed: Any, where: str, low_open: bool) -> float:
+def _speed(speed: Any, where: str, low_open: bool, name: str = "speed_rpm") -> float:
     """A rotor speed [rpm] inside the FMU's rotorSpeed range (from its model description)."""
     lo, hi = input_range("rotorSpeed")
-    v = _finite("speed", speed, where)
+    v = _finite(name, speed, where)
     if (v <= lo if low_open else v < lo) or v > hi:
         raise _error(
-            f"speed = {speed!r} rpm (from {where}) is out of range; accepted: {'(' if low_open else '['}{lo:g},"
+            f"{name} = {speed!r} rpm (from {where}) is out of range; accepted: {'(' if low_open else '['}{lo:g},"
             f" {hi:g}] rpm (the FMU's rotorSpeed)"
         )
     return v
@@ -94,20 +94,20 @@ def _model(model: str, where: str) -> None:
 def simulate(
     stop_time: float = 0.3,
     *,
-    speed: float = 5000.0,
+    speed_rpm: float = 5000.0,
     step: float = 1e-4,
     outputs: Sequence[str] | None = None,
     fmu: str | Path | None = None,
     **parameters: Any,
 ) -> np.ndarray:
-    """Run the FMU from rest for `stop_time` [s] at constant `speed` [rpm] with communication step
+    """Run the FMU from rest for `stop_time` [s] at constant `speed_rpm` [rpm] with communication step
     `step` [s] under the aerodynamic load Fw0 sin(EO * phase); returns a numpy record array with
-    'time' and the outputs (all, or `outputs`) at every step. `parameters`: FMU parameters and Fw0
-    by name (e.g. d=4e-5, gating=False). `fmu`: another FMU file (default `fmu_path()`).
+    'time' and the outputs (all, or `outputs`) at every step. `parameters`: FMU parameters (Fw0
+    among them) by name (e.g. d=4e-5, gating=False). `fmu`: another FMU file (default `fmu_path()`).
     As `harness simulate` (harness.cli.simulate) without the files."""
     where = "harness.simulate"
     params = _parameters(parameters, f"{where}(**parameters)")
-    v = _speed(speed, f"{where}(speed=...)", low_open=False)
+    v = _speed(speed_rpm, f"{where}(speed_rpm=...)", low_open=False)
     t = _finite("stop_time", stop_time, f"{where}(stop_time=...)")
     h = _finite("step", step, f"{where}(step=...)")
     if not 0 < h <= t:
@@ -117,15 +117,15 @@ def simulate(
 
 
 def periodic_orbits(
-    speed: float, model: str = "fixedPoint", *, fmu: str | Path | None = None, **parameters: Any
+    speed_rpm: float, model: str = "fixedPoint", *, fmu: str | Path | None = None, **parameters: Any
 ) -> list[Orbit]:
-    """Every periodic orbit of the FMU found at `speed` [rpm], by shooting, sorted by amplitude,
+    """Every periodic orbit of the FMU found at `speed_rpm` [rpm], by shooting, sorted by amplitude,
     each with its Floquet multipliers and stability (`Orbit.amplitude` [m], `.stable`, `.label`,
     `.multipliers`, `.as_dict()`). model: fixedB (B fixed, parameter B), fixedPoint (the paper's
     B = A(B), default), jenkins (the time-domain macroslip element) or coulomb.
     As `harness periodic --speed SPEED --model MODEL`."""
     where = "harness.periodic_orbits"
-    v = _speed(speed, f"{where}(speed=...)", low_open=True)
+    v = _speed(speed_rpm, f"{where}(speed_rpm=...)", low_open=True)
     _model(model, where)
     state = [k for k in parameters if k in STATE_STARTS]
     if state:
@@ -139,37 +139,40 @@ def periodic_orbits(
 
 
 def branch(
-    speed_range: tuple[float, float], model: str = "fixedPoint", *, fmu: str | Path | None = None, **parameters: Any
+    speed_range_rpm: tuple[float, float], model: str = "fixedPoint", *, fmu: str | Path | None = None, **parameters: Any
 ) -> list[Branch]:
-    """The branches of periodic orbits over `speed_range` = (low, high) [rpm], traced by
+    """The branches of periodic orbits over `speed_range_rpm` = (low, high) [rpm], traced by
     pseudo-arclength continuation from the orbits found at seed speeds 500 rpm apart (each branch:
     `.points`, with speed, amplitude and stability). As the studies of `harness reproduce`."""
     where = "harness.branch"
     _model(model, where)
     try:
-        lo, hi = speed_range
+        lo, hi = speed_range_rpm
     except (TypeError, ValueError):
         raise _error(
-            f"speed_range = {speed_range!r} (from {where}(speed_range=...)) is not a pair (low, high) of speeds [rpm]"
+            f"speed_range_rpm = {speed_range_rpm!r} (from {where}(speed_range_rpm=...)) is not a pair (low, high)"
+            " of speeds [rpm]"
         ) from None
-    lo = _speed(lo, f"{where}(speed_range=(low, ...))", low_open=True)
-    hi = _speed(hi, f"{where}(speed_range=(..., high))", low_open=True)
+    lo = _speed(lo, f"{where}(speed_range_rpm=(low, ...))", low_open=True, name="low")
+    hi = _speed(hi, f"{where}(speed_range_rpm=(..., high))", low_open=True, name="high")
     if not lo < hi:
-        raise _error(f"speed_range = {speed_range!r} rpm (from {where}(speed_range=...)): low must be < high")
+        raise _error(
+            f"speed_range_rpm = {speed_range_rpm!r} rpm (from {where}(speed_range_rpm=...)): low must be < high"
+        )
     params = _parameters(parameters, f"{where}(**parameters)")
     with BladeFMU(fmu) as blade:
         return trace_branches(blade, params, model, (lo, hi))[0]
 
 
-def _ring_speed(speed: Any, where: str) -> None:
+def _ring_speed(speed: Any, where: str, name: str = "speed") -> None:
     """A ring speed [rpm] inside BladeExternalContact's rotorSpeed range (its model description)."""
     md = read_model_description(str(build_ring_fmus()[0]))
     rs = next(v for v in md.modelVariables if v.name == "rotorSpeed")
     lo, hi = float(rs.min), float(rs.max)
-    v = _finite("speed", speed, where)
+    v = _finite(name, speed, where)
     if not lo < v <= hi:
         raise _error(
-            f"speed = {speed!r} rpm (from {where}) is out of range; accepted: ({lo:g}, {hi:g}] rpm"
+            f"{name} = {speed!r} rpm (from {where}) is out of range; accepted: ({lo:g}, {hi:g}] rpm"
             " (BladeExternalContact's rotorSpeed)"
         )
 
@@ -216,7 +219,7 @@ def _check_ring(ring: Ring, where: str) -> None:
 
 
 def ring_branches(
-    ring: Ring, speeds: tuple[float, float], seed_points: int | None = None, steps_per_period: int = 160
+    ring: Ring, speed_range_rpm: tuple[float, float], seed_points: int | None = None, steps_per_period: int = 160
 ) -> RingBranches:
     """The periodic steady states of the bladed-disk ring over a speed band.
 
@@ -231,7 +234,7 @@ def ring_branches(
     ring : harness.Ring
         The ring (its blades, contacts, load Fw0, engine order, extrapolation order); its speed,
         step and stop time are not used. Built-in load and the Jenkins contact (frictionModel 3).
-    speeds : (float, float)
+    speed_range_rpm : (float, float)
         The band [rpm], FROM < TO inside BladeExternalContact's rotorSpeed range.
     seed_points : int, optional
         Speeds of the seeds across the band, 2..200 (default: at most 300 rpm apart, at least 4).
@@ -254,13 +257,17 @@ def ring_branches(
     where = "harness.ring_branches"
     _check_ring(ring, where)
     try:
-        lo, hi = (float(v) for v in speeds)
+        lo, hi = (float(v) for v in speed_range_rpm)
     except (TypeError, ValueError):
-        raise _error(f"speeds = {speeds!r} (from {where}(speeds=...)): need two speeds FROM, TO [rpm]") from None
-    _ring_speed(lo, f"{where}(speeds=...)")
-    _ring_speed(hi, f"{where}(speeds=...)")
+        raise _error(
+            f"speed_range_rpm = {speed_range_rpm!r} (from {where}(speed_range_rpm=...)): need two speeds FROM, TO [rpm]"
+        ) from None
+    _ring_speed(lo, f"{where}(speed_range_rpm=(FROM, ...))", "FROM")
+    _ring_speed(hi, f"{where}(speed_range_rpm=(..., TO))", "TO")
     if not lo < hi:
-        raise _error(f"speeds = {speeds!r} (from {where}(speeds=...)): FROM must be below TO")
+        raise _error(
+            f"speed_range_rpm = {speed_range_rpm!r} (from {where}(speed_range_rpm=...)): FROM must be below TO"
+        )
     for name, v, a, b in (("seed_points", seed_points, 2, 200), ("steps_per_period", steps_per_period, 8, 100000)):
         if v is None and name == "seed_points":
             continue

@@ -2,12 +2,11 @@
 
 Measured in one run on this machine: the FMU's internal step cost (the C benchmark
 build/bench_step when it exists), the cost of one fmi2DoStep through the harness loop on fmpy
-(small and large communication steps), the Python overhead of a time-domain sweep against the
-FMU's own compute for the same work (time spent inside fmi2DoStep), the same stepped-speed run
-through the Python reference as a ratio, harmonic balance for all studies, the wall time of
-`reproduce` (the studies as periodic-orbit branches) with its breakdown and the time spent in the
-FMI calls, side by side the former transient path of the same studies, and a 24-blade ring in
-the fmpy master and in libcosim against the FMUs' own compute.
+(small and large communication steps) against the FMU's own compute for the same work (time
+spent inside fmi2DoStep), the same stepped-speed run through the Python reference as a ratio,
+harmonic balance for all studies, the wall time of `reproduce` (the studies as periodic-orbit
+branches) with its breakdown and the time spent in the FMI calls, and a 24-blade ring in the fmpy
+master and in libcosim against the FMUs' own compute.
 """
 
 from __future__ import annotations
@@ -21,7 +20,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -29,22 +28,20 @@ import fmpy
 import numpy as np
 
 from harness import reference as ref
-from harness.analysis import curves as sw
-from harness.analysis.curves import SweepSettings, SweepSpec, fmu_identity, hb_curve, run_sweeps
+from harness.analysis.cache import fmu_identity
+from harness.analysis.curves import hb_curve
 from harness.analysis.executor import Runner
 from harness.files.atomic import atomic_write_text
 from harness.analysis.periodic.branches import BranchSettings, trace_branches
 from harness.analysis.periodic.period_map import ShootingSettings
-from harness.analysis.plateau import PLATEAU_OUTPUTS
 from harness.bench_ring_orbits import SECTION as RING_ORBITS_SECTION
 from harness.bench_ring_orbits import ring_orbits_cost
 from harness.bench_ring_orbits import section as ring_orbits_section
 from harness.bench_ring_orbits import with_before
 from harness.fmu.blade import BladeFMU
 from harness.fmu.build import BUILD_DIR, REPO_ROOT, build
-from harness.fmu.pool import worker_fmu
 from harness.model.excitation import AeroLoad, Stepped, fmu_view
-from harness.studies.paper import SIZES, STUDIES, Size, base_params, study_specs
+from harness.studies.paper import SIZES, STUDIES, Size, base_params
 from harness.system import ring_c, ring_libcosim
 from harness.system.ring import Ring, run as ring_run
 from harness.validation.reproduction import reproduce
@@ -65,7 +62,6 @@ class BenchSize:
     name: str
     repeats: int = 5  # best of, for the doStep and RK4 step costs
     sim_scale: float = 1.0  # on the simulated times of the doStep and reference rows
-    sweep_speeds: tuple[float, ...] = tuple(float(n) for n in np.arange(3000.0, 10001.0, 500.0))
     ring: Mapping[str, Any] = field(default_factory=lambda: dict(RING_BENCH))
     ring_repeats: int = 3
     hb_values: int | None = None  # per study (None: all)
@@ -74,7 +70,7 @@ class BenchSize:
     jacobian_range: tuple[float, float] = (3000.0, 12000.0)
     cli_repeats: int = 15
     ring_orbits: Mapping[str, Any] = field(default_factory=dict)  # ring_orbits_cost's sizes ({}: its defaults)
-    reproduce: str | Size = "default"  # the reproduce / transient rows' size (`--size`)
+    reproduce: str | Size = "default"  # the reproduce row's size (`--size`)
     extras: bool = True  # reproduce's Fig. 2, 4/5, Campbell, iteration (fixed sizes: tens of seconds)
     step_args: tuple[str, ...] = ()  # for build/bench_step
 
@@ -222,24 +218,14 @@ def _inside(fmu: Any, fn, repeats: int) -> tuple[float, int]:
 
 
 def dostep_cost(fmu: Any, params: dict, repeats: int = 5, sim_scale: float = 1.0) -> dict[str, Any]:
-    """Cost of one doStep of BladeFMU.run at 5000 rpm for four communication steps; the last one
-    as the sweeps step (Chebyshev-fitted load, values carried by the FMU, one sample per period)."""
+    """Cost of one doStep of BladeFMU.run at 5000 rpm for three communication steps."""
     out = {}
     T = 60.0 / (5000.0 * params["engineOrder"])
-    spp = SweepSettings().steps_per_period
     plain = {"outputs": ["tipDisplacement", "amplitude"]}
-    sweep_like = {"outputs": list(PLATEAU_OUTPUTS), "input_fit": "chebyshev", "carry_values": True, "sample_every": spp}
     for label, h, t_stop, kw in (
         ("h = maxStep = 1e-5 s (1 internal step)", 1e-5, 0.2, plain),
         ("h = T/8 = 0.5 ms (50 internal steps)", T / 8, 1.0, plain),
         ("h = T/4 = 1 ms (100 internal steps)", T / 4, 1.0, plain),
-        (
-            f"h = T/{spp} = {T / spp * 1e3:g} ms ({T / spp / 1e-5:.0f} internal steps), as in the sweeps: "
-            "Chebyshev-fitted load, values carried, 1 sample per period",
-            T / spp,
-            1.0,
-            sweep_like,
-        ),
     ):
         fmu.run(params, 10 * h, h)  # warm-up
 
@@ -257,32 +243,6 @@ def dostep_cost(fmu: Any, params: dict, repeats: int = 5, sim_scale: float = 1.0
             "ratio_cpu": cpu / inside,
             "sim_time": t_stop * sim_scale,
             "us_per_simulated_ms": wall / (t_stop * sim_scale) * 1e3,
-        }
-    return out
-
-
-def sweep_overhead(
-    fmu_path: str, repeats: int = 3, speeds: tuple[float, ...] = BenchSize("full").sweep_speeds
-) -> dict[str, Any]:
-    """One up sweep (base case, 3000..10000 rpm every 500, no refinement, no cache): the wall and
-    CPU time of the Python-driven sweep against the time spent inside fmi2DoStep for the same work."""
-    out = {}
-    for spp in (sw.SweepSettings().steps_per_period, 8):
-        s = sw.SweepSettings(refine_levels=0, steps_per_period=spp)
-        task = sw.ChainTask(base_params(), tuple(speeds), "up", s, *sw.fmu_identity(fmu_path), None)
-        fmu = worker_fmu(task.fmu_path)
-        sw.run_chain(task)  # warm-up
-        wall, cpu, recs = _best(lambda: sw.run_chain(task), repeats)
-        inside, n = _inside(fmu, lambda: sw.run_chain(task), repeats)
-        out[f"{spp} steps per period"] = {
-            "plateaus": len(recs),
-            "sim_time": sum(r.sim_time for r in recs),
-            "wall": wall,
-            "cpu": cpu,
-            "inside_doStep": inside,
-            "doSteps": n,
-            "ratio_wall": wall / inside,
-            "ratio_cpu": cpu / inside,
         }
     return out
 
@@ -507,40 +467,6 @@ def reproduce_cold(size: str | Size, workers: int | None, extras: bool = True) -
     }
 
 
-def transient_studies(size: str | Size, workers: int | None) -> dict[str, Any]:
-    """The former path of the same studies from a cold cache: time-domain up/down sweeps, fixed
-    points A(B) = B from transients and HB for Figs. 6-9, time-domain + HB Coulomb curves."""
-    sz, base = (SIZES[size] if isinstance(size, str) else size), base_params()
-    specs = [e[2] for e in study_specs(sz, list(STUDIES), base)]
-    for name in ("kn", "angle"):
-        st = STUDIES[name]
-        values = st.values if sz.values is None else sz.values.get(name, st.values)
-        specs += [
-            SweepSpec(
-                dict(base, frictionModel=2, **{st.param: v}),
-                sz.speeds,
-                label=f"Coulomb {st.label(v)}",
-                methods=("time", "hb"),
-                hb_speeds=sz.hb_speeds,
-                settings=sz.settings,
-            )
-            for v in values
-        ]
-    with tempfile.TemporaryDirectory() as tmp:
-        t = time.perf_counter()
-        with Runner(workers=workers, progress=False) as runner:
-            res = run_sweeps(specs, runner, cache_dir=Path(tmp) / "cache")
-        wall = time.perf_counter() - t
-    return {
-        "wall": wall,
-        "curves": len(specs),
-        "plateaus": sum(len(r.time) for r in res),
-        "sim_time": float(sum(r.stats.sim_time for r in res)),
-        "fixed_evals": int(sum(r.stats.fixed_evals for r in res)),
-        "workers": workers or os.cpu_count(),
-    }
-
-
 def write_results(path: Path, data: dict[str, Any]) -> None:
     m = data["machine"]
     L = [
@@ -578,28 +504,6 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
             L.append(
                 f"| {k} | {v['steps']} | {v['us_per_doStep']:.2f} | {v['cpu_us_per_doStep']:.2f} | "
                 f"{v['us_inside_doStep']:.2f} | {v['ratio_wall']:.2f} | {v['ratio_cpu']:.2f} |"
-            )
-        L.append("")
-    if "sweep" in data:
-        st = data.get("sweep_settings", {})
-        L += [
-            "## A time-domain sweep driven from Python vs the FMU's own compute (target <= 1.5x)",
-            "",
-            "One up sweep of the base case, 3000..10000 rpm every 500 rpm, no refinement, no cache (plateaus "
-            "with steady-state checks, state carried); the FMU's own compute = time spent inside "
-            "fmi2DoStep for the same work. Minimum over 3 repeats. Default settings: "
-            f"{st.get('steps_per_period', '?')} steps per period with the load's degree-8 "
-            f"{st.get('input_fit', '?')} polynomial per step, rtol {st.get('rtol', '?')}, cap "
-            f"{st.get('max_time', '?')} s per plateau; the second row only changes the steps per period "
-            "(more doSteps for the same physics).",
-            "",
-            "| communication step | plateaus | simulated | doSteps | wall | CPU | inside fmi2DoStep | wall / inside | CPU / inside |",
-            "|---|---|---|---|---|---|---|---|---|",
-        ]
-        for k, v in data["sweep"].items():
-            L.append(
-                f"| {k} | {v['plateaus']} | {v['sim_time']:.1f} s | {v['doSteps']} | {v['wall']:.3f} s | "
-                f"{v['cpu']:.3f} s | {v['inside_doStep']:.3f} s | **{v['ratio_wall']:.2f}** | {v['ratio_cpu']:.2f} |"
             )
         L.append("")
     if "reference" in data:
@@ -673,29 +577,6 @@ def write_results(path: Path, data: dict[str, Any]) -> None:
             f"- Fig. 2, 4/5, Campbell, the paper's iteration: {r.get('extras_wall', nan):.1f} s",
             "",
         ]
-        if "transient" in data:
-            t = data["transient"]
-            studies = r.get("branches_wall", nan) + r.get("hb_wall", 0.0)
-            L += [
-                "### Side by side: the same studies by transients (the former `make run`, same run)",
-                "",
-                f"{t['curves']} curves (Figs. 6-9: up/down time-domain sweeps, fixed points A(B) = B from "
-                f"transients, HB; section 4: Coulomb time domain + HB), cold cache, {t['workers']} workers: "
-                f"**{t['wall']:.1f} s wall**, {t['plateaus']} plateaus + {t['fixed_evals']} A(B) transients = "
-                f"{t['sim_time']:.0f} s of blade time.",
-                "",
-                f"Studies: transients {t['wall']:.1f} s vs branches {studies:.1f} s (HB included): "
-                f"**{t['wall'] / studies:.2f}x less wall time**, with every branch, its stability and the "
-                f"Jenkins element in addition."
-                + (
-                    f" Whole reproduction (the extras are the same code in both): "
-                    f"{t['wall'] + r['extras_wall']:.1f} s vs {r['wall']:.1f} s: "
-                    f"**{(t['wall'] + r['extras_wall']) / r['wall']:.2f}x**."
-                    if math.isfinite(r.get("extras_wall", nan))
-                    else ""
-                ),
-                "",
-            ]
     atomic_write_text(path, "\n".join(L))
 
 
@@ -764,11 +645,8 @@ def _ring_section(g: dict[str, Any], run_date: str) -> list[str]:
 # `--quick`: every row once at tiny sizes (tests/project/test_bench_quick.py runs it in `make test`)
 TINY_REPRODUCE = Size(
     "tiny",
-    speeds=(3000.0, 4000.0),
-    fixed_speeds=(4000.0,),
     hb_speeds=(3000.0, 3500.0, 4000.0),
     values={"gap": (2e-5,), "mass": (0.02,), "angle": (math.pi / 3,), "kn": (1e5,)},
-    settings=SweepSettings(refine_levels=0, max_time=0.1, fixed_max_time=0.1, n_scan=4),
     fig45_time=0.05,
     coulomb=False,
     iteration_steps=2,
@@ -781,7 +659,6 @@ QUICK = BenchSize(
     "quick",
     repeats=1,
     sim_scale=0.02,
-    sweep_speeds=(3000.0, 3500.0),
     ring={**RING_BENCH, "n": 4, "stop_time": 0.005},
     ring_repeats=1,
     hb_values=1,
@@ -866,10 +743,6 @@ def measure(out: Path, size: BenchSize, workers: int | None, skip_reproduce: boo
         data["reference"] = reference_ratio(fmu, p, size.sim_scale)
         print("branch Jacobians: sensitivities vs finite differences ...", flush=True)
         data["jacobians"] = branch_jacobians(fmu, size.jacobian_curves, size.jacobian_range)
-    print("sweep overhead ...", flush=True)
-    data["sweep"] = sweep_overhead(path, min(size.repeats, 3), size.sweep_speeds)
-
-    data["sweep_settings"] = asdict(SweepSettings())
     print("harmonic balance ...", flush=True)
     data["hb"] = hb_all(size.hb_values, size.hb_speeds)
     print(f"{size.ring['n']}-blade ring: fmpy master and libcosim ...", flush=True)
@@ -883,8 +756,6 @@ def measure(out: Path, size: BenchSize, workers: int | None, skip_reproduce: boo
         name = size.reproduce if isinstance(size.reproduce, str) else size.reproduce.name
         print(f"reproduce --size {name} (branches) ...", flush=True)
         data["reproduce"] = reproduce_cold(size.reproduce, workers, size.extras)
-        print("the same studies by transients from a cold cache (the former path) ...", flush=True)
-        data["transient"] = transient_studies(size.reproduce, workers)
     write_results(out, data)
     sec = "\n".join(ring_orbits_section(data["ring_orbits"], _machine_text(data["machine"], load), data["date"]))
     atomic_write_text(out, replace_section(out.read_text(), RING_ORBITS_SECTION, sec))

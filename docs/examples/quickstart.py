@@ -2,10 +2,10 @@
 its steady state (default parameters: the paper's Table 1). Run it with `python quickstart.py`."""
 import harness
 
-speed = 7000.0  # [rpm]
-for orbit in harness.periodic_orbits(speed):  # by shooting, with Floquet stability
+speed_rpm = 7000.0  # [rpm]
+for orbit in harness.periodic_orbits(speed_rpm):  # by shooting, with Floquet stability
     print(f"orbit: max|q| = {orbit.amplitude:.6e} m ({orbit.label})")
 
-res = harness.simulate(1.5, speed=speed)  # numpy record array: time + the FMU's outputs
-last = res["time"] >= res["time"][-1] - 60 / (3 * speed)  # the last excitation period (engine order 3)
+res = harness.simulate(1.5, speed_rpm=speed_rpm)  # numpy record array: time + the FMU's outputs
+last = res["time"] >= res["time"][-1] - 60 / (3 * speed_rpm)  # the last excitation period (engine order 3)
 print(f"simulate: max|q| over the last period = {abs(res['tipDisplacement'][last]).max():.6e} m")

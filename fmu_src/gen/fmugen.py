@@ -1,15 +1,16 @@
 """Generate a model's files from its variable spec (fmu_src/models/<Name>/model.toml).
 
     python fmu_src/gen/fmugen.py SPEC --out DIR        # CMake, at configure time, into the build tree
-    python fmu_src/gen/fmugen.py SPEC --check          # 1 if a committed model description drifted
-    python fmu_src/gen/fmugen.py SPEC --update         # rewrite the committed model descriptions
+    python fmu_src/gen/fmugen.py SPEC --check          # 1 if a committed generated file drifted
+    python fmu_src/gen/fmugen.py SPEC --update         # rewrite the committed generated files
 
 Into DIR/models/<Name>/: variables.h (value references, bounds, slot enums), variables.inc (the
 rows of the C variable table), modelDescription.xml (FMI 2.0), with an [model.fmi3] table
 modelDescription3.xml and buildDescription3.xml (FMI 3.0), and sources.cmake (the files of each
 face, relative to fmu_src/). A file is rewritten only when its text changes (no needless rebuild).
 The model descriptions are also committed next to the spec (the FMU's public contract, read by
-the Python package in a checkout before anything is built); --check compares them.
+the Python package in a checkout before anything is built), and the model's parameters as a typed
+Python record in harness/model/records/<model>.py (emit_py); --check compares them.
 Python 3.11 standard library only.
 """
 
@@ -21,10 +22,12 @@ import tomllib
 from pathlib import Path
 
 import emit_c
+import emit_py
 import emit_xml
 import fmuspec
 
 FMU_SRC = Path(__file__).resolve().parent.parent
+RECORDS = FMU_SRC.parent / "harness" / "model" / "records"  # the typed parameter records (committed)
 
 
 def expand_sources(items: list[str], groups: dict[str, list[str]], where: str) -> list[str]:
@@ -71,6 +74,18 @@ def generate(spec: Path) -> dict[str, str]:
 COMMITTED = ("modelDescription.xml", "modelDescription3.xml")
 
 
+def committed(spec: Path) -> dict[Path, str]:
+    """The committed generated files of `spec` (path -> text): its model descriptions, next to it,
+    and its typed parameter record in the Python package."""
+    files = generate(spec)
+    model = fmuspec.load(spec)
+    out = {spec.parent / name: files[name] for name in COMMITTED if name in files}
+    spec = spec.resolve()
+    rel = spec.relative_to(FMU_SRC.parent).as_posix() if spec.is_relative_to(FMU_SRC.parent) else spec.as_posix()
+    out[RECORDS / f"{emit_py.module_name(model)}.py"] = emit_py.record(model, rel)
+    return out
+
+
 def write_if_changed(path: Path, text: str) -> None:
     if not path.exists() or path.read_text() != text:
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -92,14 +107,11 @@ def main(argv: list[str] | None = None) -> int:
             if args.out:
                 for fname, text in files.items():
                     write_if_changed(args.out / "models" / name / fname, text)
-            for fname in COMMITTED:
-                if fname not in files:
-                    continue
-                committed = spec.parent / fname
+            for path, text in committed(spec).items():
                 if args.update:
-                    write_if_changed(committed, files[fname])
-                elif args.check and (not committed.exists() or committed.read_text() != files[fname]):
-                    drift.append(str(committed))
+                    write_if_changed(path, text)
+                elif args.check and (not path.exists() or path.read_text() != text):
+                    drift.append(str(path))
     except fmuspec.SpecError as exc:
         print(f"fmugen: {exc}", file=sys.stderr)
         return 2

@@ -1,3 +1,3 @@
-"""From the FMU to steady states (layer above fmu): steady-state detection, plateaus, sweeps, the
-fixed point, periodic orbits (shooting, continuation, Floquet), the harmonic balance and the executor
-that runs tasks locally or on dask."""
+"""From the FMU to steady states (layer above fmu): steady-state detection, periodic orbits
+(shooting, continuation, Floquet), the harmonic balance and its curves, the point cache and the
+executor that runs tasks locally or on dask."""

@@ -1,10 +1,10 @@
 """The per-point result cache: one JSON file per computed point under a directory, keyed by a hash
 of everything the point depends on (parameters, scenario, start state, code version), written
-atomically, so that an interrupted sweep or study finds its finished points and continues."""
+atomically, so that an interrupted study finds its finished points and continues; `fmu_identity`
+gives the FMU file's hash for the keys."""
 
 from __future__ import annotations
 
-import base64
 import hashlib
 import json
 from dataclasses import dataclass
@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from harness.files.atomic import atomic_write_text
+from harness.fmu.blade import fmu_path
 from harness.paths import DEFAULT_CACHE_DIR
 
 
@@ -40,14 +41,6 @@ def point_key(**parts: Any) -> str:
     """Hex digest identifying one computed point (parameters, scenario, start state, code version)."""
     text = json.dumps(_canonical(parts), sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()[:32]
-
-
-def encode_bytes(data: bytes) -> str:
-    return base64.b64encode(data).decode("ascii")
-
-
-def decode_bytes(text: str) -> bytes:
-    return base64.b64decode(text.encode("ascii"))
 
 
 @dataclass
@@ -84,3 +77,18 @@ class PointCache:
         if self.directory is None or not Path(self.directory).exists():
             return 0
         return sum(1 for _ in Path(self.directory).glob("*/*.json"))
+
+
+_HASHES: dict[str, str] = {}
+
+
+def fmu_identity(path: str | Path | None = None) -> tuple[str, str]:
+    """(path, sha256 of the FMU file): the hash enters every cache key (a rebuilt FMU is new)."""
+    if path is None:
+        path = fmu_path(build=True)
+    path = str(Path(path).resolve())
+    st = Path(path).stat()
+    tag = f"{path}:{st.st_mtime_ns}:{st.st_size}"
+    if tag not in _HASHES:
+        _HASHES[tag] = hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    return path, _HASHES[tag]

@@ -1,6 +1,6 @@
 """Run many independent tasks on a local pool or on dask.
 
-Sweeps and studies are split into tasks (one speed chain, one fixed-point speed, one curve) that
+The studies are split into tasks (one branch curve, one ring sweep over speed) that
 are mapped over a pool of worker processes (`concurrent.futures`, the default) or a
 dask.distributed cluster (`scheduler="tcp://host:8786"`). A task stores every finished point at once
 in the point cache (harness.analysis.cache), so an interrupted run (SIGINT, a killed worker, a

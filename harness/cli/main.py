@@ -28,7 +28,6 @@ COMMANDS: dict[str, str] = {
     "validate": "harness.cli.validate",
     "crosscheck": "harness.cli.crosscheck",
     "run": "harness.cli.run",
-    "sweep": "harness.cli.sweep",
     "reproduce": "harness.cli.reproduce",
     "bench": "harness.cli.bench",
     "periodic": "harness.cli.periodic",
@@ -112,8 +111,8 @@ def build_parser(command: str | None) -> argparse.ArgumentParser:
     prog = _prog()
     parser = _Parser(
         prog=prog,
-        description="ShroudedBlade: simulate the shrouded-blade FMU (harness.fmu_path('ShroudedBlade')), sweep speeds,"
-        " reproduce the paper's studies and validate the FMU against the Python reference."
+        description="ShroudedBlade: simulate the shrouded-blade FMU (harness.fmu_path('ShroudedBlade')), trace"
+        " its periodic orbits over speed, reproduce the paper's studies and validate the FMU against the Python reference."
         f" Run `{prog} <command> --help` for the options of one command.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog="examples:\n"

@@ -46,12 +46,8 @@ class Scenario:
         """Only the FMU parameters that differ from the modelDescription start values (set on the FMU)."""
         p = self.validated_params()
         d = _params.defaults()
-        out = {k: v for k, v in _params.fmu_parameters(p).items() if k not in d or v != d[k]}
-        if self.builtin_load:
-            out.pop("Fw0", None)
-            if p["Fw0"] != _params.builtin_load_default():
-                out["Fw0"] = p["Fw0"]
-        return out
+        fmu = _params.fmu_parameters(p, external_load=not self.builtin_load)
+        return {k: v for k, v in fmu.items() if k not in d or v != d[k]}
 
     def speed_signal(self) -> Piecewise:
         if isinstance(self.speed, tuple):

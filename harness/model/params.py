@@ -1,10 +1,12 @@
 """Parameter sets for the ShroudedBlade FMU and the reference: names, defaults, units, validation.
 
-The FMU's modelDescription.xml (generated from fmu_src/models/ShroudedBlade/model.toml) is the
-single source of truth for the FMU variables: names, types, value references, units, start values,
-min/max and, in its vendor annotation, which bounds are open. This module reads it once and adds
-the harness-only parameters (the aerodynamic load amplitude `Fw0`). `validate()` turns any user mapping into a complete, checked parameter dict or raises
-`ParameterError` naming the value, the accepted range and where the value came from.
+The FMU's variable spec (fmu_src/models/ShroudedBlade/model.toml) is the single source of truth:
+fmu_src/gen generates from it both the model description and the typed record
+`ShroudedBladeParameters` (harness.model.records.shrouded_blade: every parameter with its type,
+default, unit, bounds, open bounds and description), which this module's `specs()` reads; value
+references and input ranges come from the model description. `validate()` turns any user mapping
+into a complete, checked parameter dict or raises `ParameterError` naming the value, the accepted
+range and where the value came from; `typed()` gives the same as the record.
 
 Start values of the state (the outputs with initial="exact": tipDisplacement, tipVelocity,
 dissipatedEnergy, jenkinsForce, runningMaximum; docs/model-notes.md s.7) are accepted too and set
@@ -19,10 +21,11 @@ from __future__ import annotations
 import math
 import xml.etree.ElementTree as ET
 import zipfile
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from functools import lru_cache
 from typing import Any, Mapping
 
+from harness.model.records.shrouded_blade import STATE_STARTS, ShroudedBladeParameters
 from harness.paths import BUILD_DIR, IN_CHECKOUT, REPO_ROOT
 
 # in a checkout, in the model's folder (fmu_src/models/<Name>/); installed: inside the FMU
@@ -44,7 +47,6 @@ class ParamSpec:
     low_open: bool = False  # True: value must be > low (not >=)
     high_open: bool = False
     description: str = ""
-    harness_only: bool = False  # not an FMU variable (e.g. Fw0)
     start_value: bool = False  # start value of an initial="exact" output (not a default)
 
     def range_text(self) -> str:
@@ -58,17 +60,6 @@ class ParamSpec:
         return f"{lb}{lo}, {hi}{rb}{unit}"
 
 
-# The model description's vendor annotation of the bounds min/max exclude (fmu_src/gen writes it).
-_TOOL = "ShroudedBlade"
-
-# Harness-only parameters (docs/model.md section 1: F_w0 is applied by the harness through aeroLoad).
-_HARNESS_ONLY = [
-    ParamSpec(
-        "Fw0", "Real", 100.0, "N/m", 0.0, None, description="aerodynamic load amplitude (eq. 17)", harness_only=True
-    ),
-]
-
-
 @lru_cache(maxsize=1)
 def _model_description() -> ET.Element:
     """The checkout's modelDescription.xml, or an installed package's: the one inside its FMU."""
@@ -76,16 +67,6 @@ def _model_description() -> ET.Element:
         return ET.parse(MODEL_DESCRIPTION).getroot()
     with zipfile.ZipFile(BUILD_DIR / "ShroudedBlade.fmu") as z:
         return ET.fromstring(z.read("modelDescription.xml"))
-
-
-@lru_cache(maxsize=1)
-def open_bounds() -> tuple[frozenset[str], frozenset[str]]:
-    """(names whose min is excluded, names whose max is excluded), from the model description's
-    <VendorAnnotations><Tool name="ShroudedBlade"><OpenBounds lower=".." upper=".."/>."""
-    el = _model_description().find(f"VendorAnnotations/Tool[@name='{_TOOL}']/OpenBounds")
-    if el is None:
-        return frozenset(), frozenset()
-    return frozenset(el.get("lower", "").split()), frozenset(el.get("upper", "").split())
 
 
 @lru_cache(maxsize=1)
@@ -102,42 +83,28 @@ def value_reference(name: str) -> int:
         raise KeyError(f"{name!r} is not a variable of modelDescription.xml") from None
 
 
+def _spec(name: str, meta: Mapping[str, Any], default: Any, start_value: bool = False) -> ParamSpec:
+    lo, hi = meta["min"], meta["max"]
+    return ParamSpec(
+        name=name,
+        type=meta["type"],
+        default=default,
+        unit=meta["unit"],
+        low=None if lo is None else float(lo),
+        high=None if hi is None else float(hi),
+        low_open=meta["min_open"],
+        high_open=meta["max_open"],
+        description=meta["description"],
+        start_value=start_value,
+    )
+
+
 @lru_cache(maxsize=1)
 def specs() -> dict[str, ParamSpec]:
-    """All parameters by name: the FMU's (from modelDescription.xml) and the harness-only ones."""
-    root = _model_description()
-    open_low, open_high = open_bounds()
-    out: dict[str, ParamSpec] = {}
-    for sv in root.iter("ScalarVariable"):
-        start_value = sv.get("causality") == "output" and sv.get("initial") == "exact"
-        if sv.get("causality") != "parameter" and not start_value:
-            continue
-        name = sv.get("name")
-        (typ,) = list(sv)
-        kind = typ.tag
-        start = typ.get("start")
-        if kind == "Real":
-            default: Any = float(start)
-        elif kind == "Integer":
-            default = int(start)
-        else:
-            default = start == "true"
-        lo = typ.get("min")
-        hi = typ.get("max")
-        out[name] = ParamSpec(
-            name=name,
-            type=kind,
-            default=default,
-            unit=typ.get("unit", ""),
-            low=None if lo is None else float(lo),
-            high=None if hi is None else float(hi),
-            low_open=name in open_low,
-            high_open=name in open_high,
-            description=sv.get("description", ""),
-            start_value=start_value,
-        )
-    for s in _HARNESS_ONLY:
-        out[s.name] = s
+    """All parameters by name (the record's fields in spec order), then the start values of the
+    state (STATE_STARTS)."""
+    out = {f.name: _spec(f.name, f.metadata, f.default) for f in fields(ShroudedBladeParameters)}
+    out.update({name: _spec(name, meta, meta["start"], start_value=True) for name, meta in STATE_STARTS.items()})
     return out
 
 
@@ -153,8 +120,8 @@ def input_range(name: str) -> tuple[float, float]:
 
 
 def defaults() -> dict[str, Any]:
-    """Paper Table 1 defaults (docs/model.md section 1) for every parameter, FMU and harness-only (start
-    values of the state are not parameters: they are left out)."""
+    """Paper Table 1 defaults (docs/model.md section 1) for every parameter (start values of the
+    state are not parameters: they are left out)."""
     return {name: s.default for name, s in specs().items() if not s.start_value}
 
 
@@ -164,25 +131,27 @@ def start_values(params: Mapping[str, Any]) -> dict[str, Any]:
     return {k: v for k, v in params.items() if sp[k].start_value}
 
 
-def fmu_parameters(params: Mapping[str, Any]) -> dict[str, Any]:
-    """The subset of a validated parameter dict that is set on the FMU. The harness feeds the load
-    F_w0 sin(EO Omega t) through the input aeroLoad, so the FMU's own built-in load (its parameter
-    Fw0, default 100 N/m) is switched off: Fw0 = 0 on the FMU, else the load would count twice."""
-    sp = specs()
-    out = {k: v for k, v in params.items() if not sp[k].harness_only}
-    if builtin_load_default() is not None:
-        out["Fw0"] = 0.0
+def fmu_parameters(params: Mapping[str, Any], external_load: bool = True) -> dict[str, Any]:
+    """The values of a validated parameter dict set on the FMU. With `external_load` (the single
+    blade's drivers) the harness feeds the load F_w0 sin(EO Omega t) through the input aeroLoad,
+    so the FMU's own built-in load is switched off: Fw0 = 0 on the FMU, else the load would count
+    twice. Without, the FMU's Fw0 is the given amplitude (its built-in load, as on the ring)."""
+    if not external_load:
+        return dict(params)
+    out = {k: v for k, v in params.items() if k != "Fw0"}
+    out["Fw0"] = 0.0  # (set last, after the parameters proper)
     return out
 
 
-@lru_cache(maxsize=1)
-def builtin_load_default() -> float | None:
-    """The start value of the FMU's built-in load amplitude Fw0 [N/m] (modelDescription.xml), None
-    for an FMU without a built-in load."""
-    for sv in _model_description().iter("ScalarVariable"):
-        if sv.get("name") == "Fw0" and sv.get("causality") == "parameter":
-            return float(list(sv)[0].get("start"))
-    return None
+def typed(params: Mapping[str, Any] | None = None, source: str = "") -> ShroudedBladeParameters:
+    """`validate(params, source)` as the typed record (the start values of the state, which are
+    not parameters, are refused here)."""
+    p = validate(params, source)
+    starts = sorted(k for k in p if specs()[k].start_value)
+    if starts:
+        where = f" (from {source})" if source else ""
+        raise ParameterError(f"{', '.join(starts)}{where}: start values of the state, not parameters")
+    return ShroudedBladeParameters(**p)
 
 
 def _check_one(spec: ParamSpec, value: Any, source: str) -> Any:

@@ -29,7 +29,6 @@ refinement to `speed_tol` rpm.
 from __future__ import annotations
 
 import functools
-import hashlib
 import math
 import time
 from dataclasses import asdict, dataclass, field, replace
@@ -41,8 +40,8 @@ import numpy as np
 import numpy.typing as npt
 
 from harness.analysis.cache import PointCache, point_key
-from harness.fmu.build import EXCITATION_FMU
 from harness.fmu.slave import build_ring_fmus
+from harness.system.engine_identity import ring_engine_digest
 from harness.model.galerkin import galerkin
 from harness.system.ring import Ring
 from harness.system import ring_sweep
@@ -158,14 +157,6 @@ def tuned_ring(study: Study, variant: str) -> Ring:
         contact={**study.contact, **VARIANTS[variant]},
         order=study.order,
     )
-
-
-def _fmu_digest() -> str:
-    """The ring FMUs' bytes: a rebuilt FMU invalidates the cache."""
-    h = hashlib.sha256()
-    for p in (*build_ring_fmus(), EXCITATION_FMU):
-        h.update(Path(p).read_bytes())
-    return h.hexdigest()
 
 
 def larger_state(sw: ring_sweep.RingSweep) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
@@ -285,7 +276,7 @@ def run_study(study: Study, runner: Any, cache_dir: Path | None, task: Any = Non
     `task`, default `_task`); returns the tuned curves, the curves, peaks and amplifications per
     pattern, and how many were computed."""
     cache = PointCache(cache_dir)
-    digest = _fmu_digest()
+    digest = ring_engine_digest()
     sp = [float(s) for s in speeds(study)]
     todo_jobs = jobs(study)
     numerics = {k: getattr(study, k) for k in ("rtol", "max_time", "speed_tol", "steps_per_period")}

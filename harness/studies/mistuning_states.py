@@ -21,6 +21,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from harness.analysis.cache import PointCache, point_key
+from harness.system.engine_identity import ring_engine_digest
 from harness.studies import mistuning
 from harness.studies.mistuning import Study
 from harness.system.ring import Ring
@@ -108,7 +109,7 @@ def evaluate(
     desc: str = "steady states",
 ) -> list[dict]:
     """Every ring's branches record (cached ones read, the rest on `runner`)."""
-    digest = mistuning._fmu_digest()
+    digest = ring_engine_digest()
     cache = PointCache(cache_dir)
     keys = [_key(r, band, settings, digest) for r in rings]
     out: list[dict | None] = [cache.get(k) for k in keys]

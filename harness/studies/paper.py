@@ -11,8 +11,6 @@ StudyRow per study, CoulombComparison, Fig45Summary, HysteresisLoop, HarmonicRan
 PaperIteration, Timing), which `claims.py` turns into the claims table and `Summary.as_dict` writes
 to `summary.json`. The hysteresis loop of Fig. 2 (its HysteresisLoop record is in the Summary)
 compares the FMU with the reference: harness.validation.reproduction runs it with these studies.
-`study_specs` gives the former transient path (time-domain up/down sweeps + fixed points from
-transients + HB) that `make bench` times side by side.
 """
 
 from __future__ import annotations
@@ -27,15 +25,9 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 import numpy as np
 
 from harness import digits
-from harness.analysis.curves import (
-    ConfigError,
-    SweepSettings,
-    SweepSpec,
-    fmu_identity,
-    hb_curve,
-    hb_stable_peak,
-    omega_of,
-)
+from harness.analysis.cache import fmu_identity
+from harness.analysis.config import ConfigError
+from harness.analysis.curves import hb_curve, hb_stable_peak, omega_of
 from harness.paths import RESULTS_DIR
 from harness.analysis.executor import Runner
 from harness.files.tables import write_csv
@@ -94,11 +86,8 @@ class Size:
     """How much work `reproduce` does."""
 
     name: str
-    speeds: tuple[float, ...]  # coarse time-domain grid [rpm] (refined near peaks and jumps)
-    fixed_speeds: tuple[float, ...]  # speeds of the fixed-point procedure [rpm]
     hb_speeds: tuple[float, ...]  # harmonic-balance speeds [rpm]
     values: Mapping[str, tuple[float, ...]] | None = None  # per-study values (None: all of STUDIES)
-    settings: SweepSettings = SweepSettings()
     fig45_time: float = 1.0  # [s] simulated for Fig. 4/5
     coulomb: bool = True
     iteration_steps: int = 12  # the paper's iteration B <- A_0.2s(B)
@@ -115,11 +104,8 @@ def _grid(a: float, b: float, step: float) -> tuple[float, ...]:
 SIZES: dict[str, Size] = {
     "quick": Size(
         "quick",
-        speeds=_grid(3000, 10000, 1000),
-        fixed_speeds=_grid(4000, 9000, 500),
         hb_speeds=_grid(3000, 10000, 100),
         values={"gap": (2e-5, 6e-5), "mass": (0.02, 0.1), "angle": (PI / 3, PI / 7), "kn": (1e5, 1e7)},
-        settings=SweepSettings(refine_levels=3, min_dn=60.0, max_time=0.5, fixed_max_time=0.4, n_scan=10),
         fig45_time=0.6,
         coulomb=False,
         iteration_steps=6,
@@ -129,23 +115,18 @@ SIZES: dict[str, Size] = {
     ),
     # branches to 12000 rpm: with kn = 1e7 the stable contact branches of the fixed point end in
     # their fold above 10000 rpm for d = 0.02 mm and gamma = pi/6..pi/4 (a peak at the range end
-    # would be a missed solution); the transient path (bench) keeps its 3000..10000 rpm grid.
+    # would be a missed solution).
     # Seeds every 1000 rpm: the 50 curves traced with seeds every 500 rpm have the same branches
     # (docs/periodic.md; tests/analysis/test_continuation.py checks two of them)
     "default": Size(
         "default",
-        speeds=_grid(3000, 10000, 500),
-        fixed_speeds=_grid(3000, 10000, 500),
         hb_speeds=_grid(2000, 12000, 40),
         speed_range=(3000.0, 12000.0),
         seed_step=1000.0,
     ),
     "full": Size(
         "full",
-        speeds=_grid(2000, 10000, 250),
-        fixed_speeds=_grid(2000, 10000, 250),
         hb_speeds=_grid(100, 12000, 20),
-        settings=SweepSettings(rtol=1e-3, max_time=2.5, refine_levels=6, min_dn=5.0, n_scan=20, fixed_max_time=1.5),
         fig45_time=2.0,
         speed_range=(2000.0, 12000.0),
         seed_step=250.0,
@@ -156,35 +137,6 @@ SIZES: dict[str, Size] = {
 def base_params() -> dict[str, Any]:
     """The paper's base case: Table 1 with d = 0.03 mm, gamma = pi/3, m0 = 0.025 kg, kn = 1e7."""
     return _params.validate({}, source="paper Table 1")
-
-
-# ---------------------------------------------------------------------------------------------
-# Building and running the sweeps
-# ---------------------------------------------------------------------------------------------
-def study_specs(size: Size, names: Sequence[str], base: Mapping[str, Any]) -> list[tuple[str, float, SweepSpec]]:
-    """The studies as transient sweeps (time domain up/down, fixed points from transients, HB)."""
-    out = []
-    for name in names:
-        st = STUDIES[name]
-        vals = (size.values or {}).get(name, st.values)
-        for v in vals:
-            p = dict(base, **{st.param: v})
-            out.append(
-                (
-                    name,
-                    v,
-                    SweepSpec(
-                        p,
-                        size.speeds,
-                        label=f"{st.figure} {st.label(v)}",
-                        methods=("time", "fixed", "hb"),
-                        fixed_speeds=size.fixed_speeds,
-                        hb_speeds=size.hb_speeds,
-                        settings=size.settings,
-                    ),
-                )
-            )
-    return out
 
 
 # ---------------------------------------------------------------------------------------------
@@ -685,7 +637,6 @@ __all__ = [
     "reproduce",
     "run_studies",
     "write_summary",
-    "study_specs",
     "settling_time",
     "paper_iteration",
 ]

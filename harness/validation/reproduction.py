@@ -12,7 +12,7 @@ import time
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
-from harness.analysis.plateau import fmu_identity
+from harness.analysis.cache import fmu_identity
 from harness.paths import RESULTS_DIR
 from harness.analysis.executor import Runner
 from harness.fmu.blade import BladeFMU

@@ -141,7 +141,7 @@ def _reference_roots(params, n, n_grid=160):
         x, m = orbit(B, x0)
         return (m - B if x is not None and m > d else math.nan), x
 
-    from harness.analysis.fixed_point import linear_bound
+    from harness.analysis.periodic.search import linear_bound
 
     grid = np.geomspace(d * (1 + 1e-6), 1.5 * linear_bound(params, n), n_grid)
     vals, xs, prev = [], [], None

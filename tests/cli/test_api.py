@@ -50,22 +50,25 @@ def test_fmu_path_names():
             ["d = -1e-05 m", "harness.simulate(**parameters)", "accepted: [0, inf) m"],
         ),
         (
-            lambda: harness.simulate(0.1, speed=40000),
-            ["speed = 40000 rpm", "harness.simulate(speed=...)", "[0, 30000] rpm"],
+            lambda: harness.simulate(0.1, speed_rpm=40000),
+            ["speed_rpm = 40000 rpm", "harness.simulate(speed_rpm=...)", "[0, 30000] rpm"],
         ),
         (
             lambda: harness.simulate(0.1, step=0.5),
             ["step = 0.5 s", "harness.simulate(step=...)", "(0, stop_time = 0.1] s"],
         ),
         (lambda: harness.simulate(0.1, nope=1), ["unknown parameter 'nope'", "harness.simulate(**parameters)"]),
-        (lambda: harness.periodic_orbits(0), ["speed = 0 rpm", "harness.periodic_orbits(speed=...)", "(0, 30000] rpm"]),
+        (
+            lambda: harness.periodic_orbits(0),
+            ["speed_rpm = 0 rpm", "harness.periodic_orbits(speed_rpm=...)", "(0, 30000] rpm"],
+        ),
         (
             lambda: harness.periodic_orbits(7000, model="hb"),
             ["model = 'hb'", "harness.periodic_orbits(model=...)", "fixedPoint"],
         ),
         (lambda: harness.periodic_orbits(7000, tipDisplacement=1e-5), ["tipDisplacement", "shooting solves"]),
-        (lambda: harness.branch((8000, 6000)), ["speed_range = (8000, 6000) rpm", "low must be < high"]),
-        (lambda: harness.branch((6000, float("nan"))), ["speed = nan", "harness.branch(speed_range=(..., high))"]),
+        (lambda: harness.branch((8000, 6000)), ["speed_range_rpm = (8000, 6000) rpm", "low must be < high"]),
+        (lambda: harness.branch((6000, float("nan"))), ["high = nan", "harness.branch(speed_range_rpm=(..., high))"]),
         (lambda: harness.run_ring(harness.Ring(n=1)), ["n = 1", "harness.run_ring(ring=Ring(n=...))", "[2, "]),
         (
             lambda: harness.run_ring(harness.Ring(blade={"EI": -1.0})),
@@ -99,7 +102,7 @@ def test_simulate_is_bladefmu_run():
     """harness.simulate = BladeFMU.run with the same arguments (bit for bit)."""
     from harness.fmu.blade import BladeFMU
 
-    got = harness.simulate(0.02, speed=6000, step=2e-4, kn=2e6)
+    got = harness.simulate(0.02, speed_rpm=6000, step=2e-4, kn=2e6)
     with BladeFMU(harness.fmu_path()) as fmu:
         want = fmu.run({"kn": 2e6}, 0.02, 2e-4, speed=6000.0)
     assert got.dtype == want.dtype and all((got[n] == want[n]).all() for n in want.dtype.names)

@@ -20,9 +20,7 @@ WRITERS = [
     ("simulate", "--plot", ["--stop-time", "0.01"]),
     ("continue", "--output-file", ["--speed-range", "6000", "6100"]),
     ("continue", "--plot", ["--speed-range", "6000", "6100"]),
-    ("sweep", "--output-file", ["--speeds", "5000,5100", "--method", "fixed"]),
-    ("sweep", "--plot", ["--speeds", "5000,5100", "--method", "fixed"]),
-    ("sweep", "--cache-dir", ["--speeds", "5000,5100", "--method", "time"]),
+    ("mistuning", "--cache-dir", []),
     ("reproduce", "--out", ["--size", "quick", "--studies", "gap", "--no-extras"]),
     ("run", "--out", ["--size", "quick"]),
     ("validate", "--output-file", ["--quick"]),
@@ -68,22 +66,9 @@ def test_bad_output_path_is_one_line_naming_it(command, option, rest, kind, tmp_
 
 def test_results_default_under_the_current_directory(tmp_path):
     before = {p: p.stat().st_mtime_ns for p in (REPO / "results").rglob("*") if p.is_file()}
-    proc = harness(
-        "sweep",
-        "--speeds",
-        "5000,5100",
-        "--method",
-        "time",
-        "--direction",
-        "up",
-        "--workers",
-        "1",
-        "--quiet",
-        cwd=tmp_path,
-    )
+    proc = harness("continue", "--speed-range", "6000", "6100", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
-    assert (tmp_path / "sweep.csv").is_file()
-    assert any((tmp_path / "shroudedblade-results" / "cache").rglob("*.json"))  # the cache, here
+    assert (tmp_path / "branches.csv").is_file()
     after = {p: p.stat().st_mtime_ns for p in (REPO / "results").rglob("*") if p.is_file()}
     assert after == before
 

@@ -26,24 +26,11 @@ def _header(path: Path) -> list[str]:
 
 def test_same_names_with_units_across_commands(tmp_path):
     harness("simulate", "--stop-time", "0.002", "--output-file", "sim.csv", cwd=tmp_path)
-    harness(
-        "sweep",
-        "--speeds",
-        "6000,6500",
-        "--method",
-        "fixed",
-        "--workers",
-        "1",
-        "--quiet",
-        "--output-file",
-        "sweep.csv",
-        cwd=tmp_path,
-    )
     harness("continue", "--speed-range", "6000", "6400", "--output-file", "branches.csv", cwd=tmp_path)
     periodic = json.loads(harness("periodic", "--speed", "6200", "--json", cwd=tmp_path).stdout)
 
-    sim, sweep, branches = (_header(tmp_path / f) for f in ("sim.csv", "sweep.csv", "branches.csv"))
+    sim, branches = (_header(tmp_path / f) for f in ("sim.csv", "branches.csv"))
     assert sim[:2] == ["time_s", "tipDisplacement_m"] and "amplitude_m" in sim
-    assert {"speed_rpm", "amplitude_m"} <= set(sweep) and {"speed_rpm", "amplitude_m"} <= set(branches)
+    assert {"speed_rpm", "amplitude_m"} <= set(branches)
     assert periodic["speed_rpm"] == 6200.0 and "period_s" in periodic
     assert all({"speed_rpm", "amplitude_m"} <= set(s) for s in periodic["solutions"]) and periodic["solutions"]

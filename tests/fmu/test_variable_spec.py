@@ -1,6 +1,7 @@
 """The variable specs (fmu_src/models/<Name>/model.toml) and their generator (fmu_src/gen).
 
-- the committed model descriptions are what the specs generate (no drift);
+- the committed model descriptions and typed parameter records (harness/model/records/) are what
+  the specs generate (no drift); each record holds what its model description declares;
 - the patterns expand to the rows the FMU declares (names, value references by an independent loop);
 - ShroudedBlade and BladeExternalContact declare the blade's variables identically (the shared block);
 - the FMU packing is deterministic: the same files give the same bytes, whatever their time stamps,
@@ -21,6 +22,9 @@ import time
 import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
+
+import importlib
+from dataclasses import fields
 
 import pytest
 
@@ -48,9 +52,91 @@ def test_every_model_has_a_spec():
     ]
 
 
-def test_committed_model_descriptions_match_the_specs():
+def test_committed_generated_files_match_the_specs():
     proc = _gen(*map(str, SPECS), "--check")
     assert proc.returncode == 0, proc.stderr
+
+
+RECORDS = REPO / "harness" / "model" / "records"
+
+
+def _record_module(model: str) -> str:
+    return {
+        "ShroudedBlade": "shrouded_blade",
+        "BladeExternalContact": "blade_external_contact",
+        "Excitation": "excitation",
+        "ShroudContact": "shroud_contact",
+    }[model]
+
+
+@pytest.mark.parametrize("spec", SPECS, ids=lambda p: p.parent.name)
+def test_record_holds_what_the_model_description_declares(spec):
+    # read independently from the committed modelDescription.xml: every parameter is a field of the
+    # record, in order, with its start value, unit and bounds; open bounds from the vendor annotation
+    root = ET.parse(spec.parent / "modelDescription.xml").getroot()
+    ob = root.find("VendorAnnotations/Tool/OpenBounds")
+    low_open = set(ob.get("lower", "").split()) if ob is not None else set()
+    high_open = set(ob.get("upper", "").split()) if ob is not None else set()
+    mod = importlib.import_module(f"harness.model.records.{_record_module(spec.parent.name)}")
+    record = getattr(mod, f"{spec.parent.name}Parameters")
+    got = {f.name: f for f in fields(record)}
+    declared, starts = [], {}
+    for sv in root.iter("ScalarVariable"):
+        (typ,) = list(sv)
+        conv = {"Real": float, "Integer": int, "Boolean": lambda x: x == "true"}[typ.tag]
+        entry = {
+            "type": typ.tag,
+            "unit": typ.get("unit", ""),
+            "min": None if typ.get("min") is None else float(typ.get("min")),
+            "max": None if typ.get("max") is None else float(typ.get("max")),
+            "min_open": sv.get("name") in low_open,
+            "max_open": sv.get("name") in high_open,
+            "value_reference": int(sv.get("valueReference")),
+            "description": sv.get("description", ""),
+        }
+        if sv.get("causality") == "parameter":
+            declared.append(sv.get("name"))
+            f = got[sv.get("name")]
+            assert f.default == conv(typ.get("start")) and type(f.default) is type(conv(typ.get("start")))
+            assert dict(f.metadata) == entry, sv.get("name")
+        elif sv.get("causality") == "output" and sv.get("initial") == "exact":
+            starts[sv.get("name")] = dict(entry, start=conv(typ.get("start")))
+    assert list(got) == declared
+    assert mod.STATE_STARTS == starts
+    with pytest.raises(Exception):  # frozen
+        setattr(record(), declared[0], 1)
+
+
+def test_params_validate_through_the_record():
+    from harness.model import params
+
+    r = params.typed({"d": 4e-5, "frictionModel": 3}, source="a test")
+    assert r.d == 4e-5 and r.frictionModel == 3 and r.Fw0 == 100.0 and r.gating is True
+    with pytest.raises(params.ParameterError) as e:
+        params.typed({"kn": -1.0}, source="a test")
+    assert all(w in str(e.value) for w in ("kn = -1.0", "(0, inf) N/m", "from a test")), str(e.value)
+    with pytest.raises(params.ParameterError, match="tipDisplacement: start values of the state"):
+        params.typed({"tipDisplacement": 1e-5})
+
+
+def test_check_reports_a_drifted_record(tmp_path):
+    # a copy of the generator, the specs and the records, one record's default changed by hand
+    shutil.copytree(MODELS, tmp_path / "fmu_src" / "models")
+    shutil.copytree(GEN, tmp_path / "fmu_src" / "gen")
+    shutil.copy(REPO / "fmu_src" / "sources.toml", tmp_path / "fmu_src" / "sources.toml")
+    shutil.copytree(RECORDS, tmp_path / "harness" / "model" / "records")
+    rec = tmp_path / "harness" / "model" / "records" / "excitation.py"
+    text = rec.read_text()
+    assert "default=5000.0," in text
+    rec.write_text(text.replace("default=5000.0,", "default=6000.0,", 1))
+    spec = tmp_path / "fmu_src" / "models" / "Excitation" / "model.toml"
+    proc = subprocess.run(
+        [sys.executable, str(tmp_path / "fmu_src" / "gen" / "fmugen.py"), str(spec), "--check"],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 1 and "records/excitation.py" in proc.stderr, proc.stderr
+    assert "modelDescription" not in proc.stderr  # only the record drifted
 
 
 def test_check_reports_a_drifted_description(tmp_path):

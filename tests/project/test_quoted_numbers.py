@@ -98,20 +98,6 @@ def test_make_run_wall_times(bench):
     assert m.group(1) == f"{r['wall']:.1f}" and int(m.group(2)) == r["workers"]
 
 
-def test_branches_vs_transient_path(bench):
-    m = _one(
-        PERFORMANCE,
-        r"\| ([\d.]+) s vs ([\d.]+) s: \*\*([\d.]+)x\*\* less wall \(whole reproduction ([\d.]+)x; "
-        r"blade time (\d+) s vs (\d+) s\)",
-    )
-    r, t = bench["reproduce"], bench["transient"]
-    studies = r["hb_wall"] + r["branches_wall"]
-    assert m.group(1) == f"{studies:.1f}" and m.group(2) == f"{t['wall']:.1f}"
-    assert m.group(3) == f"{t['wall'] / studies:.2f}"
-    assert m.group(4) == f"{(t['wall'] + r['extras_wall']) / r['wall']:.2f}"
-    assert (int(m.group(5)), int(m.group(6))) == (round(r["branches_simulated_s"]), round(t["sim_time"]))
-
-
 def test_worker_time_over_fmi_time(bench):
     m = _one(
         PERFORMANCE,

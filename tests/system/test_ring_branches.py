@@ -51,11 +51,13 @@ def test_a_multiplier_hovering_at_one_is_no_crossing():
 
 
 def _asymmetry(pm: RingPeriodMap, x: np.ndarray, speed: float) -> float:
-    """max |R x - x| / scale, R: blade i -> i + 1 with q -> -q (and phi -> -phi), the symmetry of the
-    4-blade ring at EO 2 (rotation by a blade = half a period's delay = the sign change)."""
+    """max |R x - x| / scale, R: blade i -> i + 1 with q -> -q (and phi, the history's velocities and
+    forces with it), the symmetry of the 4-blade ring at EO 2 (rotation by a blade = half a period's
+    delay = the sign change)."""
     m2 = 2 * pm.m
-    y, phi = x[: m2 * pm.n].reshape(pm.n, m2), x[m2 * pm.n :]
-    Rx = np.append(-np.roll(y, 1, axis=0).ravel(), -np.roll(phi, 1))
+    y, phi = x[: m2 * pm.n].reshape(pm.n, m2), pm.phi(x)
+    past = np.vstack(pm.history(x))  # (2p, N)
+    Rx = np.concatenate([-np.roll(y, 1, axis=0).ravel(), -np.roll(phi, 1), -np.roll(past, 1, axis=1).ravel()])
     return float(np.max(np.abs(Rx - x) / pm.scales(x, speed)))
 
 

@@ -16,13 +16,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any, Mapping
 
 import numpy as np
 
-from harness.analysis.fixed_point import linear_bound
+from harness.analysis.curves import omega_of
 from harness.analysis.periodic.period_map import PeriodMap, omega
 from harness.analysis.periodic.shooting import Solution, newton
 from harness.analysis.harmonic_balance import harmonic_balance, linear_orbit, linear_orbits
+from harness.model.galerkin import galerkin
 
 SCAN_TOL = 1e-7  # Newton tolerance of the fixed-B orbits of the B scan (they only place the roots of
 #                  g(B), which Newton on the augmented problem then refines to the shooting tolerance)
@@ -41,6 +43,19 @@ def _df_params(pm: PeriodMap) -> dict:
     if int(p["frictionModel"]) == 3:
         p["frictionModel"] = 1
     return p
+
+
+_GALERKIN: dict[str, Any] = {}
+
+
+def linear_bound(params: Mapping[str, Any], speed: float) -> float:
+    """G Fw0 / (C0 omega) [m]: the contact-free resonant amplitude bound at this speed (the
+    Galerkin constants of harness.model.galerkin, computed once per parameter set and process)."""
+    key = repr(sorted(params.items()))
+    if key not in _GALERKIN:
+        _GALERKIN[key] = galerkin(params, params["formulation"])
+    g = _GALERKIN[key]
+    return g.loadGain * params["Fw0"] / (g.C0 * omega_of(params, speed))
 
 
 def _b_max(pm: PeriodMap, speed: float) -> float:
