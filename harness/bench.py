@@ -37,6 +37,7 @@ from harness.analysis.periodic.period_map import ShootingSettings
 from harness.bench_ring_orbits import SECTION as RING_ORBITS_SECTION
 from harness.bench_ring_orbits import ring_orbits_cost
 from harness.bench_ring_orbits import section as ring_orbits_section
+from harness.bench_ring_orbits import with_before
 from harness.fmu.blade import BladeFMU
 from harness.fmu.build import BUILD_DIR, REPO_ROOT, build
 from harness.model.excitation import AeroLoad, Stepped, fmu_view
@@ -706,12 +707,13 @@ def run_bench(
         elif only == "ring-orbits":
             load = os.getloadavg()[0]
             print("the ring's periodic steady states ...", flush=True)
-            data["ring_orbits"] = ring_orbits_cost()
+            now = time.strftime("%Y-%m-%d %H:%M")
+            data["ring_orbits"] = with_before(ring_orbits_cost(), data.get("ring_orbits"), now, out)
             heading = RING_ORBITS_SECTION
             section = ring_orbits_section(
                 data["ring_orbits"],
                 _machine_text(data.get("machine") or machine(), load),
-                time.strftime("%Y-%m-%d %H:%M"),
+                now,
             )
         else:
             print("command line start-up ...", flush=True)

@@ -6,7 +6,9 @@ ring, and the 24-blade ring measured on a part of one branch and extrapolated to
 from __future__ import annotations
 
 import os
+import re
 import time
+from pathlib import Path
 from dataclasses import replace
 from typing import Any
 
@@ -101,8 +103,42 @@ def ring_orbits_cost(
     return out
 
 
+def with_before(new: dict[str, Any], old: dict[str, Any] | None, date: str, results: Path) -> dict[str, Any]:
+    """new (measured at `date`) with the 6-blade row of the first run it replaces kept as `before`
+    (that run's date from its section in `results` where the row does not carry one): the section
+    puts the algorithm before beside the present one."""
+    new = {**new, "date": date}
+    if old and "before" in old:
+        new["before"] = old["before"]
+    elif old and "six" in old:
+        when = old.get("date")
+        if when is None and results.is_file():
+            text = results.read_text()
+            m = re.search(re.escape(SECTION) + r"[^;]*; (\d{4}-\d\d-\d\d \d\d:\d\d)\)", text)
+            when = m.group(1) if m else "?"
+        new["before"] = {"date": when, "six": old["six"]}
+    return new
+
+
+def _per_point(s: dict[str, Any]) -> str:
+    n = max(s["points"], 1)
+    return ", ".join(f"{k} {v / n:.1f}" for k, v in s["by_stage"].items())
+
+
 def section(d: dict[str, Any], machine_text: str, date: str) -> list[str]:
     s, t = d["six"], d["twenty_four"]
+    b = d.get("before", {}).get("six")
+    before = (
+        [
+            f"- the same row before (run of {d['before']['date']}, load average {b['load_at_start']:.1f} at its start): "
+            f"{b['wall_s']:.1f} s wall, {b['cpu_s']:.1f} s CPU, {b['branches']} branches, {b['points']} points, "
+            f"{b['periods']} periods: **{b['periods_per_point']:.1f} periods per point**; per point by stage: "
+            + _per_point(b)
+            + f"; now per point by stage: {_per_point(s)}"
+        ]
+        if b
+        else []
+    )
     return [
         SECTION,
         "",
@@ -120,6 +156,7 @@ def section(d: dict[str, Any], machine_text: str, date: str) -> list[str]:
         f"{s['peak_stable_amplitude_m']:.5g} m at {s['peak_stable_speed_rpm']:.1f} rpm; load average "
         f"{s['load_at_start']:.1f} at its start; periods by stage: "
         + ", ".join(f"{k} {v}" for k, v in s["by_stage"].items()),
+        *before,
         f"- 24 blades: measured on a part, extrapolated (not run over the band): {t['points']} continuation "
         f"points from the travelling wave at 6000 rpm in {t['wall_s']:.1f} s ({t['per_point_s']:.2f} s and "
         f"{t['periods_per_point']:.1f} periods per point); the study's band "

@@ -5,7 +5,6 @@ gives the FMU file's hash for the keys."""
 
 from __future__ import annotations
 
-import base64
 import hashlib
 import json
 from dataclasses import dataclass
@@ -42,14 +41,6 @@ def point_key(**parts: Any) -> str:
     """Hex digest identifying one computed point (parameters, scenario, start state, code version)."""
     text = json.dumps(_canonical(parts), sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()[:32]
-
-
-def encode_bytes(data: bytes) -> str:
-    return base64.b64encode(data).decode("ascii")
-
-
-def decode_bytes(text: str) -> bytes:
-    return base64.b64decode(text.encode("ascii"))
 
 
 @dataclass

@@ -14,10 +14,10 @@ circle (growth, subharmonic, quasi-periodic) or no fitting recurrence (irregular
 converging. The steady state is reached when the record ends with `min_periods` periods whose
 estimated sup-norm distance is below `rtol`; t_steady is the start of the first of them. Any whole
 number of raw samples per period works (one, with q': the Poincare section of the period map);
-other sampling is resampled by a degree-7 spline. `decide` is the cheap decision alone (for
-drivers); `analyze` adds the amplitude (max |q| of the last period: Hermite through q, q' or a
-spline through q; below 3 samples per period the largest sqrt(q^2 + (q'/w)^2)), the first-harmonic
-fit and the spectrum over whole periods.
+other sampling is resampled by a degree-7 spline. `analyze` gives the decision, the amplitude
+(max |q| of the last period: Hermite through q, q' or a spline through q; below 3 samples per
+period the largest sqrt(q^2 + (q'/w)^2)), the first-harmonic fit and the spectrum over whole
+periods.
 """
 
 from __future__ import annotations
@@ -150,8 +150,8 @@ def _fit_order(Dw: np.ndarray, L: np.ndarray, p: int) -> tuple[np.ndarray, np.nd
 
 def _fit_low_scalar(D: list, L: list, p: int) -> tuple[float, float, float]:
     """`_fit_order` for one window and p = 1 or 2 in plain floats (D: the W difference rows, L
-    their inner products, as lists): the same formulas, without numpy's per-call cost (a driver
-    decides on a few windows at a time, many times)."""
+    their inner products, as lists): the same formulas, without numpy's per-call cost (a short
+    record has a few windows)."""
     W = len(D)
     m = W - p
 
@@ -295,20 +295,6 @@ def _run_length(rel: np.ndarray, rtol: float) -> int:
     """Number of periods at the end of the record whose estimated distance is <= rtol."""
     bad = np.nonzero(~(rel <= rtol))[0]
     return len(rel) - (int(bad[-1]) + 1 if len(bad) else 0)
-
-
-def decide(
-    q_rows: np.ndarray, v_rows: np.ndarray | None, omega: float, *, rtol: float, min_periods: int
-) -> tuple[bool, float, float]:
-    """The steady-state decision of `analyze` alone, for raw period rows (shape (P, M): M uniform
-    samples per period starting at a period start; v_rows the velocity samples or None):
-    (reached, the largest estimated relative distance from the limit over the last min_periods
-    periods (reached iff <= rtol; smoother than the last one alone, whose sampled sup norm varies
-    with the phase of a beating transient), fitted decay per period at the last period). Cheap:
-    what a driver calls between chunks of simulation."""
-    X = _state_rows(q_rows, None if v_rows is None else v_rows / omega)
-    rel, decay = _distances(X, NOISE * rtol, rtol, min_periods, extend=False)
-    return _run_length(rel, rtol) >= min_periods, float(np.max(rel[-min_periods:])), float(decay[-1])
 
 
 # ---------------------------------------------------------------------------------------------

@@ -176,6 +176,28 @@ class CRing:
         self._work[:] = 0.0
         self._filled[:] = (0, 0)
 
+    def history(self) -> tuple[np.ndarray, np.ndarray]:
+        """Copies of the master's extrapolation history as it is now: the blades' tip velocities and
+        the contact-force sums per blade, each (p + 1, N), row j the value j points back from the
+        newest (the C loop's History buffers, newest first; rows beyond `filled` are stale)."""
+        p1, N = self.ring.order + 1, self.ring.n
+        w = self._work
+        return w[: p1 * N].reshape(p1, N).copy(), w[p1 * N : 2 * p1 * N].reshape(p1, N).copy()
+
+    def set_history(self, v: np.ndarray, f: np.ndarray) -> None:
+        """The history before the next point: v and f (p, N), row j - 1 the value at t_{k-j} (j = 1..p):
+        the next point pushes its own values in front and extrapolates at the full order p, as a run
+        that had been going on would (the C loop's History: newest first, `filled` = p)."""
+        p, N = self.ring.order, self.ring.n
+        w = self._work
+        for k, a in enumerate((v, f)):
+            a = np.asarray(a, dtype=float)
+            if a.shape != (p, N):
+                raise ValueError(f"set_history: need ({p}, {N}) values (order p, blades N), got {a.shape}")
+            w[k * (p + 1) * N : k * (p + 1) * N + p * N] = a.ravel()
+            w[k * (p + 1) * N + p * N : (k + 1) * (p + 1) * N] = 0.0
+        self._filled[:] = (p, p)
+
     def set_step(self, h: float) -> None:
         """Communication step h [s, whole ns] from the current point on; the input derivatives'
         history restarts (lower orders for the next p steps, as at the start of a run)."""

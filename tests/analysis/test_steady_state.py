@@ -14,7 +14,7 @@ import pytest
 from scipy.optimize import brentq
 
 from harness.analysis import steady_state as ss_mod
-from harness.analysis.steady_state import analyze, decide
+from harness.analysis.steady_state import analyze
 
 T = 4e-3  # 250 Hz: the 3 Omega line at 5000 rpm
 W = 2 * math.pi / T
@@ -157,22 +157,8 @@ def test_quasi_periodic_and_growing_responses_never_converge():
         assert not ss.reached and not ss.rel_change <= 1e-3, (r, ss.message)
 
 
-def test_decide_agrees_with_analyze():
-    # the drivers' cheap decision on raw rows is the same computation as analyze()
-    t = np.arange(0, 1.5, T / 2)
-    q, v = _signal(t, 1e-4, 0.3, [(1e-4, 0.2, 1.37, 0.0)])
-    for stop in (400, 600, 748):
-        ss = analyze(t[: stop + 1], q[: stop + 1], T, rtol=1e-3, velocity=v[: stop + 1])
-        rows = (stop // 2, 2)
-        reached, rel, decay = decide(q[:stop].reshape(rows), v[:stop].reshape(rows), W, rtol=1e-3, min_periods=3)
-        assert reached == ss.reached
-        assert decay == pytest.approx(ss.decay, rel=1e-12, nan_ok=True)
-        # the largest distance of the 3 deciding periods: the last one's (analyze) among them
-        assert rel >= ss.rel_change and (rel <= 1e-3) == reached
-
-
 def test_few_window_fast_path_equals_the_batched_fit():
-    # decide() fits a few windows in plain floats (orders 1-2), longer scans batch them in numpy:
+    # a few windows are fitted in plain floats (orders 1-2), longer scans batch them in numpy:
     # the same formulas, so the same distances and decays to rounding, on windows of a decaying
     # rotating pair plus a real mode (order 3), of pure rotation (order 2), and of noise (no fit)
     rng = np.random.default_rng(7)

@@ -1,7 +1,7 @@
 """The documentation site: `mkdocs build --strict` succeeds (a broken link, a missing page or a
 failing docstring fails it, with mkdocs' output), the generated variable tables hold every variable
 of every FMU the build makes (read from the built FMUs by fmpy, not by the generator), and every
-relative link in README.md reaches a file."""
+relative link in README.md reaches a file, and README.md stays at most 150 lines."""
 
 from __future__ import annotations
 
@@ -154,3 +154,11 @@ def test_readme_links_reach_files():
     assert targets, "README.md links nowhere"
     missing = [t for t in targets if not (REPO / t).exists()]
     assert not missing, f"README.md links to missing files: {missing}"
+
+
+README_MAX_LINES = 150  # the front page stays a page: details go to docs/
+
+
+def test_readme_is_short():
+    lines = (REPO / "README.md").read_text().splitlines()
+    assert len(lines) <= README_MAX_LINES, f"README.md has {len(lines)} lines (at most {README_MAX_LINES})"

@@ -316,12 +316,14 @@ class BranchProblem:
             assert cols is not None and self._last is not None  # H(z) just evaluated at z
             DP = self._last[1]
             return np.column_stack([cols, self.speed_column(z, Hz)]), DP
-        known = self.memo.get(x, n) if self.memo is not None else None
-        if known is not None:  # dH/dz from the DP taken there: DP_ij sc_j / sc_i - delta_ij, dP/dn scaled
+        memo = self.memo
+        known = memo.get(x, n) if memo is not None else None
+        # dH/dz from the DP taken there: DP_ij sc_j / sc_i - delta_ij, dP/dn scaled
+        if memo is not None and known is not None:
             DP, dn = known
             speed = self.speed_column(z, Hz) if dn is None else dn * SPEED_SCALE / self.sc
             if dn is None:
-                self.memo.put(x, n, DP, speed * self.sc / SPEED_SCALE)
+                memo.put(x, n, DP, speed * self.sc / SPEED_SCALE)
             return np.column_stack([DP * self.sc[None, :] / self.sc[:, None] - np.eye(self.m), speed]), DP
         eps = self.pm.s.fd_rel
         Jz = np.empty((self.m, self.m + 1))

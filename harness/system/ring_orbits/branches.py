@@ -249,7 +249,13 @@ def ring_branches(
                 "seed_evaluations": e_seeds,
                 "sweep_orbits": sweep_orbits,
                 "steps_per_period": settings.steps_per_period,
-                "evaluations_by_stage": {"seeds": e_seeds, **stage, "switching": switch_cost},
+                "evaluations_by_stage": {
+                    "seeds": e_seeds,
+                    **stage,
+                    "switching": switch_cost,
+                    # Newton (with the multipliers) from every seed and switched-to guess
+                    "shooting": pm.evaluations - e_seeds - sum(stage.values()) - switch_cost,
+                },
             },
         )
 

@@ -9,16 +9,37 @@ to the value it takes on touching: closing (sigma u' > 0, sigma = sign u) the el
 sticking with F = kd sin(gamma) (u - sigma d), phi = sigma r, r = kd sin(gamma) / (mu kn cos(gamma)),
 or sliding (r > 1) with phi = sigma; opening it slides away, phi = -sigma. So phi is continuous where
 a contact opens or closes at the period's end (with phi = 0 while open the image would jump by up to
-1 there and Newton and continuation stall at every speed where a gap crosses d at phase 0).
+1 there and Newton and continuation stall at every speed where a gap crosses d at phase 0). Then
+the master's extrapolation history before point 0 (p = the ring's order, h = T / K): every blade's
+tip velocity v_i(t_{-1}), ..., v_i(t_{-p}), then every blade's contact-force sum f_i(t_{-1}), ...,
+f_i(t_{-p}) (forceB of contact i - 1 plus forceA of contact i), each block (p, N) row by row
+(`history`): what the C loop keeps in its History buffers and extrapolates the inputs' derivatives
+from. dim = 2 m N + N + 2 p N (6 blades, 1 mode, p = 2: 42).
 
 One evaluation is one period T = 60 / (EO rpm) of the same co-simulation the sweeps run (the C loop,
 harness/system/ring_c.py): every FMU reset and initialised at t = 0 (load phase 0) with the ring's
 parameters and the start state x (the contacts' frictionForce start value F_j = phi_j L(u_j)), the
-master's extrapolation history restarted (as at the start of any run), K = steps_per_period steps on
-the exact grid t_k = k T / K (not the nanosecond grid: the load's phase advances exactly 2 pi), then
-the state at T read back (the contacts' at the inputs of point K, after their direct feedthrough).
-Nothing else carries over between evaluations, so the image is a function of x alone
-(tests/system/test_ring_orbits.py: bit-identical images whatever ran before).
+master's history set to x's (CRing.set_history: p values back, so point 0 already extrapolates at
+the full order p), K = steps_per_period steps on the exact grid t_k = k T / K (not the nanosecond
+grid: the load's phase advances exactly 2 pi), then the state at T read back (the contacts' at the
+inputs of point K, after their direct feedthrough; the history before point K, rows 1..p of the
+buffers once point K has been pushed).
+
+Why this is the continuous co-simulation's period-to-period map. What a run carries from point K
+into its next step is exactly: the blades' modal states (their FMU state; the load phase psi is
+integrated, and restarting it at 0 instead of 2 pi EO changes sin(psi) by rounding only), every
+contact's Jenkins element after its projection to the inputs of point K (its slider w, fixed by the
+friction force and u: F = kd (sin(gamma) u - w); open, sticking or on the cone), and the master's
+History (the last p + 1 values of v and f; the newest, point K's own, is recomputed from the state
+at point K, so p values back are the memory). The input derivatives at point K and after are then
+the same numbers in a continuous run and in an evaluation from x, the FMUs' steps the same, so the
+image equals the continuous run's state one period on, up to rounding in t_k = k h (k counts from
+0 again) and psi, and to a contact on its cone restarting in stick with its slip direction set
+(it leaves at the step's first instant). tests/system/test_ring_orbits.py runs the C loop on the
+exact grid for several periods without a restart and maps each period's start: the images equal the
+next period's start to 1e-12 (the same test with the history dropped, the earlier restart at
+phase 0, differs by up to 1e-4 of the scale). Nothing else carries over between evaluations, so the
+image is a function of x alone (the same test file: bit-identical images whatever ran before).
 
 The amplitude of blade i is max |q_i| over the period, the largest of the K sampled points refined by
 the parabola through it and its neighbours (the sweeps' measure, ring_sweep.window_amplitude, with
@@ -129,7 +150,9 @@ class RingPeriodMap:
         if len(modes) != 1:
             raise ValueError(f"modes {sorted(modes)}: every blade of the ring needs the same number of modes")
         self.m = modes.pop()
-        self.dim = 2 * self.m * self.n + self.n
+        self.p = ring.order
+        self.nh = self.p * self.n  # values per history block
+        self.dim = 2 * self.m * self.n + self.n + 2 * self.nh
         self.evaluations = 0
         self._cr = CRing(ring)
         self.blades, self.contacts = self._cr.blades, self._cr.contacts
@@ -137,7 +160,7 @@ class RingPeriodMap:
         kn, kd_ratio, mu, gamma, d = c0.get(["kn", "kdRatio", "mu", "gamma", "d"])
         if int(c0.get(["frictionModel"])[0]) != 3:
             raise ValueError("the period map's contact state is the Jenkins element's: frictionModel must be 3")
-        self.d, self.muKnCos = float(d), float(mu * kn * math.cos(gamma))
+        self.d, self.muKnCos, self.kn = float(d), float(mu * kn * math.cos(gamma)), float(kn)
         # phi of a contact arriving in stick (model-notes s.2: it sticks iff kd tan(gamma) <= mu kn)
         self.arrival = min(1.0, kd_ratio * kn * math.sin(gamma) / self.muKnCos) if self.muKnCos > 0 else 1.0
         names = [f"modalDisplacement[{k}]" for k in range(1, self.m + 1)] + [
@@ -171,7 +194,15 @@ class RingPeriodMap:
         return np.asarray(x[: 2 * self.m * self.n]).reshape(self.n, 2 * self.m)
 
     def phi(self, x: np.ndarray) -> np.ndarray:
-        return np.asarray(x[2 * self.m * self.n :])
+        k = 2 * self.m * self.n
+        return np.asarray(x[k : k + self.n])
+
+    def history(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(v, f), each (p, N): row j - 1 the blades' tip velocities [m/s] and contact-force sums [N]
+        at t_{-j}, j = 1..p (the master's history before point 0)."""
+        k = 2 * self.m * self.n + self.n
+        h = np.asarray(x[k:])
+        return h[: self.nh].reshape(self.p, self.n), h[self.nh :].reshape(self.p, self.n)
 
     def tips(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(q, q') at every blade's tip (the modal coordinates summed: every mode is 1 at the tip)."""
@@ -195,60 +226,84 @@ class RingPeriodMap:
         """L(u_j) = mu kn cos(gamma) (|u_j| - d) [N]; <= 0 where the contact is open."""
         return self.muKnCos * (np.abs(u) - self.d)
 
-    def state(self, q_modal: np.ndarray, v_modal: np.ndarray, friction: np.ndarray) -> np.ndarray:
-        """x from the blades' modal states (N, m) each and the contacts' friction forces [N]."""
+    def state(
+        self,
+        q_modal: np.ndarray,
+        v_modal: np.ndarray,
+        friction: np.ndarray,
+        v_past: np.ndarray | None = None,
+        f_past: np.ndarray | None = None,
+    ) -> np.ndarray:
+        """x from the blades' modal states (N, m) each, the contacts' friction forces [N] and the
+        history before point 0 (v_past, f_past: (p, N), see `history`; None: zero, a ring at rest)."""
         y = np.hstack(
             [np.asarray(q_modal, float).reshape(self.n, self.m), np.asarray(v_modal, float).reshape(self.n, self.m)]
         )
-        x = np.append(y.ravel(), np.zeros(self.n))
+        past = [np.zeros(self.nh) if a is None else np.asarray(a, float).reshape(self.nh) for a in (v_past, f_past)]
+        x = np.concatenate([y.ravel(), np.zeros(self.n), *past])
         u = self.gaps(x)
         L = self.limits(u)
-        x[2 * self.m * self.n :] = np.where(
+        k = 2 * self.m * self.n
+        x[k : k + self.n] = np.where(
             np.abs(u) > self.d, np.asarray(friction, float) / np.where(L > 0, L, 1.0), self.touching(x)
         )
         return x
 
-    def read(self, blades: list, contacts: list) -> np.ndarray:
-        """x of a ring's FMU instances as they are now (blades' modal states, contacts' friction
-        forces at their inputs): this map's own ring or another run of the same ring."""
-        ym = np.array([b.s.get_real(self._vr_modal) for b in blades])
-        out = np.array([c.s.get_real(self._vr_cout) for c in contacts])
-        return self.state(ym[:, : self.m], ym[:, self.m :], out[:, 0])
+    def read(self, cr: CRing, v_past: np.ndarray | None = None, f_past: np.ndarray | None = None) -> np.ndarray:
+        """x of a running ring right after a point pushed into its history (a run of the C loop
+        stopped with `finish`: this map's own ring or another run of the same ring): blades' modal
+        states, contacts' friction forces at their inputs, and the history before that point, the
+        C loop's rows 1..p (right on the exact grid h = T / K) unless given (v_past, f_past)."""
+        ym = np.array([b.s.get_real(self._vr_modal) for b in cr.blades])
+        out = np.array([c.s.get_real(self._vr_cout) for c in cr.contacts])
+        if v_past is None or f_past is None:
+            v, f = cr.history()
+            v_past, f_past = v[1:], f[1:]
+        return self.state(ym[:, : self.m], ym[:, self.m :], out[:, 0], v_past, f_past)
 
     def bounded(self, x: np.ndarray) -> np.ndarray:
         """x moved into the domain: |phi_j| <= 1, phi_j its touching value while contact j is open."""
         x = np.array(x, dtype=float)
         open_ = np.abs(self.gaps(x)) <= self.d
         k = 2 * self.m * self.n
-        x[k:] = np.where(open_, self.touching(x), np.clip(x[k:], -1.0, 1.0))
+        x[k : k + self.n] = np.where(open_, self.touching(x), np.clip(x[k : k + self.n], -1.0, 1.0))
         return x
 
     def fd_direction(self, x: np.ndarray, j: int) -> float:
         """+1, or -1 for a phi at its upper half (a forward step could leave the cone)."""
-        return -1.0 if j >= 2 * self.m * self.n and x[j] > 0.0 else 1.0
+        return -1.0 if self._is_phi(j) and x[j] > 0.0 else 1.0
 
     def at_bound(self, x: np.ndarray, j: int) -> bool:
-        return j >= 2 * self.m * self.n and abs(x[j]) >= 1.0
+        return self._is_phi(j) and abs(x[j]) >= 1.0
+
+    def _is_phi(self, j: int) -> bool:
+        k = 2 * self.m * self.n
+        return k <= j < k + self.n
 
     def omega(self, rpm: float) -> float:
         return self.ring.engine_order * 2.0 * math.pi * rpm / 60.0
 
     def scales(self, x: np.ndarray, speed: float) -> np.ndarray:
-        """S for every displacement, S omega for every rate, 1 for every phi; S the largest tip or
-        modal displacement (or rate / omega), at least the gap d."""
+        """S for every displacement, S omega for every rate (the history's velocities too), 1 for
+        every phi, kn S for the history's forces (the contact's normal force at a penetration S, or
+        the largest force there if above); S the largest tip or modal displacement (or rate /
+        omega), at least the gap d."""
         w = self.omega(speed)
         y = self.modal(x)
         q, v = self.tips(x)
+        vp, fp = self.history(x)
         S = max(
             float(np.max(np.abs(q))),
             float(np.max(np.abs(v))) / w,
             float(np.max(np.abs(y[:, : self.m]))),
             float(np.max(np.abs(y[:, self.m :]))) / w,
+            float(np.max(np.abs(vp), initial=0.0)) / w,
             self.d,
             1e-9,
         )
+        F = max(self.kn * S, float(np.max(np.abs(fp), initial=0.0)))
         per_blade = [S] * self.m + [S * w] * self.m
-        return np.array(per_blade * self.n + [1.0] * self.n)
+        return np.array(per_blade * self.n + [1.0] * self.n + [S * w] * self.nh + [F] * self.nh)
 
     # --- one period ---------------------------------------------------------------------------
     def _start(self, x: np.ndarray, rpm: float) -> None:
@@ -283,10 +338,11 @@ class RingPeriodMap:
             self._start(x, rpm)
             self._cr.rpm = rpm
             self._cr.restart_exact(T / K)
+            self._cr.set_history(*self.history(x))
             rec = self._cr.advance(K, rpm, finish=True)
         except (FmiError, RingDiverged, RuntimeError) as e:
             raise RingMapFailed(f"period map at {rpm:.6g} rpm: {e}") from e
-        Px = self.read(self.blades, self.contacts)
+        Px = self.read(self._cr)
         q = rec["q"]
         amp = window_amplitude(np.vstack([q[K - 1], q[:K], q[0]]))
         if len(self.seen) >= self.CACHE:

@@ -2,7 +2,7 @@
 
 A seed is the state at load phase 0 after the ring has run for a while; Newton then finds the orbit
 near it. Both kinds iterate the period map, x_{k+1} = P(x_k) (the co-simulation run period by
-period, its extrapolation history restarted at every period start), so their states sit at load
+period, the master's extrapolation history carried in the state), so their states sit at load
 phase 0, where the shooting's unknowns live:
 - from rest: x_0 = 0 at one speed (for the tuned ring the travelling wave wherever that is stable);
 - a sweep: up from rest at the lowest speed, the state carried from speed to speed, then back down
@@ -19,9 +19,11 @@ The sweeps' own settled states (`settled_states`): harness/system/ring_sweep.py'
 speed the running ring is copied (fmi2GetFMUstate), advanced to the next load phase 0 and read as x,
 then put back, so the sweep goes on undisturbed. The load phase is psi = sum over the speeds visited
 of omega_k t_k (the blades integrate d psi / dt = omega from psi = 0 at t = 0, the speed constant
-between changes); the advance takes whole steps, then one step of the remainder (whole ns: psi within
-1e-6 rad of 0). Each such seed's `change` is its scaled period residual |P(x) - x| / scale, which is
-small only if the phase is right and the state settled.
+between changes); the advance takes whole steps (at least p + 2), then one step of the remainder
+(whole ns: psi within 1e-6 rad of 0). The state's history (the blades' velocities and contact-force
+sums at t_{-1..-p} on the period map's exact grid h = T / K) is interpolated from the points the
+advance passed (past_values: the sweep's grid is whole ns). Each such seed's `change` is its scaled
+period residual |P(x) - x| / scale, which is small only if the phase is right and the state settled.
 """
 
 from __future__ import annotations
@@ -132,19 +134,35 @@ class _AtPhaseZero:
         w = self.pm.omega(rpm)
         self.psi = (self.psi + w * spent) % (2.0 * math.pi)
         dt = (2.0 * math.pi - self.psi) % (2.0 * math.pi) / w
-        if dt * 1e9 < 0.5:  # at phase 0 already: one period on
+        if dt < (self.pm.p + 3) * cr.ring.step:  # too close for the history's points: one period on
             dt += 2.0 * math.pi / w
         saved = cr.save()
         end = cr.time(cr.k) + dt
         whole = int(dt // cr.ring.step)
         if end - cr.time(cr.k + whole) < 0.5e-9:  # the remainder below a ns: one whole step fewer
             whole -= 1
-        if whole > 0:
-            cr.advance(whole, rpm)
+        run = cr.advance(whole, rpm)
         cr.set_step(round((end - cr.time(cr.k)) * 1e9) / 1e9)
-        cr.advance(1, rpm, finish=True)
-        self.states.append((direction, rpm, self.pm.read(cr.blades, cr.contacts)))
+        last = cr.advance(1, rpm, finish=True)
+        t = np.append(run["time"], last["time"])
+        h = 2.0 * math.pi / w / self.pm.s.steps_per_period
+        past = [past_values(t, np.vstack([run[k], last[k]]), t[-1], h, self.pm.p) for k in ("v", "contactForce")]
+        self.states.append((direction, rpm, self.pm.read(cr, *past)))
         cr.restore(saved)
+
+
+def past_values(t: np.ndarray, y: np.ndarray, t0: float, h: float, p: int) -> np.ndarray:
+    """y (rows at times t) at t0 - j h, j = 1..p, (p, N): the cubic through the four samples nearest
+    each time (the sweep's whole-ns grid is not the exact grid the period map's history lives on; a
+    cubic over steps of T / 160 is within (2 pi / 160)^4 / 24 ~ 1e-7 of a smooth signal's scale)."""
+    out = np.empty((p, y.shape[1]))
+    for j in range(1, p + 1):
+        tau = t0 - j * h
+        near = np.sort(np.argsort(np.abs(t - tau))[:4])
+        s = (t[near] - tau) / h
+        L = [np.prod([(0.0 - s[b]) / (s[a] - s[b]) for b in range(len(s)) if b != a]) for a in range(len(s))]
+        out[j - 1] = np.asarray(L) @ y[near]
+    return out
 
 
 def settled_states(
