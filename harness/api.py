@@ -113,7 +113,7 @@ def simulate(
     if not 0 < h <= t:
         raise _error(f"step = {step!r} s (from {where}(step=...)) is out of range; accepted: (0, stop_time = {t:g}] s")
     with BladeFMU(fmu) as blade:
-        return blade.run(params, t, h, speed=v, outputs=outputs)
+        return blade.run(params, t, h, speed_rpm=v, outputs=outputs)
 
 
 def periodic_orbits(

@@ -378,7 +378,7 @@ def reference_ratio(fmu: Any, params: dict, sim_scale: float = 1.0) -> dict[str,
     aero = AeroLoad(params["Fw0"], params["engineOrder"], speed)
     h = 60.0 / (5500.0 * params["engineOrder"]) / 8
     t = time.perf_counter()
-    r = fmu.run(params, 3 * T, h, aero=aero, speed=speed, outputs=["tipDisplacement"])
+    r = fmu.run(params, 3 * T, h, aero=aero, speed_rpm=speed, outputs=["tipDisplacement"])
     w_fmu = time.perf_counter() - t
     grid = r["time"]
     t = time.perf_counter()

@@ -105,7 +105,7 @@ def run(args: argparse.Namespace) -> int:
             params,
             args.stop_time,
             args.output_interval,
-            speed=speed,
+            speed_rpm=speed,
             outputs=args.output_variables,
             derivative_order=args.derivative_order,
             start_time=args.start_time,

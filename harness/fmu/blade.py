@@ -384,7 +384,7 @@ class BladeFMU:
         step: float,
         *,
         aero: Signal | None = None,
-        speed: float | Signal = 5000.0,
+        speed_rpm: float | Signal = 5000.0,
         outputs: Sequence[str] | None = None,
         derivative_order: int = MAX_ORDER,
         start_time: float | None = None,
@@ -395,7 +395,9 @@ class BladeFMU:
     ) -> np.ndarray:
         """Simulate from start_time (default 0, or the current FMU time when reset=False) to
         stop_time with communication step `step`; returns a structured array ('time' + outputs)
-        sampled every `sample_every` steps (plus the start and the end).
+        sampled every `sample_every` steps (plus the start and the end). speed_rpm: the rotor
+        speed [rpm], a number or a speed profile (harness.model.excitation: Constant, LinearRamp,
+        Stepped).
 
         input_fit: how the aero load's value and derivatives per step are chosen (`step_inputs`):
         "taylor" (its exact derivatives at the step start: what `excitation.fmu_view` reproduces) or
@@ -421,7 +423,7 @@ class BladeFMU:
             raise ParameterError(f"derivative_order = {derivative_order!r} outside [0, {MAX_ORDER}]")
         grid = self._grid(start, float(stop_time), float(step))
         real, ints = self._select(outputs)
-        speed_sig = as_speed(speed)
+        speed_sig = as_speed(speed_rpm)
         aero_sig = aero if aero is not None else AeroLoad(p["Fw0"], p["engineOrder"], speed_sig)
         if carry_values:
             inner = [

@@ -79,7 +79,7 @@ def mode_frequencies(fmu: Any, params: Mapping[str, Any], speed: float) -> np.nd
     """modeFrequency[1..m] [Hz] of the FMU at constant `speed` [rpm] (params from campbell_params)."""
     m = int(params["modes"])
     names = [f"modeFrequency[{i}]" for i in range(1, m + 1)]
-    r = fmu.run(params, 1e-5, 1e-5, speed=float(speed), outputs=names)
+    r = fmu.run(params, 1e-5, 1e-5, speed_rpm=float(speed), outputs=names)
     return np.array([float(r[k][0]) for k in names])
 
 

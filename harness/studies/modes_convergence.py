@@ -110,7 +110,7 @@ def root_moment(fmu: Any, curve: Curve, orbit: Any) -> float:
         dict(pm.p, **pm.start_values(orbit.x)),
         T,
         T / SAMPLES,
-        speed=orbit.speed,
+        speed_rpm=orbit.speed,
         outputs=["rootMoment"],
         input_fit="chebyshev",
         carry_values=True,

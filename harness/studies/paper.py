@@ -162,7 +162,7 @@ def _response(fmu: Any, p: Mapping[str, Any], speed: float, t_stop: float) -> di
     T = 2 * PI / om
     n_per = 64
     P = int(math.ceil(t_stop / T))
-    res = fmu.run(dict(p), P * T, T / n_per, speed=speed, outputs=["tipDisplacement", "amplitude"])
+    res = fmu.run(dict(p), P * T, T / n_per, speed_rpm=speed, outputs=["tipDisplacement", "amplitude"])
     q = res["tipDisplacement"]
     per_max = np.abs(q[1:]).reshape(P, n_per).max(axis=1)
     t_per = T * (np.arange(P) + 1)
@@ -330,7 +330,7 @@ def paper_iteration(
     seq = [B0]
     for _ in range(steps):
         p = dict(params, amplitudeMode=1, B=seq[-1])
-        res = fmu.run(p, T * math.ceil(t_int / T), T / 64, speed=speed, outputs=["tipDisplacement"])
+        res = fmu.run(p, T * math.ceil(t_int / T), T / 64, speed_rpm=speed, outputs=["tipDisplacement"])
         last = res[res["time"] >= res["time"][-1] - T * (1 + 1e-9)]
         seq.append(float(np.max(np.abs(last["tipDisplacement"]))))
     return seq
@@ -366,7 +366,7 @@ def campbell(
         dict(params),
         1.0,
         1e-3,
-        speed=LinearRamp(0.0, 10000.0, 0.0, 1.0),
+        speed_rpm=LinearRamp(0.0, 10000.0, 0.0, 1.0),
         aero=LinearRamp(0.0, 0.0, 0.0, 1.0),
         outputs=["naturalFrequency"],
     )

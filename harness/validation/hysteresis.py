@@ -44,7 +44,7 @@ def hysteresis(fmu: Any, out: Path, base: Mapping[str, Any]) -> dict[str, Hyster
             p,
             T * math.ceil(0.6 / T),
             T / 256,
-            speed=speed,
+            speed_rpm=speed,
             outputs=["tipDisplacement", "frictionForce", "normalForce", "dissipatedEnergy", "tipVelocity"],
         )
         last = r[r["time"] >= r["time"][-1] - T * (1 + 1e-9)]

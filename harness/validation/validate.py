@@ -145,7 +145,7 @@ def _rel(a: np.ndarray, b: np.ndarray, mask: np.ndarray | None = None) -> float:
 
 def _fmu_and_reference(fmu, case: Case, step: float, max_step: float):
     p = validate(dict(case.options, maxStep=max_step))
-    res = fmu.run(p, case.stop_time, step, speed=case.speed, derivative_order=8)
+    res = fmu.run(p, case.stop_time, step, speed_rpm=case.speed, derivative_order=8)
     grid = res["time"]
     aero = AeroLoad(p["Fw0"], p["engineOrder"], case.speed)
     aero_v, speed_v = fmu_view(aero, grid, 8), fmu_view(case.speed, grid, 8)
@@ -227,10 +227,10 @@ def _steady_fmu(fmu, p: dict[str, Any], rpm: float, start: str, max_periods: int
     else:
         n = KICK_PERIODS
         aero = AeroLoad(KICK * p["Fw0"], p["engineOrder"], speed)
-    fmu.run(p, n * period, step, speed=speed, aero=aero, outputs=["tipDisplacement"])
+    fmu.run(p, n * period, step, speed_rpm=speed, aero=aero, outputs=["tipDisplacement"])
     chunk, last = 200, None
     while True:
-        res = fmu.run(None, (n + chunk) * period, step, speed=speed, outputs=["tipDisplacement"], reset=False)
+        res = fmu.run(None, (n + chunk) * period, step, speed_rpm=speed, outputs=["tipDisplacement"], reset=False)
         n += chunk
         data = res if last is None else np.concatenate([last, res[1:]])
         keep = data[-(100 * M + 1) :]  # the last 100 periods

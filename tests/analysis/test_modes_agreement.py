@@ -48,7 +48,7 @@ TOL_MODE3 = 5e-6  # the third modal coordinate, 1/300 of the tip (measured <= 1.
 def test_fmu_runs_like_the_reference(fmu, extra):
     p = validate(dict(POINT, **extra))
     speed = Constant(SPEED)
-    r = fmu.run(p, 0.03, 1e-4, speed=speed, outputs=STATE)
+    r = fmu.run(p, 0.03, 1e-4, speed_rpm=speed, outputs=STATE)
     ref = reference.simulate(
         p, 0.03, AeroLoad(p["Fw0"], p["engineOrder"], speed), speed, t_eval=r["time"], rtol=1e-10, breakpoints=r["time"]
     )
@@ -61,7 +61,7 @@ def test_fmu_runs_like_the_reference(fmu, extra):
 def test_mode_frequencies_match_reference_and_fe(fmu):
     p = validate(POINT)
     outs = [f"modeFrequency[{i}]" for i in range(1, 7)]
-    r = fmu.run(p, 1e-4, 1e-4, speed=SPEED, outputs=outs)
+    r = fmu.run(p, 1e-4, 1e-4, speed_rpm=SPEED, outputs=outs)
     f = np.array([r[k][-1] for k in outs])
     assert np.all(f[3:] == 0.0)  # above m
     np.testing.assert_allclose(f[:3], modal_galerkin(p).frequencies_hz(SPEED), rtol=1e-12)

@@ -66,7 +66,7 @@ def _period_end_states(fmu, params, n, periods, steps=8):
         params,
         periods * T,
         T / steps,
-        speed=n,
+        speed_rpm=n,
         outputs=["tipDisplacement", "tipVelocity"],
         sample_every=steps,
         input_fit="chebyshev",

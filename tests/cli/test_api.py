@@ -104,7 +104,7 @@ def test_simulate_is_bladefmu_run():
 
     got = harness.simulate(0.02, speed_rpm=6000, step=2e-4, kn=2e6)
     with BladeFMU(harness.fmu_path()) as fmu:
-        want = fmu.run({"kn": 2e6}, 0.02, 2e-4, speed=6000.0)
+        want = fmu.run({"kn": 2e6}, 0.02, 2e-4, speed_rpm=6000.0)
     assert got.dtype == want.dtype and all((got[n] == want[n]).all() for n in want.dtype.names)
 
 

@@ -135,7 +135,7 @@ def single_blade_amplitude(
             K * h,
             h,
             aero=Sine(100.0, omega, 2 * np.pi * eo * i / n),
-            speed=speed,
+            speed_rpm=speed,
             outputs=["tipDisplacement"],
         )
     t, q = r["time"], r["tipDisplacement"]

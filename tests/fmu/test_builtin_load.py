@@ -36,7 +36,7 @@ TOL = {"tracked amplitude": 1e-9, "fixed B": 5e-14, "Jenkins element": 5e-14}
 
 
 def _harness(fmu: BladeFMU, params: dict, aero, speed, stop: float) -> np.ndarray:
-    return fmu.run(params, stop, 1e-4, aero=aero, speed=speed, outputs=["tipDisplacement"])["tipDisplacement"][::10]
+    return fmu.run(params, stop, 1e-4, aero=aero, speed_rpm=speed, outputs=["tipDisplacement"])["tipDisplacement"][::10]
 
 
 @pytest.mark.parametrize(

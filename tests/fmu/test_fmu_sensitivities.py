@@ -60,7 +60,7 @@ def run(fmu: BladeFMU, params: dict, periods: int, outputs: list[str]) -> dict[s
         periods * T,
         T / 8,
         aero=AeroLoad(100.0, EO, Constant(SPEED)),
-        speed=SPEED,
+        speed_rpm=SPEED,
         outputs=outputs,
         input_fit="chebyshev",
         sample_every=10**9,
@@ -153,11 +153,11 @@ def test_fmu_states_carry_them(fmu: BladeFMU) -> None:
     params, _ = CASES["Jenkins element, stick start"]
     p = dict(params, sensitivities=True, maxStep=2e-6)
     aero = AeroLoad(100.0, EO, Constant(SPEED))
-    fmu.run(p, T, T / 8, aero=aero, speed=SPEED, outputs=["tipDisplacement"], input_fit="chebyshev")
+    fmu.run(p, T, T / 8, aero=aero, speed_rpm=SPEED, outputs=["tipDisplacement"], input_fit="chebyshev")
     state = fmu.get_state()
-    a = fmu.run(p, 2 * T, T / 8, aero=aero, speed=SPEED, outputs=SENS, input_fit="chebyshev", reset=False)
+    a = fmu.run(p, 2 * T, T / 8, aero=aero, speed_rpm=SPEED, outputs=SENS, input_fit="chebyshev", reset=False)
     fmu.set_state(state)
-    b = fmu.run(p, 2 * T, T / 8, aero=aero, speed=SPEED, outputs=SENS, input_fit="chebyshev", reset=False)
+    b = fmu.run(p, 2 * T, T / 8, aero=aero, speed_rpm=SPEED, outputs=SENS, input_fit="chebyshev", reset=False)
     for k in SENS:
         assert a[k][-1] == b[k][-1], k
 

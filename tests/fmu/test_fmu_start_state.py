@@ -91,7 +91,7 @@ def pick(res: np.ndarray, state: int, after: float) -> int:
 def test_jenkins_restart_continues_the_run(fmu: BladeFMU, state: int) -> None:
     p = {"frictionModel": 3, "amplitudeMode": 1}  # fixed B: the element needs no amplitude
     stop, h = 0.1, H / 4  # stick lasts ~1e-4 s at a time: sample finer
-    orig = fmu.run(p, stop, h, speed=RPM, outputs=OUT)
+    orig = fmu.run(p, stop, h, speed_rpm=RPM, outputs=OUT)
     i1 = pick(orig, state, 0.05)
     row, t1 = orig[i1], float(orig["time"][i1])
     F1, q1 = float(row["jenkinsForce"]), float(row["tipDisplacement"])
@@ -103,7 +103,7 @@ def test_jenkins_restart_continues_the_run(fmu: BladeFMU, state: int) -> None:
     else:
         assert abs(abs(F1) - L) <= 1e-9 * L
     st = state_at(row, jenkins=True)
-    rest = fmu.run({**p, **st}, stop, h, speed=RPM, start_time=t1, outputs=OUT)
+    rest = fmu.run({**p, **st}, stop, h, speed_rpm=RPM, start_time=t1, outputs=OUT)
     # the restart starts in the same mode with the given state (the force up to the rounding of
     # w = sin(g) q - F / kd)
     assert rest["contactState"][0] == state
@@ -116,7 +116,7 @@ def test_jenkins_restart_continues_the_run(fmu: BladeFMU, state: int) -> None:
     # the test can fail: without the spring force (start value 0: unloaded) the run differs
     if state == 1:
         st0 = {**st, "jenkinsForce": 0.0}
-        other = fmu.run({**p, **st0}, stop, h, speed=RPM, start_time=t1, outputs=OUT)
+        other = fmu.run({**p, **st0}, stop, h, speed_rpm=RPM, start_time=t1, outputs=OUT)
         amp = float(np.max(np.abs(orig["tipDisplacement"][i1:])))
         assert float(np.max(np.abs(other["tipDisplacement"] - orig["tipDisplacement"][i1:]))) > 1e-4 * amp
 
@@ -172,8 +172,8 @@ def test_tracked_amplitude_restart_at_a_period_end(fmu: BladeFMU, k: int) -> Non
     report B just before or just after the update)."""
     p = {"frictionModel": 1, "amplitudeMode": 2}
     t1, h2, stop = k * T, T / 37.3, (k + 6.5) * T
-    head = fmu.run(p, t1, T / 40, speed=RPM, outputs=OUT)
-    tail = fmu.run(None, stop, h2, speed=RPM, outputs=OUT, reset=False)
+    head = fmu.run(p, t1, T / 40, speed_rpm=RPM, outputs=OUT)
+    tail = fmu.run(None, stop, h2, speed_rpm=RPM, outputs=OUT, reset=False)
     row = head[-1]
     assert row["time"] == t1 == tail["time"][0]
     st = state_at(row, jenkins=False)
@@ -187,7 +187,7 @@ def test_tracked_amplitude_restart_at_a_period_end(fmu: BladeFMU, k: int) -> Non
         B = max(float(row["runningMaximum"]), abs(float(row["tipDisplacement"])))
         assert abs(tail["amplitude"][1] - B) <= 1e-9 * B
         st.update(B=B, runningMaximum=0.0)
-    rest = fmu.run({**p, **st}, stop, h2, speed=RPM, start_time=t1, outputs=OUT)
+    rest = fmu.run({**p, **st}, stop, h2, speed_rpm=RPM, start_time=t1, outputs=OUT)
     assert rest["runningMaximum"][0] == max(abs(st["tipDisplacement"]), st["runningMaximum"])
     assert_same_run(
         rest[1:], tail[1:], ("tipDisplacement", "tipVelocity", "dissipatedEnergy", "amplitude", "runningMaximum")
@@ -195,7 +195,9 @@ def test_tracked_amplitude_restart_at_a_period_end(fmu: BladeFMU, k: int) -> Non
     # the test can fail: the default B (the start of the tracked amplitude) gives another run, as
     # the contact closes in the first period (B acts only then; it is replaced at its end)
     assert np.max(np.abs(tail["tipDisplacement"][tail["time"] < t1 + T])) > D
-    other = fmu.run({**p, **{n: v for n, v in st.items() if n != "B"}}, stop, h2, speed=RPM, start_time=t1, outputs=OUT)
+    other = fmu.run(
+        {**p, **{n: v for n, v in st.items() if n != "B"}}, stop, h2, speed_rpm=RPM, start_time=t1, outputs=OUT
+    )
     amp = float(np.max(np.abs(tail["tipDisplacement"])))
     assert float(np.max(np.abs(other["tipDisplacement"] - tail["tipDisplacement"]))) > 1e-6 * amp
 

@@ -61,7 +61,7 @@ def test_bad_parameters_rejected_before_the_fmu_is_touched(fmu):
     with pytest.raises(ParameterError, match="out of range"):
         fmu.run({"d": -1e-5}, 0.02, 1e-4)
     with pytest.raises(ExcitationError, match="outside"):
-        fmu.run(FAST, 0.02, 1e-4, speed=LinearRamp(5000, 40000, 0, 0.01))
+        fmu.run(FAST, 0.02, 1e-4, speed_rpm=LinearRamp(5000, 40000, 0, 0.01))
     # the FMU was not reset or stepped by the failed calls: the run continues where it was
     cont = fmu.run(None, 0.02, 1e-4, reset=False)
     ref = fmu.run(FAST, 0.02, 1e-4)["tipDisplacement"]
@@ -123,7 +123,7 @@ def test_two_steps_per_period_with_fitted_carried_inputs_match_fine_steps(fmu):
         err = np.max(np.abs(big["tipDisplacement"] - fine)) / np.max(np.abs(fine))
         assert err <= 1e-5, (carry, err)
     with pytest.raises(ParameterError, match="breakpoint"):
-        fmu.run(p, 10 * T, T / 2, speed=Stepped([5000.0, 5100.0], [5 * T, 5 * T]), carry_values=True)
+        fmu.run(p, 10 * T, T / 2, speed_rpm=Stepped([5000.0, 5100.0], [5 * T, 5 * T]), carry_values=True)
 
 
 def test_held_inputs_match_fmpy_simulate_fmu(fmu, fmu_path):
@@ -132,7 +132,7 @@ def test_held_inputs_match_fmpy_simulate_fmu(fmu, fmu_path):
     # to rounding.
     params = {"gating": False, "d": 4e-5}
     speed = LinearRamp(4000.0, 6000.0, 0.0, 0.02)
-    ours = fmu.run(params, 0.02, 2e-4, speed=speed, derivative_order=0)
+    ours = fmu.run(params, 0.02, 2e-4, speed_rpm=speed, derivative_order=0)
     grid = ours["time"]
     aero = AeroLoad(100.0, 3, speed)
     table = np.zeros(len(grid), dtype=[("time", float), ("aeroLoad", float), ("rotorSpeed", float)])
@@ -156,7 +156,7 @@ def test_fmu_error_carries_messages_time_and_partial_result(fmu):
     # a static load pushes q past the gap at zero speed: the describing functions need omega > 0,
     # so the FMU discards the step (docs/model-notes.md s.2)
     with pytest.raises(FMUError) as info:
-        fmu.run({"Fw0": 100.0}, 0.05, 1e-4, speed=0.0, aero=Constant(2000.0))
+        fmu.run({"Fw0": 100.0}, 0.05, 1e-4, speed_rpm=0.0, aero=Constant(2000.0))
     err = info.value
     assert 0 < err.time < 0.05 and err.status in (2, 3)
     assert err.messages, "the FMU's log messages must be captured"

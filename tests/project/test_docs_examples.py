@@ -39,7 +39,12 @@ def test_fmpy_example_equals_the_held_input_run(fmu_path, monkeypatch, capsys):
     res = names["res"]
     with BladeFMU(fmu_path) as fmu:  # the same load and speed, inputs held over each step as fmpy does
         ref = fmu.run(
-            {"Fw0": 100.0, "engineOrder": 3}, 0.3, 1e-4, speed=5000.0, derivative_order=0, outputs=["tipDisplacement"]
+            {"Fw0": 100.0, "engineOrder": 3},
+            0.3,
+            1e-4,
+            speed_rpm=5000.0,
+            derivative_order=0,
+            outputs=["tipDisplacement"],
         )
     q, q_ref = res["tipDisplacement"], ref["tipDisplacement"]
     assert len(q) == len(q_ref) and np.allclose(res["time"], ref["time"], rtol=0, atol=1e-12)
@@ -104,7 +109,7 @@ def test_sample_input_csv_runs_in_fmpy_simulate(fmu_path, tmp_path):
             {},
             0.3,
             1e-4,
-            speed=Stepped([4000.0, 5000.0, 6000.0], [0.1, 0.1, 0.1]),
+            speed_rpm=Stepped([4000.0, 5000.0, 6000.0], [0.1, 0.1, 0.1]),
             outputs=["tipDisplacement", "naturalFrequency"],
         )
     assert len(res) == len(ref) and np.allclose(res["time"], ref["time"], rtol=0, atol=1e-12)

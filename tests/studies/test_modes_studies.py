@@ -47,7 +47,7 @@ def test_peaks_located_and_root_moment(fmu, curves, tmp_path):
             dict(pm.p, **pm.start_values(o.x)),
             T,
             T / 1024,
-            speed=o.speed,
+            speed_rpm=o.speed,
             outputs=names,
             input_fit="chebyshev",
             carry_values=True,

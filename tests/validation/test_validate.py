@@ -82,8 +82,8 @@ def test_input_derivatives_beat_held_inputs_at_coarse_step(fmu):
     p = validate(dict(BASE, gating=False, amplitudeMode=1))
     speed = Constant(5000.0)
     aero = AeroLoad(p["Fw0"], p["engineOrder"], speed)
-    held = fmu.run(p, 0.03, 2e-4, speed=speed, derivative_order=0)
-    deriv = fmu.run(p, 0.03, 2e-4, speed=speed, derivative_order=8)
+    held = fmu.run(p, 0.03, 2e-4, speed_rpm=speed, derivative_order=0)
+    deriv = fmu.run(p, 0.03, 2e-4, speed_rpm=speed, derivative_order=8)
     ref = reference.simulate(p, 0.03, aero, speed, t_eval=held["time"])
     amp = np.max(np.abs(ref["tipDisplacement"]))
     err_held = np.max(np.abs(held["tipDisplacement"] - ref["tipDisplacement"])) / amp

@@ -69,7 +69,7 @@ def orbit_samples(pm: PeriodMap, x: np.ndarray, speed: float, n: int = SAMPLES) 
         dict(pm.p, **pm.start_values(x)),
         T,
         T / n,
-        speed=speed,
+        speed_rpm=speed,
         outputs=["tipDisplacement"],
         input_fit="chebyshev",
         carry_values=True,
