@@ -6,7 +6,8 @@ holds the two together). `CRing` keeps a ring open between calls: `advance` runs
 of steps at a rotor speed (a speed sweep steps rotorSpeed between calls),
 `set_step` changes the communication step from the current point on (the extrapolation history
 restarts, as at t_0), `save`/`restore` keep and put back the whole state (FMU states and the
-master's histories).
+master's histories), `history`/`set_history` read and set the master's histories alone (the ring's
+period map carries them in its state).
 """
 
 from __future__ import annotations

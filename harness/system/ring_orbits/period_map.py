@@ -27,7 +27,8 @@ buffers once point K has been pushed).
 
 Why this is the continuous co-simulation's period-to-period map. What a run carries from point K
 into its next step is exactly: the blades' modal states (their FMU state; the load phase psi is
-integrated, and restarting it at 0 instead of 2 pi EO changes sin(psi) by rounding only), every
+integrated, and restarting it at 0 instead of 2 pi j after j periods changes sin(psi) by rounding
+only), every
 contact's Jenkins element after its projection to the inputs of point K (its slider w, fixed by the
 friction force and u: F = kd (sin(gamma) u - w); open, sticking or on the cone), and the master's
 History (the last p + 1 values of v and f; the newest, point K's own, is recomputed from the state
@@ -37,8 +38,9 @@ image equals the continuous run's state one period on, up to rounding in t_k = k
 0 again) and psi, and to a contact on its cone restarting in stick with its slip direction set
 (it leaves at the step's first instant). tests/system/test_ring_orbits.py runs the C loop on the
 exact grid for several periods without a restart and maps each period's start: the images equal the
-next period's start to 1e-12 (the same test with the history dropped, the earlier restart at
-phase 0, differs by up to 1e-4 of the scale). Nothing else carries over between evaluations, so the
+next period's start to 1e-12 of the scale (measured 3e-13 three periods in: the run's psi carries
+the rounding of its steps; the same periods with the history dropped, the earlier restart at
+phase 0, miss by 1.5e-5; 4 blades, 6000 rpm). Nothing else carries over between evaluations, so the
 image is a function of x alone (the same test file: bit-identical images whatever ran before).
 
 The amplitude of blade i is max |q_i| over the period, the largest of the K sampled points refined by
