@@ -42,14 +42,31 @@ __all__ = [
     "RING_MASTERS",
 ]
 
-RING_MASTERS = ("fmpy", "c")  # the ring's loop in Python (the readable reference) or in C
+RING_MASTERS = ("fmpy", "c")
+"""The masters `run_ring` runs the ring with: its communication loop in Python ("fmpy", the readable
+reference) or in C ("c", the same data flow)."""
 
 
 def fmu_path(name: str = "ShroudedBlade") -> Path:
-    """Path of the FMU `name`: "ShroudedBlade" (FMI 2.0 co-simulation and model exchange),
-    "fmi3/ShroudedBlade" (FMI 3.0 co-simulation), "Excitation", "BladeExternalContact" or
-    "ShroudContact". Installed: the FMU that came with the package (harness/fmus/); in a checkout:
-    `build/<name>.fmu`, built with CMake if out of date. Raises KeyError for an unknown name."""
+    """Path of one of the project's FMUs.
+
+    Parameters
+    ----------
+    name : str
+        "ShroudedBlade" (FMI 2.0 co-simulation and model exchange), "fmi3/ShroudedBlade" (FMI 3.0
+        co-simulation), "Excitation", "BladeExternalContact" or "ShroudContact".
+
+    Returns
+    -------
+    pathlib.Path
+        Installed: the FMU that came with the package (harness/fmus/); in a checkout:
+        `build/<name>.fmu`, built with CMake if out of date.
+
+    Raises
+    ------
+    KeyError
+        An unknown `name`.
+    """
     return fmu_file(name)
 
 
@@ -100,11 +117,35 @@ def simulate(
     fmu: str | Path | None = None,
     **parameters: Any,
 ) -> np.ndarray:
-    """Run the FMU from rest for `stop_time` [s] at constant `speed_rpm` [rpm] with communication step
-    `step` [s] under the aerodynamic load Fw0 sin(EO * phase); returns a numpy record array with
-    'time' and the outputs (all, or `outputs`) at every step. `parameters`: FMU parameters (Fw0
-    among them) by name (e.g. d=4e-5, gating=False). `fmu`: another FMU file (default `fmu_path()`).
-    As `harness simulate` (harness.cli.simulate) without the files."""
+    """Run the blade FMU from rest at constant speed under its aerodynamic load Fw0 sin(EO * phase).
+
+    As `harness simulate` without the files.
+
+    Parameters
+    ----------
+    stop_time : float
+        End of the run [s].
+    speed_rpm : float
+        Rotor speed [rpm], inside the FMU's rotorSpeed range.
+    step : float
+        Communication step [s], 0 < step <= stop_time.
+    outputs : sequence of str, optional
+        The FMU outputs to record (default: all of them).
+    fmu : str or pathlib.Path, optional
+        Another FMU file (default `fmu_path()`).
+    **parameters
+        FMU parameters by name, Fw0 among them (e.g. ``d=4e-5, gating=False``).
+
+    Returns
+    -------
+    numpy.ndarray
+        A record array with 'time' [s] and the outputs at every communication point.
+
+    Raises
+    ------
+    ParameterError
+        A value out of its range or an unknown parameter name, naming the argument it came from.
+    """
     where = "harness.simulate"
     params = _parameters(parameters, f"{where}(**parameters)")
     v = _speed(speed_rpm, f"{where}(speed_rpm=...)", low_open=False)
@@ -119,11 +160,34 @@ def simulate(
 def periodic_orbits(
     speed_rpm: float, model: str = "fixedPoint", *, fmu: str | Path | None = None, **parameters: Any
 ) -> list[Orbit]:
-    """Every periodic orbit of the FMU found at `speed_rpm` [rpm], by shooting, sorted by amplitude,
-    each with its Floquet multipliers and stability (`Orbit.amplitude` [m], `.stable`, `.label`,
-    `.multipliers`, `.as_dict()`). model: fixedB (B fixed, parameter B), fixedPoint (the paper's
-    B = A(B), default), jenkins (the time-domain macroslip element) or coulomb.
-    As `harness periodic --speed SPEED --model MODEL`."""
+    """Every periodic orbit of the blade FMU found at one speed, by shooting.
+
+    As `harness periodic --speed SPEED --model MODEL`.
+
+    Parameters
+    ----------
+    speed_rpm : float
+        Rotor speed [rpm], inside the FMU's rotorSpeed range (above its lower end).
+    model : str
+        The contact model: "fixedB" (the describing function at a fixed amplitude, parameter B),
+        "fixedPoint" (the paper's B = A(B)), "jenkins" (the time-domain macroslip element) or
+        "coulomb".
+    fmu : str or pathlib.Path, optional
+        Another FMU file (default `fmu_path()`).
+    **parameters
+        FMU parameters by name (not the state on the orbit: that is what shooting solves for).
+
+    Returns
+    -------
+    list of Orbit
+        Sorted by amplitude, each with its Floquet multipliers and stability (`.amplitude` [m],
+        `.stable`, `.label`, `.multipliers`, `.as_dict()`).
+
+    Raises
+    ------
+    ParameterError
+        A value out of its range, an unknown model or parameter, or a state start value.
+    """
     where = "harness.periodic_orbits"
     v = _speed(speed_rpm, f"{where}(speed_rpm=...)", low_open=True)
     _model(model, where)
@@ -141,9 +205,33 @@ def periodic_orbits(
 def branch(
     speed_range_rpm: tuple[float, float], model: str = "fixedPoint", *, fmu: str | Path | None = None, **parameters: Any
 ) -> list[Branch]:
-    """The branches of periodic orbits over `speed_range_rpm` = (low, high) [rpm], traced by
-    pseudo-arclength continuation from the orbits found at seed speeds 500 rpm apart (each branch:
-    `.points`, with speed, amplitude and stability). As the studies of `harness reproduce`."""
+    """The branches of periodic orbits of the blade FMU over a speed range.
+
+    Traced by pseudo-arclength continuation from the orbits found at seed speeds 500 rpm apart, as
+    the studies of `harness reproduce`.
+
+    Parameters
+    ----------
+    speed_range_rpm : (float, float)
+        (low, high) [rpm], low < high, both inside the FMU's rotorSpeed range.
+    model : str
+        The contact model, as in `periodic_orbits`.
+    fmu : str or pathlib.Path, optional
+        Another FMU file (default `fmu_path()`).
+    **parameters
+        FMU parameters by name.
+
+    Returns
+    -------
+    list of Branch
+        Each branch's `.points` (speed, amplitude, stability), its located peaks and folds
+        (`.extrema`) and why it ended (`.end_reasons`).
+
+    Raises
+    ------
+    ParameterError
+        A bad range, model or parameter, naming the value and the accepted range.
+    """
     where = "harness.branch"
     _model(model, where)
     try:
@@ -178,10 +266,33 @@ def _ring_speed(speed: Any, where: str, name: str = "speed") -> None:
 
 
 def run_ring(ring: Ring, master: str = "c") -> dict[str, np.ndarray]:
-    """Run the bladed-disk ring `ring` (a `harness.Ring`: n blades coupled by n shroud contacts,
-    each blade loaded by its built-in travelling-wave load) from rest; returns time [s] and per blade (columns)
-    q, v, the contact forces and energies (harness.system.ring.run). master: "c" (the communication
-    loop in C) or "fmpy" (the same data flow in Python). As `harness ring`."""
+    """Run the bladed-disk ring from rest.
+
+    As `harness ring`.
+
+    Parameters
+    ----------
+    ring : Ring
+        n blades coupled by n shroud contacts, each blade loaded by its built-in travelling-wave
+        load; its speed, step and stop time set the run.
+    master : str
+        One of RING_MASTERS: "c" (the communication loop in C) or "fmpy" (the same data flow in
+        Python).
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        "time" [s] and, per blade (columns), "q", "v", the energies "E" and "W", the contact forces
+        "contactForce", "forceA", "forceB", the contacts' dissipated energy "Ec" and "state", at
+        every communication point.
+
+    Raises
+    ------
+    ParameterError
+        A bad blade count, parameter, step, stop time, speed or master.
+    RingDiverged
+        A blade's |q| passed `ring.q_limit` (the Jacobi coupling blew up).
+    """
     where = "harness.run_ring"
     if master not in RING_MASTERS:
         raise _error(f"master = {master!r} (from {where}(master=...)) is not one of {', '.join(RING_MASTERS)}")

@@ -21,7 +21,7 @@ import math
 import shutil
 import sys
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any, Callable, Mapping, Sequence, TypeVar
 
 import numpy as np
 from fmpy import extract, read_model_description
@@ -29,8 +29,11 @@ from fmpy import extract, read_model_description
 from harness.fmu import build as _build
 from harness.fmu.binding import FmiError, LogRecord, fmi2
 from harness.fmu.stepper import STATUS, Stepper, Values
-from harness.model.excitation import MAX_ORDER, AeroLoad, ExcitationError, Signal, as_speed
+from harness.model.excitation import MAX_ORDER, AeroLoad, ExcitationError, Piecewise, Signal, as_speed
 from harness.model.params import ParameterError, fmu_parameters, input_range, validate, value_reference
+from harness.paths import IN_CHECKOUT, REPO_ROOT
+
+Result = TypeVar("Result")  # what a guarded FMI call returns
 
 VR_AERO, VR_SPEED = value_reference("aeroLoad"), value_reference("rotorSpeed")  # modelDescription.xml
 SPEED_RANGE = input_range("rotorSpeed")  # rotorSpeed min/max [rpm], from modelDescription.xml
@@ -70,7 +73,7 @@ class FMUState(bytes):
 def fmu_path(build: bool = True) -> Path:
     """build/ShroudedBlade.fmu, built (if out of date) when `build` and the C sources are present;
     installed: the package's own (harness/fmus/ShroudedBlade.fmu)."""
-    sources = list((_build.REPO_ROOT / "fmu_src").rglob("*.c")) if _build.IN_CHECKOUT else []
+    sources = list((REPO_ROOT / "fmu_src").rglob("*.c")) if IN_CHECKOUT else []
     if build and sources and shutil.which("cmake"):
         try:
             return _build.build(("fmu",))
@@ -80,7 +83,7 @@ def fmu_path(build: bool = True) -> Path:
                 f"building {_build.FMU_PATH} failed ({first}): run `make fmu` to see the compiler output"
             ) from exc
     if not _build.FMU_PATH.is_file():
-        how = "build it with `make fmu`" if _build.IN_CHECKOUT else "reinstall the harness with `pip install`"
+        how = "build it with `make fmu`" if IN_CHECKOUT else "reinstall the harness with `pip install`"
         raise FMUNotFoundError(
             f"{_build.FMU_PATH} not found: {how} (needs cmake and a C compiler) or pass the path of an FMU"
         )
@@ -144,7 +147,8 @@ def step_inputs(signal: Signal, grid: np.ndarray, order: int, fit: str = "taylor
     c = F @ Vinv.T  # c_j: coefficient of s^j, s = (t - t0) / h
     j = np.arange(order + 1)
     fact = np.array([math.factorial(int(k)) for k in j], dtype=float)
-    return (c * fact[None, :] / h[:, None] ** j[None, :]).T
+    out: np.ndarray = (c * fact[None, :] / h[:, None] ** j[None, :]).T
+    return out
 
 
 class _InputTable:
@@ -152,7 +156,15 @@ class _InputTable:
     rotorSpeed) and their derivatives 1..order, contiguous, with the address of each step's slice
     (8 (2K + 2) bytes per step) and the value references the FMI calls take."""
 
-    def __init__(self, grid: np.ndarray, aero: Signal, speed: Signal, order: int, fit: str, check) -> None:
+    def __init__(
+        self,
+        grid: np.ndarray,
+        aero: Signal,
+        speed: Signal,
+        order: int,
+        fit: str,
+        check: Callable[[np.ndarray, np.ndarray, np.ndarray], None],
+    ) -> None:
         aero_in = step_inputs(aero, grid, order, fit)  # (order + 1, steps)
         speed_in = np.asarray(speed.derivatives(grid, order), dtype=float)  # (order + 1, grid points)
         check(grid, aero_in, speed_in)
@@ -254,13 +266,15 @@ class BladeFMU:
 
     # ---- lifecycle ----
     def _instantiate(self) -> None:
-        lib = fmi2.load(fmi2.binary_path(self._unzip, self.md.coSimulation.modelIdentifier))
+        unzip = self._unzip
+        assert unzip is not None  # extracted in __init__, removed only by close()
+        lib = fmi2.load(fmi2.binary_path(unzip, self.md.coSimulation.modelIdentifier))
         # the binding's per-instance logger: several instances in one process keep their messages apart
         self._slave = fmi2.Fmi2Instance(
             lib,
             "blade",
             self.md.guid,
-            fmi2.resource_uri(self._unzip),
+            fmi2.resource_uri(unzip),
             logging_on=True,
             log_limit=200,
             on_log=self._on_log,
@@ -303,7 +317,7 @@ class BladeFMU:
     def __enter__(self) -> "BladeFMU":
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
     def __del__(self) -> None:
@@ -326,7 +340,7 @@ class BladeFMU:
             function=what,
         )
 
-    def _guard(self, what: str, t: float, fn, *args):
+    def _guard(self, what: str, t: float, fn: Callable[..., Result], *args: Any) -> Result:
         try:
             return fn(*args)
         except FmiError as exc:
@@ -384,7 +398,7 @@ class BladeFMU:
         step: float,
         *,
         aero: Signal | None = None,
-        speed_rpm: float | Signal = 5000.0,
+        speed_rpm: float | Piecewise = 5000.0,
         outputs: Sequence[str] | None = None,
         derivative_order: int = MAX_ORDER,
         start_time: float | None = None,
@@ -494,7 +508,7 @@ class BladeFMU:
         t_start, h = grid[:-1].tolist(), np.diff(grid).tolist()
         if not n_der:
 
-            def setDer(*_):  # noqa: N802 (held inputs: no derivatives to set)
+            def setDer(*_: object) -> int:  # noqa: N802 (held inputs: no derivatives to set)
                 return 0
 
         def fail(k: int, what: str, status: int, t: float) -> FMUError:
@@ -579,6 +593,7 @@ class BladeFMU:
         if self._phase not in ("stepping", "instantiated"):
             raise RuntimeError(f"cannot get the FMU state in phase {self._phase}")
         s = self._slave
+        assert s is not None  # instantiated or stepping
         st = self._guard("fmi2GetFMUstate", self._time, s.get_fmu_state)
         try:
             raw = self._guard("fmi2SerializeFMUstate", self._time, s.serialize_fmu_state, st)
@@ -601,6 +616,7 @@ class BladeFMU:
         if self._phase in ("closed", "fatal"):
             raise RuntimeError(f"cannot set the FMU state in phase {self._phase}")
         s = self._slave
+        assert s is not None  # not closed
         if self._phase == "failed":
             self._guard("fmi2Reset", self._time, s.reset)
             self._phase = "instantiated"
@@ -611,6 +627,7 @@ class BladeFMU:
             s.free_fmu_state(st)
         self._phase = "stepping"
         self._held = bytes(state)
-        self._time = getattr(state, "time", None) if getattr(state, "time", None) is not None else math.nan
+        t = getattr(state, "time", None)
+        self._time = float(t) if t is not None else math.nan
         sp = getattr(state, "params", None)
         self._params = validate(sp, source="FMUState.params") if sp is not None else None

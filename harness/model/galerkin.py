@@ -52,9 +52,9 @@ class Galerkin:
         """K0(Omega) [N/m] for Omega [rad/s]."""
         return self.K0static + self.K0omega2 * Omega * Omega
 
-    def natural_frequency_hz(self, rpm: float) -> float:
-        """Contact-free first bending frequency sqrt(K0/M)/(2 pi) [Hz] at speed `rpm`."""
-        Omega = 2.0 * math.pi * rpm / 60.0
+    def natural_frequency_hz(self, speed_rpm: float) -> float:
+        """Contact-free first bending frequency sqrt(K0/M)/(2 pi) [Hz] at speed `speed_rpm` [rpm]."""
+        Omega = 2.0 * math.pi * speed_rpm / 60.0
         return math.sqrt((self.K0static + self.K0omega2 * Omega * Omega) / self.M) / (2.0 * math.pi)
 
 

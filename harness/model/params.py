@@ -72,7 +72,7 @@ def _model_description() -> ET.Element:
 @lru_cache(maxsize=1)
 def value_references() -> dict[str, int]:
     """name -> value reference of every FMU variable, in the order of modelDescription.xml."""
-    return {sv.get("name"): int(sv.get("valueReference")) for sv in _model_description().iter("ScalarVariable")}
+    return {sv.attrib["name"]: int(sv.attrib["valueReference"]) for sv in _model_description().iter("ScalarVariable")}
 
 
 def value_reference(name: str) -> int:

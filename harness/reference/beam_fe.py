@@ -48,21 +48,21 @@ class BeamFE:
     EI: float
     h: float  # element length [m]
 
-    def K0(self, rpm: float) -> np.ndarray:
-        Om = 2.0 * math.pi * rpm / 60.0
+    def K0(self, speed_rpm: float) -> np.ndarray:
+        Om = 2.0 * math.pi * speed_rpm / 60.0
         return self.K + self.Kw * Om * Om
 
-    def frequencies_hz(self, rpm: float, count: int = 6) -> np.ndarray:
-        """The `count` lowest natural frequencies [Hz] at speed rpm."""
+    def frequencies_hz(self, speed_rpm: float, count: int = 6) -> np.ndarray:
+        """The `count` lowest natural frequencies [Hz] at speed `speed_rpm` [rpm]."""
         # as the largest eigenvalues 1/omega^2 of (M, K): K's condition grows like n^4, and the lowest
         # eigenvalues of (K, M) lose ~eps n^4 of their value (1e-5 at 240 elements); these do not
         n = self.M.shape[0]
-        inv = eigh(self.M, self.K0(rpm), eigvals_only=True, subset_by_index=[n - count, n - 1])
+        inv = eigh(self.M, self.K0(speed_rpm), eigvals_only=True, subset_by_index=[n - count, n - 1])
         return np.sort(1.0 / np.sqrt(inv)) / (2.0 * math.pi)
 
-    def forced_tip(self, rpm: float, omega: float, Fw0: float) -> complex:
+    def forced_tip(self, speed_rpm: float, omega: float, Fw0: float) -> complex:
         """Complex tip amplitude of the steady response to f_w = Fw0 sin(omega t) (contacts open)."""
-        Z = self.K0(rpm) - omega**2 * self.M + 1j * omega * self.C
+        Z = self.K0(speed_rpm) - omega**2 * self.M + 1j * omega * self.C
         return complex(np.linalg.solve(Z, Fw0 * self.f)[self.tip])
 
     def root_moment(self, u: np.ndarray) -> Any:

@@ -128,9 +128,10 @@ class ModalGalerkin:
     def K0(self, Omega: float) -> np.ndarray:
         return self.K0static + self.K0omega2 * (Omega * Omega)
 
-    def frequencies_hz(self, rpm: float) -> np.ndarray:
-        """Contact-free natural frequencies [Hz] at speed rpm: the generalized eigenvalues of (K0, M), ascending."""
-        Om = 2.0 * math.pi * rpm / 60.0
+    def frequencies_hz(self, speed_rpm: float) -> np.ndarray:
+        """Contact-free natural frequencies [Hz] at speed `speed_rpm` [rpm]: the generalized eigenvalues of
+        (K0, M), ascending."""
+        Om = 2.0 * math.pi * speed_rpm / 60.0
         Lc = np.linalg.cholesky(self.M)
         Li = np.linalg.inv(Lc)
         w2 = np.linalg.eigvalsh(Li @ self.K0(Om) @ Li.T)

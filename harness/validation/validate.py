@@ -72,7 +72,7 @@ class Case:
     speed: Piecewise
     stop_time: float
     kind: str = "time"  # "time", "order" (solver convergence order) or "hb"
-    rpm: float = math.nan
+    speed_rpm: float = math.nan
 
     def tolerance(self) -> float:
         # smooth right-hand side: a describing-function model with constant K_eq, C_eq (no gating,
@@ -130,7 +130,7 @@ def cases(quick: bool = False) -> list[Case]:
     ]
     if quick:  # open branch, unstable tracked map, contact branch
         hb = [(hb[0][0], 3000.0), (hb[0][0], 5000.0), (dict(hb[0][0], projection=2), 6000.0)]
-    out += [Case(f"HB {_label(o)}@{n:g}rpm", o, Constant(n), 0.0, kind="hb", rpm=n) for o, n in hb]
+    out += [Case(f"HB {_label(o)}@{n:g}rpm", o, Constant(n), 0.0, kind="hb", speed_rpm=n) for o, n in hb]
     return out
 
 
@@ -250,10 +250,10 @@ def compare_hb(fmu, case: Case) -> list[Row]:
     Where no root is reachable the FMU must not settle (the B update overshoots: the period-to-period oscillation
     of docs/model.md s.4). A reachable root that no start settles on fails."""
     p = validate(case.options)
-    sols = harmonic_balance(p, case.rpm)
+    sols = harmonic_balance(p, case.speed_rpm)
     radius = dict(zip((s.B for s in sols), tracked_radii(p, sols)))
     reachable = [s for s in sols if s.stable and radius[s.B] < 1.0]
-    runs = {start: _steady_fmu(fmu, p, case.rpm, start) for start in ("soft", "kick")}
+    runs = {start: _steady_fmu(fmu, p, case.speed_rpm, start) for start in ("soft", "kick")}
     settled = {k: v for k, v in runs.items() if v[0].reached}
     if not reachable:
         radii = ", ".join(f"{radius[s.B]:.3g}" for s in sols if s.stable)

@@ -13,9 +13,10 @@ reference stays within the coupling error of it at every period end (it settles 
 that distance away). The coupling error is measured by the orbit itself: |x(T/160) - x(T/320)|
 scaled (displacements by the largest, rates by that times omega).
 
-Measured (largest multiplier 0.878): |x(T/160) - x(T/320)| = 9.6e-4; the reference's largest
-distance over 10 periods from the T/160 orbit 9.9e-4 (tolerance 3x the step difference, 2.9e-3),
-from the T/320 orbit 2.0e-4 (0.20 of the T/160 one: the coupling error's order 2; tolerance 0.5).
+Measured (largest multiplier 0.878; the master's history in the map's state): |x(T/160) - x(T/320)|
+= 7.4e-4; the reference's largest distance over 10 periods from the T/160 orbit 8.4e-4 (tolerance 3x
+the step difference, 2.2e-3), from the T/320 orbit 9.4e-5 (0.11 of the T/160 one: near 2^-3, the
+coupling error's order 3 at p = 2; 0.20 while the map restarted the history; tolerance 0.5).
 Broken on purpose: a period map that runs 1.002 T gives an orbit the reference leaves by 2.1e-2
 (fails); one that starts every contact with half its friction force lands on an orbit with every
 contact open at phase 0 (fails the precondition).
@@ -41,12 +42,13 @@ PERIODS = 10
 
 def reference_state(x: np.ndarray, spec: RingSpec) -> tuple[RingState, np.ndarray, np.ndarray]:
     """The reference's state at t = 0 (load phase 0) from the engine's unknowns x (one mode: per
-    blade q, q'; then per contact phi = F_f / L, L = mu kn cos(gamma) (|u| - d)): q, q' and the
+    blade q, q'; then per contact phi = F_f / L, L = mu kn cos(gamma) (|u| - d); the master's history
+    after them has no counterpart in the monolithic reference): q, q' and the
     contacts (open while |u| <= d; else on the side of u, slipping in the direction of phi at the
     limit |phi| = 1, else sticking with the friction force phi L anchored at this u)."""
     m = MonolithicRing(spec)
     cc = m.cc
-    q, v, phi = x[0 : 2 * N : 2], x[1 : 2 * N : 2], x[2 * N :]
+    q, v, phi = x[0 : 2 * N : 2], x[1 : 2 * N : 2], x[2 * N : 3 * N]  # then the master's history
     u = q - np.roll(q, -1)
     contacts = []
     for j in range(N):

@@ -48,7 +48,7 @@ def test_time_domain_agrees_with_reference(fmu, name, options, speed):
     ids=["contact-branch-6000", "unreachable-5000"],
 )
 def test_steady_state_agrees_with_harmonic_balance(fmu, options, rpm):
-    rows = compare_hb(fmu, Case("HB", options, Constant(rpm), 0.0, kind="hb", rpm=rpm))
+    rows = compare_hb(fmu, Case("HB", options, Constant(rpm), 0.0, kind="hb", speed_rpm=rpm))
     assert all(r.passed for r in rows), [(r.quantity, r.error, r.note) for r in rows]
     if rows[0].ok is None:
         assert rows[0].tolerance == TOL_HB and any("contact branch" in r.note for r in rows)
