@@ -130,7 +130,8 @@ def section(d: dict[str, Any], machine_text: str, date: str) -> list[str]:
     b = d.get("before", {}).get("six")
     before = (
         [
-            f"- the same row before (run of {d['before']['date']}, load average {b['load_at_start']:.1f} at its start): "
+            f"- the same row before ({d['before'].get('label', 'run')} of {d['before']['date']}, load average "
+            f"{b['load_at_start']:.1f} at its start): "
             f"{b['wall_s']:.1f} s wall, {b['cpu_s']:.1f} s CPU, {b['branches']} branches, {b['points']} points, "
             f"{b['periods']} periods: **{b['periods_per_point']:.1f} periods per point**; per point by stage: "
             + _per_point(b)

@@ -179,13 +179,13 @@ class Stepped(Piecewise):
         return f"Stepped({self.levels!r}, {self.durations!r}, start={self.start!r}, ramp={self.ramp!r})"
 
 
-def as_speed(speed: float | Piecewise) -> Piecewise:
+def as_speed(speed_rpm: float | Piecewise) -> Piecewise:
     """A rotor-speed signal from a number [rpm] or a speed profile (must provide `integral`)."""
-    if isinstance(speed, (int, float, np.floating, np.integer)):
-        return Constant(float(speed))
-    if not (hasattr(speed, "derivatives") and hasattr(speed, "integral")):
-        raise ExcitationError(f"speed must be a number [rpm] or a speed profile, got {speed!r}")
-    return speed
+    if isinstance(speed_rpm, (int, float, np.floating, np.integer)):
+        return Constant(float(speed_rpm))
+    if not (hasattr(speed_rpm, "derivatives") and hasattr(speed_rpm, "integral")):
+        raise ExcitationError(f"speed must be a number [rpm] or a speed profile, got {speed_rpm!r}")
+    return speed_rpm
 
 
 def sin_series(p: np.ndarray) -> np.ndarray:

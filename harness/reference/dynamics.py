@@ -173,7 +173,7 @@ def simulate(
     params: Mapping[str, Any] | None,
     stop_time: float,
     aero: Callable[[float], float],
-    speed: Callable[[float], float],
+    speed_rpm: Callable[[float], float],
     t_eval: Sequence[float] | np.ndarray,
     rtol: float = 1e-11,
     atol: Sequence[float] | float | None = None,
@@ -236,14 +236,14 @@ def simulate(
     ds.g = 1 if not gating else 0  # q = 0 at the start: |q| > d is false (d >= 0)
 
     def omega_of(t: float) -> float:
-        return EO * TWO_PI * speed(t) / 60.0
+        return EO * TWO_PI * speed_rpm(t) / 60.0
 
     seg = {"end_minus": math.inf}  # inputs inside a segment [a, b] are read at min(t, b - ulp)
 
     def rhs(t: float, y: np.ndarray) -> Any:
         q, v = tq(y), tv(y)
         t = t if t < seg["end_minus"] else seg["end_minus"]  # the piece that ends at b, not the next one
-        n = speed(t)
+        n = speed_rpm(t)
         Om = TWO_PI * n / 60.0
         om = EO * Om
         if jen is None:
@@ -284,7 +284,7 @@ def simulate(
     def outputs(idx: np.ndarray, ts: np.ndarray, Y: np.ndarray) -> None:
         for j, t, y in zip(idx, ts, Y.T):
             q, v, E, w = tq(y), tv(y), y[iE], y[iW]
-            n = speed(t)
+            n = speed_rpm(t)
             Om = TWO_PI * n / 60.0
             om = EO * Om
             df = ds.df

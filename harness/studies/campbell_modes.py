@@ -75,11 +75,11 @@ def campbell_params(params: Mapping[str, Any] | None, modes: int) -> dict[str, A
     return validate(p, source="campbell")
 
 
-def mode_frequencies(fmu: Any, params: Mapping[str, Any], speed: float) -> np.ndarray:
-    """modeFrequency[1..m] [Hz] of the FMU at constant `speed` [rpm] (params from campbell_params)."""
+def mode_frequencies(fmu: Any, params: Mapping[str, Any], speed_rpm: float) -> np.ndarray:
+    """modeFrequency[1..m] [Hz] of the FMU at constant `speed_rpm` [rpm] (params from campbell_params)."""
     m = int(params["modes"])
     names = [f"modeFrequency[{i}]" for i in range(1, m + 1)]
-    r = fmu.run(params, 1e-5, 1e-5, speed_rpm=float(speed), outputs=names)
+    r = fmu.run(params, 1e-5, 1e-5, speed_rpm=float(speed_rpm), outputs=names)
     return np.array([float(r[k][0]) for k in names])
 
 

@@ -219,14 +219,16 @@ class Fig45Summary:
     tracked: ResponseSummary
 
 
-def fig45(fmu: Any, out: Path, params: Mapping[str, Any], speed: float, t_stop: float, B_root: float) -> Fig45Summary:
-    """Paper Fig. 4/5: response from rest at `speed` and the spectrum of its second half, for the
+def fig45(
+    fmu: Any, out: Path, params: Mapping[str, Any], speed_rpm: float, t_stop: float, B_root: float
+) -> Fig45Summary:
+    """Paper Fig. 4/5: response from rest at `speed_rpm` and the spectrum of its second half, for the
     paper's formulation (amplitude fixed at the fixed-point root B_root, amplitudeMode 1) and for the
     tracked amplitude (amplitudeMode 2)."""
     p = dict(params)
     runs = {
-        "paper": _response(fmu, dict(p, amplitudeMode=1, B=B_root), speed, t_stop),
-        "tracked": _response(fmu, dict(p, amplitudeMode=2), speed, t_stop),
+        "paper": _response(fmu, dict(p, amplitudeMode=1, B=B_root), speed_rpm, t_stop),
+        "tracked": _response(fmu, dict(p, amplitudeMode=2), speed_rpm, t_stop),
     }
     a, b = runs["paper"], runs["tracked"]
     tab = np.zeros(len(a["res"]), dtype=[("time", "f8"), ("q_paper", "f8"), ("q_tracked", "f8")])
@@ -238,7 +240,7 @@ def fig45(fmu: Any, out: Path, params: Mapping[str, Any], speed: float, t_stop: 
     write_csv(
         out / "fig4_time_response.csv",
         tab,
-        f"Fig. 4: FMU tip displacement q [m] from rest at {speed:g} rpm; paper = amplitude fixed at the "
+        f"Fig. 4: FMU tip displacement q [m] from rest at {speed_rpm:g} rpm; paper = amplitude fixed at the "
         f"fixed-point root B = {B_root:.6g} m (amplitudeMode 1), tracked = amplitudeMode 2",
     )
     spec = np.zeros(len(a["freq"]), dtype=[("frequency", "f8"), ("amp_paper", "f8"), ("amp_tracked", "f8")])
@@ -246,16 +248,16 @@ def fig45(fmu: Any, out: Path, params: Mapping[str, Any], speed: float, t_stop: 
     write_csv(
         out / "fig5_spectrum.csv",
         spec,
-        f"Fig. 5: single-sided amplitude spectrum [m] (Hann window) of the second half of the runs at {speed:g} rpm",
+        f"Fig. 5: single-sided amplitude spectrum [m] (Hann window) of the second half of the runs at {speed_rpm:g} rpm",
     )
     plots.time_response(
         out / "fig4_5_time_spectrum.png",
-        f"Paper Fig. 4/5 at {speed:g} rpm, d = {p['d'] * 1e3:g} mm",
+        f"Paper Fig. 4/5 at {speed_rpm:g} rpm, d = {p['d'] * 1e3:g} mm",
         [("paper: B fixed at the fixed-point root", a), ("tracked amplitude", b)],
         p["d"],
-        p["engineOrder"] * speed / 60,
+        p["engineOrder"] * speed_rpm / 60,
     )
-    f_exp = p["engineOrder"] * speed / 60.0
+    f_exp = p["engineOrder"] * speed_rpm / 60.0
 
     def summary(r: dict[str, Any]) -> ResponseSummary:
         return ResponseSummary(
@@ -270,7 +272,7 @@ def fig45(fmu: Any, out: Path, params: Mapping[str, Any], speed: float, t_stop: 
             float(np.max(r["amp"][1:])),
         )
 
-    return Fig45Summary(speed, p["d"], f_exp, B_root, summary(a), summary(b))
+    return Fig45Summary(speed_rpm, p["d"], f_exp, B_root, summary(a), summary(b))
 
 
 def hb_vs_orbit(fmu: Any, out: Path, params: Mapping[str, Any], curves: Sequence[Any]) -> dict[str, HarmonicRange]:
@@ -321,16 +323,16 @@ def _root_at(params: Mapping[str, Any], speed: float, fmu: Any) -> float:
 
 
 def paper_iteration(
-    fmu: Any, params: Mapping[str, Any], speed: float, B0: float, steps: int, t_int: float = 0.2
+    fmu: Any, params: Mapping[str, Any], speed_rpm: float, B0: float, steps: int, t_int: float = 0.2
 ) -> list[float]:
     """The paper's section-3 procedure: B_{k+1} = max |q| over the last period of a t_int run from
     rest with the amplitude fixed at B_k (docs/model.md s.4: it falls into a 2-cycle near resonance)."""
-    om = omega_of(params, speed)
+    om = omega_of(params, speed_rpm)
     T = 2 * PI / om
     seq = [B0]
     for _ in range(steps):
         p = dict(params, amplitudeMode=1, B=seq[-1])
-        res = fmu.run(p, T * math.ceil(t_int / T), T / 64, speed_rpm=speed, outputs=["tipDisplacement"])
+        res = fmu.run(p, T * math.ceil(t_int / T), T / 64, speed_rpm=speed_rpm, outputs=["tipDisplacement"])
         last = res[res["time"] >= res["time"][-1] - T * (1 + 1e-9)]
         seq.append(float(np.max(np.abs(last["tipDisplacement"]))))
     return seq

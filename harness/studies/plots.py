@@ -237,7 +237,7 @@ def coulomb(path: Path | str, rows: Mapping[str, Any]) -> Path:
 
 def campbell(
     path: Path | str,
-    speed: np.ndarray,
+    speed_rpm: np.ndarray,
     fnat: np.ndarray,
     orders: Sequence[int],
     eo: int,
@@ -250,12 +250,12 @@ def campbell(
     or a vector for one mode) with the engine-order lines, each labelled at its end, the EO `eo`
     crossing marked; the legend sits beside the axes so that it covers no crossing. `crossings`
     (speed, frequency, label): every located crossing of a mode with an engine order, as dots."""
-    f = np.asarray(fnat, dtype=float).reshape(len(speed), -1)
+    f = np.asarray(fnat, dtype=float).reshape(len(speed_rpm), -1)
     fig, ax = plt.subplots(figsize=(9.5, 5))
     top = max([float(np.max(f)) * 1.6, 1.0] + [1.05 * fr for _, fr, _ in peaks])
     for m in range(f.shape[1]):
         ax.plot(
-            speed,
+            speed_rpm,
             f[:, m],
             ("-", "--", "-.")[m % 3],
             color="k",
@@ -264,7 +264,7 @@ def campbell(
             if f.shape[1] > 1
             else "first bending (contact-free), FMU naturalFrequency",
         )
-    _engine_order_lines(ax, speed, orders, eo, top)
+    _engine_order_lines(ax, speed_rpm, orders, eo, top)
     if np.isfinite(crossing):
         ax.plot([crossing], [eo * crossing / 60.0], "ro", ms=7, label=f"EO {eo} crossing {crossing:.0f} rpm")
     for sp, fr, lab in peaks:
@@ -272,7 +272,7 @@ def campbell(
     last = -np.inf  # crossings closer than 4 % of the speed range share the previous label
     for sp, fr, lab in sorted(crossings):
         ax.plot([sp], [fr], "o", color="red", ms=4)
-        if sp - last > 0.04 * (speed[-1] - speed[0]):
+        if sp - last > 0.04 * (speed_rpm[-1] - speed_rpm[0]):
             ax.annotate(lab, (sp, fr), xytext=(3, -9), textcoords="offset points", fontsize=6, color="red")
             last = sp
     if crossings:
@@ -280,7 +280,7 @@ def campbell(
     ax.set_xlabel("rotor speed n [rpm]")
     ax.set_ylabel("frequency [Hz]")
     ax.set_ylim(0, top)
-    ax.set_xlim(float(speed[0]), float(speed[-1]) * 1.04)
+    ax.set_xlim(float(speed_rpm[0]), float(speed_rpm[-1]) * 1.04)
     ax.grid(alpha=0.3)
     ax.set_title(
         title

@@ -19,10 +19,13 @@ import ctypes as C
 import math
 from contextlib import ExitStack
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
-from harness.fmu.build import BUILD_DIR, build
+from harness.fmu.build import build
+from harness.fmu.slave import Slave
+from harness.paths import BUILD_DIR
 from harness.system.time_grid import to_ns
 from harness.system.ring import Ring, RingDiverged, diverged_message, extrapolation_weights
 from harness.system.ring_instances import open_ring
@@ -100,12 +103,12 @@ def _library() -> C.CDLL:
     return _lib
 
 
-def _api(slave) -> _Api:
+def _api(slave: Slave) -> _Api:
     dll = slave.s.lib.dll
     return _Api(*(C.cast(getattr(dll, f), C.c_void_p) for f in _FUNCTIONS))
 
 
-def _ptr(a: np.ndarray) -> C.POINTER(C.c_double):
+def _ptr(a: np.ndarray) -> C._Pointer[C.c_double]:
     return a.ctypes.data_as(C.POINTER(C.c_double))
 
 
@@ -162,14 +165,14 @@ class CRing:
     def __enter__(self) -> "CRing":
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self._stack.close()
 
     def time(self, k: int) -> float:
         """t_k [s], as the C loop computes it (libcosim's integer nanoseconds, or the exact grid)."""
         s = self.setup
         if s.exactStep > 0.0:
-            return s.baseTime + float(k - s.baseK) * s.exactStep
+            return float(s.baseTime + float(k - s.baseK) * s.exactStep)
         return float(s.baseNs + (k - s.baseK) * s.stepNs) / 1e9
 
     def restart_exact(self, h: float) -> None:
@@ -192,7 +195,7 @@ class CRing:
         if self.ring.step != h:
             self.ring = replace(self.ring, step=h)
             self._W[:] = weights(self.ring.order, h)
-        self._filled[:] = (0, 0)
+        self._filled[:] = [0, 0]
 
     def history(self) -> tuple[np.ndarray, np.ndarray]:
         """Copies of the master's extrapolation history as it is now: the blades' tip velocities and
@@ -214,7 +217,7 @@ class CRing:
                 raise ValueError(f"set_history: need ({p}, {N}) values (order p, blades N), got {a.shape}")
             w[k * (p + 1) * N : k * (p + 1) * N + p * N] = a.ravel()
             w[k * (p + 1) * N + p * N : (k + 1) * (p + 1) * N] = 0.0
-        self._filled[:] = (p, p)
+        self._filled[:] = [p, p]
 
     def set_step(self, h: float) -> None:
         """Communication step h [s, whole ns] from the current point on; the input derivatives'
@@ -228,7 +231,7 @@ class CRing:
         s.baseNs, s.baseK, s.stepNs = s.baseNs + (self.k - s.baseK) * s.stepNs, self.k, ns
         self.ring = replace(self.ring, step=h)
         self._W[:] = weights(self.ring.order, h)
-        self._filled[:] = (0, 0)
+        self._filled[:] = [0, 0]
 
     def advance(
         self, steps: int, rpm: float | None = None, record_every: int = 1, finish: bool = False
@@ -271,7 +274,7 @@ class CRing:
         res["time"] = np.array([self.time(k) for k in range(k0, k0 + steps + int(finish), record_every)][:rows])
         return res
 
-    def save(self) -> tuple:
+    def save(self) -> tuple[Any, ...]:
         """The whole state: every FMU's (fmi2GetFMUstate; freed with the ring) and the master's."""
         fmus = [x.s.get_fmu_state() for x in (*self.blades, *self.contacts)]
         for x, h in zip((*self.blades, *self.contacts), fmus):
@@ -289,12 +292,12 @@ class CRing:
             self.phase,
         )
 
-    def restore(self, state: tuple) -> None:
+    def restore(self, state: tuple[Any, ...]) -> None:
         self.k, self.rpm, fmus, work, filled, grid, self.ring, W, self.phase = state
         for x, h in zip((*self.blades, *self.contacts), fmus):
             x.s.set_fmu_state(h)
         self._work[:] = work
-        self._filled[:] = filled
+        self._filled[:] = list(filled)
         s = self.setup
         s.stepNs, s.baseNs, s.baseK, s.exactStep, s.baseTime = grid
         self._W[:] = W

@@ -1,7 +1,8 @@
 """The speed sweep's grid (harness/system/ring_sweep.py): at each speed the C loop steps on the period
 map's exact grid h = T / K aligned to the load phase, so that its discrete system there is the period
 map's (harness/system/ring_orbits/period_map.py). The load phase psi is tracked here on its own
-(psi' = omega at each speed, from the times the sweep reports), not read from CRing.phase.
+(psi' = omega at each speed, from the ring's time where the sweep leaves each speed), not read from
+CRing.phase nor from the phase the sweep passes its hook.
 
 - a sweep up and down (the 4-blade ring at 5600, 6000, 6400 rpm): where it leaves each speed, the next
   load phase 0 is a grid point (within 1e-6 of a step); the period map of the sweep's state there
@@ -60,10 +61,11 @@ def scaled(pm: RingPeriodMap, a: np.ndarray, b: np.ndarray, rpm: float) -> float
 def test_sweep_runs_the_period_maps_system():
     states = []
     with RingPeriodMap(SMALL) as pm:
-        psi = [0.0]
+        psi, t = [0.0], [0.0]
 
-        def hook(cr: CRing, d: str, rpm: float, spent: float) -> None:
-            psi[0] = (psi[0] + pm.omega(rpm) * spent) % (2.0 * math.pi)
+        def hook(cr: CRing, d: str, rpm: float, _: float) -> None:
+            psi[0] = (psi[0] + pm.omega(rpm) * (cr.time(cr.k) - t[0])) % (2.0 * math.pi)  # since the last speed
+            t[0] = cr.time(cr.k)
             ahead = steps_to_phase_zero(psi[0])
             states.append((d, rpm, ahead, *here_and_one_period_on(cr, pm, round(ahead) % K, rpm)))
 

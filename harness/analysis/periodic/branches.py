@@ -87,19 +87,19 @@ def trace_branches(
 WINDOW = 1.25  # orbits_at traces the branches over [speed / WINDOW, speed * WINDOW]
 
 
-def orbits_at(pm: PeriodMap, speed: float, s: BranchSettings = BranchSettings()) -> list[Orbit]:
-    """Every periodic orbit found at `speed` (the search there, and every crossing of `speed` by
-    a branch traced around it, refined by Newton at `speed`), with multipliers, by amplitude."""
-    speed = float(speed)
-    found = solutions_at(pm, speed, s.search)
-    rng = (speed / WINDOW, min(speed * WINDOW, SPEED_RANGE[1]))
+def orbits_at(pm: PeriodMap, speed_rpm: float, s: BranchSettings = BranchSettings()) -> list[Orbit]:
+    """Every periodic orbit found at `speed_rpm` (the search there, and every crossing of `speed_rpm` by
+    a branch traced around it, refined by Newton at `speed_rpm`), with multipliers, by amplitude."""
+    speed_rpm = float(speed_rpm)
+    found = solutions_at(pm, speed_rpm, s.search)
+    rng = (speed_rpm / WINDOW, min(speed_rpm * WINDOW, SPEED_RANGE[1]))
     branches, _ = trace_branches(pm.fmu, pm.p, pm.model, rng, s, pm)
     for b in branches:
         for a, c in zip(b.points[:-1], b.points[1:]):
-            if (a.speed - speed) * (c.speed - speed) > 0 or a.speed == c.speed:
+            if (a.speed - speed_rpm) * (c.speed - speed_rpm) > 0 or a.speed == c.speed:
                 continue
-            f = (speed - a.speed) / (c.speed - a.speed)
-            sol = newton(pm, a.x + f * (c.x - a.x), speed)
-            if sol is not None and not any(same_orbit(pm, sol.x, o.x, speed, s.search.same_rtol) for o in found):
+            f = (speed_rpm - a.speed) / (c.speed - a.speed)
+            sol = newton(pm, a.x + f * (c.x - a.x), speed_rpm)
+            if sol is not None and not any(same_orbit(pm, sol.x, o.x, speed_rpm, s.search.same_rtol) for o in found):
                 found.append(sol)
-    return [orbit(pm, sol, speed) for sol in sorted(found, key=lambda o: o.amplitude)]
+    return [orbit(pm, sol, speed_rpm) for sol in sorted(found, key=lambda o: o.amplitude)]

@@ -123,20 +123,21 @@ class Branch:
             out.append((i, "+".join(kinds) or "stability change"))
         return out
 
-    def contains(self, speed: float, amplitude: float, rtol: float = 1e-3) -> bool:
+    def contains(self, speed_rpm: float, amplitude: float, rtol: float = 1e-3) -> bool:
         """True if (speed, amplitude) lies on this branch: between two neighbouring points in speed,
         within rtol of the linearly interpolated amplitude (relative to the larger amplitude)."""
         pts = self.points
         for a, b in zip(pts[:-1], pts[1:]):
             lo, hi = min(a.speed, b.speed), max(a.speed, b.speed)
-            if lo - 1e-9 <= speed <= hi + 1e-9:
-                f = 0.0 if hi == lo else (speed - a.speed) / (b.speed - a.speed)
+            if lo - 1e-9 <= speed_rpm <= hi + 1e-9:
+                f = 0.0 if hi == lo else (speed_rpm - a.speed) / (b.speed - a.speed)
                 amp = a.amplitude + f * (b.amplitude - a.amplitude)
                 tol = rtol * max(a.amplitude, b.amplitude) + 0.5 * abs(b.amplitude - a.amplitude) * (hi > lo)
                 if abs(amplitude - amp) <= max(tol, rtol * amplitude):
                     return True
         return any(
-            abs(p.speed - speed) <= 1e-6 * speed and abs(p.amplitude - amplitude) <= rtol * amplitude for p in pts
+            abs(p.speed - speed_rpm) <= 1e-6 * speed_rpm and abs(p.amplitude - amplitude) <= rtol * amplitude
+            for p in pts
         )
 
 
@@ -358,25 +359,25 @@ def _tangent(Jz: np.ndarray, prev: np.ndarray | None) -> np.ndarray:
 def continue_branch(
     pm: PeriodMap,
     x: np.ndarray,
-    speed: float,
+    speed_rpm: float,
     speed_range: tuple[float, float],
     settings: ContinuationSettings = ContinuationSettings(),
     directions: tuple[int, ...] = (-1, 1),
     stop: Callable[[BranchPoint], str | None] | None = None,
 ) -> Branch:
-    """Trace the branch through the periodic orbit x at `speed` (a converged root of the period
+    """Trace the branch through the periodic orbit x at `speed_rpm` (a converged root of the period
     map) in both speed directions (or those in `directions`: -1 down, +1 up at the start) until it
     leaves speed_range (or stop(point) gives a reason to end there, e.g. it joined a branch traced
     before); returns the points ordered along the arc."""
     lo, hi = speed_range
-    prob = BranchProblem(pm, pm.scales(x, speed))
-    z0 = prob.to_z(x, speed)
+    prob = BranchProblem(pm, pm.scales(x, speed_rpm))
+    z0 = prob.to_z(x, speed_rpm)
     H0, P0, A0 = prob.H(z0)
     Jz0, DP0 = prob.jac(z0, H0, P0)
     t0 = _tangent(Jz0, None)
     if t0[-1] < 0:
         t0 = -t0  # +1: the direction of increasing speed at the start
-    first = BranchPoint(float(speed), np.array(x, dtype=float), A0, multipliers(DP0), 0)
+    first = BranchPoint(float(speed_rpm), np.array(x, dtype=float), A0, multipliers(DP0), 0)
     down: list[BranchPoint] = []
     up: list[BranchPoint] = []
     reasons: list[str] = []

@@ -62,14 +62,14 @@ def fourier_amplitudes(q: np.ndarray) -> np.ndarray:
     return a[: len(q) // 2]
 
 
-def orbit_samples(pm: PeriodMap, x: np.ndarray, speed: float, n: int = SAMPLES) -> np.ndarray:
+def orbit_samples(pm: PeriodMap, x: np.ndarray, speed_rpm: float, n: int = SAMPLES) -> np.ndarray:
     """q at t = k T / n, k = 0..n - 1, by the FMU started on the orbit through x at load phase 0."""
-    T = 2.0 * math.pi / omega(pm.p, speed)
+    T = 2.0 * math.pi / omega(pm.p, speed_rpm)
     r = pm.fmu.run(
         dict(pm.p, **pm.start_values(x)),
         T,
         T / n,
-        speed_rpm=speed,
+        speed_rpm=speed_rpm,
         outputs=["tipDisplacement"],
         input_fit="chebyshev",
         carry_values=True,
@@ -78,16 +78,16 @@ def orbit_samples(pm: PeriodMap, x: np.ndarray, speed: float, n: int = SAMPLES) 
 
 
 def harmonic_row(
-    pm: PeriodMap, x: np.ndarray, speed: float, amplitude: float, stable: bool, hb_params: Mapping[str, Any]
+    pm: PeriodMap, x: np.ndarray, speed_rpm: float, amplitude: float, stable: bool, hb_params: Mapping[str, Any]
 ) -> HarmonicRow:
-    """The Fourier content of the orbit through x at `speed` (max |q| = amplitude) and the HB
+    """The Fourier content of the orbit through x at `speed_rpm` (max |q| = amplitude) and the HB
     contact root (B > d) nearest its first harmonic (HB of hb_params; nan if HB has none there)."""
-    a = fourier_amplitudes(orbit_samples(pm, x, speed))
-    hb = [s.B for s in harmonic_balance(hb_params, speed) if s.B > pm.d]  # HB's contact roots
+    a = fourier_amplitudes(orbit_samples(pm, x, speed_rpm))
+    hb = [s.B for s in harmonic_balance(hb_params, speed_rpm) if s.B > pm.d]  # HB's contact roots
     nearest = min(hb, key=lambda B: abs(B - a[1])) if hb else math.nan
     return HarmonicRow(
         pm.model,
-        float(speed),
+        float(speed_rpm),
         bool(stable),
         float(amplitude),
         float(a[1]),

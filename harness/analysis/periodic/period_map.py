@@ -113,9 +113,9 @@ def model_params(params: Mapping[str, Any] | None, model: str) -> dict[str, Any]
     return p
 
 
-def omega(params: Mapping[str, Any], speed: float) -> float:
+def omega(params: Mapping[str, Any], speed_rpm: float) -> float:
     """Excitation circular frequency EO 2 pi n / 60 [rad/s]."""
-    return int(params["engineOrder"]) * 2.0 * math.pi * float(speed) / 60.0
+    return int(params["engineOrder"]) * 2.0 * math.pi * float(speed_rpm) / 60.0
 
 
 class PeriodMap:
@@ -218,19 +218,19 @@ class PeriodMap:
         x[0], x[self.m] = q0, v0
         return x if third is None else np.append(x, third)
 
-    def scales(self, x: np.ndarray, speed: float) -> np.ndarray:
+    def scales(self, x: np.ndarray, speed_rpm: float) -> np.ndarray:
         """Scale of each unknown for Newton and finite differences: S, S omega (, S or 1), S the
         tip's (every modal coordinate of a mode gets the same scale)."""
         q0, v0 = self.tip(x)
         if self.m > 1:  # a modal state may cancel at the tip: its largest coordinate counts too
             q0 = max(abs(q0), float(np.max(np.abs(x[: self.m]))))
             v0 = max(abs(v0), float(np.max(np.abs(x[self.m : 2 * self.m]))))
-        S = max(abs(q0), abs(v0) / omega(self.p, speed), self.d, 1e-9)
+        S = max(abs(q0), abs(v0) / omega(self.p, speed_rpm), self.d, 1e-9)
         m = self.m
         if self.dim == 2 * m:
-            return np.array([S] * m + [S * omega(self.p, speed)] * m)
+            return np.array([S] * m + [S * omega(self.p, speed_rpm)] * m)
         third = 1.0 if self.model == "jenkins" else max(abs(x[-1]), self.d, 1e-9)
-        return np.array([S] * m + [S * omega(self.p, speed)] * m + [third])
+        return np.array([S] * m + [S * omega(self.p, speed_rpm)] * m + [third])
 
     def __call__(self, x: np.ndarray, speed: float, jacobian: bool = True) -> tuple[np.ndarray, float]:
         """(image of x, max |q| over the period); with sensitivities (the settings) and jacobian,

@@ -48,14 +48,14 @@ def _df_params(pm: PeriodMap) -> dict:
 _GALERKIN: dict[str, Any] = {}
 
 
-def linear_bound(params: Mapping[str, Any], speed: float) -> float:
+def linear_bound(params: Mapping[str, Any], speed_rpm: float) -> float:
     """G Fw0 / (C0 omega) [m]: the contact-free resonant amplitude bound at this speed (the
     Galerkin constants of harness.model.galerkin, computed once per parameter set and process)."""
     key = repr(sorted(params.items()))
     if key not in _GALERKIN:
         _GALERKIN[key] = galerkin(params, params["formulation"])
     g = _GALERKIN[key]
-    return g.loadGain * params["Fw0"] / (g.C0 * omega_of(params, speed))
+    return g.loadGain * params["Fw0"] / (g.C0 * omega_of(params, speed_rpm))
 
 
 def _b_max(pm: PeriodMap, speed: float) -> float:
@@ -94,8 +94,8 @@ def _guesses(pm: PeriodMap, speed: float, s: SearchSettings, hb: list | None = N
     return out
 
 
-def same_orbit(pm: PeriodMap, xa: np.ndarray, xb: np.ndarray, speed: float, rtol: float) -> bool:
-    sc = np.maximum(pm.scales(xa, speed), pm.scales(xb, speed))
+def same_orbit(pm: PeriodMap, xa: np.ndarray, xb: np.ndarray, speed_rpm: float, rtol: float) -> bool:
+    sc = np.maximum(pm.scales(xa, speed_rpm), pm.scales(xb, speed_rpm))
     if pm.model == "jenkins":  # phi is free while open or in stick at the section: compare q, q'
         sc, xa, xb = sc[:-1], xa[:-1], xb[:-1]
     return bool(np.max(np.abs(xa - xb) / sc) <= rtol)
@@ -107,16 +107,16 @@ def _add(pm: PeriodMap, found: list[Solution], sol: Solution | None, speed: floa
 
 
 def solutions_at(
-    pm: PeriodMap, speed: float, s: SearchSettings = SearchSettings(), hb: list | None = None
+    pm: PeriodMap, speed_rpm: float, s: SearchSettings = SearchSettings(), hb: list | None = None
 ) -> list[Solution]:
-    """Every root of the period map found at `speed` (no multipliers), sorted by amplitude (hb:
-    the harmonic-balance solutions at `speed`, if already known: hb_guesses)."""
+    """Every root of the period map found at `speed_rpm` (no multipliers), sorted by amplitude (hb:
+    the harmonic-balance solutions at `speed_rpm`, if already known: hb_guesses)."""
     found: list[Solution] = []
-    for x0 in _guesses(pm, speed, s, hb):
-        _add(pm, found, newton(pm, x0, speed), speed, s)
+    for x0 in _guesses(pm, speed_rpm, s, hb):
+        _add(pm, found, newton(pm, x0, speed_rpm), speed_rpm, s)
     if pm.model in ("fixedPoint", "coulomb") and pm.d > 0:
-        for x0 in fixed_point_candidates(pm, speed, s):
-            _add(pm, found, newton(pm, x0, speed), speed, s)
+        for x0 in fixed_point_candidates(pm, speed_rpm, s):
+            _add(pm, found, newton(pm, x0, speed_rpm), speed_rpm, s)
     return sorted(found, key=lambda o: o.amplitude)
 
 
@@ -125,20 +125,20 @@ def fixed_b_map(pm: PeriodMap) -> PeriodMap:
     return pm.with_model("fixedB")
 
 
-def fixed_point_candidates(pm: PeriodMap, speed: float, s: SearchSettings) -> list[np.ndarray]:
+def fixed_point_candidates(pm: PeriodMap, speed_rpm: float, s: SearchSettings) -> list[np.ndarray]:
     """Augmented starting states (q0, q0', B) next to every root of g(B) = A(B) - B on the
     fixed-B orbits of a geometric B scan (sign changes and interior local minima of |g|)."""
     fb = fixed_b_map(pm)
     p = _df_params(pm)
-    grid = np.geomspace(pm.d * (1 + 1e-6), max(_b_max(pm, speed), 2 * pm.d), s.n_scan)
+    grid = np.geomspace(pm.d * (1 + 1e-6), max(_b_max(pm, speed_rpm), 2 * pm.d), s.n_scan)
     xs, g, Bs = [], [], []
     prev = None  # the previous B's orbit: its state and DP start the next B's quasi-Newton
-    lin_q, lin_v = linear_orbits(p, speed, grid)  # the linearised orbit at each B
+    lin_q, lin_v = linear_orbits(p, speed_rpm, grid)  # the linearised orbit at each B
     for k, B in enumerate(grid):
         fb.B = float(B)
-        sol = newton(fb, prev[0], speed, prev[1], SCAN_TOL) if prev is not None else None
+        sol = newton(fb, prev[0], speed_rpm, prev[1], SCAN_TOL) if prev is not None else None
         if sol is None or not sol.amplitude > pm.d:  # else from the linearised orbit at B
-            sol = newton(fb, pm.lift(lin_q[k], lin_v[k]), speed, tol=SCAN_TOL)
+            sol = newton(fb, pm.lift(lin_q[k], lin_v[k]), speed_rpm, tol=SCAN_TOL)
         if sol is None:
             prev = None
             continue

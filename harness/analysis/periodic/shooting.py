@@ -136,19 +136,19 @@ def at_bound(pm: PeriodMap, x: np.ndarray, j: int) -> bool:
     return pm.model == "jenkins" and j == pm.dim - 1 and abs(x[j]) >= 1.0
 
 
-def jacobian(pm: PeriodMap, x: np.ndarray, speed: float, Px: np.ndarray, central: bool = False) -> np.ndarray:
+def jacobian(pm: PeriodMap, x: np.ndarray, speed_rpm: float, Px: np.ndarray, central: bool = False) -> np.ndarray:
     """DP at x (forward differences from the known P(x), or central ones) in physical units."""
-    sc = pm.scales(x, speed)
+    sc = pm.scales(x, speed_rpm)
     J = np.empty((pm.dim, pm.dim))
     for j in range(pm.dim):
         h = pm.s.fd_rel * sc[j] * fd_direction(pm, x, j)
         xp = x.copy()
         xp[j] += h
-        Pp = pm(xp, speed)[0]
+        Pp = pm(xp, speed_rpm)[0]
         if central and not at_bound(pm, x, j):
             xm = x.copy()
             xm[j] -= h
-            J[:, j] = (Pp - pm(xm, speed)[0]) / (2.0 * h)
+            J[:, j] = (Pp - pm(xm, speed_rpm)[0]) / (2.0 * h)
         else:
             J[:, j] = (Pp - Px) / h
     return J
@@ -183,7 +183,7 @@ class Solution:
 def newton(
     pm: PeriodMap,
     x0: np.ndarray,
-    speed: float,
+    speed_rpm: float,
     J0: np.ndarray | None = None,
     tol: float | None = None,
     quasi: bool = True,
@@ -198,14 +198,14 @@ def newton(
     sens = pm.s.sensitivities  # every evaluation brings its exact DP: Newton proper
     x = bounded(pm, np.asarray(x0, dtype=float))
     try:
-        Px, A = pm(x, speed)
+        Px, A = pm(x, speed_rpm)
     except (FMUError, ParameterError):
         return None
     Jx = pm.DP
     J, fresh = (None, False) if J0 is None else (np.array(J0, dtype=float), False)
     uphill = 0  # steps with a fresh DP that did not lower the residual (give up after MAX_UPHILL)
     for it in range(1, pm.s.max_iter + 1):
-        sc = pm.scales(x, speed)
+        sc = pm.scales(x, speed_rpm)
         res = float(np.max(np.abs((Px - x) / sc)))
         if res <= tol:
             return Solution(x, Px, float(A), res, it - 1, Jx if sens else J, exact=sens)
@@ -213,7 +213,7 @@ def newton(
             if sens:
                 J, fresh = Jx, True
             elif J is None:
-                J, fresh = jacobian(pm, x, speed, Px), True
+                J, fresh = jacobian(pm, x, speed_rpm, Px), True
             assert J is not None  # with sensitivities every evaluation sets DP
             dx = np.linalg.solve(J - np.eye(pm.dim), -(Px - x))
         except (FMUError, ParameterError, np.linalg.LinAlgError):
@@ -222,9 +222,9 @@ def newton(
         for _ in range(8):  # damping: halve while the residual grows or the FMU refuses the start
             xn = bounded(pm, x + lam * dx)
             try:
-                Pn, An = pm(xn, speed)
+                Pn, An = pm(xn, speed_rpm)
                 Jn = pm.DP
-                rn = float(np.max(np.abs((Pn - xn) / pm.scales(xn, speed))))
+                rn = float(np.max(np.abs((Pn - xn) / pm.scales(xn, speed_rpm))))
             except (FMUError, ParameterError):
                 rn = math.inf
             if rn < res or lam < 0.02 or not fresh:
@@ -246,23 +246,23 @@ def newton(
     return None
 
 
-def shoot(pm: PeriodMap, x0: np.ndarray, speed: float) -> Orbit | None:
+def shoot(pm: PeriodMap, x0: np.ndarray, speed_rpm: float) -> Orbit | None:
     """newton() from x0; the orbit with its multipliers, or None if Newton does not converge (or
     the FMU refuses every damped step)."""
-    sol = newton(pm, x0, speed)
-    return None if sol is None else orbit(pm, sol, speed)
+    sol = newton(pm, x0, speed_rpm)
+    return None if sol is None else orbit(pm, sol, speed_rpm)
 
 
-def orbit(pm: PeriodMap, sol: Solution, speed: float, central: bool = True) -> Orbit:
+def orbit(pm: PeriodMap, sol: Solution, speed_rpm: float, central: bool = True) -> Orbit:
     """The Orbit of a converged root: its monodromy matrix taken afresh (central differences, or
     forward ones), its multipliers and the FMU start values that start a run on it."""
     x = sol.x
-    J = sol.J if sol.exact else jacobian(pm, x, speed, sol.Px, central=central)
+    J = sol.J if sol.exact else jacobian(pm, x, speed_rpm, sol.Px, central=central)
     assert J is not None  # an exact solution carries its DP
     B = math.nan if pm.model == "jenkins" else (pm.B if pm.model == "fixedB" else float(x[-1]))
     return Orbit(
         pm.model,
-        float(speed),
+        float(speed_rpm),
         x.copy(),
         sol.amplitude,
         B,

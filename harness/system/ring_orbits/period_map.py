@@ -53,11 +53,13 @@ from __future__ import annotations
 import ctypes as C
 import math
 from dataclasses import dataclass
+from typing import Any, Mapping
 
 import numpy as np
 
 from harness.fmu.binding import FmiError
 from harness.fmu.blade import FMUError
+from harness.fmu.slave import Slave
 from harness.system.ring import Ring, RingDiverged
 from harness.system.ring_c import CRing
 from harness.system.ring_sweep import window_amplitude
@@ -95,9 +97,10 @@ class _Restart:
     cost 2 ms per period of the 6-blade ring, a third of it). `starts` (a numpy view) takes the start
     values before each restart."""
 
-    def __init__(self, slave, params: dict, starts: list[str]):
+    def __init__(self, slave: Slave, params: Mapping[str, Any], starts: list[str]):
         self.slave, self.lib, self.c = slave, slave.s.lib, slave.s.c
-        groups: dict[str, tuple[list[int], list]] = {"Real": ([], []), "Integer": ([], []), "Boolean": ([], [])}
+        # type -> (value references, values: floats for Real, ints for Integer and Boolean)
+        groups: dict[str, tuple[list[int], list[Any]]] = {"Real": ([], []), "Integer": ([], []), "Boolean": ([], [])}
         for k, v in params.items():
             var = slave.u.vars[k]
             t = var.type if var.type in groups else "Boolean"
@@ -105,7 +108,8 @@ class _Restart:
             groups[t][1].append(float(v) if t == "Real" else int(v))
         vr_r = groups["Real"][0] + [slave.vr(n) for n in starts]
         self.real = ((C.c_uint * len(vr_r))(*vr_r), (C.c_double * len(vr_r))(*groups["Real"][1], *[0.0] * len(starts)))
-        self.starts = np.frombuffer(self.real[1], dtype=np.float64)[len(groups["Real"][1]) :]
+        # a view on the ctypes array (a buffer; typeshed's numpy stubs do not say so)
+        self.starts = np.frombuffer(self.real[1], dtype=np.float64)[len(groups["Real"][1]) :]  # type: ignore[call-overload]
         self.ints = [
             (f, (C.c_uint * len(vrs))(*vrs), (C.c_int * len(vrs))(*vals))
             for f, (vrs, vals) in (("fmi2SetInteger", groups["Integer"]), ("fmi2SetBoolean", groups["Boolean"]))
@@ -184,7 +188,7 @@ class RingPeriodMap:
     def __enter__(self) -> "RingPeriodMap":
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
     def close(self) -> None:
@@ -214,7 +218,8 @@ class RingPeriodMap:
     def gaps(self, x: np.ndarray) -> np.ndarray:
         """u_j = q_j - q_{j+1} at the tips."""
         q = self.tips(x)[0]
-        return q - np.roll(q, -1)
+        u: np.ndarray = q - np.roll(q, -1)
+        return u
 
     def touching(self, x: np.ndarray) -> np.ndarray:
         """phi_j of every contact as it would touch (see the module docstring): sigma r closing,
@@ -226,7 +231,8 @@ class RingPeriodMap:
 
     def limits(self, u: np.ndarray) -> np.ndarray:
         """L(u_j) = mu kn cos(gamma) (|u_j| - d) [N]; <= 0 where the contact is open."""
-        return self.muKnCos * (np.abs(u) - self.d)
+        limit: np.ndarray = self.muKnCos * (np.abs(u) - self.d)
+        return limit
 
     def state(
         self,

@@ -15,13 +15,13 @@ and the sweeps start from rest with blade 0 moved by `kick` [m] (asymmetric); th
 seed starts from rest exactly.
 
 The sweeps' own settled states (`settled_states`): harness/system/ring_sweep.py's sweep up and down
-(the C loop run on with the state carried, its settle rule), and where it leaves each speed the
-running ring is copied (fmi2GetFMUstate), advanced to the next load phase 0 and read as x, then put
-back, so the sweep goes on undisturbed. The sweep runs at each speed on the period map's own grid
-h = T / K aligned to the load (ring_sweep.align), so the points at load phase 0 are grid points
-(CRing.phase tells how many steps ahead) and the history there is the map's: the state read is
-exact, and a settled state's `change`, its scaled period residual |P(x) - x| / scale, is the
-settle rule's own bound.
+(the C loop run on with the state carried, its settle rule; with its peak's refinement, whose speeds
+count too), and where it leaves each speed the running ring is copied (fmi2GetFMUstate), advanced to
+the next load phase 0 and read as x, then put back, so the sweep goes on undisturbed. The sweep runs
+at each speed on the period map's own grid h = T / K aligned to the load (ring_sweep.align), so the
+points at load phase 0 are grid points (the load phase psi the sweep passes, CRing.phase, tells how
+many steps ahead) and the history there is the map's: the state is read exactly, and a seed's
+`change`, its scaled period residual |P(x) - x| / scale, is small only if the state has settled.
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ from harness.system.ring_sweep import sweep as c_sweep
 
 @dataclass
 class Seed:
-    origin: str  # "travelling wave", "rest", "sweep up", "sweep down", "C-loop sweep up", "C-loop sweep down"
+    origin: str  # "travelling wave", "rest", "sweep up/down", "C-loop sweep up/down", "C-loop refinement up/down"
     speed: float  # [rpm]
     x: np.ndarray
     change: float  # scaled change over the last period
@@ -128,43 +128,56 @@ class _AtPhaseZero:
         self.pm = pm
         self.states: list[tuple[str, float, np.ndarray]] = []
 
-    def __call__(self, cr: CRing, direction: str, rpm: float, spent: float) -> None:
+    def __call__(self, cr: CRing, direction: str, rpm: float, psi: float) -> None:
         K = self.pm.s.steps_per_period
-        ahead = (-cr.phase) % (2.0 * math.pi) * K / (2.0 * math.pi)  # steps to phase 0
+        ahead = (-psi) % (2.0 * math.pi) * K / (2.0 * math.pi)  # steps to phase 0
         steps = round(ahead) % K
         if cr.setup.exactStep <= 0.0 or abs(ahead - round(ahead)) > 1e-6:
-            raise RuntimeError(
-                f"the sweep at {rpm:g} rpm is not on the load-aligned grid ({ahead:.9g} steps to phase 0)"
-            )
+            raise RuntimeError(f"the sweep at {rpm:g} rpm is off the load-aligned grid ({ahead:.9g} steps to phase 0)")
         saved = cr.save()
         cr.advance(steps, rpm, finish=True)  # point k + steps pushed, not stepped: the state there
         self.states.append((direction, rpm, self.pm.read(cr)))
         cr.restore(saved)
 
 
-def settled_states(
-    pm: RingPeriodMap, ring: Ring, speeds: Sequence[float], rtol: float = 1e-4, periods: int = 5, max_time: float = 1.0
-) -> list[Seed]:
-    """The states of a C-loop sweep up and down `speeds` (ring_sweep.sweep, "both", its settle rule
-    rtol / periods / max_time, pm's steps per period) at load phase 0 where it leaves each speed (see
-    the module docstring); a state whose period map fails is left out."""
+@dataclass(frozen=True)
+class SweepPath:
+    """A C-loop sweep up and down `speeds` [rpm] (ring_sweep.sweep, "both") whose settled states are
+    seeds: its settle rule (rtol, periods, max_time [s]) and, with `refine`, its located peak
+    (speed_tol [rpm]), whose refinement's states are seeds too. The mistuning study passes its own
+    sweep's, so that the state of every speed it settled at, its located peak's included, is a seed."""
+
+    speeds: tuple[float, ...]
+    rtol: float = 1e-4
+    periods: int = 5
+    max_time: float = 1.0
+    refine: bool = False
+    speed_tol: float = 1.0
+
+
+def settled_states(pm: RingPeriodMap, ring: Ring, path: SweepPath) -> list[Seed]:
+    """The states of the C-loop sweep `path` (at pm's steps per period) at load phase 0 where it
+    leaves each speed, the refinement's speeds too (see the module docstring; origin "C-loop sweep
+    up/down", "C-loop refinement up/down"); a state whose period map fails is left out."""
     hook = _AtPhaseZero(pm)
-    c_sweep(
+    sw = c_sweep(
         ring,
-        speeds,
+        path.speeds,
         "both",
-        rtol=rtol,
-        periods=periods,
-        max_time=max_time,
+        rtol=path.rtol,
+        periods=path.periods,
+        max_time=path.max_time,
         steps_per_period=pm.s.steps_per_period,
-        refine=False,
+        refine=path.refine,
+        speed_tol=path.speed_tol,
         on_settled=hook,
     )
+    main = sum(len(a) for a in sw.amplitudes_m.values())  # the sweep's own speeds come first, then the refinement
     out = []
-    for d, s, x in hook.states:
+    for i, (d, s, x) in enumerate(hook.states):
         try:
             res = float(pm.measures(x, s)[1])
         except RingMapFailed:
             continue
-        out.append(Seed(f"C-loop sweep {d}", s, x, res))
+        out.append(Seed(f"C-loop {'sweep' if i < main else 'refinement'} {d}", s, x, res))
     return out
