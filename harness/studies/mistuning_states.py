@@ -1,7 +1,8 @@
 """The mistuning study on steady states: for each ring (the tuned one and every pattern) the largest
 response over its **stable** periodic steady states in the band, from the ring's periodic-orbit
 engine (harness/system/ring_orbits: seeds from rest, from a sweep up and down and the travelling
-wave, Newton shooting on the co-simulation's period map, continuation across the band with
+wave, and every state the study's own sweep of that ring settled at, its peak's refinement included
+(so the located peak a sweep reports is a seed and its branch is traced), Newton shooting on the co-simulation's period map, continuation across the band with
 Floquet stability, branch switching). Amplification = that of the mistuned ring / that of the tuned
 ring. A sweep's peak (harness/studies/mistuning.py) is what that sweep's path found: a stable state
 it landed on, not the largest one there is, and it is kept beside this one as "what a sweep finds".
@@ -27,8 +28,9 @@ from harness.studies.mistuning import Study
 from harness.system.ring import Ring
 from harness.system.ring_orbits.branches import ring_branches
 from harness.system.ring_orbits.period_map import RingShootingSettings
+from harness.system.ring_orbits.seeds import SweepPath
 
-CACHE_VERSION = 1  # bump when the meaning of a cached record changes
+CACHE_VERSION = 2  # bump when the meaning of a cached record changes (2: the study's sweep among the seeds)
 
 
 @dataclass(frozen=True)
@@ -42,10 +44,24 @@ class StatesSettings:
     steps_per_period: int = 160  # the sweeps' step h = T / 160
 
 
-def branches_record(ring: Ring, band: tuple[float, float], settings: StatesSettings) -> dict:
-    """One ring's branches (JSON-able): the largest stable steady state (amplitude, speed, blade),
-    per branch its speeds, largest blade amplitude and stability per point, its bifurcations, and
-    the cost (periods of the ring simulated, wall and CPU seconds)."""
+def study_sweep(study: Study) -> SweepPath:
+    """The mistuning study's sweep (harness/studies/mistuning.py: its speeds, settle rule and located
+    peak) as a seed path of the engine."""
+    return SweepPath(
+        tuple(float(s) for s in mistuning.speeds(study)),
+        rtol=study.rtol,
+        max_time=study.max_time,
+        refine=True,
+        speed_tol=study.speed_tol,
+    )
+
+
+def branches_record(
+    ring: Ring, band: tuple[float, float], settings: StatesSettings, path: SweepPath | None = None
+) -> dict:
+    """One ring's branches (JSON-able), seeded by the sweep `path` too: the largest stable steady
+    state (amplitude, speed, blade), per branch its speeds, largest blade amplitude and stability per
+    point, its bifurcations, and the cost (periods of the ring simulated, wall and CPU seconds)."""
     t0, c0 = time.perf_counter(), time.process_time()
     rb = ring_branches(
         ring,
@@ -54,6 +70,7 @@ def branches_record(ring: Ring, band: tuple[float, float], settings: StatesSetti
         settings=RingShootingSettings(steps_per_period=settings.steps_per_period),
         switch_branches=settings.switch_branches,
         max_branches=settings.max_branches,
+        sweeps=() if path is None else (path,),
     )
     d = rb.as_dict()
     branches = [
@@ -78,7 +95,7 @@ def branches_record(ring: Ring, band: tuple[float, float], settings: StatesSetti
     }
 
 
-def _key(ring: Ring, band: tuple[float, float], settings: StatesSettings, digest: str) -> str:
+def _key(ring: Ring, band: tuple[float, float], settings: StatesSettings, path: SweepPath | None, digest: str) -> str:
     return point_key(
         kind="ring-mistuning-states",
         version=CACHE_VERSION,
@@ -86,16 +103,17 @@ def _key(ring: Ring, band: tuple[float, float], settings: StatesSettings, digest
         ring=asdict(ring),
         band=[float(b) for b in band],
         settings=asdict(settings),
+        sweep=None if path is None else asdict(path),
     )
 
 
-def _task(job: tuple[Ring, tuple[float, float], StatesSettings, str, str | None]) -> dict:
+def _task(job: tuple[Ring, tuple[float, float], StatesSettings, SweepPath | None, str, str | None]) -> dict:
     """One ring on a worker: its branches, stored in the cache at once (a cached one is read)."""
-    ring, band, settings, key, cache_dir = job
+    ring, band, settings, path, key, cache_dir = job
     cache = PointCache(Path(cache_dir) if cache_dir else None)
     rec = cache.get(key)
     if rec is None:
-        rec = branches_record(ring, band, settings)
+        rec = branches_record(ring, band, settings, path)
         cache.put(key, rec)
     return rec
 
@@ -107,16 +125,18 @@ def evaluate(
     runner: Any,
     cache_dir: Path | None,
     desc: str = "steady states",
+    path: SweepPath | None = None,
 ) -> list[dict]:
-    """Every ring's branches record (cached ones read, the rest on `runner`)."""
+    """Every ring's branches record, seeded by the sweep `path` too (cached ones read, the rest on
+    `runner`)."""
     digest = ring_engine_digest()
     cache = PointCache(cache_dir)
-    keys = [_key(r, band, settings, digest) for r in rings]
+    keys = [_key(r, band, settings, path, digest) for r in rings]
     out: list[dict | None] = [cache.get(k) for k in keys]
     todo = [i for i, r in enumerate(out) if r is None]
     cdir = str(cache_dir) if cache_dir else None
     for i, rec in zip(
-        todo, runner.map(_task, [(rings[i], band, settings, keys[i], cdir) for i in todo], desc=desc, unit="ring")
+        todo, runner.map(_task, [(rings[i], band, settings, path, keys[i], cdir) for i in todo], desc=desc, unit="ring")
     ):
         out[i] = rec
     for i, r in enumerate(out):
@@ -134,7 +154,7 @@ def run_states(
     rings = [(lvl, k, r) for v, lvl, k, r in mistuning.jobs(sub)]
     study = sub
     t0 = time.perf_counter()
-    recs = evaluate([r for *_, r in rings], band, settings, runner, cache_dir)
+    recs = evaluate([r for *_, r in rings], band, settings, runner, cache_dir, path=study_sweep(study))
     tuned = recs[0]
     ref = tuned["peak_stable_amplitude_m"]
     peaks = np.full((len(study.levels), study.patterns), np.nan)
@@ -249,7 +269,7 @@ def run_search(
 
     def objective(zs: list[np.ndarray]) -> list[float]:
         rings = [mistuning.mistuned(base, study.parameter, 1 + sigma * np.asarray(z)) for z in zs]
-        recs = evaluate(rings, band, settings, runner, cache_dir, desc="worst-pattern search")
+        recs = evaluate(rings, band, settings, runner, cache_dir, "worst-pattern search", study_sweep(study))
         seen.update({np.asarray(z, dtype=float).tobytes(): r for z, r in zip(zs, recs)})
         return [
             r["peak_stable_amplitude_m"] / tuned if np.isfinite(r["peak_stable_amplitude_m"]) else -np.inf for r in recs

@@ -22,6 +22,10 @@ on 2 refine_points - 1 speeds across its two neighbours' interval, and again aro
 those, until the speeds are at most `speed_tol` rpm apart; the peak is the largest settled sample
 then (no parabola: the tuned ring's peak is a cusp, steeper on one side, where a parabola's vertex
 overshoots). A largest sample at the band's edge is reported as it is (peak_at_band_edge).
+
+The on_settled hook sees every settled speed, the refinement's too, with the load phase psi there
+(psi = sum over the speeds on the state's own path of omega_k t_k, omega = EO 2 pi rpm / 60; a
+refinement restarts from a saved state, so psi is carried with the state, not accumulated over calls).
 """
 
 from __future__ import annotations
@@ -124,6 +128,14 @@ class _Sweeper:
     def __init__(self, cr: CRing, rtol: float, periods: int, max_time: float, steps_per_period: int | None):
         self.cr, self.rtol, self.periods, self.max_time = cr, rtol, periods, max_time
         self.spp = steps_per_period  # None: the ring's fixed step
+        self.psi = 0.0  # the load phase at the ring's current point [rad, mod 2 pi]
+
+    def save(self) -> tuple:
+        return self.cr.save(), self.psi
+
+    def restore(self, state: tuple) -> None:
+        self.cr.restore(state[0])
+        self.psi = state[1]
 
     def settle(self, rpm: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
         """Runs on at rpm until settled or max_time: (amplitudes, settled, movement, time spent)."""
@@ -143,6 +155,7 @@ class _Sweeper:
             prev = buf[-2:]
             spent = cr.time(cr.k) - t0
             if st.last is not None and (st.settled.all() or spent >= self.max_time):
+                self.psi = (self.psi + cr.ring.engine_order * 2.0 * math.pi * rpm / 60.0 * spent) % (2.0 * math.pi)
                 return st.last, st.settled.copy(), st.movement, spent
 
 
@@ -167,8 +180,9 @@ def sweep(
     at the lowest speed, then down from where it ended; "down" alone starts from rest at the
     highest) with the state carried, at h = T / steps_per_period at each speed (whole ns), or at
     the fixed step `step` [s] when given. See the module docstring for the settle rule and the
-    located peak. on_settled(cr, direction, rpm, time spent at rpm [s]) is called where the sweep
-    leaves each speed (before the refinement), with the running ring; it must leave it as it was."""
+    located peak. on_settled(cr, direction, rpm, psi) is called where the sweep leaves each speed,
+    the refinement's speeds too (psi: the load phase there [rad], see the module docstring), with
+    the running ring; it must leave it as it was."""
     if master != "c":
         raise ValueError(f"master {master!r}: the sweep runs on the C loop ('c') only")
     if direction not in DIRECTIONS:
@@ -196,9 +210,9 @@ def sweep(
             for j in order:
                 amps[d][j], settled[d][j], movement[d][j], spent[d][j] = sw.settle(speeds[j])
                 if on_settled is not None:
-                    on_settled(cr, d, float(speeds[j]), float(spent[d][j]))
+                    on_settled(cr, d, float(speeds[j]), sw.psi)
                 if refine:
-                    saved[d][j] = cr.save()  # the state settled at speeds[j]: a refinement starts there
+                    saved[d][j] = sw.save()  # the state settled at speeds[j]: a refinement starts there
         for d in dirs:
             ok = np.where(settled[d].all(axis=1), amps[d].max(axis=1), -math.inf)
             if not np.isfinite(ok.max()):
@@ -208,7 +222,16 @@ def sweep(
             if refine and not at_edge:
                 cand = (
                     _locate(
-                        sw, speeds, d, ok, np.argmax(amps[d], axis=1), saved[d], speed_tol, refine_points, refinement
+                        sw,
+                        speeds,
+                        d,
+                        ok,
+                        np.argmax(amps[d], axis=1),
+                        saved[d],
+                        speed_tol,
+                        refine_points,
+                        refinement,
+                        on_settled,
                     )
                     or cand
                 )
@@ -241,10 +264,11 @@ def _locate(
     speed_tol: float,
     points: int,
     log: list,
+    on_settled: Callable[[CRing, str, float, float], None] | None = None,
 ) -> tuple | None:
     """Refines the largest settled sample of direction d (ok: the largest blade amplitude per
-    speed, -inf where not settled; blades: which blade), not at the band's edge; returns
-    (amplitude, speed, d, blade)."""
+    speed, -inf where not settled; blades: which blade), not at the band's edge, calling
+    on_settled at every refinement speed as the sweep does; returns (amplitude, speed, d, blade)."""
     visit = list(range(len(speeds))) if d == "up" else list(range(len(speeds) - 1, -1, -1))
     pos = visit.index(int(np.argmax(ok)))
     before, after = visit[pos - 1], visit[pos + 1]
@@ -255,10 +279,12 @@ def _locate(
         fine = np.linspace(a, b, 2 * points + 1)[1:-1]
         if abs(fine[1] - fine[0]) < 0.5 * speed_tol:
             break
-        sw.cr.restore(states[a])
+        sw.restore(states[a])
         for s in fine:
             amp, st, mv, spent = sw.settle(float(s))
-            states[float(s)] = sw.cr.save()
+            if on_settled is not None:
+                on_settled(sw.cr, d, float(s), sw.psi)
+            states[float(s)] = sw.save()
             known[float(s)] = (float(amp.max()) if st.all() else -math.inf, int(np.argmax(amp)))
             log.append(
                 {

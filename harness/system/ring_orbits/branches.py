@@ -4,7 +4,9 @@ stable steady state among them.
 Seeds (harness/system/ring_orbits/seeds.py): the travelling wave (tuned ring), a run from rest at
 each grid speed, a sweep of the period map up and back down the grid, and every state where a C-loop
 sweep up and back down (harness/system/ring_sweep.py, the sweeps' own path and settle rule) leaves a
-speed, at most SWEEP_SPACING apart: the states the sweeps report are then on the traced branches. A seed whose state already lies on a traced
+speed, at most SWEEP_SPACING apart (and of any further C-loop sweep given, its peak's refinement
+included: a study passes its own sweep, whose located peak is then a seed): the states the sweeps
+report are then on the traced branches. A seed whose state already lies on a traced
 branch (up to the ring's symmetries, symmetry.py, by the per-blade amplitudes) is dropped; otherwise
 Newton finds its orbit, which is dropped if it lies on a traced branch, else continued both ways
 across the band (continuation.py) until it leaves the band or runs onto a branch traced before.
@@ -29,7 +31,7 @@ from harness.analysis.periodic.shooting import newton
 from harness.system.ring import Ring
 from harness.system.ring_orbits.continuation import RingBranch, switch, trace
 from harness.system.ring_orbits.period_map import RingPeriodMap, RingShootingSettings
-from harness.system.ring_orbits.seeds import from_rest, settled_states, sweep, travelling_wave
+from harness.system.ring_orbits.seeds import SweepPath, from_rest, settled_states, sweep, travelling_wave
 from harness.system.ring_orbits.shooting import shoot
 from harness.system.ring_orbits.symmetry import distance, index_maps, tuned
 
@@ -148,11 +150,13 @@ def ring_branches(
     max_switches: int = 8,
     sweep_speeds: Sequence[float] | None = None,
     seed_kinds: Sequence[str] = SEED_KINDS,
+    sweeps: Sequence[SweepPath] = (),
 ) -> RingBranches:
     """Every branch found from the seeds at `points` speeds across `band` [rpm] (default: at most
-    SEED_SPACING apart) and a C-loop sweep at `sweep_speeds` (default: across the band at most
-    SWEEP_SPACING apart); only the seeds of `seed_kinds` (see the module docstring). Raises
-    ValueError on a bad band, count or kind."""
+    SEED_SPACING apart), a C-loop sweep at `sweep_speeds` (default: across the band at most
+    SWEEP_SPACING apart; none if empty) and the C-loop sweeps `sweeps` (e.g. a study's own, with its peak's
+    refinement: their states inside the band); only the seeds of `seed_kinds` (see the module docstring). Raises ValueError on a
+    bad band, count or kind."""
     lo, hi = (float(v) for v in band)
     if points is None:
         points = default_seed_points((lo, hi))
@@ -165,6 +169,7 @@ def ring_branches(
         raise ValueError(f"seed_kinds {list(seed_kinds)!r}: need some of {', '.join(SEED_KINDS)}")
     if sweep_speeds is None:
         sweep_speeds = np.linspace(lo, hi, default_seed_points((lo, hi), SWEEP_SPACING))
+    own_sweep = "C-loop sweep" in seed_kinds and len(sweep_speeds) > 0  # none: only the given `sweeps`
     t0 = time.perf_counter()
     grid = np.linspace(lo, hi, points)
     branches: list[RingBranch] = []
@@ -172,10 +177,18 @@ def ring_branches(
     symmetric = tuned(ring)
     with RingPeriodMap(ring, settings) as pm:
         seeds = (
-            (travelling_wave(pm, grid, settle, max_periods) if symmetric and "travelling wave" in seed_kinds else [])
+            # the given sweeps' states first: max_branches must not cut off a study's located peak
+            [
+                sd
+                for path in sweeps
+                if "C-loop sweep" in seed_kinds
+                for sd in settled_states(pm, ring, path)
+                if lo <= sd.speed <= hi
+            ]
+            + (travelling_wave(pm, grid, settle, max_periods) if symmetric and "travelling wave" in seed_kinds else [])
             + (from_rest(pm, grid, settle, max_periods) if "rest" in seed_kinds else [])
             + (sweep(pm, grid, settle, max_periods) if "map sweep" in seed_kinds else [])
-            + (settled_states(pm, ring, sweep_speeds) if "C-loop sweep" in seed_kinds else [])
+            + (settled_states(pm, ring, SweepPath(tuple(sweep_speeds))) if own_sweep else [])
         )
         e_seeds = pm.evaluations
         todo: list = []  # orbits to continue (from seeds, then from branch points)
@@ -185,10 +198,12 @@ def ring_branches(
         for sd in seeds:
             if len(branches) >= max_branches:
                 break
-            swept = sd.origin.startswith("C-loop")
+            swept = sd.origin.startswith("C-loop sweep")
             amps = pm.measures(sd.x, sd.speed)[0]
-            # a sweep's state always gets its Newton: the orbit it reports must be on a branch
-            if not swept and known(branches, sd.speed, amps, maps, min(max(SAME_RTOL, 10 * sd.change), 2e-2)):
+            # a sweep's state always gets its Newton: the orbit it reports must be on a branch; a
+            # refinement's (many, near each other) only off the traced branches (settled: within SAME_RTOL)
+            rtol = SAME_RTOL if sd.origin.startswith("C-loop") else min(max(SAME_RTOL, 10 * sd.change), 2e-2)
+            if not swept and known(branches, sd.speed, amps, maps, rtol):
                 continue
             orb = shoot(pm, sd.x, sd.speed)
             if swept:

@@ -15,11 +15,12 @@ and the sweeps start from rest with blade 0 moved by `kick` [m] (asymmetric); th
 seed starts from rest exactly.
 
 The sweeps' own settled states (`settled_states`): harness/system/ring_sweep.py's sweep up and down
-(the C loop run on with the state carried, whole-ns steps, its settle rule), and where it leaves each
-speed the running ring is copied (fmi2GetFMUstate), advanced to the next load phase 0 and read as x,
-then put back, so the sweep goes on undisturbed. The load phase is psi = sum over the speeds visited
-of omega_k t_k (the blades integrate d psi / dt = omega from psi = 0 at t = 0, the speed constant
-between changes); the advance takes whole steps (at least p + 2), then one step of the remainder
+(the C loop run on with the state carried, whole-ns steps, its settle rule; with its peak's
+refinement, whose speeds count too), and where it leaves each speed the running ring is copied
+(fmi2GetFMUstate), advanced to the next load phase 0 and read as x, then put back, so the sweep goes
+on undisturbed. The load phase (the sweep passes it) is psi = sum over the speeds on the state's
+path of omega_k t_k (the blades integrate d psi / dt = omega from psi = 0 at t = 0, the speed
+constant between changes); the advance takes whole steps (at least p + 2), then one step of the remainder
 (whole ns: psi within 1e-6 rad of 0). The state's history (the blades' velocities and contact-force
 sums at t_{-1..-p} on the period map's exact grid h = T / K) is interpolated from the points the
 advance passed (past_values: the sweep's grid is whole ns). Each such seed's `change` is its scaled
@@ -42,7 +43,7 @@ from harness.system.ring_sweep import sweep as c_sweep
 
 @dataclass
 class Seed:
-    origin: str  # "travelling wave", "rest", "sweep up", "sweep down", "C-loop sweep up", "C-loop sweep down"
+    origin: str  # "travelling wave", "rest", "sweep up/down", "C-loop sweep up/down", "C-loop refinement up/down"
     speed: float  # [rpm]
     x: np.ndarray
     change: float  # scaled change over the last period
@@ -127,13 +128,12 @@ class _AtPhaseZero:
     """on_settled hook of ring_sweep.sweep: the ring's state at the next load phase 0 per speed."""
 
     def __init__(self, pm: RingPeriodMap):
-        self.pm, self.psi = pm, 0.0
+        self.pm = pm
         self.states: list[tuple[str, float, np.ndarray]] = []
 
-    def __call__(self, cr: CRing, direction: str, rpm: float, spent: float) -> None:
+    def __call__(self, cr: CRing, direction: str, rpm: float, psi: float) -> None:
         w = self.pm.omega(rpm)
-        self.psi = (self.psi + w * spent) % (2.0 * math.pi)
-        dt = (2.0 * math.pi - self.psi) % (2.0 * math.pi) / w
+        dt = (2.0 * math.pi - psi) % (2.0 * math.pi) / w
         if dt < (self.pm.p + 3) * cr.ring.step:  # too close for the history's points: one period on
             dt += 2.0 * math.pi / w
         saved = cr.save()
@@ -165,29 +165,44 @@ def past_values(t: np.ndarray, y: np.ndarray, t0: float, h: float, p: int) -> np
     return out
 
 
-def settled_states(
-    pm: RingPeriodMap, ring: Ring, speeds: Sequence[float], rtol: float = 1e-4, periods: int = 5, max_time: float = 1.0
-) -> list[Seed]:
-    """The states of a C-loop sweep up and down `speeds` (ring_sweep.sweep, "both", its settle rule
-    rtol / periods / max_time, pm's steps per period) at load phase 0 where it leaves each speed (see
-    the module docstring); a state whose period map fails is left out."""
+@dataclass(frozen=True)
+class SweepPath:
+    """A C-loop sweep up and down `speeds` [rpm] (ring_sweep.sweep, "both") whose settled states are
+    seeds: its settle rule (rtol, periods, max_time [s]) and, with `refine`, its located peak
+    (speed_tol [rpm]), whose refinement's states are seeds too. The mistuning study passes its own
+    sweep's, so that the state of every speed it settled at, its located peak's included, is a seed."""
+
+    speeds: tuple[float, ...]
+    rtol: float = 1e-4
+    periods: int = 5
+    max_time: float = 1.0
+    refine: bool = False
+    speed_tol: float = 1.0
+
+
+def settled_states(pm: RingPeriodMap, ring: Ring, path: SweepPath) -> list[Seed]:
+    """The states of the C-loop sweep `path` (at pm's steps per period) at load phase 0 where it
+    leaves each speed, the refinement's speeds too (see the module docstring; origin "C-loop sweep
+    up/down", "C-loop refinement up/down"); a state whose period map fails is left out."""
     hook = _AtPhaseZero(pm)
-    c_sweep(
+    sw = c_sweep(
         ring,
-        speeds,
+        path.speeds,
         "both",
-        rtol=rtol,
-        periods=periods,
-        max_time=max_time,
+        rtol=path.rtol,
+        periods=path.periods,
+        max_time=path.max_time,
         steps_per_period=pm.s.steps_per_period,
-        refine=False,
+        refine=path.refine,
+        speed_tol=path.speed_tol,
         on_settled=hook,
     )
+    main = sum(len(a) for a in sw.amplitudes_m.values())  # the sweep's own speeds come first, then the refinement
     out = []
-    for d, s, x in hook.states:
+    for i, (d, s, x) in enumerate(hook.states):
         try:
             res = float(pm.measures(x, s)[1])
         except RingMapFailed:
             continue
-        out.append(Seed(f"C-loop sweep {d}", s, x, res))
+        out.append(Seed(f"C-loop {'sweep' if i < main else 'refinement'} {d}", s, x, res))
     return out
