@@ -58,8 +58,9 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
         type=float,
         default=None,
         metavar="H",
-        help="communication step [s] (default: T/160 at each speed in whole ns, 2.5e-5 at 5000 rpm "
-        "and EO 3; a step that is not a whole fraction of the period T makes the per-period "
+        help="communication step [s] (default: T/160 at each speed, 2.5e-5 at 5000 rpm "
+        "and EO 3: in whole ns for a single run, exact and aligned to the load phase in a sweep; a "
+        "step that is not a whole fraction of the period T makes the per-period "
         "amplitude jitter with the grid's phase. At 1e-4 s the friction ring is stable with linear "
         "extrapolation but 25 %% off and never settles, docs/model.md s.8)",
     )

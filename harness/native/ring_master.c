@@ -4,8 +4,9 @@
  * The instances are made, parameterised and initialised by the harness through fmpy; this loop
  * gets their fmi2Component handles and the binaries' function pointers, and per communication
  * point t_k = (baseNs + (k - baseK) stepNs) / 1e9 (libcosim's integer-nanosecond grid; a sweep
- * changes the step with the speed and starts a new base there), or t_k = (k - baseK) exactStep when
- * exactStep > 0 (the ring's period map: K steps make exactly one load period T, from t = 0):
+ * changes the step with the speed and starts a new base there), or t_k = baseTime + (k - baseK) exactStep
+ * when exactStep > 0 (the ring's period map: K steps make exactly one load period T, from t = 0; a
+ * speed sweep: from a point where the load phase is a multiple of 2 pi / K at each speed):
  *   1. reads every blade's q, v, E, W (the blades make their own load; the speed is the setup's rpm);
  *   2. sets each contact j's inputs (blade j side A, blade j+1 side B) with the velocities'
  *      extrapolated derivatives, reads forceA, forceB, dissipatedEnergy, contactState;
@@ -58,7 +59,8 @@ typedef struct {
     unsigned int contactOut[3];   /* forceA, forceB, dissipatedEnergy */
     unsigned int contactState;
     unsigned int bladeIn[2];      /* rotorSpeed, contactForce */
-    double exactStep;             /* > 0: t_k = (k - baseK) exactStep [s] (an exact period T = K exactStep), not the ns grid */
+    double exactStep;             /* > 0: t_k = baseTime + (k - baseK) exactStep [s] (an exact period T = K exactStep), not the ns grid */
+    double baseTime;              /* t_baseK [s] on the exact grid */
 } RingSetup;
 
 typedef struct {
@@ -138,7 +140,7 @@ int ringRun(const RingSetup *s, RingRecord *rec, double *work, int *filled, int 
             double *inside) {
     const int n = s->n, p = s->order;
     if (n < 2 || s->first < 0 || s->last < s->first || p < 0 || p > RING_MAX_ORDER || s->recordEvery < 1 ||
-        (s->last - s->first) % s->recordEvery || s->stepNs <= 0)
+        (s->last - s->first) % s->recordEvery || s->stepNs <= 0 || !(s->exactStep >= 0.0) || !isfinite(s->baseTime))
         return RING_BAD_SETUP;
     History hv = {work, filled}, hf = {work + (p + 1) * n, filled + 1};
     double *dv = work + 2 * (p + 1) * n, *df = dv + p * n;
@@ -187,9 +189,9 @@ int ringRun(const RingSetup *s, RingRecord *rec, double *work, int *filled, int 
             if (p > 0 && setDerivatives(&s->blade, s->blades[i], s, 1, s->bladeIn + 1, dBlade, cols))
                 FAIL(RING_DERIVATIVES, i);
         }
-        const double t = s->exactStep > 0.0 ? (double)(k - s->baseK) * s->exactStep
+        const double t = s->exactStep > 0.0 ? s->baseTime + (double)(k - s->baseK) * s->exactStep
                                             : (double)(s->baseNs + (long long)(k - s->baseK) * s->stepNs) / 1e9;
-        const double h = s->exactStep > 0.0 ? (double)(k + 1 - s->baseK) * s->exactStep - t
+        const double h = s->exactStep > 0.0 ? s->baseTime + (double)(k + 1 - s->baseK) * s->exactStep - t
                                             : (double)(s->baseNs + (long long)(k + 1 - s->baseK) * s->stepNs) / 1e9 - t;
         for (int i = 0; i < n; i++)
             if (doStep(s->blade.doStep, s->blades[i], t, h, timed, inside)) FAIL(RING_STEP, i);

@@ -4,10 +4,13 @@ couplings) and extrapolation weights, but no Python between the FMI calls. `run`
 returns what `ring.run` returns (the fmpy master stays the readable reference; tests/system/test_ring_c.py
 holds the two together). `CRing` keeps a ring open between calls: `advance` runs it on by a number
 of steps at a rotor speed (a speed sweep steps rotorSpeed between calls),
-`set_step` changes the communication step from the current point on (the extrapolation history
-restarts, as at t_0), `save`/`restore` keep and put back the whole state (FMU states and the
-master's histories), `history`/`set_history` read and set the master's histories alone (the ring's
-period map carries them in its state).
+`set_step` changes the whole-ns communication step from the current point on (the extrapolation
+history restarts, as at t_0), `exact_grid` puts the points from the current one on on an exact
+grid t = t_base + j h (history restarted), `save`/`restore` keep and put back the whole state (FMU
+states, the master's histories and grid, the load phase), `history`/`set_history` read and set the
+master's histories alone (the ring's period map carries them in its state). `phase` is the blades'
+load phase psi at the current point modulo 2 pi: they integrate psi' = EO 2 pi rpm / 60 from psi = 0
+at t = 0 (the speed constant within a call), so it is tracked here from the speeds and the times.
 """
 
 from __future__ import annotations
@@ -71,6 +74,7 @@ class _Setup(C.Structure):
         ("contactState", C.c_uint),
         ("bladeIn", C.c_uint * 2),
         ("exactStep", C.c_double),
+        ("baseTime", C.c_double),
     ]
 
 
@@ -116,13 +120,18 @@ def weights(p: int, h: float) -> np.ndarray:
     return W
 
 
+def _check_step(h: float) -> None:
+    if not (isinstance(h, (int, float)) and math.isfinite(h) and h > 0.0):
+        raise ValueError(f"exact step {h!r} s: must be a positive finite number")
+
+
 class CRing:
     """An open ring driven by the C loop; use as a context manager (frees the instances)."""
 
     def __init__(self, ring: Ring, time_dosteps: bool = False):
         if not 0 <= ring.order <= MAX_ORDER:
             raise ValueError(f"extrapolation order {ring.order} outside [0, {MAX_ORDER}] (the C loop's limit)")
-        self.ring, self.k, self.rpm = ring, 0, ring.speed
+        self.ring, self.k, self.rpm, self.phase = ring, 0, ring.speed, 0.0
         self._lib = _library()
         self._stack = ExitStack()
         tk, self.blades, self.contacts = self._stack.enter_context(open_ring(ring))
@@ -163,21 +172,29 @@ class CRing:
         """t_k [s], as the C loop computes it (libcosim's integer nanoseconds, or the exact grid)."""
         s = self.setup
         if s.exactStep > 0.0:
-            return float(float(k - s.baseK) * s.exactStep)
+            return float(s.baseTime + float(k - s.baseK) * s.exactStep)
         return float(s.baseNs + (k - s.baseK) * s.stepNs) / 1e9
 
     def restart_exact(self, h: float) -> None:
         """Point k = 0 at t = 0 on the exact grid t_k = k h (h [s] any positive double: K steps make
         exactly K h), the extrapolation history restarted. The FMUs are the caller's: it resets and
         initialises them at t = 0 first (harness/system/ring_orbits/period_map.py)."""
-        if not (math.isfinite(h) and h > 0.0):
-            raise ValueError(f"exact step {h!r} s: must be a positive finite number")
+        _check_step(h)
+        self.k, self.phase, self.setup.baseNs = 0, 0.0, 0
+        self.exact_grid(h, 0.0)
+        self._work[:] = 0.0
+
+    def exact_grid(self, h: float, base_time: float | None = None) -> None:
+        """The points from the current one k on at t_j = base_time + (j - k) h (h [s] any positive
+        double; base_time default the current point's time, so the run goes on without a jump), the
+        extrapolation history restarted (lower orders for the next p steps, as at the start of a run)."""
+        _check_step(h)
         s = self.setup
-        self.k, s.baseK, s.baseNs, s.exactStep = 0, 0, 0, float(h)
+        t = self.time(self.k) if base_time is None else float(base_time)
+        s.baseK, s.baseTime, s.exactStep = self.k, t, float(h)
         if self.ring.step != h:
             self.ring = replace(self.ring, step=h)
             self._W[:] = weights(self.ring.order, h)
-        self._work[:] = 0.0
         self._filled[:] = [0, 0]
 
     def history(self) -> tuple[np.ndarray, np.ndarray]:
@@ -252,6 +269,8 @@ class CRing:
                 f"{self.time(step.value):.9g} s (step {step.value}): {said}"
             )
         self.k = k0 + steps
+        w = self.ring.engine_order * 2.0 * math.pi * self.rpm / 60.0
+        self.phase = (self.phase + w * (self.time(self.k) - self.time(k0))) % (2.0 * math.pi)
         res["time"] = np.array([self.time(k) for k in range(k0, k0 + steps + int(finish), record_every)][:rows])
         return res
 
@@ -267,18 +286,20 @@ class CRing:
             fmus,
             self._work.copy(),
             tuple(self._filled),
-            (s.stepNs, s.baseNs, s.baseK),
+            (s.stepNs, s.baseNs, s.baseK, s.exactStep, s.baseTime),
             self.ring,
             self._W.copy(),
+            self.phase,
         )
 
     def restore(self, state: tuple[Any, ...]) -> None:
-        self.k, self.rpm, fmus, work, filled, (step_ns, base_ns, base_k), self.ring, W = state
+        self.k, self.rpm, fmus, work, filled, grid, self.ring, W, self.phase = state
         for x, h in zip((*self.blades, *self.contacts), fmus):
             x.s.set_fmu_state(h)
         self._work[:] = work
         self._filled[:] = list(filled)
-        self.setup.stepNs, self.setup.baseNs, self.setup.baseK = step_ns, base_ns, base_k
+        s = self.setup
+        s.stepNs, s.baseNs, s.baseK, s.exactStep, s.baseTime = grid
         self._W[:] = W
 
 

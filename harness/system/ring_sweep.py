@@ -2,12 +2,17 @@
 ring_c.py) with rotorSpeed stepped from speed to speed, the state carried (the blades' built-in load
 integrates its phase from rotorSpeed, so the load stays continuous across a step of the speed).
 
-At each speed the communication step is h = T / steps_per_period in whole nanoseconds (T = 60 /
-(EO rpm); the extrapolation history restarts at each change), so that the grid keeps its phase to
-the excitation from period to period: with a fixed step whose T / h is not whole, the co-simulation's
-own error (about 1e-3 of max |q| at T / 160) changes from period to period with the grid's phase and
-the per-period amplitude jitters by up to 2e-3 (measured: 4 blades at 6500 rpm, h = 1.3888e-5 s). The
-ring runs on in windows of m = steps_per_period steps (one period, to within m / 2 ns). A
+At each speed the ring runs on the exact grid of the ring's period map (harness/system/ring_orbits/
+period_map.py), h = T / K (T = 60 / (EO rpm), K = steps_per_period) aligned to the load: the
+blades' load phase psi carries on across a change of speed, so one partial step of length delta
+(psi + omega delta the next multiple of 2 pi / K; none if psi is one already) brings the ring to a
+point where it is, and from there t = t_base + j T / K (the extrapolation history restarted at the
+change and again at t_base). The discrete system at a speed is then exactly the period map's: a
+settled state is its fixed point, and the sweep's points at load phase 0 are grid points. (The
+earlier grid of whole nanoseconds, h = round(T / K) ns, slid by up to K / 2 ns per period against
+the load, 43 ns at 6300 rpm; the co-simulation's error, about 1e-3 of max |q| at T / 160, changes
+with the grid's phase where contacts open and close, and such a run started on an orbit drifted off
+it by up to 2e-3..5e-3 in 300 periods.) The ring runs on in windows of m = K steps (one period). A
 window's amplitude per blade is max |q| over its points, refined by the parabola through the
 largest sample and its two neighbours (the sampled maximum alone is up to 1 - cos(pi h / T) = 2e-4
 low at h = T / 160). With a fixed `step`, m = round(T / h). Blade i has settled when its amplitude changes by less than `rtol` x (the largest blade's
@@ -24,8 +29,8 @@ then (no parabola: the tuned ring's peak is a cusp, steeper on one side, where a
 overshoots). A largest sample at the band's edge is reported as it is (peak_at_band_edge).
 
 The on_settled hook sees every settled speed, the refinement's too, with the load phase psi there
-(psi = sum over the speeds on the state's own path of omega_k t_k, omega = EO 2 pi rpm / 60; a
-refinement restarts from a saved state, so psi is carried with the state, not accumulated over calls).
+(psi = sum over the speeds on the state's own path of omega_k t_k, omega = EO 2 pi rpm / 60: CRing.phase,
+which a refinement's restart from a saved state puts back with the state).
 """
 
 from __future__ import annotations
@@ -120,32 +125,54 @@ def per_period_settling(
 
 
 def period_step(ring: Ring, rpm: float, steps_per_period: int) -> float:
-    """T / steps_per_period at rpm, in whole nanoseconds."""
+    """T / steps_per_period at rpm, in whole nanoseconds (a fixed-step run's step)."""
     return round(60e9 / (ring.engine_order * rpm) / steps_per_period) / 1e9
+
+
+def exact_step(ring: Ring, rpm: float, steps_per_period: int) -> float:
+    """T / steps_per_period at rpm [s] (the sweep's and the period map's grid)."""
+    return 60.0 / (ring.engine_order * rpm) / steps_per_period
+
+
+def align(cr: CRing, rpm: float, steps_per_period: int) -> None:
+    """Puts cr's next points on the exact grid T / K at rpm aligned to the load: one partial step
+    of delta (cr.phase + omega delta the next multiple of 2 pi / K; skipped within 1e-9 of a step
+    of one) at rpm, then t = t_base + j T / K, the history restarted at both."""
+    K = steps_per_period
+    h = exact_step(cr.ring, rpm, K)
+    slot = 2.0 * math.pi / K
+    rest = (-cr.phase) % slot  # phase to the next multiple of 2 pi / K
+    if 1e-9 * slot < rest < (1.0 - 1e-9) * slot:
+        cr.exact_grid(h * rest / slot)
+        cr.advance(1, rpm)
+    cr.exact_grid(h)
 
 
 class _Sweeper:
     def __init__(self, cr: CRing, rtol: float, periods: int, max_time: float, steps_per_period: int | None):
         self.cr, self.rtol, self.periods, self.max_time = cr, rtol, periods, max_time
         self.spp = steps_per_period  # None: the ring's fixed step
-        self.psi = 0.0  # the load phase at the ring's current point [rad, mod 2 pi]
+
+    @property
+    def psi(self) -> float:
+        """The load phase at the ring's current point [rad, mod 2 pi] (CRing.phase, saved with the state)."""
+        return self.cr.phase
 
     def save(self) -> tuple:
-        return self.cr.save(), self.psi
+        return self.cr.save()
 
     def restore(self, state: tuple) -> None:
-        self.cr.restore(state[0])
-        self.psi = state[1]
+        self.cr.restore(state)
 
     def settle(self, rpm: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
         """Runs on at rpm until settled or max_time: (amplitudes, settled, movement, time spent)."""
         cr = self.cr
+        t0 = cr.time(cr.k)
         if self.spp is not None:
-            cr.set_step(period_step(cr.ring, rpm, self.spp))
+            align(cr, rpm, self.spp)
         T = 60.0 / (cr.ring.engine_order * rpm)
         m = self.spp if self.spp is not None else max(2, round(T / cr.ring.step))
         st = Settling(self.rtol, self.periods)
-        t0 = cr.time(cr.k)
         prev = None  # the last two rows of the previous chunk (neighbours for the next window)
         while True:
             q = cr.advance(m, rpm)["q"]
@@ -155,7 +182,6 @@ class _Sweeper:
             prev = buf[-2:]
             spent = cr.time(cr.k) - t0
             if st.last is not None and (st.settled.all() or spent >= self.max_time):
-                self.psi = (self.psi + cr.ring.engine_order * 2.0 * math.pi * rpm / 60.0 * spent) % (2.0 * math.pi)
                 return st.last, st.settled.copy(), st.movement, spent
 
 
@@ -178,8 +204,9 @@ def sweep(
     """Forced response of `ring` (its blades, contacts, load, order, coupling; its speed, step and
     stop time are replaced) at speeds_rpm, swept `direction` ("up", "down" or "both": up from rest
     at the lowest speed, then down from where it ended; "down" alone starts from rest at the
-    highest) with the state carried, at h = T / steps_per_period at each speed (whole ns), or at
-    the fixed step `step` [s] when given. See the module docstring for the settle rule and the
+    highest) with the state carried, at h = T / steps_per_period at each speed (the exact grid
+    aligned to the load, see the module docstring), or at the fixed step `step` [s, whole ns] when
+    given. See the module docstring for the settle rule and the
     located peak. on_settled(cr, direction, rpm, psi) is called where the sweep leaves each speed,
     the refinement's speeds too (psi: the load phase there [rad], see the module docstring), with
     the running ring; it must leave it as it was."""
@@ -250,7 +277,7 @@ def sweep(
         peak_at_band_edge=edge,
         time_at_speed_s=spent,
         refinement=refinement,
-        step_s=np.array([h if step is not None else period_step(ring, s, steps_per_period) for s in speeds]),
+        step_s=np.array([h if step is not None else exact_step(ring, s, steps_per_period) for s in speeds]),
     )
 
 

@@ -9,7 +9,7 @@
 - bad values exit with code 2 and a message naming the value and the range; a diverging ring (held
   inputs at 4e-4 s) exits 2 with one line naming the step and what to change; so does libcosim's
   ring at 1e-4 s (checked on the run libcosim returns; no --order to raise there);
-- `--speeds FROM TO --points K` prints the sweep's keys (per direction K x N), T/160 steps in whole ns,
+- `--speeds FROM TO --points K` prints the sweep's keys (per direction K x N), T/160 steps (exact),
   the peak = the largest settled sample with --no-refine; --csv has one row per ring, direction and
   speed (mistuned: the tuned ring's rows too), --plot a PNG; bad sweep values and an output path in a
   missing directory exit 2 with one line naming them;
@@ -305,8 +305,8 @@ def test_sweep_json_csv_and_plot(capsys, tmp_path):
     assert amps.shape == (2, 4) and np.array(out["settled"]["up"]).shape == (2, 4)
     assert np.ptp(amps[-1]) > 1e-3 * amps.max()  # mistuned: the blades differ
     assert out["peak_amplitude_m"] == pytest.approx(amps[np.array(out["settled"]["up"]).all(axis=1)].max(), rel=0)
-    # step T/160 at each speed, in whole ns
-    assert out["step_s"] == [round(60e9 / (3 * s) / 160) / 1e9 for s in (4800.0, 5000.0)]
+    # step T/160 at each speed, exact (the sweep's grid is the period map's)
+    assert out["step_s"] == pytest.approx([60.0 / (3 * s) / 160 for s in (4800.0, 5000.0)], rel=1e-15)
     rows = csv.read_text().splitlines()
     assert rows[0].startswith("ring,direction,speed_rpm,amplitude0_m") and len(rows) == 1 + 2 + 2  # mistuned + tuned
     assert float(rows[1].split(",")[3]) == amps[0, 0]

@@ -3,7 +3,7 @@
 - where the steady state is unique (the tuned 4-blade ring, c = 298, Fw0 = 300, EO 3, on its
   travelling wave at 5000 rpm), the sweep's settled amplitude (state carried from 4800 rpm) equals
   a long run from rest at that speed and step (1 s, 250 periods, 45 decay times), per blade within
-  2e-4 relative (2.2e-5 measured): the settle rule stops when the per-period change is below 1e-4
+  8e-5 relative (8.8e-6 measured; 2.2e-5 on the earlier whole-ns sweep grid): the settle rule stops when the per-period change is below 1e-4
   over 5 periods, which with the decay per period mu = exp(-T C0 / 2M) = 0.83 leaves at most
   1e-4 mu / (1 - mu) = 5e-4;
 - the settle rule flags a run that has not settled: 0.01 s at a speed (2.5 periods from rest)
@@ -53,9 +53,9 @@ def test_sweep_equals_a_long_fresh_run_where_the_state_is_unique():
     ref = fresh(TUNED4, 5000.0, 1.0)
     got = sw.amplitudes_m["up"][1]
     assert np.ptp(ref) <= 1e-9 * ref.max()  # the travelling wave: all blades alike
-    # measured 2.2e-5: the settle rule could stop up to 5e-4 away (module doc), this sweep stops at
-    # 2.2e-5 (a deterministic run); tolerance 2e-4, 9x the measured
-    assert np.abs(got - ref).max() <= 2e-4 * ref.max(), (got, ref)
+    # measured 8.8e-6: the settle rule could stop up to 5e-4 away (module doc), this sweep stops at
+    # 8.8e-6 (a deterministic run); tolerance 8e-5, 9x the measured
+    assert np.abs(got - ref).max() <= 8e-5 * ref.max(), (got, ref)
 
 
 def test_settle_rule_flags_an_unsettled_run():
@@ -83,9 +83,12 @@ def test_located_peak_matches_a_fine_scan():
     200 rpm: the largest blade's amplitude peaks at the fold of the branch it follows (about 6379
     rpm, where it jumps to another pattern), between two samples. The located peak equals the
     largest settled point of an independent fine scan (the same sweep from rest, 1 rpm apart over
-    6360..6400 rpm) within 2 rpm (the two spacings, 1 rpm each) and 3e-3 of the amplitude (near the
-    fold the ring settles slowly: the same scan at settle rtol 1e-5 moves the peak by 1e-3; measured
-    0.4 rpm and 1.3e-3); the largest coarse sample is 2 % lower."""
+    6360..6400 rpm) within 2 rpm (the two spacings, 1 rpm each) and, in amplitude, within the fine
+    scan's rise over its last spacing before its largest point plus 3e-3: the response climbs
+    steeply into the fold (a cusp), so a sample 1 rpm short of it is low by about that rise (measured
+    on the load-aligned grid: 0.4 rpm; 5.9e-3 against a rise of 9.5e-3, the same at settle rtol 1e-5;
+    the located sample sits at 6379.4 rpm, 0.4 rpm closer to the fold than the scan's 6379); the
+    largest coarse sample is 2 % lower."""
     ring = Ring(n=6, fw0=300.0, blade={"c": 298.0}, order=2)
     coarse = [5800.0, 6000.0, 6200.0, 6400.0, 6600.0]
     loc = sweep(ring, coarse)
@@ -95,7 +98,8 @@ def test_located_peak_matches_a_fine_scan():
     j = int(np.argmax(a))
     assert 0 < j < len(speeds) - 1  # inside the scan
     assert abs(loc.peak_speed_rpm - fine.speeds_rpm[j]) <= 2.0, (loc.peak_speed_rpm, fine.speeds_rpm[j])
-    assert abs(loc.peak_amplitude_m - a[j]) <= 3e-3 * a[j], (loc.peak_amplitude_m, a[j])
+    rise = a[j] - a[j - 1]
+    assert abs(loc.peak_amplitude_m - a[j]) <= rise + 3e-3 * a[j], (loc.peak_amplitude_m, a[j], rise)
     sampled = loc.amplitudes_m["up"].max()
     assert loc.peak_amplitude_m > 1.01 * sampled and min(abs(fine.speeds_rpm[j] - s) for s in coarse) > 10
     assert not loc.peak_at_band_edge and loc.refinement

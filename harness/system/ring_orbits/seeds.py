@@ -15,16 +15,13 @@ and the sweeps start from rest with blade 0 moved by `kick` [m] (asymmetric); th
 seed starts from rest exactly.
 
 The sweeps' own settled states (`settled_states`): harness/system/ring_sweep.py's sweep up and down
-(the C loop run on with the state carried, whole-ns steps, its settle rule; with its peak's
-refinement, whose speeds count too), and where it leaves each speed the running ring is copied
-(fmi2GetFMUstate), advanced to the next load phase 0 and read as x, then put back, so the sweep goes
-on undisturbed. The load phase (the sweep passes it) is psi = sum over the speeds on the state's
-path of omega_k t_k (the blades integrate d psi / dt = omega from psi = 0 at t = 0, the speed
-constant between changes); the advance takes whole steps (at least p + 2), then one step of the remainder
-(whole ns: psi within 1e-6 rad of 0). The state's history (the blades' velocities and contact-force
-sums at t_{-1..-p} on the period map's exact grid h = T / K) is interpolated from the points the
-advance passed (past_values: the sweep's grid is whole ns). Each such seed's `change` is its scaled
-period residual |P(x) - x| / scale, which is small only if the phase is right and the state settled.
+(the C loop run on with the state carried, its settle rule; with its peak's refinement, whose speeds
+count too), and where it leaves each speed the running ring is copied (fmi2GetFMUstate), advanced to
+the next load phase 0 and read as x, then put back, so the sweep goes on undisturbed. The sweep runs
+at each speed on the period map's own grid h = T / K aligned to the load (ring_sweep.align), so the
+points at load phase 0 are grid points (the load phase psi the sweep passes, CRing.phase, tells how
+many steps ahead) and the history there is the map's: the state is read exactly, and a seed's
+`change`, its scaled period residual |P(x) - x| / scale, is small only if the state has settled.
 """
 
 from __future__ import annotations
@@ -132,37 +129,15 @@ class _AtPhaseZero:
         self.states: list[tuple[str, float, np.ndarray]] = []
 
     def __call__(self, cr: CRing, direction: str, rpm: float, psi: float) -> None:
-        w = self.pm.omega(rpm)
-        dt = (2.0 * math.pi - psi) % (2.0 * math.pi) / w
-        if dt < (self.pm.p + 3) * cr.ring.step:  # too close for the history's points: one period on
-            dt += 2.0 * math.pi / w
+        K = self.pm.s.steps_per_period
+        ahead = (-psi) % (2.0 * math.pi) * K / (2.0 * math.pi)  # steps to phase 0
+        steps = round(ahead) % K
+        if cr.setup.exactStep <= 0.0 or abs(ahead - round(ahead)) > 1e-6:
+            raise RuntimeError(f"the sweep at {rpm:g} rpm is off the load-aligned grid ({ahead:.9g} steps to phase 0)")
         saved = cr.save()
-        end = cr.time(cr.k) + dt
-        whole = int(dt // cr.ring.step)
-        if end - cr.time(cr.k + whole) < 0.5e-9:  # the remainder below a ns: one whole step fewer
-            whole -= 1
-        run = cr.advance(whole, rpm)
-        cr.set_step(round((end - cr.time(cr.k)) * 1e9) / 1e9)
-        last = cr.advance(1, rpm, finish=True)
-        t = np.append(run["time"], last["time"])
-        h = 2.0 * math.pi / w / self.pm.s.steps_per_period
-        past = [past_values(t, np.vstack([run[k], last[k]]), t[-1], h, self.pm.p) for k in ("v", "contactForce")]
-        self.states.append((direction, rpm, self.pm.read(cr, *past)))
+        cr.advance(steps, rpm, finish=True)  # point k + steps pushed, not stepped: the state there
+        self.states.append((direction, rpm, self.pm.read(cr)))
         cr.restore(saved)
-
-
-def past_values(t: np.ndarray, y: np.ndarray, t0: float, h: float, p: int) -> np.ndarray:
-    """y (rows at times t) at t0 - j h, j = 1..p, (p, N): the cubic through the four samples nearest
-    each time (the sweep's whole-ns grid is not the exact grid the period map's history lives on; a
-    cubic over steps of T / 160 is within (2 pi / 160)^4 / 24 ~ 1e-7 of a smooth signal's scale)."""
-    out = np.empty((p, y.shape[1]))
-    for j in range(1, p + 1):
-        tau = t0 - j * h
-        near = np.sort(np.argsort(np.abs(t - tau))[:4])
-        s = (t[near] - tau) / h
-        L = [np.prod([(0.0 - s[b]) / (s[a] - s[b]) for b in range(len(s)) if b != a]) for a in range(len(s))]
-        out[j - 1] = np.asarray(L) @ y[near]
-    return out
 
 
 @dataclass(frozen=True)
