@@ -67,7 +67,9 @@ def branches_record(
         ring,
         band,
         points=settings.seed_points,
-        settings=RingShootingSettings(steps_per_period=settings.steps_per_period),
+        # one thread per ring: the runner already runs one ring per core (threads on top would only
+        # contend for the same cores)
+        settings=RingShootingSettings(steps_per_period=settings.steps_per_period, workers=1),
         switch_branches=settings.switch_branches,
         max_branches=settings.max_branches,
         sweeps=() if path is None else (path,),

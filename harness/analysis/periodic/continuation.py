@@ -31,7 +31,7 @@ from harness import digits
 from harness.fmu.blade import SPEED_RANGE, FMUError
 from harness.model.params import ParameterError
 from harness.analysis.periodic.period_map import PeriodMap
-from harness.analysis.periodic.shooting import at_bound, bounded, classify, fd_direction, multipliers, newton
+from harness.analysis.periodic.shooting import at_bound, bounded, classify, fd_direction, images, multipliers, newton
 
 if TYPE_CHECKING:  # extrema imports this module
     from harness.analysis.periodic.extrema import Extremum
@@ -284,6 +284,11 @@ class BranchProblem:
             self._last = (z.copy(), DP)
         return (Px - z[:-1] * self.sc) / self.sc, Px, A
 
+    def Hs(self, zs: list[np.ndarray]) -> list[np.ndarray]:
+        """H(z) scaled at every z (as `H` without sensitivities): the period map's images at once."""
+        Ps = images(self.pm, [self.from_z(z) for z in zs])
+        return [(Px - z[:-1] * self.sc) / self.sc for z, Px in zip(zs, Ps)]
+
     def state_columns(self, z: np.ndarray) -> np.ndarray | None:
         """dH/dz in the unknowns from the FMU's sensitivities of the last evaluation, if it was
         at z (else None): DP_ij sc_j / sc_i - delta_ij."""
@@ -328,19 +333,25 @@ class BranchProblem:
             return np.column_stack([DP * self.sc[None, :] / self.sc[:, None] - np.eye(self.m), speed]), DP
         eps = self.pm.s.fd_rel
         Jz = np.empty((self.m, self.m + 1))
+        steps: list[tuple[float, bool]] = []  # per column: (h, central)
+        zs: list[np.ndarray] = []  # the points, in order (a map with `images` runs them at once)
         for j in range(self.m + 1):
             # forward in speed, backward at the top of the FMU's rotorSpeed range
             sgn = fd_direction(self.pm, x, j) if j < self.m else (1.0 if n * (1 + 2 * eps) <= SPEED_RANGE[1] else -1.0)
             h = eps * sgn * (self.pm.scales(x, n)[j] / self.sc[j] if j < self.m else max(abs(z[-1]), 1e-3))
             zp = z.copy()
             zp[j] += h
-            Hp = self.H(zp)[0]
-            if j < self.m and self.central and not at_bound(self.pm, x, j):
+            zs.append(zp)
+            both = j < self.m and self.central and not at_bound(self.pm, x, j)
+            if both:
                 zm = z.copy()
                 zm[j] -= h
-                Jz[:, j] = (Hp - self.H(zm)[0]) / (2.0 * h)
-            else:
-                Jz[:, j] = (Hp - Hz) / h
+                zs.append(zm)
+            steps.append((h, both))
+        Hs = iter(self.Hs(zs))
+        for j, (h, both) in enumerate(steps):
+            Hp = next(Hs)
+            Jz[:, j] = (Hp - next(Hs)) / (2.0 * h) if both else (Hp - Hz) / h
         DP = (Jz[:, :-1] + np.eye(self.m)) * self.sc[:, None] / self.sc[None, :]
         if self.memo is not None:
             self.memo.put(x, n, DP, Jz[:, -1] * self.sc / SPEED_SCALE)

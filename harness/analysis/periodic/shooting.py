@@ -136,21 +136,35 @@ def at_bound(pm: PeriodMap, x: np.ndarray, j: int) -> bool:
     return pm.model == "jenkins" and j == pm.dim - 1 and abs(x[j]) >= 1.0
 
 
+def images(pm: PeriodMap, points: list[tuple[np.ndarray, float]]) -> list[np.ndarray]:
+    """P(x) at every (x, speed), in order: the map's own batch where it has one (`images`: the ring's
+    runs them on several threads, the same numbers), else one call each."""
+    if hasattr(pm, "images"):
+        return cast(list[np.ndarray], pm.images(points))
+    return [pm(x, n)[0] for x, n in points]
+
+
 def jacobian(pm: PeriodMap, x: np.ndarray, speed_rpm: float, Px: np.ndarray, central: bool = False) -> np.ndarray:
     """DP at x (forward differences from the known P(x), or central ones) in physical units."""
     sc = pm.scales(x, speed_rpm)
     J = np.empty((pm.dim, pm.dim))
+    steps: list[tuple[float, bool]] = []  # per column: (h, central)
+    points: list[tuple[np.ndarray, float]] = []
     for j in range(pm.dim):
         h = pm.s.fd_rel * sc[j] * fd_direction(pm, x, j)
         xp = x.copy()
         xp[j] += h
-        Pp = pm(xp, speed_rpm)[0]
-        if central and not at_bound(pm, x, j):
+        points.append((xp, speed_rpm))
+        both = central and not at_bound(pm, x, j)
+        if both:
             xm = x.copy()
             xm[j] -= h
-            J[:, j] = (Pp - pm(xm, speed_rpm)[0]) / (2.0 * h)
-        else:
-            J[:, j] = (Pp - Px) / h
+            points.append((xm, speed_rpm))
+        steps.append((h, both))
+    P = iter(images(pm, points))
+    for j, (h, both) in enumerate(steps):
+        Pp = next(P)
+        J[:, j] = (Pp - next(P)) / (2.0 * h) if both else (Pp - Px) / h
     return J
 
 

@@ -225,12 +225,14 @@ def estimator(pm: RingPeriodMap, DP: np.ndarray, kind: str) -> Callable[[np.ndar
     def value(x: np.ndarray, Px: np.ndarray, speed: float) -> float:
         sc = pm.scales(x, speed)
         DQ = np.empty((pm.dim, k))
+        steps = []
         for j in range(k):
             q = Q[:, j]
             h = pm.s.fd_rel / float(np.max(np.abs(q / sc)))
             out = [i for i in range(pm.dim) if pm.at_bound(x, i) and q[i] * x[i] > 0.0]
-            h = -h if out else h  # keep a phi on its slip limit inside the cone
-            DQ[:, j] = (pm(x + h * q, speed)[0] - Px) / h
+            steps.append(-h if out else h)  # keep a phi on its slip limit inside the cone
+        for j, (h, Pq) in enumerate(zip(steps, pm.images([(x + h * Q[:, j], speed) for j, h in enumerate(steps)]))):
+            DQ[:, j] = (Pq - Px) / h
         return critical_value(np.linalg.eigvals(np.linalg.solve(LQ, L @ DQ)), kind)
 
     return value

@@ -52,8 +52,11 @@ from __future__ import annotations
 
 import ctypes as C
 import math
-from dataclasses import dataclass
-from typing import Any, Mapping
+import os
+import threading
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, replace
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 
@@ -63,6 +66,10 @@ from harness.fmu.slave import Slave
 from harness.system.ring import Ring, RingDiverged
 from harness.system.ring_c import CRing
 from harness.system.ring_sweep import window_amplitude
+
+
+DEFAULT_WORKERS = 2  # threads per DP by default (a 2-core machine: see bench/RESULTS.md)
+MAX_WORKERS = 64
 
 
 class RingMapFailed(FMUError):
@@ -80,8 +87,22 @@ class RingShootingSettings:
     tol: float = 1e-10  # Newton converged: max scaled residual |P(x) - x| / scale
     max_iter: int = 30
     sensitivities: bool = False  # DP by finite differences over the state (the FMUs' are not chained)
+    # threads that run the periods of a finite-difference DP's columns (RingPeriodMap.images), each on
+    # its own instances; None: min(DEFAULT_WORKERS, the machine's cores). 1 where processes already
+    # share the cores (the mistuning study runs one ring per worker process)
+    workers: int | None = None
+
+    def threads(self) -> int:
+        """The number of threads `workers` asks for."""
+        return self.workers if self.workers is not None else max(1, min(DEFAULT_WORKERS, os.cpu_count() or 1))
 
     def check(self) -> "RingShootingSettings":
+        w = self.workers
+        if w is not None and not (isinstance(w, int) and not isinstance(w, bool) and 1 <= w <= MAX_WORKERS):
+            raise ValueError(
+                f"RingShootingSettings.workers = {w!r}: need None (min({DEFAULT_WORKERS}, the machine's cores)) "
+                f"or a whole number in [1, {MAX_WORKERS}]"
+            )
         if not (isinstance(self.steps_per_period, int) and 4 <= self.steps_per_period <= 100000):
             raise ValueError(f"steps_per_period = {self.steps_per_period!r}: need a whole number in [4, 100000]")
         for name, lo, hi in (("fd_rel", 1e-12, 1e-2), ("tol", 1e-15, 1e-3)):
@@ -184,6 +205,9 @@ class RingPeriodMap:
         # (x bytes, rpm) -> (P(x), per-blade max |q| [m], period residual max |P(x) - x| / scales)
         self.seen: dict[tuple[bytes, float], tuple[np.ndarray, np.ndarray, float]] = {}
         self.last: dict[str, np.ndarray] | None = None  # the last evaluation's record (q per point)
+        self.workers = self.s.threads()
+        self._helpers: list[RingPeriodMap] = []  # maps of the same ring on their own instances (images)
+        self._pool: ThreadPoolExecutor | None = None
 
     def __enter__(self) -> "RingPeriodMap":
         return self
@@ -192,6 +216,12 @@ class RingPeriodMap:
         self.close()
 
     def close(self) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(wait=True)
+            self._pool = None
+        for h in self._helpers:
+            h.close()
+        self._helpers = []
         self._cr.__exit__(None, None, None)
 
     # --- the unknowns -------------------------------------------------------------------------
@@ -327,21 +357,18 @@ class RingPeriodMap:
             r.starts[:] = (F[j], q[j], q[(j + 1) % self.n], rpm)
             r()
 
-    def __call__(self, x: np.ndarray, speed: float, jacobian: bool = True) -> tuple[np.ndarray, float]:
-        """(P(x), the largest blade's max |q| over the period [m]); the per-blade amplitudes and the
-        scaled residual are kept in `seen` under (x bytes, speed). Raises RingMapFailed if an FMU refuses the start
-        state or the period. `jacobian` is accepted for the single blade's interface (unused)."""
+    def _args(self, x: np.ndarray, speed: float) -> tuple[np.ndarray, float]:
         x = np.asarray(x, dtype=float)
         rpm = float(speed)
         if not (math.isfinite(rpm) and rpm > 0.0) or not np.all(np.isfinite(x)) or len(x) != self.dim:
             raise RingMapFailed(f"period map at {rpm!r} rpm: need a positive speed and {self.dim} finite unknowns")
-        key = (x.tobytes(), rpm)
-        if key in self.seen:
-            Px, amp, _ = self.seen[key]
-            return Px.copy(), float(amp.max())
+        return x, rpm
+
+    def _period(self, x: np.ndarray, rpm: float) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+        """(P(x), per-blade max |q| [m], the period's record) on this map's own instances: neither
+        counted nor kept (a helper of `images` runs it on its thread)."""
         K = self.s.steps_per_period
         T = 60.0 / (self.ring.engine_order * rpm)
-        self.evaluations += 1
         try:
             self._start(x, rpm)
             self._cr.rpm = rpm
@@ -353,11 +380,99 @@ class RingPeriodMap:
         Px = self.read(self._cr)
         q = rec["q"]
         amp = window_amplitude(np.vstack([q[K - 1], q[:K], q[0]]))
+        return Px, amp, rec
+
+    def _keep(self, x: np.ndarray, rpm: float, Px: np.ndarray, amp: np.ndarray, rec: dict[str, np.ndarray]) -> None:
         if len(self.seen) >= self.CACHE:
             self.seen.pop(next(iter(self.seen)))
-        self.seen[key] = (Px.copy(), amp, float(np.max(np.abs(Px - x) / self.scales(x, rpm))))
+        self.seen[(x.tobytes(), rpm)] = (Px.copy(), amp, float(np.max(np.abs(Px - x) / self.scales(x, rpm))))
         self.last = rec
+
+    def __call__(self, x: np.ndarray, speed: float, jacobian: bool = True) -> tuple[np.ndarray, float]:
+        """(P(x), the largest blade's max |q| over the period [m]); the per-blade amplitudes and the
+        scaled residual are kept in `seen` under (x bytes, speed). Raises RingMapFailed if an FMU refuses the start
+        state or the period. `jacobian` is accepted for the single blade's interface (unused)."""
+        x, rpm = self._args(x, speed)
+        key = (x.tobytes(), rpm)
+        if key in self.seen:
+            Px, amp, _ = self.seen[key]
+            return Px.copy(), float(amp.max())
+        self.evaluations += 1
+        Px, amp, rec = self._period(x, rpm)
+        self._keep(x, rpm, Px, amp, rec)
         return Px, float(amp.max())
+
+    def images(self, points: Sequence[tuple[np.ndarray, float]]) -> list[np.ndarray]:
+        """[P(x) for every (x, speed)], the same numbers, count and `seen` as calling the map on each
+        in turn (the columns of a finite-difference DP): the periods not known are run on `workers`
+        threads, this map's instances and those of workers - 1 helper maps of the same ring (made on
+        first use, closed with this map; ctypes releases the GIL in the FMUs' and the C loop's calls,
+        which keep no global state). An image is a function of x alone (the module docstring), so
+        whichever instances run it give it bit for bit. The first failing point, in order, raises
+        RingMapFailed after the points before it are kept; every period that ran is counted."""
+        args = [self._args(x, n) for x, n in points]
+        keys = [(x.tobytes(), rpm) for x, rpm in args]
+        todo: dict[tuple[bytes, float], int] = {}  # unknown image -> its first index
+        for i, k in enumerate(keys):
+            if k not in self.seen and k not in todo:
+                todo[k] = i
+        if self.workers <= 1 or len(todo) <= 1:
+            return [self(x, rpm)[0] for x, rpm in args]
+        known = {k: self.seen[k][0].copy() for k in keys if k not in todo}
+        order = list(todo.values())
+        done = self._run(order, args)
+        out: list[np.ndarray] = []
+        for i, k in enumerate(keys):
+            if k in known:
+                out.append(known[k].copy())
+                continue
+            first = todo[k]
+            if first == i:
+                result = done[first]
+                if isinstance(result, RingMapFailed):
+                    raise result
+                Px, amp, rec = result
+                self._keep(*args[first], Px, amp, rec)
+                known[k] = Px
+            out.append(known[k].copy())
+        return out
+
+    def _run(self, order: list[int], args: list[tuple[np.ndarray, float]]) -> dict[int, Any]:
+        """index -> (P(x), amplitudes, record) or the RingMapFailed of every index in `order` run (on
+        the threads; none after a failed one); counts the periods run."""
+        if self._pool is None:
+            self._helpers = [RingPeriodMap(self.ring, replace(self.s, workers=1)) for _ in range(self.workers - 1)]
+            self._pool = ThreadPoolExecutor(max_workers=len(self._helpers), thread_name_prefix="ring-period")
+        lock = threading.Lock()
+        queue = iter(order)
+        done: dict[int, Any] = {}
+        failed = [len(args)]  # the first failed index so far
+
+        def drain(pm: RingPeriodMap) -> None:
+            while True:
+                with lock:
+                    i = next(queue, None)
+                    if i is None or i > failed[0]:
+                        return
+                    self.evaluations += 1
+                try:
+                    r: Any = pm._period(*args[i])
+                except RingMapFailed as e:
+                    r = e
+                    with lock:
+                        failed[0] = min(failed[0], i)
+                done[i] = r
+
+        futures = [self._pool.submit(drain, h) for h in self._helpers]
+        try:
+            drain(self)
+        except BaseException:
+            failed[0] = -1  # (an interrupt) the helpers take no more
+            raise
+        finally:
+            for f in futures:
+                f.result()
+        return done
 
     def measures(self, x: np.ndarray, speed: float) -> tuple[np.ndarray, float]:
         """(per-blade max |q| over the period [m], scaled period residual) of x at speed (one

@@ -4,7 +4,7 @@ Newton on R(x) = P(x) - x is the single blade's (harness.analysis.periodic.shoot
 quasi-Newton with a forward-difference DP updated by Broyden, scaled by the map's `scales`). The
 monodromy matrix at a converged orbit is DP by forward differences over the state (backward where a
 phi sits in its upper half; the ring's DP from forward and central differences agree to 1e-4, the
-period_map's `central_differences`), its eigenvalues the Floquet multipliers; it is kept in the map's
+period_map's `central_differences`; its columns' periods on the map's threads, `images`), its eigenvalues the Floquet multipliers; it is kept in the map's
 memo of DPs (`jacobians`, continuation.JacobianMemo), so a continuation from the orbit starts without
 another one. The period residual reported
 is max |P(x) - x| / scale (scales: the largest displacement for every displacement, times omega for
@@ -80,13 +80,16 @@ def monodromy(pm: RingPeriodMap, x: np.ndarray, speed: float, Px: np.ndarray | N
         Px = pm(x, speed)[0]
     sc = pm.scales(x, speed)
     J = np.zeros((pm.dim, pm.dim))
+    cols: list[tuple[int, float, np.ndarray]] = []  # (column, step, x + step e_j)
     for j in range(pm.dim):
         h = pm.s.fd_rel * sc[j] * pm.fd_direction(x, j)
         xp = x.copy()
         xp[j] += h
         if pm.bounded(xp)[j] != xp[j]:
             continue  # an open contact's phi: it does not act (the column is 0, as the continuation's)
-        J[:, j] = (pm(xp, speed)[0] - Px) / h
+        cols.append((j, h, xp))
+    for (j, h, _), Pp in zip(cols, pm.images([(xp, speed) for _, _, xp in cols])):
+        J[:, j] = (Pp - Px) / h
     memo.put(x, speed, J)
     return J
 
