@@ -1,5 +1,6 @@
 """Benchmark of the ring's periodic steady states (harness/system/ring_orbits), for `harness bench`:
-the cost of one period of the ring's period map, the tuned 6-blade study ring's branches over
+the cost of one period of the ring's period map and of one DP (its columns' periods serial and on
+the map's threads), the tuned 6-blade study ring's branches over
 4000-9000 rpm from every seed (with stability), the cost per continuation point in periods of the
 ring, and the 24-blade ring measured on a part of one branch and extrapolated to the study's band."""
 
@@ -17,9 +18,9 @@ import numpy as np
 from harness.system.ring import Ring
 from harness.system.ring_orbits.branches import default_seed_points, ring_branches
 from harness.system.ring_orbits.continuation import RING_CONTINUATION, trace
-from harness.system.ring_orbits.period_map import RingPeriodMap
+from harness.system.ring_orbits.period_map import RingPeriodMap, RingShootingSettings
 from harness.system.ring_orbits.seeds import travelling_wave
-from harness.system.ring_orbits.shooting import shoot
+from harness.system.ring_orbits.shooting import jacobians, monodromy, shoot
 
 SECTION = "## The ring's periodic steady states"
 STUDY_RING = dict(engine_order=3, fw0=300.0, blade={"c": 298.0}, order=2)  # harness/studies/mistuning.py
@@ -39,6 +40,43 @@ def period_cost(n: int, rpm: float = 6000.0, repeats: int = 20) -> float:
             pm(x, rpm)
             best = min(best, time.perf_counter() - t0)
     return float(best)
+
+
+def dp_cost(n: int = 6, rpm: float = 6000.0, repeats: int = 10) -> dict[str, Any]:
+    """Least wall time of one DP (forward differences, one period per acting column) at the
+    travelling wave's orbit at rpm, serial (workers 1) and on the default threads, taken in turns
+    (the same load on both); `cores` the threaded run's CPU over its wall time (what the machine gave)."""
+    ring = Ring(n=n, **STUDY_RING)
+    threaded = RingShootingSettings()
+    with RingPeriodMap(ring, replace(threaded, workers=1)) as serial, RingPeriodMap(ring, threaded) as pool:
+        o = shoot(serial, travelling_wave(serial, [rpm])[0].x, rpm)
+        if o is None:
+            raise RuntimeError(f"dp_cost: no orbit from the travelling wave at {rpm} rpm")
+        Px = serial(o.x, rpm)[0]
+        best = {1: np.inf, 2: np.inf}
+        cores, periods = 0.0, 0
+        for _ in range(repeats):
+            for k, pm in ((1, serial), (2, pool)):
+                pm.seen.clear()
+                jacobians(pm).items.clear()  # taken afresh, not from the memo
+                e0, t0, c0 = pm.evaluations, time.perf_counter(), time.process_time()
+                monodromy(pm, o.x, rpm, Px)
+                wall = time.perf_counter() - t0
+                if wall < best[k]:
+                    best[k] = wall
+                    if k == 2:
+                        cores = (time.process_time() - c0) / wall
+                periods = pm.evaluations - e0
+    return {
+        "blades": n,
+        "workers": threaded.threads(),
+        "periods": periods,
+        "serial_s": best[1],
+        "threads_s": best[2],
+        "ratio": best[1] / best[2],
+        "cores": cores,
+        "repeats": repeats,
+    }
 
 
 def six_blades(band: tuple[float, float] = (4000.0, 9000.0), seed_points: int | None = None) -> dict[str, Any]:
@@ -61,6 +99,8 @@ def six_blades(band: tuple[float, float] = (4000.0, 9000.0), seed_points: int | 
         "peak_stable_amplitude_m": r.peak_stable_amplitude,
         "peak_stable_speed_rpm": r.peak_stable_speed,
         "load_at_start": load,
+        "workers": RingShootingSettings().threads(),
+        "cores": cpu / max(r.wall_time, 1e-9),
     }
 
 
@@ -91,6 +131,7 @@ def ring_orbits_cost(
     out: dict[str, Any] = {
         "period_6_s": period_cost(6, repeats=repeats),
         "period_24_s": period_cost(24, repeats=repeats),
+        "dp_6": dp_cost(6, repeats=repeats),
     }
     out["six"] = six_blades(band, seed_points)
     out["twenty_four"] = twenty_four_part(points)
@@ -140,6 +181,18 @@ def section(d: dict[str, Any], machine_text: str, date: str) -> list[str]:
         if b
         else []
     )
+    dp = d.get("dp_6")
+    dp_row = (
+        [
+            f"- one DP of the {dp['blades']}-blade ring at the travelling wave's orbit at 6000 rpm ({dp['periods']} "
+            f"periods, forward differences): serial {dp['serial_s'] * 1e3:.1f} ms, on {dp['workers']} threads "
+            f"{dp['threads_s'] * 1e3:.1f} ms (least of {dp['repeats']}, taken in turns): **{dp['ratio']:.2f}x**; the "
+            f"threaded run used {dp['cores']:.2f} cores (CPU over wall)"
+        ]
+        if dp
+        else []
+    )
+    threads = f" on {s['workers']} threads ({s['cores']:.2f} cores used: CPU over wall)" if "workers" in s else ""
     return [
         SECTION,
         "",
@@ -148,8 +201,9 @@ def section(d: dict[str, Any], machine_text: str, date: str) -> list[str]:
         "",
         f"- one period of the period map (every FMU reset and initialised, 160 steps of the C loop): "
         f"6 blades {d['period_6_s'] * 1e3:.2f} ms, 24 blades {d['period_24_s'] * 1e3:.2f} ms (least of 20)",
+        *dp_row,
         f"- 6 blades, {s['band_rpm'][0]:.0f}-{s['band_rpm'][1]:.0f} rpm, every seed ({s['seed_points']} seed "
-        f"speeds): **{s['wall_s']:.1f} s wall**, {s['cpu_s']:.1f} s CPU (target 60 s wall; the machine is shared: "
+        f"speeds){threads}: **{s['wall_s']:.1f} s wall**, {s['cpu_s']:.1f} s CPU (target 60 s wall; the machine is shared: "
         f"at the least period cost the same periods take {s['periods'] * d['period_6_s']:.0f} s), "
         f"{s['branches']} branches, {s['points']} points "
         f"with stability, {s['periods']} periods of the ring ({s['seed_periods']} of them for the seeds): "
