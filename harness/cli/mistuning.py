@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -144,8 +145,32 @@ def study_from(args: argparse.Namespace) -> mistuning.Study:
     return s
 
 
+# the periodic-orbit engine over the study's band: about 10 CPU-minutes for a 6-blade ring (make run), and per
+# continuation point 9.9 s at 24 blades against 0.37 s at 6 (bench/RESULTS.md): about n^2.4
+ENGINE_CPU_MIN_6 = 10.0
+ENGINE_COST_EXPONENT = 2.4
+
+
+def engine_cost_notice(study: mistuning.Study) -> str | None:
+    """A warning when the study's rings on steady states will take more than an hour of CPU (None if not)."""
+    rings = (1 + len(study.levels) * study.state_patterns) * len(study.variants) + study.search_budget
+    if study.state_patterns == 0 and study.search_budget == 0:
+        return None
+    cpu_h = rings * ENGINE_CPU_MIN_6 * (study.n / 6) ** ENGINE_COST_EXPONENT / 60
+    if cpu_h < 1.0:
+        return None
+    return (
+        f"note: {rings} rings of {study.n} blades on steady states (--state-patterns {study.state_patterns}, "
+        f"--search {study.search_budget}): about {cpu_h:.0f} CPU-hours (extrapolated from 10 CPU-minutes per "
+        "6-blade ring); --state-patterns 0 runs the sweeps only"
+    )
+
+
 def run(args: argparse.Namespace) -> int:
     study = study_from(args)
+    notice = engine_cost_notice(study)
+    if notice:
+        print(notice, file=sys.stderr)
     cache = None if args.no_cache else check_dir(args.cache_dir, "--cache-dir")  # before any work
     out_dir = check_dir(args.out, "--out")
     with make_runner(args) as runner:

@@ -68,4 +68,11 @@ def run_branches(ring: Ring, args: argparse.Namespace, common: dict[str, Any]) -
             f"  branch {i}: {b.speeds.min():.0f}..{b.speeds.max():.0f} rpm, {len(b.orbits)} points, "
             f"{int(b.stable.sum())} stable; bifurcations: {kinds}"
         )
+    if r.untraced:
+        stable = [o for _, o in r.untraced if o.stable]
+        largest = f", largest stable {max(o.amplitude for o in stable) * 1e3:.6f} mm" if stable else ""
+        print(
+            f"  {len(r.untraced)} further orbits from seeds past the branch cap (not continued; {len(stable)} stable"
+            f"{largest})"
+        )
     return 0

@@ -30,7 +30,8 @@ from harness.system.ring_orbits.branches import ring_branches
 from harness.system.ring_orbits.period_map import RingShootingSettings
 from harness.system.ring_orbits.seeds import SweepPath
 
-CACHE_VERSION = 2  # bump when the meaning of a cached record changes (2: the study's sweep among the seeds)
+CACHE_VERSION = 3  # bump when the meaning of a cached record changes (2: the study's sweep among the seeds;
+# 3: every seed shot, the untraced orbits counted)
 
 
 @dataclass(frozen=True)
@@ -92,6 +93,12 @@ def branches_record(
         "branches": branches,
         "evaluations": int(d["evaluations"]),
         "seeds": int(d["seeds"]),
+        "seeds_shot": int(d["seeds_shot"]),
+        # orbits past the branch cap (not continued): speed, largest blade, stability
+        "untraced": [
+            {"speed_rpm": o["speed_rpm"], "largest_m": max(o["amplitudes_m"]), "stable": o["stable"]}
+            for o in d["untraced_orbits"]
+        ],
         "wall_s": time.perf_counter() - t0,
         "cpu_s": time.process_time() - c0,
     }

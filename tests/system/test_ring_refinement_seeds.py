@@ -66,3 +66,30 @@ def test_refinement_states_are_seeds_and_on_the_branches():
         r.peak_stable_amplitude,
         sw.peak_amplitude_m,
     )
+
+
+def test_seeds_past_the_branch_cap_still_count():
+    """With one branch allowed (max_branches = 1) every refinement state is still on that branch or
+    equal to a stable untraced orbit at its speed (Newton from the seed, not continued), at least one
+    of them only there, and the largest stable state is still at least the sweep's located peak.
+    Stopping at the cap (the seeds past it never shot) loses the states off the first branch and fails."""
+    path = SweepPath(SPEEDS, rtol=SETTLE_RTOL, refine=True, speed_tol=SPEED_TOL)
+    r = ring_branches(
+        RING, BAND, points=2, sweep_speeds=(), sweeps=(path,), seed_kinds=("C-loop sweep",), max_branches=1
+    )
+    assert len(r.branches) == 1
+    sw = sweep(RING, SPEEDS, "both", rtol=SETTLE_RTOL, speed_tol=SPEED_TOL)
+    refined = [e for e in sw.refinement if e["settled"] and BAND[0] <= e["speed_rpm"] <= BAND[1]]
+    maps = index_maps(RING)
+    only_untraced = 0
+    with RingPeriodMap(RING) as pm:
+        for e in refined:
+            s, a = float(e["speed_rpm"]), np.asarray(e["amplitudes_m"])
+            on_branch = [distance(o, a, maps) for o, mu in crossings(pm, r.branches, s) if mu < 1]
+            untraced = [
+                distance(o.amplitudes, a, maps) for _, o in r.untraced if o.stable and abs(o.speed - s) <= 1e-6 * s
+            ]
+            assert min(on_branch + untraced, default=np.inf) <= SAME_BRANCH, (s, max(a), on_branch, untraced)
+            only_untraced += min(on_branch, default=np.inf) > SAME_BRANCH
+    assert only_untraced > 0, "the case must put a state off the one traced branch"
+    assert r.peak_stable_amplitude >= sw.peak_amplitude_m * (1 - MEASURE_RTOL)

@@ -6,16 +6,19 @@ each grid speed, a sweep of the period map up and back down the grid, and every 
 sweep up and back down (harness/system/ring_sweep.py, the sweeps' own path and settle rule) leaves a
 speed, at most SWEEP_SPACING apart (and of any further C-loop sweep given, its peak's refinement
 included: a study passes its own sweep, whose located peak is then a seed): the states the sweeps
-report are then on the traced branches. A seed whose state already lies on a traced
-branch (up to the ring's symmetries, symmetry.py, by the per-blade amplitudes) is dropped; otherwise
-Newton finds its orbit, which is dropped if it lies on a traced branch, else continued both ways
-across the band (continuation.py) until it leaves the band or runs onto a branch traced before.
+report are then on the traced branches. The given sweeps' states come first, then the others, the
+largest first. A seed whose state already lies on a traced branch (up to the ring's symmetries,
+symmetry.py, by the per-blade amplitudes) is dropped; otherwise Newton finds its orbit, which is
+dropped if it lies on a traced branch, else continued both ways across the band (continuation.py)
+until it leaves the band or runs onto a branch traced before. Once `max_branches` are traced, every
+remaining seed still gets its Newton and multipliers: an orbit on no traced branch is kept
+(`untraced`, not continued) and counts in the largest stable steady state, so no seed goes untried.
 At every branch point next to a stable point (where a stable branch can emanate; at most
 `max_switches` in all) the other branch is entered along the critical eigenvector
 (continuation.switch) and traced too. The largest stable steady state: the largest blade amplitude
 over the stable points, the located peaks that are stable, and the stability boundaries (a fold
 bounding a stable part, a branch point, period doubling or Neimark-Sacker point next to a stable
-point).
+point), and the stable untraced orbits.
 """
 
 from __future__ import annotations
@@ -32,7 +35,7 @@ from harness.system.ring import Ring
 from harness.system.ring_orbits.continuation import RingBranch, switch, trace
 from harness.system.ring_orbits.period_map import RingPeriodMap, RingShootingSettings
 from harness.system.ring_orbits.seeds import SweepPath, from_rest, settled_states, sweep, travelling_wave
-from harness.system.ring_orbits.shooting import shoot
+from harness.system.ring_orbits.shooting import RingOrbit, shoot
 from harness.system.ring_orbits.symmetry import distance, index_maps, tuned
 
 SAME_RTOL = 1e-3  # two orbits are the same (up to symmetry): per-blade amplitudes within this of the largest
@@ -52,6 +55,10 @@ class RingBranches:
     wall_time: float  # [s]
     points: int = 0  # continuation points over all branches
     stats: dict = field(default_factory=dict)
+    # orbits Newton found from seeds (or at branch points) once max_branches were traced, on none of
+    # them: not continued, but counted in the largest stable steady state
+    untraced: list[tuple[str, RingOrbit]] = field(default_factory=list)
+    seeds_shot: int = 0  # seeds Newton was run from (the others lay on a traced branch or untraced orbit)
 
     def as_dict(self) -> dict:
         nan = math.isnan(self.peak_stable_amplitude)
@@ -63,6 +70,12 @@ class RingBranches:
             "peak_stable_blade": None if nan else self.peak_stable_blade,
             "peak_stable_at_band_edge": (not nan) and self.peak_stable_speed in self.band,
             "seeds": self.seeds,
+            "seeds_shot": self.seeds_shot,
+            # the largest stable state is an untraced orbit: a sampled point, its branch not continued
+            "peak_stable_untraced": any(
+                o.stable and o.amplitude == self.peak_stable_amplitude for _, o in self.untraced
+            ),
+            "untraced_orbits": [{"origin": o, **orb.as_dict()} for o, orb in self.untraced],
             "evaluations": self.evaluations,
             "continuation_points": self.points,
             "periods_per_point": self.evaluations / max(self.points, 1),
@@ -106,10 +119,12 @@ def in_band(branches: list[RingBranch], band: tuple[float, float]) -> list[RingB
     return [b for b in branches if any(band[0] <= o.speed <= band[1] for o in b.orbits)]
 
 
-def peak_stable(branches: list[RingBranch], band: tuple[float, float]) -> tuple[float, float, int]:
+def peak_stable(
+    branches: list[RingBranch], band: tuple[float, float], untraced: Sequence[RingOrbit] = ()
+) -> tuple[float, float, int]:
     """(amplitude [m], speed [rpm], blade) of the largest stable steady state in the band (see the
-    module docstring); nan, nan, -1 if none."""
-    cands: list[tuple[float, float, np.ndarray]] = []
+    module docstring), the stable `untraced` orbits counted too; nan, nan, -1 if none."""
+    cands: list[tuple[float, float, np.ndarray]] = [(o.amplitude, o.speed, o.amplitudes) for o in untraced if o.stable]
     for br in branches:
         cands += [(o.amplitude, o.speed, o.amplitudes) for o in br.orbits if o.stable]
         cands += [(o.amplitude, o.speed, o.amplitudes) for o in br.peaks if o.stable]
@@ -176,35 +191,44 @@ def ring_branches(
     maps = index_maps(ring)
     symmetric = tuned(ring)
     with RingPeriodMap(ring, settings) as pm:
-        seeds = (
-            # the given sweeps' states first: max_branches must not cut off a study's located peak
-            [
-                sd
-                for path in sweeps
-                if "C-loop sweep" in seed_kinds
-                for sd in settled_states(pm, ring, path)
-                if lo <= sd.speed <= hi
-            ]
-            + (travelling_wave(pm, grid, settle, max_periods) if symmetric and "travelling wave" in seed_kinds else [])
+        given = [
+            sd
+            for path in sweeps
+            if "C-loop sweep" in seed_kinds
+            for sd in settled_states(pm, ring, path)
+            if lo <= sd.speed <= hi
+        ]
+        own = (
+            (travelling_wave(pm, grid, settle, max_periods) if symmetric and "travelling wave" in seed_kinds else [])
             + (from_rest(pm, grid, settle, max_periods) if "rest" in seed_kinds else [])
             + (sweep(pm, grid, settle, max_periods) if "map sweep" in seed_kinds else [])
             + (settled_states(pm, ring, SweepPath(tuple(sweep_speeds))) if own_sweep else [])
         )
+        # the given sweeps' states first (max_branches must not cut off a study's located peak), then
+        # the largest first: the branches traced before the cap are those of the largest seeds
+        seeds = given + sorted(own, key=lambda sd: -float(pm.measures(sd.x, sd.speed)[0].max()))
         e_seeds = pm.evaluations
         todo: list = []  # orbits to continue (from seeds, then from branch points)
-        switches, switch_cost = 0, 0
+        untraced: list[tuple[str, RingOrbit]] = []  # orbits found once max_branches were traced
+        switches, switch_cost, shot = 0, 0, 0
         sweep_orbits: list[dict] = []  # per C-loop sweep state: its Newton orbit
         stage: dict[str, int] = {}  # periods per stage of tracing (every branch traced, kept or merged away)
+
+        def seen(speed: float, amps: np.ndarray, rtol: float) -> bool:
+            """On a traced branch, or an untraced orbit at this speed (up to the ring's symmetries)."""
+            return known(branches, speed, amps, maps, rtol) or any(
+                abs(o.speed - speed) <= 1e-6 * speed and distance(o.amplitudes, amps, maps) <= rtol for _, o in untraced
+            )
+
         for sd in seeds:
-            if len(branches) >= max_branches:
-                break
             swept = sd.origin.startswith("C-loop sweep")
             amps = pm.measures(sd.x, sd.speed)[0]
             # a sweep's state always gets its Newton: the orbit it reports must be on a branch; a
             # refinement's (many, near each other) only off the traced branches (settled: within SAME_RTOL)
             rtol = SAME_RTOL if sd.origin.startswith("C-loop") else min(max(SAME_RTOL, 10 * sd.change), 2e-2)
-            if not swept and known(branches, sd.speed, amps, maps, rtol):
+            if not swept and seen(sd.speed, amps, rtol):
                 continue
+            shot += 1
             orb = shoot(pm, sd.x, sd.speed)
             if swept:
                 sweep_orbits.append(
@@ -218,12 +242,15 @@ def ring_branches(
                         else {k: orb.as_dict()[k] for k in ("amplitudes_m", "max_multiplier", "period_residual")},
                     }
                 )
-            if orb is None or known(branches, orb.speed, orb.amplitudes, maps, SAME_RTOL):
+            if orb is None or seen(orb.speed, orb.amplitudes, SAME_RTOL):
                 continue
             todo.append((orb, f"{sd.origin} at {sd.speed:.1f} rpm"))
-            while todo and len(branches) < max_branches:
+            while todo:
                 o, origin = todo.pop(0)
-                if branches and known(branches, o.speed, o.amplitudes, maps, SAME_RTOL):
+                if seen(o.speed, o.amplitudes, SAME_RTOL):
+                    continue
+                if len(branches) >= max_branches:  # every seed still gets its Newton: the orbit counts
+                    untraced.append((origin, o))
                     continue
                 done = list(branches)
                 br = trace(pm, o, (lo, hi), joined=lambda n, a: known(done, n, a, maps, SAME_RTOL))
@@ -248,7 +275,8 @@ def ring_branches(
                             if new is not None:
                                 todo.append((new, f"branch point at {b.speed:.1f} rpm"))
         branches = merged(in_band(branches, (lo, hi)), maps)
-        amp, speed, blade = peak_stable(branches, (lo, hi))
+        untraced = [(o, orb) for o, orb in untraced if lo <= orb.speed <= hi]
+        amp, speed, blade = peak_stable(branches, (lo, hi), [orb for _, orb in untraced])
         npts = sum(len(b.orbits) for b in branches)
         return RingBranches(
             branches,
@@ -272,6 +300,8 @@ def ring_branches(
                     "shooting": pm.evaluations - e_seeds - sum(stage.values()) - switch_cost,
                 },
             },
+            untraced,
+            shot,
         )
 
 
