@@ -26,7 +26,7 @@ from harness.system.engine_identity import ring_engine_digest
 from harness.studies import mistuning
 from harness.studies.mistuning import Study
 from harness.system.ring import Ring
-from harness.system.ring_orbits.branches import ring_branches
+from harness.system.ring_orbits.branches import MAX_BRANCHES, ring_branches
 from harness.system.ring_orbits.period_map import RingShootingSettings
 from harness.system.ring_orbits.seeds import SweepPath
 
@@ -41,7 +41,7 @@ class StatesSettings:
     seed_points: int | None = None  # speeds where seeds start (rest, sweep, wave); None: the engine's default, at
     # most 300 rpm apart (6 seeds across the band missed a pattern's largest stable branch near 5800 rpm)
     switch_branches: bool = True
-    max_branches: int = 24
+    max_branches: int = MAX_BRANCHES  # a safety bound (branches.py): every seed's branch is traced
     steps_per_period: int = 160  # the sweeps' step h = T / 160
 
 

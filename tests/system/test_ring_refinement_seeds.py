@@ -23,6 +23,7 @@ the period map's).
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from harness.studies.mistuning import mistuned
 from harness.system.ring import Ring
@@ -93,3 +94,8 @@ def test_seeds_past_the_branch_cap_still_count():
             only_untraced += min(on_branch, default=np.inf) > SAME_BRANCH
     assert only_untraced > 0, "the case must put a state off the one traced branch"
     assert r.peak_stable_amplitude >= sw.peak_amplitude_m * (1 - MEASURE_RTOL)
+
+
+def test_a_bad_branch_bound_is_refused_before_any_work():
+    with pytest.raises(ValueError, match=r"max_branches = 0: need a whole number >= 1"):
+        ring_branches(RING, BAND, max_branches=0)
