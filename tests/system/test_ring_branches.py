@@ -15,7 +15,8 @@ at a pitchfork; the reuse of DPs and the quasi-Newton corrector the continuation
   shooting's tolerance is 1e-10) and break the symmetry (asymmetry above 1e-3; measured 3.4e-2): a
   pitchfork.
 - reuse: a DP is reused only at the point it was taken (the memo), and the corrector quasi-Newton
-  from a reused (or a deliberately wrong) Jacobian ends where Newton with fresh ones does, or fails.
+  from a reused (or a deliberately wrong) Jacobian ends where Newton with fresh ones does, or fails;
+  with a fresh start it ignores the Jacobian given (bit for bit the same from a wrong one).
 """
 
 from __future__ import annotations
@@ -179,6 +180,16 @@ def test_broyden_corrector_reaches_full_newtons_point(pitchfork):
             assert np.max(np.abs(done[0] - full[0])) <= 1e-8, np.max(np.abs(done[0] - full[0]))
             pm.seen.clear()
             assert np.max(np.abs(prob.H(done[0])[0])) <= 1e-9
+        # fresh_start (the crossings' second try): the Jacobian given is not used, a fresh one at zp
+        # is: from the right one and from a wrong one the same iterates bit for bit (no memo: both
+        # take it by finite differences), ending on Newton's point
+        wrong = Jz.copy()
+        wrong[:, 0] *= 2.0
+        prob.memo = None
+        fresh = [correct(prob, zp, t, J, RING_CONTINUATION, quasi=True, fresh_start=True) for J in (Jz, wrong)]
+        assert fresh[0] is not None and fresh[1] is not None
+        assert np.array_equal(fresh[0][0], fresh[1][0]) and fresh[0][4] == fresh[1][4]
+        assert np.max(np.abs(fresh[0][0] - full[0])) <= 1e-8, np.max(np.abs(fresh[0][0] - full[0]))
 
 
 def test_estimated_test_function_is_the_multipliers_to_first_order(pitchfork):
