@@ -525,13 +525,20 @@ def _step(
 
 
 def correct(
-    prob: BranchProblem, zp: np.ndarray, t: np.ndarray, Jz: np.ndarray, s: ContinuationSettings, quasi: bool
+    prob: BranchProblem,
+    zp: np.ndarray,
+    t: np.ndarray,
+    Jz: np.ndarray,
+    s: ContinuationSettings,
+    quasi: bool,
+    fresh_start: bool = False,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, int] | None:
     """Newton on (H(z) = 0, t . (z - zp) = 0) from the predictor zp: (z, H, P, amplitude,
-    iterations) or None. quasi: Jz, Broyden-updated; else a fresh Jacobian every iteration."""
+    iterations) or None. quasi: Jz (with fresh_start a fresh Jacobian at zp instead), Broyden-updated;
+    else a fresh Jacobian every iteration."""
     zk = zp.copy()
     Hz, Px, A = prob.H(zk)
-    J = Jz.copy()
+    J = prob.jac(zk, Hz, Px)[0] if fresh_start and quasi else Jz.copy()
     for it in range(1, s.max_corrector + 1):
         if prob.sens:  # exact in the unknowns; the speed column from the last point, or fresh
             J[:, :-1] = prob.state_columns(zk)

@@ -13,7 +13,8 @@ is decided when none of its multipliers of that kind is within NOISE of the circ
 change of the number outside between two decided points, the undecided ones between them skipped.
 It is located on the segment between neighbours where the test function changes sign (the first,
 else the one next to the decided point before): Newton on the plane normal to the chord at the arc
-fraction f (quasi-Newton from the last DP taken, the segment start's from the map's memo), and f
+fraction f (quasi-Newton from the last DP taken, the segment start's from the map's memo; where that
+fails, from a fresh DP at f, and only then Newton with a fresh DP per iteration), and f
 chosen by Brent's method (secant and inverse quadratic steps, bisection where they do not shrink the
 bracket fast enough) until the bracket of both signs is ARC_TOL of scaled arc long (about 0.1 rpm
 where the branch runs along the speed). First on an estimated test function (estimator: the
@@ -156,8 +157,13 @@ def locate(pm: RingPeriodMap, a: BranchPoint, b: BranchPoint, kind: str, setting
     def solve(f: float) -> tuple:
         if f not in solved:
             try:
-                done = correct(prob, za + f * chord, t, Jz[0], settings, quasi=True) or correct(
-                    prob, za + f * chord, t, Jz[0], settings, quasi=False
+                zf = za + f * chord
+                # Broyden from the last DP taken, else from a fresh one at zf (one DP), else a
+                # fresh one per iteration (its first from the memo)
+                done = (
+                    correct(prob, zf, t, Jz[0], settings, quasi=True)
+                    or correct(prob, zf, t, Jz[0], settings, quasi=True, fresh_start=True)
+                    or correct(prob, zf, t, Jz[0], settings, quasi=False)
                 )
             except FMUError:
                 raise _Stop from None
