@@ -27,6 +27,7 @@ from harness.system.ring import run as ring_run
 from harness.system.ring_orbits.branches import RingBranches
 from harness.system.ring_orbits.branches import ring_branches as trace_ring_branches
 from harness.system.ring_orbits.period_map import RingShootingSettings
+from harness.system.ring_orbits.seeds import SweepPath
 from harness.version import version
 
 __all__ = [
@@ -330,7 +331,11 @@ def _check_ring(ring: Ring, where: str) -> None:
 
 
 def ring_branches(
-    ring: Ring, speed_range_rpm: tuple[float, float], seed_points: int | None = None, steps_per_period: int = 160
+    ring: Ring,
+    speed_range_rpm: tuple[float, float],
+    seed_points: int | None = None,
+    steps_per_period: int = 160,
+    sweep_seeds_rpm: Sequence[float] | None = None,
 ) -> RingBranches:
     """The periodic steady states of the bladed-disk ring over a speed band.
 
@@ -351,6 +356,11 @@ def ring_branches(
         Speeds of the seeds across the band, 2..200 (default: at most 300 rpm apart, at least 4).
     steps_per_period : int, optional
         Communication steps per excitation period, 8..100000 (default 160, as the sweeps).
+    sweep_seeds_rpm : sequence of float, optional
+        The speeds [rpm] of a further C-loop sweep up and down (increasing, at least 2, each a ring
+        speed; they may reach beyond the band) whose peak is located: the state at every speed it
+        settles at inside the band, its peak refinement's included, is a seed first (what the
+        mistuning study passes: its own sweep). Default: none.
 
     Returns
     -------
@@ -386,6 +396,22 @@ def ring_branches(
             raise _error(
                 f"{name} = {v!r} (from {where}({name}=...)) is out of range; accepted: whole numbers in [{a}, {b}]"
             )
+    sweeps: tuple[SweepPath, ...] = ()
+    if sweep_seeds_rpm is not None:
+        arg = f"{where}(sweep_seeds_rpm=...)"
+        try:
+            sp = [float(v) for v in sweep_seeds_rpm]
+        except (TypeError, ValueError):
+            raise _error(f"sweep_seeds_rpm = {sweep_seeds_rpm!r} (from {arg}): need speeds [rpm]") from None
+        for v in sp:
+            _ring_speed(v, arg, "sweep_seeds_rpm")
+        if len(sp) < 2 or any(b <= a for a, b in zip(sp, sp[1:])):
+            raise _error(f"sweep_seeds_rpm = {sp!r} (from {arg}): need at least 2 speeds, increasing")
+        sweeps = (SweepPath(tuple(sp), refine=True),)
     return trace_ring_branches(
-        ring, (lo, hi), points=seed_points, settings=RingShootingSettings(steps_per_period=steps_per_period)
+        ring,
+        (lo, hi),
+        points=seed_points,
+        settings=RingShootingSettings(steps_per_period=steps_per_period),
+        sweeps=sweeps,
     )

@@ -152,6 +152,15 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
         help="with --branches: speeds of the seeds across the band (default: at most 300 rpm apart, at least 4)",
     )
     g.add_argument(
+        "--seed-sweep",
+        type=float,
+        nargs="+",
+        default=None,
+        metavar="RPM",
+        help="with --branches: speeds [rpm] of a further C-loop sweep up and down (increasing, at least 2; its "
+        "peak located) whose settled states are seeds first, as the mistuning study passes its own (default: none)",
+    )
+    g.add_argument(
         "--steps-per-period",
         type=int,
         default=160,
@@ -199,6 +208,19 @@ def check(args: argparse.Namespace) -> None:
             raise ParameterError(f"--max-time {args.max_time!r} s must be > 0")
         if args.seed_points is not None and not 2 <= args.seed_points <= 200:
             raise ParameterError(f"--seed-points {args.seed_points} outside [2, 200]")
+        if args.seed_sweep is not None and not args.branches:
+            raise ParameterError("--seed-sweep seeds --branches: add --branches")
+        if args.seed_sweep is not None:
+            for s in args.seed_sweep:
+                if not (math.isfinite(s) and lo < s <= hi):
+                    raise ParameterError(
+                        f"--seed-sweep {s!r} rpm outside ({lo:g}, {hi:g}] (BladeExternalContact's rotorSpeed)"
+                    )
+            sp = args.seed_sweep
+            if len(sp) < 2 or any(b <= a for a, b in zip(sp, sp[1:])):
+                raise ParameterError(
+                    f"--seed-sweep {' '.join(f'{v:g}' for v in sp)}: need at least 2 speeds, increasing"
+                )
         if not 8 <= args.steps_per_period <= 100000:
             raise ParameterError(f"--steps-per-period {args.steps_per_period} outside [8, 100000]")
         if args.branches and args.master != "fmpy" and args.master != "c":
@@ -208,6 +230,8 @@ def check(args: argparse.Namespace) -> None:
                 check_file(path, option)
     elif args.csv or args.plot:
         raise ParameterError("--csv and --plot write the curves of a sweep: give --speeds FROM TO")
+    elif args.seed_sweep is not None:
+        raise ParameterError("--seed-sweep seeds --branches: give --speeds FROM TO --branches")
     elif args.branches:
         raise ParameterError("--branches traces the periodic orbits over a band: give --speeds FROM TO")
     if not (math.isfinite(args.stop_time) and args.stop_time > 0):

@@ -17,6 +17,7 @@ from harness.studies import run_plots
 from harness.system.ring import Ring
 from harness.system.ring_orbits.branches import ring_branches
 from harness.system.ring_orbits.period_map import RingShootingSettings
+from harness.system.ring_orbits.seeds import SweepPath
 from harness.system.ring_sweep import sweep
 from harness.system.ring_tables import write_branches_csv
 
@@ -24,7 +25,11 @@ from harness.system.ring_tables import write_branches_csv
 def run_branches(ring: Ring, args: argparse.Namespace, common: dict[str, Any]) -> int:
     lo, hi = args.speeds
     r = ring_branches(
-        ring, (lo, hi), points=args.seed_points, settings=RingShootingSettings(steps_per_period=args.steps_per_period)
+        ring,
+        (lo, hi),
+        points=args.seed_points,
+        settings=RingShootingSettings(steps_per_period=args.steps_per_period),
+        sweeps=() if args.seed_sweep is None else (SweepPath(tuple(args.seed_sweep), refine=True),),
     )
     out = {**common, **r.as_dict()}
     if args.plot:

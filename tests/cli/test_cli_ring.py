@@ -221,6 +221,16 @@ def test_open_ring_of_three_mode_blades_gives_the_single_blade_amplitude(capsys)
         (["--blades", "3", "--start-values", "frictionModel", "x"], ["frictionModel", "'x'", "Integer"]),
         (["--blades", "3", "--start-values", "bladeIndex", "1"], ["bladeIndex", "set by the ring"]),
         (["--blades", "3", "--mistuning", "0.5"], ["--mistuning 0.5", "[0, 0.2]"]),
+        (["--blades", "3", "--seed-sweep", "5000", "6000"], ["--seed-sweep", "--speeds FROM TO --branches"]),
+        (["--blades", "3", "--speeds", "5000", "6000", "--seed-sweep", "5000", "6000"], ["--seed-sweep", "--branches"]),
+        (
+            ["--blades", "3", "--speeds", "5000", "6000", "--branches", "--seed-sweep", "6000", "5000"],
+            ["--seed-sweep 6000 5000", "increasing"],
+        ),
+        (
+            ["--blades", "3", "--speeds", "5000", "6000", "--branches", "--seed-sweep", "5000", "40000"],
+            ["--seed-sweep 40000", "(0, 30000]"],
+        ),
         # refused by the FMU itself (at initialization): its reason, one line
         (["--blades", "3", "--start-values", "modes", "3"], ["modes = 3", "formulation = 2", "[1, 1]"]),
         (["--blades", "3", "--master", "libcosim", "--order", "2"], ["--order 2", "hold inputs"]),

@@ -208,6 +208,12 @@ def test_sweeps_settled_states_lie_on_the_branches():
         ({"speed_range_rpm": (5000.0, 6000.0), "seed_points": 1}, ["seed_points = 1", "[2, 200]"]),
         ({"speed_range_rpm": (5000.0, 6000.0), "steps_per_period": 4}, ["steps_per_period = 4", "[8, 100000]"]),
         ({"speed_range_rpm": "fast"}, ["speed_range_rpm = 'fast'", "two speeds"]),
+        ({"speed_range_rpm": (5000.0, 6000.0), "sweep_seeds_rpm": [6000.0, 5000.0]}, ["sweep_seeds_rpm", "increasing"]),
+        (
+            {"speed_range_rpm": (5000.0, 6000.0), "sweep_seeds_rpm": [5000.0, -1.0]},
+            ["sweep_seeds_rpm = -1.0", "(0, 30000]"],
+        ),
+        ({"speed_range_rpm": (5000.0, 6000.0), "sweep_seeds_rpm": "x"}, ["sweep_seeds_rpm = 'x'", "speeds"]),
     ],
 )
 def test_api_refuses_bad_input(kw, words):
@@ -230,3 +236,14 @@ def test_cli_refuses_branches_without_band():
         timeout=120,
     )
     assert p.returncode == 2 and "--branches" in p.stderr and "--speeds" in p.stderr, p.stderr
+
+
+def test_api_passes_a_sweep_of_seeds_to_the_engine(monkeypatch):
+    """sweep_seeds_rpm reaches the engine as a C-loop sweep up and down with its peak located."""
+    import harness.api as api
+
+    got = {}
+    monkeypatch.setattr(api, "trace_ring_branches", lambda ring, band, **kw: got.update(kw))
+    api.ring_branches(SMALL, (5500.0, 6500.0), sweep_seeds_rpm=[5000, 6000, 7000])
+    (path,) = got["sweeps"]
+    assert path.speeds == (5000.0, 6000.0, 7000.0) and path.refine
