@@ -124,6 +124,16 @@ def ring_branches(path: str | Path, out: dict[str, Any], title: str) -> Path:
                 mfc="none",
                 color=c,
             )
+    un = out.get("untraced_orbits") or []
+    if un:  # orbits from seeds past the branch bound: sampled, not continued
+        ax.plot(
+            [o["speed_rpm"] for o in un],
+            [max(o["amplitudes_m"]) * 1e3 for o in un],
+            "x",
+            color="0.4",
+            ms=5,
+            label="orbit from a seed past the branch bound (not continued)",
+        )
     sw = out.get("sweep")
     if sw:
         S = np.array(sw["speeds_rpm"])
