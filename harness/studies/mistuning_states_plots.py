@@ -5,7 +5,8 @@ each a PNG with its CSV:
 - mistuning_states_amplification: per pattern, the amplification on stable steady states and the
   sweep's, against the level, with Whitehead's bound and the worst pattern found by the search.
 The table mistuning_states.csv has one row per ring: the largest stable state (amplitude, speed),
-the sweep's peak, both amplifications; mistuning_search.csv every ring of the worst-pattern search."""
+the sweep's peak, both amplifications, and how far the engine looked (branches, seeds, seeds shot,
+untraced orbits); mistuning_search.csv every ring of the worst-pattern search."""
 
 from __future__ import annotations
 
@@ -16,6 +17,13 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from harness.files.tables import write_csv
+
+
+def _search_counts(rec: dict) -> tuple[int, int, int, int]:
+    """How far the engine looked for a ring: branches traced, seeds, seeds Newton ran from, and the
+    orbits past the branch bound (untraced; 0 when every seed's branch was traced)."""
+    return len(rec["branches"]), rec["seeds"], rec.get("seeds_shot", -1), len(rec.get("untraced", []))
+
 
 matplotlib.use("Agg")
 
@@ -107,6 +115,7 @@ def write(states: dict, sweep: dict, directory: Path, search: dict | None = None
             sw["tuned_peak_m"],
             sw["tuned_peak_rpm"],
             1.0,
+            *_search_counts(states["tuned"]),
         )
     ]
     sweep_amp = np.array(sw["amplification"], dtype=float)
@@ -123,6 +132,7 @@ def write(states: dict, sweep: dict, directory: Path, search: dict | None = None
                     sw["peak_m"][li][p],
                     sw["peak_rpm"][li][p],
                     sweep_amp[li, p],
+                    *_search_counts(states["patterns"][li * n_pat + p]),
                 )
             )
     table = np.array(
@@ -137,6 +147,10 @@ def write(states: dict, sweep: dict, directory: Path, search: dict | None = None
             ("sweep_peak_m", "f8"),
             ("sweep_peak_rpm", "f8"),
             ("sweep_amplification", "f8"),
+            ("branches", "i4"),
+            ("seeds", "i4"),
+            ("seeds_shot", "i4"),
+            ("untraced_orbits", "i4"),
         ],
     )
     files.append(d / "mistuning_states.csv")
