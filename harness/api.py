@@ -400,11 +400,11 @@ def ring_branches(
     if sweep_seeds_rpm is not None:
         arg = f"{where}(sweep_seeds_rpm=...)"
         try:
-            sp = [float(v) for v in sweep_seeds_rpm]
+            sp = [float(rpm) for rpm in sweep_seeds_rpm]
         except (TypeError, ValueError):
             raise _error(f"sweep_seeds_rpm = {sweep_seeds_rpm!r} (from {arg}): need speeds [rpm]") from None
-        for v in sp:
-            _ring_speed(v, arg, "sweep_seeds_rpm")
+        for rpm in sp:
+            _ring_speed(rpm, arg, "sweep_seeds_rpm")
         if len(sp) < 2 or any(b <= a for a, b in zip(sp, sp[1:])):
             raise _error(f"sweep_seeds_rpm = {sp!r} (from {arg}): need at least 2 speeds, increasing")
         sweeps = (SweepPath(tuple(sp), refine=True),)
