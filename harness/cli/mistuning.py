@@ -145,10 +145,11 @@ def study_from(args: argparse.Namespace) -> mistuning.Study:
     return s
 
 
-# the periodic-orbit engine over the study's band: about 10 CPU-minutes for a 6-blade ring (make run), and per
-# continuation point 9.9 s at 24 blades against 0.37 s at 6 (bench/RESULTS.md): about n^2.4
+# the periodic-orbit engine over the study's band: 10-17 CPU-minutes for a 6-blade ring (make run); per
+# continuation point 4x the unknowns (a DP's periods) at 3.5x the cost per period at 24 blades (5.41 against
+# 1.54 ms, bench/RESULTS.md): 14x for 4x the blades, about n^1.9 (as many branches assumed)
 ENGINE_CPU_MIN_6 = 10.0
-ENGINE_COST_EXPONENT = 2.4
+ENGINE_COST_EXPONENT = 1.9
 
 
 def engine_cost_notice(study: mistuning.Study) -> str | None:
