@@ -99,3 +99,8 @@ def test_seeds_past_the_branch_cap_still_count():
 def test_a_bad_branch_bound_is_refused_before_any_work():
     with pytest.raises(ValueError, match=r"max_branches = 0: need a whole number >= 1"):
         ring_branches(RING, BAND, max_branches=0)
+
+
+def test_a_bad_switch_bound_is_refused_before_any_work():
+    with pytest.raises(ValueError, match=r"max_switches = -1: need None \(every branch point\) or a whole number >= 0"):
+        ring_branches(RING, BAND, max_switches=-1)

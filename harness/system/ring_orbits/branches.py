@@ -13,8 +13,8 @@ dropped if it lies on a traced branch, else continued both ways across the band 
 until it leaves the band or runs onto a branch traced before. Once `max_branches` are traced, every
 remaining seed still gets its Newton and multipliers: an orbit on no traced branch is kept
 (`untraced`, not continued) and counts in the largest stable steady state, so no seed goes untried.
-At every branch point next to a stable point (where a stable branch can emanate; at most
-`max_switches` in all) the other branch is entered along the critical eigenvector
+At every branch point next to a stable point (where a stable branch can emanate; all of them
+unless `max_switches` bounds their number) the other branch is entered along the critical eigenvector
 (continuation.switch) and traced too. The largest stable steady state: the largest blade amplitude
 over the stable points, the located peaks that are stable, and the stability boundaries (a fold
 bounding a stable part, a branch point, period doubling or Neimark-Sacker point next to a stable
@@ -167,7 +167,7 @@ def ring_branches(
     max_branches: int = MAX_BRANCHES,
     settle: float = 1e-3,
     max_periods: int = 300,
-    max_switches: int = 8,
+    max_switches: int | None = None,
     sweep_speeds: Sequence[float] | None = None,
     seed_kinds: Sequence[str] = SEED_KINDS,
     sweeps: Sequence[SweepPath] = (),
@@ -186,6 +186,8 @@ def ring_branches(
         raise ValueError(f"points = {points!r}: need a whole number in [2, 1000]")
     if not (isinstance(max_branches, int) and max_branches >= 1):
         raise ValueError(f"max_branches = {max_branches!r}: need a whole number >= 1")
+    if not (max_switches is None or (isinstance(max_switches, int) and max_switches >= 0)):
+        raise ValueError(f"max_switches = {max_switches!r}: need None (every branch point) or a whole number >= 0")
     bad = [k for k in seed_kinds if k not in SEED_KINDS]
     if bad or not seed_kinds:
         raise ValueError(f"seed_kinds {list(seed_kinds)!r}: need some of {', '.join(SEED_KINDS)}")
@@ -212,7 +214,7 @@ def ring_branches(
             + (settled_states(pm, ring, SweepPath(tuple(sweep_speeds))) if own_sweep else [])
         )
         # the given sweeps' states first (max_branches must not cut off a study's located peak), then
-        # the largest first: the branches traced before the cap are those of the largest seeds
+        # the largest first: should max_branches be reached, the branches traced are those of the largest seeds
         seeds = given + sorted(own, key=lambda sd: -float(pm.measures(sd.x, sd.speed)[0].max()))
         e_seeds = pm.evaluations
         todo: list = []  # orbits to continue (from seeds, then from branch points)
@@ -236,7 +238,8 @@ def ring_branches(
             if not swept and seen(sd.speed, amps, rtol):
                 continue
             shot += 1
-            orb = shoot(pm, sd.x, sd.speed)
+            # a sweep's orbit is reported with its multipliers; any other is skipped if known, before its DP
+            orb = shoot(pm, sd.x, sd.speed, skip=None if swept else lambda n, a: seen(n, a, SAME_RTOL))
             if swept:
                 sweep_orbits.append(
                     {
@@ -269,7 +272,7 @@ def ring_branches(
                     st = br.stable
                     for b in br.bifurcations:
                         # the branch points that bound a stable part: where stable branches emanate
-                        if b.kind != "branch point" or switches >= max_switches or not (st[b.index - 1] or st[b.index]):
+                        if b.kind != "branch point" or switches == max_switches or not (st[b.index - 1] or st[b.index]):
                             continue
                         switches += 1
                         e_sw = pm.evaluations
@@ -278,7 +281,7 @@ def ring_branches(
                         for guess in guesses:
                             if known(branches, guess.speed, guess.amplitudes, maps, SAME_RTOL):
                                 continue
-                            new = shoot(pm, guess.x, guess.speed)
+                            new = shoot(pm, guess.x, guess.speed, skip=lambda n, a: seen(n, a, SAME_RTOL))
                             if new is not None:
                                 todo.append((new, f"branch point at {b.speed:.1f} rpm"))
         branches = merged(in_band(branches, (lo, hi)), maps)

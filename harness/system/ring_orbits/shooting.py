@@ -14,6 +14,7 @@ every rate, 1 for every phi).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 
@@ -94,15 +95,24 @@ def monodromy(pm: RingPeriodMap, x: np.ndarray, speed: float, Px: np.ndarray | N
     return J
 
 
-def shoot(pm: RingPeriodMap, x0: np.ndarray, speed: float, tol: float | None = None) -> RingOrbit | None:
+def shoot(
+    pm: RingPeriodMap,
+    x0: np.ndarray,
+    speed: float,
+    tol: float | None = None,
+    skip: Callable[[float, np.ndarray], bool] | None = None,
+) -> RingOrbit | None:
     """The periodic orbit Newton reaches from x0 at speed, with its multipliers; None if Newton
-    does not converge or the map fails."""
+    does not converge, the map fails, or skip(speed, per-blade amplitudes) says the orbit is known
+    (then before its DP is taken: a DP costs dim + 1 periods)."""
     sol = newton(pm, x0, speed, tol=tol)
     if sol is None:
+        return None
+    amp, res = pm.measures(sol.x, speed)
+    if skip is not None and skip(float(speed), amp):
         return None
     try:
         J = monodromy(pm, sol.x, speed, sol.Px)
     except RingMapFailed:
         return None
-    amp, res = pm.measures(sol.x, speed)
     return RingOrbit(float(speed), sol.x.copy(), amp.copy(), multipliers(J), res, sol.iterations)
