@@ -1,0 +1,239 @@
+"""DP of the ring's period map (the monodromy matrix at an orbit): full forward differences, or a
+low-rank DP from directional differences in the row space of the last DP taken, checked.
+
+"full" (`RingShootingSettings.dp`, the default): one forward difference per unknown, one period
+each, backward for a phi in its upper half (a forward step could leave the cone |phi| <= 1), none
+for an open contact's phi (it does not act: the column is 0): dim + 1 periods, 43 on 6 blades.
+
+"low-rank": DP of the ring's map has a small numerical rank. Scaled (D = S^-1 DP S, S the unknowns'
+scales, `RingPeriodMap.scales`), the tuned 6-blade study ring's DP (42 unknowns) at its orbits at
+5800 and 7000 rpm has 12 = 2 m N singular values between 1 and 0.024 of the largest, the 13th 7.8e-11
+(5800 rpm) and 6.7e-8 (7000 rpm), the rest below 4e-10: one period later the ring has forgotten
+the master's extrapolation history and the phi of every contact on its cone; the state acts through
+the blades' modal coordinates (and a sticking contact's phi). So DP = (DP V) V^T with V an
+orthonormal basis of D's row space (the right singular vectors above the cut): k directional
+differences instead of dim columns. The basis is the previous DP's (taken on this map, full or
+low-rank): its right singular vectors with singular value above RANK_RTOL of the largest, plus
+MARGIN more, carried to the new point as covectors (the row space of DP is S^-1 V: scaled at the new
+point by its scales, orthonormalised), restricted to the unknowns the full differences perturb (an
+open contact's phi dropped; a phi within a step of its slip limit, where a step must go inward,
+gets a coordinate column of its own if the last DP's column there reaches CHECK_RTOL of its largest
+singular value, else it is dropped from the basis). Then the check: PROBES random unit directions
+orthogonal to the basis (seeded per map) must have a scaled image |D r| below CHECK_RTOL of D's
+largest singular value; a direction the basis misses shows there (a probe's image is the missed
+part's singular value times the probe's share of it, about 1 / sqrt(dim - k)). Where the check fails
+(or there is no previous DP, or the low-rank DP is 0) the full differences are taken, and they give
+the next basis. The truncation's error is the singular values left out: below CHECK_RTOL (checked,
+times about sqrt(dim - k)), measured 1e-10..1e-7 of the largest on the study ring, far below the
+forward differences' own error (forward and central differences agree to 1e-4 in the multipliers).
+The 6-blade ring: 14 directions and 3 probes, 17 periods per DP instead of 43.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Sequence
+
+import numpy as np
+
+if TYPE_CHECKING:  # the period map builds one of these
+    from harness.system.ring_orbits.period_map import RingPeriodMap
+
+DP_MODES = ("full", "low-rank")
+RANK_RTOL = 1e-6  # a right singular vector joins the basis with singular value above this of the largest
+MARGIN = 2  # the next right singular vectors join too (a direction just emerging from the noise)
+PROBES = 3  # random directions orthogonal to the basis checked per low-rank DP
+CHECK_RTOL = 1e-5  # a probe's scaled image must stay below this of the largest singular value
+EXTRAPOLATE = 3.0  # the basis is moved along the speed at most this many times the last two DPs' distance
+SEED = 20261127  # the probes' random generator (per map: the same calls draw the same probes)
+
+Points = Sequence[tuple[np.ndarray, float]]
+
+
+def forward_differences(
+    pm: "RingPeriodMap", x: np.ndarray, speed: float, Px: np.ndarray, extra: Points = ()
+) -> tuple[np.ndarray, list[np.ndarray]]:
+    """(DP at x by forward differences over the state, in physical units; the images of `extra`,
+    run in the same batch on the map's threads): one period per acting column (see the module
+    docstring)."""
+    sc = pm.scales(x, speed)
+    J = np.zeros((pm.dim, pm.dim))
+    cols: list[tuple[int, float, np.ndarray]] = []  # (column, step, x + step e_j)
+    for j in range(pm.dim):
+        h = pm.s.fd_rel * sc[j] * pm.fd_direction(x, j)
+        xp = x.copy()
+        xp[j] += h
+        if pm.bounded(xp)[j] != xp[j]:
+            continue  # an open contact's phi: it does not act (the column is 0, as the continuation's)
+        cols.append((j, h, xp))
+    P = pm.images([(xp, speed) for _, _, xp in cols] + list(extra))
+    for (j, h, _), Pp in zip(cols, P):
+        J[:, j] = (Pp - Px) / h
+    return J, P[len(cols) :]
+
+
+class LowRankDP:
+    """The "low-rank" DP of one period map (see the module docstring): call it at (x, speed, P(x));
+    it keeps the basis of the last DP it took, its counts and the last check's result."""
+
+    def __init__(self, pm: "RingPeriodMap"):
+        self.pm = pm
+        self.rows: np.ndarray | None = None  # (dim, k) the last DP's row space as covectors (S^-1 V)
+        self.acting: np.ndarray | None = None  # (dim,) the unknowns whose columns of the last DP act
+        self.bases: list[tuple[float, np.ndarray]] = []  # (speed, significant covectors) of the last two DPs
+        self.rng = np.random.default_rng(SEED)
+        self.counts = {
+            "full": 0,
+            "low-rank": 0,
+            "acting": 0,
+            "failed check": 0,
+        }  # DPs taken (failed checks among the full)
+        self.periods = 0  # periods spent on DPs (with the batch's extra points)
+        self.outcome = ""  # what the last call did: "low-rank", else full ("no basis", "failed check")
+        self.worst = float("nan")  # the last check's largest probe image over the largest singular value
+        self.directions = 0  # the last low-rank DP's periods (basis directions and probes)
+
+    def __call__(
+        self, x: np.ndarray, speed: float, Px: np.ndarray, extra: Points = ()
+    ) -> tuple[np.ndarray, list[np.ndarray]]:
+        """(DP at x in physical units, the images of `extra` run in the same batch)."""
+        e0 = self.pm.evaluations
+        got = None
+        if self.rows is None:
+            self.outcome = "no basis"
+        else:
+            got = self._low_rank(x, speed, Px, extra)
+        if got is None:  # (after a failed check the extra points' images are known: no period)
+            got = forward_differences(self.pm, x, speed, Px, extra)
+            self.counts["full"] += 1
+        else:
+            self.counts[self.outcome] += 1
+        self.learn(got[0], x, speed)
+        self.periods += self.pm.evaluations - e0
+        return got
+
+    def learn(self, J: np.ndarray, x: np.ndarray, speed: float) -> None:
+        """Keep the row space of DP J taken at (x, speed) as the next basis, and the unknowns whose
+        columns act (none if J is 0)."""
+        sc = self.pm.scales(x, speed)
+        D = J * sc[None, :] / sc[:, None]
+        _, s, Vt = np.linalg.svd(D)
+        if not s[0] > 0.0:
+            self.rows, self.acting = None, None
+            return
+        r = int(np.sum(s > RANK_RTOL * s[0]))
+        k = min(len(s), r + MARGIN)
+        self.rows = Vt[:k].T / sc[:, None]
+        self.acting = np.linalg.norm(D, axis=0) > RANK_RTOL * s[0]
+        self.bases = [*self.bases[-1:], (float(speed), self.rows[:, :r])]
+
+    def predicted(self, sc: np.ndarray, speed: float) -> np.ndarray:
+        """The basis at `speed` (scaled by sc, not yet restricted): the last DP's row space, its
+        significant part moved along the speed as from the DP before it (the row space turns with the
+        speed, by about 6e-5 rad per rpm on the study ring: the step T / K enters every blade's first
+        step; the angle left after the move is about 50 times smaller), and its MARGIN vectors."""
+        assert self.rows is not None
+        B = sc[:, None] * self.rows
+        if len(self.bases) < 2:
+            return B
+        (n0, W0), (n1, W1) = self.bases
+        if W0.shape != W1.shape or abs(n1 - n0) <= 1e-9 * abs(n1) or W1.shape[1] == 0:
+            return B
+        Q1, Q0 = np.linalg.qr(sc[:, None] * W1)[0], np.linalg.qr(sc[:, None] * W0)[0]
+        U, _, Vt = np.linalg.svd(Q0.T @ Q1)
+        Q0 = Q0 @ (U @ Vt)  # the earlier basis of its subspace closest to the last one's (Procrustes)
+        t = min(max((speed - n1) / (n1 - n0), -EXTRAPOLATE), EXTRAPOLATE)
+        return np.hstack([Q1 + t * (Q1 - Q0), B[:, W1.shape[1] :]])
+
+    def _low_rank(
+        self, x: np.ndarray, speed: float, Px: np.ndarray, extra: Points
+    ) -> tuple[np.ndarray, list[np.ndarray]] | None:
+        """The checked low-rank DP (outcome "low-rank"), or the acting unknowns' DP where only the
+        basis probes fail ("acting"), or None where a probe of the other unknowns fails ("failed check")."""
+        pm = self.pm
+        assert self.rows is not None and self.acting is not None
+        sc = pm.scales(x, speed)
+        eps = pm.s.fd_rel
+        k0 = 2 * pm.m * pm.n  # the first phi
+        phis = np.arange(k0, k0 + pm.n)
+        free = np.ones(pm.dim, dtype=bool)
+        free[phis] = np.abs(pm.gaps(x)) > pm.d  # an open contact's phi does not act
+        near = np.zeros(pm.dim, dtype=bool)  # a phi a step could push out of the cone: stepped inward
+        near[phis] = free[phis] & (np.abs(x[phis]) > 1.0 - 2.0 * eps)
+        acting = self.acting & free
+        inner = acting & ~near  # the basis' unknowns
+        own = np.flatnonzero(acting & near)  # an acting phi at its limit: a coordinate column of its own
+        B = self.predicted(sc, speed)
+        B[~inner] = 0.0
+        Q = _orthonormal(B)
+        E = np.zeros((pm.dim, len(own)))
+        E[own, np.arange(len(own))] = 1.0
+        Ra = self._probes(inner, Q)
+        Ri = self._probes(free & ~acting, np.zeros((pm.dim, 0)))
+        dirs = np.hstack([Q, E, Ra, Ri])
+        dirs[near] = np.abs(dirs[near]) * np.where(x[near] > 0.0, -1.0, 1.0)[:, None]  # inward (as fd_direction)
+        k, ka = Q.shape[1] + E.shape[1], Ra.shape[1]
+        Y, P = self._images(x, speed, Px, dirs, extra)
+        top = float(np.linalg.norm(Y[:, :k], 2)) if k else 0.0
+        if not top > 0.0:
+            return self._failed(np.inf)
+        outside = np.linalg.norm(Y[:, k + ka :], axis=0) / top  # the unknowns that did not act
+        basis = np.linalg.norm(Y[:, k : k + ka], axis=0) / top  # the acting ones outside the basis
+        self.worst = float(max(np.max(outside, initial=0.0), np.max(basis, initial=0.0)))
+        if np.max(outside, initial=0.0) > CHECK_RTOL:
+            return self._failed(self.worst)
+        D = Y[:, : k + ka] @ dirs[:, : k + ka].T  # (D V) V^T, scaled
+        self.directions = dirs.shape[1]
+        if np.max(basis, initial=0.0) > CHECK_RTOL:
+            # the row space moved: the rest of the acting unknowns' space, orthogonal to the directions taken
+            rest = _complement(np.hstack([Q, Ra]), inner)
+            Yr, _ = self._images(x, speed, Px, rest, ())
+            D = D + Yr @ rest.T
+            self.directions += rest.shape[1]
+            self.outcome = "acting"
+        else:
+            self.outcome = "low-rank"
+        return sc[:, None] * D / sc[None, :], P
+
+    def _probes(self, where: np.ndarray, Q: np.ndarray) -> np.ndarray:
+        """PROBES random unit directions on the unknowns `where`, orthonormal and orthogonal to Q
+        (fewer where the room is smaller)."""
+        room = int(np.sum(where)) - Q.shape[1]
+        if room <= 0:
+            return np.zeros((self.pm.dim, 0))
+        R = self.rng.standard_normal((self.pm.dim, min(PROBES, room)))
+        R[~where] = 0.0
+        R -= Q @ (Q.T @ R)
+        return _orthonormal(R)
+
+    def _images(
+        self, x: np.ndarray, speed: float, Px: np.ndarray, dirs: np.ndarray, extra: Points
+    ) -> tuple[np.ndarray, list[np.ndarray]]:
+        """(scaled directional differences D d for every column d of dirs, the images of `extra`):
+        steps of fd_rel in the scaled unknowns, one period each, on the map's threads."""
+        pm = self.pm
+        sc = pm.scales(x, speed)
+        eps = pm.s.fd_rel
+        P = pm.images([(x + eps * sc * d, speed) for d in dirs.T] + list(extra))
+        n = dirs.shape[1]
+        Y = (np.array(P[:n]).reshape(n, pm.dim).T - Px[:, None]) / (eps * sc[:, None])
+        return Y, P[n:]
+
+    def _failed(self, worst: float) -> None:
+        self.worst = worst
+        self.outcome = "failed check"
+        self.counts["failed check"] += 1
+        return None
+
+
+def _orthonormal(B: np.ndarray) -> np.ndarray:
+    """An orthonormal basis of B's columns (those of its singular values above 1e-8 of the largest)."""
+    if B.shape[1] == 0:
+        return B
+    U, s, _ = np.linalg.svd(B, full_matrices=False)
+    return U[:, s > 1e-8 * s[0]] if s[0] > 0.0 else U[:, :0]
+
+
+def _complement(Q: np.ndarray, where: np.ndarray) -> np.ndarray:
+    """An orthonormal basis of the unknowns `where` orthogonal to Q's columns (which lie there)."""
+    I = np.eye(len(where))[:, where]
+    return _orthonormal(I - Q @ (Q.T @ I))
