@@ -31,6 +31,7 @@ The 6-blade ring: 14 directions and 3 probes, 17 periods per DP instead of 43.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
@@ -44,6 +45,8 @@ MARGIN = 2  # the next right singular vectors join too (a direction just emergin
 PROBES = 3  # random directions orthogonal to the basis checked per low-rank DP
 CHECK_RTOL = 1e-5  # a probe's scaled image must stay below this of the largest singular value
 EXTRAPOLATE = 3.0  # the basis is moved along the speed at most this many times the last two DPs' distance
+MEMORY = 8  # DPs whose row spaces are kept (the basis is the nearest one's)
+SPEED_STEP = 1000.0  # [rpm] per unit of the distance to a kept DP (the continuation's SPEED_SCALE)
 SEED = 20261127  # the probes' random generator (per map: the same calls draw the same probes)
 
 Points = Sequence[tuple[np.ndarray, float]]
@@ -71,15 +74,24 @@ def forward_differences(
     return J, P[len(cols) :]
 
 
+@dataclass
+class _Basis:
+    """The row space of a DP taken at (x, speed): covectors S^-1 V (dim, k), the first r significant."""
+
+    x: np.ndarray
+    speed: float
+    rows: np.ndarray
+    r: int
+    acting: np.ndarray  # (dim,) the unknowns whose columns acted
+
+
 class LowRankDP:
     """The "low-rank" DP of one period map (see the module docstring): call it at (x, speed, P(x));
     it keeps the basis of the last DP it took, its counts and the last check's result."""
 
     def __init__(self, pm: "RingPeriodMap"):
         self.pm = pm
-        self.rows: np.ndarray | None = None  # (dim, k) the last DP's row space as covectors (S^-1 V)
-        self.acting: np.ndarray | None = None  # (dim,) the unknowns whose columns of the last DP act
-        self.bases: list[tuple[float, np.ndarray]] = []  # (speed, significant covectors) of the last two DPs
+        self.memory: list[_Basis] = []  # the last MEMORY DPs' row spaces
         self.rng = np.random.default_rng(SEED)
         self.counts = {
             "full": 0,
@@ -98,7 +110,7 @@ class LowRankDP:
         """(DP at x in physical units, the images of `extra` run in the same batch)."""
         e0 = self.pm.evaluations
         got = None
-        if self.rows is None:
+        if not self.memory:
             self.outcome = "no basis"
         else:
             got = self._low_rank(x, speed, Px, extra)
@@ -111,38 +123,67 @@ class LowRankDP:
         self.periods += self.pm.evaluations - e0
         return got
 
+    def summary(self) -> dict[str, int]:
+        """The DPs taken by kind (full ones with the failed checks among them) and their periods."""
+        return {**self.counts, "periods": self.periods}
+
+    def forget(self) -> None:
+        """Drop every basis kept (the next DP is a full one)."""
+        self.memory.clear()
+
     def learn(self, J: np.ndarray, x: np.ndarray, speed: float) -> None:
-        """Keep the row space of DP J taken at (x, speed) as the next basis, and the unknowns whose
-        columns act (none if J is 0)."""
+        """Keep the row space of DP J taken at (x, speed) (its right singular vectors above RANK_RTOL
+        and MARGIN more, as covectors) and the unknowns whose columns act, among the last MEMORY."""
         sc = self.pm.scales(x, speed)
         D = J * sc[None, :] / sc[:, None]
         _, s, Vt = np.linalg.svd(D)
         if not s[0] > 0.0:
-            self.rows, self.acting = None, None
             return
         r = int(np.sum(s > RANK_RTOL * s[0]))
         k = min(len(s), r + MARGIN)
-        self.rows = Vt[:k].T / sc[:, None]
-        self.acting = np.linalg.norm(D, axis=0) > RANK_RTOL * s[0]
-        self.bases = [*self.bases[-1:], (float(speed), self.rows[:, :r])]
+        acting = np.linalg.norm(D, axis=0) > RANK_RTOL * s[0]
+        self.memory = [
+            *self.memory[1 - MEMORY :],
+            _Basis(np.array(x, dtype=float), float(speed), Vt[:k].T / sc[:, None], r, acting),
+        ]
 
-    def predicted(self, sc: np.ndarray, speed: float) -> np.ndarray:
-        """The basis at `speed` (scaled by sc, not yet restricted): the last DP's row space, its
-        significant part moved along the speed as from the DP before it (the row space turns with the
-        speed, by about 6e-5 rad per rpm on the study ring: the step T / K enters every blade's first
-        step; the angle left after the move is about 50 times smaller), and its MARGIN vectors."""
-        assert self.rows is not None
-        B = sc[:, None] * self.rows
-        if len(self.bases) < 2:
-            return B
-        (n0, W0), (n1, W1) = self.bases
-        if W0.shape != W1.shape or abs(n1 - n0) <= 1e-9 * abs(n1) or W1.shape[1] == 0:
-            return B
-        Q1, Q0 = np.linalg.qr(sc[:, None] * W1)[0], np.linalg.qr(sc[:, None] * W0)[0]
+    @property
+    def acting(self) -> np.ndarray | None:
+        """The unknowns whose columns acted in the last DP taken (None before the first)."""
+        return self.memory[-1].acting if self.memory else None
+
+    def nearest(self, x: np.ndarray, speed: float) -> tuple[_Basis, _Basis | None]:
+        """The kept basis nearest to (x, speed) (in the continuation's scaled coordinates: x / scale,
+        speed / 1000 rpm), and the one nearest to it at another speed with the same rank (None if
+        there is none): the pair the basis is moved along the speed from."""
+        sc = self.pm.scales(x, speed)
+
+        def far(b: _Basis, y: np.ndarray, n: float) -> float:
+            return float(np.linalg.norm((b.x - y) / sc) + abs(b.speed - n) / SPEED_STEP)
+
+        a = min(self.memory, key=lambda b: far(b, x, speed))
+        others = [b for b in self.memory if b.r == a.r and abs(b.speed - a.speed) > 1e-9 * abs(a.speed)]
+        return a, min(others, key=lambda b: far(b, a.x, a.speed), default=None)
+
+    def predicted(self, x: np.ndarray, speed: float) -> tuple[np.ndarray, np.ndarray]:
+        """(the basis at (x, speed), scaled by its scales, not yet restricted; the unknowns that act):
+        the nearest kept DP's row space, its significant part moved along the speed as from the
+        kept DP nearest to it (the row space turns with the speed, by about 6e-5 rad per rpm on the
+        study ring: the step T / K enters every blade's first step; the angle left after the move
+        is about 50 times smaller), and its MARGIN vectors."""
+        sc = self.pm.scales(x, speed)
+        a, b = self.nearest(x, speed)
+        B = sc[:, None] * a.rows
+        if b is None or a.r == 0:
+            return B, a.acting
+        Q1, Q0 = np.linalg.qr(B[:, : a.r])[0], np.linalg.qr(sc[:, None] * b.rows[:, : b.r])[0]
         U, _, Vt = np.linalg.svd(Q0.T @ Q1)
-        Q0 = Q0 @ (U @ Vt)  # the earlier basis of its subspace closest to the last one's (Procrustes)
-        t = min(max((speed - n1) / (n1 - n0), -EXTRAPOLATE), EXTRAPOLATE)
-        return np.hstack([Q1 + t * (Q1 - Q0), B[:, W1.shape[1] :]])
+        Q0 = Q0 @ (U @ Vt)  # the other basis of its subspace closest to the nearest one's (Procrustes)
+        # how far (x, speed) lies along the chord from b to a, in units of the chord (scaled coordinates)
+        ab = np.append((a.x - b.x) / sc, (a.speed - b.speed) / SPEED_STEP)
+        t = float(np.append((x - a.x) / sc, (speed - a.speed) / SPEED_STEP) @ ab) / float(ab @ ab)
+        t = min(max(t, -EXTRAPOLATE), EXTRAPOLATE)
+        return np.hstack([Q1 + t * (Q1 - Q0), B[:, a.r :]]), a.acting
 
     def _low_rank(
         self, x: np.ndarray, speed: float, Px: np.ndarray, extra: Points
@@ -150,7 +191,7 @@ class LowRankDP:
         """The checked low-rank DP (outcome "low-rank"), or the acting unknowns' DP where only the
         basis probes fail ("acting"), or None where a probe of the other unknowns fails ("failed check")."""
         pm = self.pm
-        assert self.rows is not None and self.acting is not None
+        B, acting = self.predicted(x, speed)
         sc = pm.scales(x, speed)
         eps = pm.s.fd_rel
         k0 = 2 * pm.m * pm.n  # the first phi
@@ -159,10 +200,9 @@ class LowRankDP:
         free[phis] = np.abs(pm.gaps(x)) > pm.d  # an open contact's phi does not act
         near = np.zeros(pm.dim, dtype=bool)  # a phi a step could push out of the cone: stepped inward
         near[phis] = free[phis] & (np.abs(x[phis]) > 1.0 - 2.0 * eps)
-        acting = self.acting & free
+        acting = acting & free
         inner = acting & ~near  # the basis' unknowns
         own = np.flatnonzero(acting & near)  # an acting phi at its limit: a coordinate column of its own
-        B = self.predicted(sc, speed)
         B[~inner] = 0.0
         Q = _orthonormal(B)
         E = np.zeros((pm.dim, len(own)))
