@@ -8,8 +8,9 @@ with the FMU's sensitivities H_x is exact at every iterate and the speed column 
 point's, Broyden-updated; without them the whole Jacobian is Broyden-updated. Where that fails (a
 kink of the map) Newton with a fresh speed column (or a fresh Jacobian) per iteration. At each
 accepted point: DP (sensitivities, or central differences in the unknowns: max |q| has a kink at
-half-wave symmetric orbits) and a forward difference in speed give the point's Floquet multipliers
-and the next tangent. Step control: ds grows 1.4x
+half-wave symmetric orbits; or the map's own DP where it takes one, `state_jacobian`: the ring's
+low-rank DP) and a forward difference in speed give the point's Floquet multipliers and the next
+tangent. Step control: ds grows 1.4x
 after an easy corrector (<= EASY_CORRECTOR iterations), halves after a failure or when a step
 longer than ds_fold passes a fold (resolving its tip); the branch ends outside the speed range,
 after max_points, when ds falls below ds_min, or when it closes on itself (an isola). Changes of

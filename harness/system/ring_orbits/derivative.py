@@ -1,32 +1,43 @@
-"""DP of the ring's period map (the monodromy matrix at an orbit): full forward differences, or a
-low-rank DP from directional differences in the row space of the last DP taken, checked.
+"""DP of the ring's period map (the monodromy matrix at an orbit, the continuation's Jacobian): full
+forward differences, or a low-rank DP from directional differences in the row space of a DP taken
+before, checked.
 
 "full" (`RingShootingSettings.dp`, the default): one forward difference per unknown, one period
 each, backward for a phi in its upper half (a forward step could leave the cone |phi| <= 1), none
-for an open contact's phi (it does not act: the column is 0): dim + 1 periods, 43 on 6 blades.
+for an open contact's phi (it does not act: the column is 0): up to dim + 1 periods, 43 on 6 blades.
 
-"low-rank": DP of the ring's map has a small numerical rank. Scaled (D = S^-1 DP S, S the unknowns'
-scales, `RingPeriodMap.scales`), the tuned 6-blade study ring's DP (42 unknowns) at its orbits at
-5800 and 7000 rpm has 12 = 2 m N singular values between 1 and 0.024 of the largest, the 13th 7.8e-11
-(5800 rpm) and 6.7e-8 (7000 rpm), the rest below 4e-10: one period later the ring has forgotten
-the master's extrapolation history and the phi of every contact on its cone; the state acts through
-the blades' modal coordinates (and a sticking contact's phi). So DP = (DP V) V^T with V an
-orthonormal basis of D's row space (the right singular vectors above the cut): k directional
-differences instead of dim columns. The basis is the previous DP's (taken on this map, full or
-low-rank): its right singular vectors with singular value above RANK_RTOL of the largest, plus
-MARGIN more, carried to the new point as covectors (the row space of DP is S^-1 V: scaled at the new
-point by its scales, orthonormalised), restricted to the unknowns the full differences perturb (an
-open contact's phi dropped; a phi within a step of its slip limit, where a step must go inward,
-gets a coordinate column of its own if the last DP's column there reaches CHECK_RTOL of its largest
-singular value, else it is dropped from the basis). Then the check: PROBES random unit directions
-orthogonal to the basis (seeded per map) must have a scaled image |D r| below CHECK_RTOL of D's
-largest singular value; a direction the basis misses shows there (a probe's image is the missed
-part's singular value times the probe's share of it, about 1 / sqrt(dim - k)). Where the check fails
-(or there is no previous DP, or the low-rank DP is 0) the full differences are taken, and they give
-the next basis. The truncation's error is the singular values left out: below CHECK_RTOL (checked,
-times about sqrt(dim - k)), measured 1e-10..1e-7 of the largest on the study ring, far below the
-forward differences' own error (forward and central differences agree to 1e-4 in the multipliers).
-The 6-blade ring: 14 directions and 3 probes, 17 periods per DP instead of 43.
+"low-rank". Why: DP of the ring's map has a small numerical rank. Scaled (D = S^-1 DP S, S the
+unknowns' scales, `RingPeriodMap.scales`), the tuned 6-blade study ring's DP (42 unknowns) at its
+orbits at 5800 and 7000 rpm has 12 = 2 m N singular values between 1 and 0.024 of the largest, the
+13th 7.8e-11 (5800 rpm) and 6.7e-8 (7000 rpm), the rest below 4e-10: one period later the ring has
+forgotten most of its start. The columns of the history's tip velocities and of a sliding or open
+contact's phi are 0 (exactly, where no contact is closed at phase 0); the blades' modal state and the
+history's contact forces act, but only through 2 m N combinations (the blades' states after the
+first steps). So DP = (DP V) V^T with V an orthonormal basis of D's row space: k directional
+differences instead of dim columns. That row space turns with the speed (6e-5 rad per rpm on the
+study ring, all 12 principal angles alike: the step T / K enters every blade's first step) and with
+the state, so a DP's basis is predicted, checked, and completed where the check fails:
+- the basis: of the last MEMORY DPs taken on the map (full or low-rank), the one nearest to (x, n)
+  (scaled as the continuation's coordinates); its right singular vectors above RANK_RTOL of the
+  largest, moved along the chord from the kept DP nearest to it (linear extrapolation of the
+  subspace after a Procrustes alignment, at most EXTRAPOLATE chords: the angle left is 10 to 100
+  times smaller than the stale one's), plus its next MARGIN vectors; carried as covectors S^-1 V
+  to the new point's scales; restricted to the unknowns whose columns acted in that DP (the
+  "acting" ones) and that the full differences perturb here (not an open contact's phi); a phi
+  within a step of its slip limit, where a step must go inward, is a coordinate column of its own;
+- the check: PROBES random unit directions (seeded per map) on the acting unknowns orthogonal to
+  the basis, and PROBES on the unknowns that did not act, in the same batch of periods (on the
+  map's threads); each scaled image |D r| must stay below CHECK_RTOL of D's largest singular value
+  (a direction the basis misses shows with its singular value times the probe's share of it);
+- both pass: the low-rank DP (6 blades: 14 directions and 6 probes, 20 periods); a probe of the
+  basis fails (the row space turned further): the rest of the acting unknowns' space orthogonal to
+  the directions taken is added, an exact DP over the acting unknowns (6 blades, no contact closed:
+  24 + 6 periods); a probe of the unknowns that did not act fails (a contact began to stick or
+  closed), or there is no DP kept yet: the full differences (which give the next basis).
+The truncation's error is the singular values left out and the unchecked rest: below CHECK_RTOL
+(times about the square root of the probed room), against the full differences' own spread of
+1.9e-6 (forward against central differences, 4-blade ring); measured against the full DP at the same
+orbits: 1e-6..2e-5 of the largest singular value (tests/system/test_ring_low_rank_dp.py).
 """
 
 from __future__ import annotations
@@ -42,9 +53,9 @@ if TYPE_CHECKING:  # the period map builds one of these
 DP_MODES = ("full", "low-rank")
 RANK_RTOL = 1e-6  # a right singular vector joins the basis with singular value above this of the largest
 MARGIN = 2  # the next right singular vectors join too (a direction just emerging from the noise)
-PROBES = 3  # random directions orthogonal to the basis checked per low-rank DP
+PROBES = 3  # random directions checked per low-rank DP: on the acting unknowns off the basis, and on the others
 CHECK_RTOL = 1e-5  # a probe's scaled image must stay below this of the largest singular value
-EXTRAPOLATE = 3.0  # the basis is moved along the speed at most this many times the last two DPs' distance
+EXTRAPOLATE = 3.0  # the basis is moved at most this many chords (between the two kept DPs it is moved from)
 MEMORY = 8  # DPs whose row spaces are kept (the basis is the nearest one's)
 SPEED_STEP = 1000.0  # [rpm] per unit of the distance to a kept DP (the continuation's SPEED_SCALE)
 SEED = 20261127  # the probes' random generator (per map: the same calls draw the same probes)
@@ -215,12 +226,14 @@ class LowRankDP:
         Y, P = self._images(x, speed, Px, dirs, extra)
         top = float(np.linalg.norm(Y[:, :k], 2)) if k else 0.0
         if not top > 0.0:
-            return self._failed(np.inf)
+            self._failed(np.inf)
+            return None
         outside = np.linalg.norm(Y[:, k + ka :], axis=0) / top  # the unknowns that did not act
         basis = np.linalg.norm(Y[:, k : k + ka], axis=0) / top  # the acting ones outside the basis
         self.worst = float(max(np.max(outside, initial=0.0), np.max(basis, initial=0.0)))
         if np.max(outside, initial=0.0) > CHECK_RTOL:
-            return self._failed(self.worst)
+            self._failed(self.worst)
+            return None
         D = Y[:, : k + ka] @ dirs[:, : k + ka].T  # (D V) V^T, scaled
         self.directions = dirs.shape[1]
         if np.max(basis, initial=0.0) > CHECK_RTOL:
@@ -262,7 +275,6 @@ class LowRankDP:
         self.worst = worst
         self.outcome = "failed check"
         self.counts["failed check"] += 1
-        return None
 
 
 def _orthonormal(B: np.ndarray) -> np.ndarray:

@@ -93,7 +93,7 @@ class RingShootingSettings:
     # share the cores (the mistuning study runs one ring per worker process)
     workers: int | None = None
     # the DP (monodromy matrix, the continuation's Jacobian): "full" forward differences over the state
-    # (dim + 1 periods), or "low-rank" (about 2 m N + 5 periods, checked; derivative.py)
+    # (dim + 1 periods), or "low-rank" (about 2 m N + 8 periods, checked; derivative.py)
     dp: str = "full"
 
     def threads(self) -> int:

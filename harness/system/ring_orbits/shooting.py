@@ -4,7 +4,10 @@ Newton on R(x) = P(x) - x is the single blade's (harness.analysis.periodic.shoot
 quasi-Newton with a forward-difference DP updated by Broyden, scaled by the map's `scales`). The
 monodromy matrix at a converged orbit is DP by forward differences over the state (backward where a
 phi sits in its upper half; the ring's DP from forward and central differences agree to 1e-4, the
-period_map's `central_differences`; its columns' periods on the map's threads, `images`), its eigenvalues the Floquet multipliers; it is kept in the map's
+period_map's `central_differences`; its columns' periods on the map's threads, `images`), or with
+`RingShootingSettings.dp` "low-rank" from directional differences in the row space of a DP taken
+before, checked (derivative.py: about 2 m N + 8 periods instead of dim + 1), its eigenvalues the
+Floquet multipliers; it is kept in the map's
 memo of DPs (`jacobians`, continuation.JacobianMemo), so a continuation from the orbit starts without
 another one. The period residual reported
 is max |P(x) - x| / scale (scales: the largest displacement for every displacement, times omega for
