@@ -79,13 +79,16 @@ def dp_cost(n: int = 6, rpm: float = 6000.0, repeats: int = 10) -> dict[str, Any
     }
 
 
-def six_blades(band: tuple[float, float] = (4000.0, 9000.0), seed_points: int | None = None) -> dict[str, Any]:
+def six_blades(
+    band: tuple[float, float] = (4000.0, 9000.0), seed_points: int | None = None, dp: str = "full"
+) -> dict[str, Any]:
     load = os.getloadavg()[0]
     cpu = time.process_time()
     seed_points = seed_points or default_seed_points(band)
-    r = ring_branches(Ring(n=6, **STUDY_RING), band, points=seed_points)
+    r = ring_branches(Ring(n=6, **STUDY_RING), band, points=seed_points, settings=RingShootingSettings(dp=dp))
     cpu = time.process_time() - cpu
     return {
+        "dp": r.stats["dp"],
         "band_rpm": list(band),
         "seed_points": seed_points,
         "wall_s": r.wall_time,
@@ -104,14 +107,14 @@ def six_blades(band: tuple[float, float] = (4000.0, 9000.0), seed_points: int | 
     }
 
 
-def twenty_four_part(points: int = 6, rpm: float = 6000.0) -> dict[str, Any]:
+def twenty_four_part(points: int = 6, rpm: float = 6000.0, dp: str = "full") -> dict[str, Any]:
     """The 24-blade ring: the travelling wave at rpm and `points` continuation points upwards from it."""
     ring = Ring(n=24, **STUDY_RING)
     t0 = time.perf_counter()
-    with RingPeriodMap(ring) as pm:
+    with RingPeriodMap(ring, RingShootingSettings(dp=dp)) as pm:
         sd = travelling_wave(pm, [rpm])[0]
         o = shoot(pm, sd.x, rpm)
-        e0, t1 = pm.evaluations, time.perf_counter()
+        e0, t1, c1 = pm.evaluations, time.perf_counter(), time.process_time()
         br = trace(pm, o, (rpm, STUDY_BAND[1]), replace(RING_CONTINUATION, max_points=points), directions=(1,))
         wall = time.perf_counter() - t1
         return {
@@ -121,6 +124,10 @@ def twenty_four_part(points: int = 6, rpm: float = 6000.0) -> dict[str, Any]:
             "periods": pm.evaluations - e0,
             "per_point_s": wall / max(len(br.orbits) - 1, 1),
             "periods_per_point": (pm.evaluations - e0) / max(len(br.orbits) - 1, 1),
+            "cpu_s": time.process_time() - c1,
+            "largest_m": float(br.amplitudes.max()),
+            "last_speed_rpm": float(br.orbits[-1].speed),
+            "dp": {"mode": dp, **(pm.low_rank.summary() if pm.low_rank is not None else {})},
         }
 
 
@@ -133,8 +140,11 @@ def ring_orbits_cost(
         "period_24_s": period_cost(24, repeats=repeats),
         "dp_6": dp_cost(6, repeats=repeats),
     }
+    # both DP modes in the same run, one after the other (the same machine and about the same load)
     out["six"] = six_blades(band, seed_points)
+    out["six_low_rank"] = six_blades(band, seed_points, dp="low-rank")
     out["twenty_four"] = twenty_four_part(points)
+    out["twenty_four_low_rank"] = twenty_four_part(points, dp="low-rank")
     s = out["six"]
     # extrapolation: the 6-blade run's points per rpm of band, times the study's band, at the 24-blade
     # cost per point (the number of branches of the 24-blade ring is not known: taken as the 6-blade ring's)
@@ -192,6 +202,22 @@ def section(d: dict[str, Any], machine_text: str, date: str) -> list[str]:
         if dp
         else []
     )
+    low = d.get("six_low_rank")
+    low_rows = [_low_rank_row(s, low)] if low else []
+    t_low = d.get("twenty_four_low_rank")
+    t_low_rows = (
+        [
+            f"- 24 blades, the same part with the low-rank DP: {t_low['points']} points in {t_low['wall_s']:.1f} s wall, "
+            f"{t_low['cpu_s']:.1f} s CPU ({t_low['per_point_s']:.2f} s and **{t_low['periods_per_point']:.1f} periods "
+            f"per point**; full DP: {t['wall_s']:.1f} s wall, {t.get('cpu_s', float('nan')):.1f} s CPU, "
+            f"{t['periods_per_point']:.1f} periods per point); largest blade amplitude "
+            f"{t_low['largest_m']:.6g} m (full: {t.get('largest_m', float('nan')):.6g} m), last point "
+            f"{t_low['last_speed_rpm']:.1f} rpm (full: {t.get('last_speed_rpm', float('nan')):.1f} rpm); DPs: "
+            + _dp_counts(t_low["dp"])
+        ]
+        if t_low
+        else []
+    )
     threads = f" on {s['workers']} threads ({s['cores']:.2f} cores used: CPU over wall)" if "workers" in s else ""
     return [
         SECTION,
@@ -211,6 +237,7 @@ def section(d: dict[str, Any], machine_text: str, date: str) -> list[str]:
         f"{s['peak_stable_amplitude_m']:.5g} m at {s['peak_stable_speed_rpm']:.1f} rpm; load average "
         f"{s['load_at_start']:.1f} at its start; periods by stage: "
         + ", ".join(f"{k} {v}" for k, v in s["by_stage"].items()),
+        *low_rows,
         *before,
         f"- 24 blades: measured on a part, extrapolated (not run over the band): {t['points']} continuation "
         f"points from the travelling wave at 6000 rpm in {t['wall_s']:.1f} s ({t['per_point_s']:.2f} s and "
@@ -218,5 +245,29 @@ def section(d: dict[str, Any], machine_text: str, date: str) -> list[str]:
         f"{STUDY_BAND[0]:.0f}-{STUDY_BAND[1]:.0f} rpm at the 6-blade ring's density of points "
         f"({t['extrapolated_points']:.0f} points) would take about {t['extrapolated_s'] / 60:.1f} min "
         "(target 15 min), if the 24-blade ring had as many branches as the 6-blade one",
+        *t_low_rows,
         "",
     ]
+
+
+def _dp_counts(dp: dict[str, Any]) -> str:
+    return (
+        f"{dp['low-rank']} low-rank, {dp['acting']} over the acting unknowns, {dp['full']} full "
+        f"({dp['failed check']} after a failed check), {dp['periods']} periods in DPs"
+    )
+
+
+def _low_rank_row(full: dict[str, Any], low: dict[str, Any]) -> str:
+    """The 6-blade row with the low-rank DP beside the full one's (the same run)."""
+    return (
+        f'- the same band with the low-rank DP (`RingShootingSettings(dp="low-rank")`, run right after the '
+        f"full one; load average {low['load_at_start']:.1f} at its start): **{low['wall_s']:.1f} s wall** (full "
+        f"{full['wall_s']:.1f} s), {low['cpu_s']:.1f} s CPU (full {full['cpu_s']:.1f} s), {low['branches']} branches "
+        f"({full['branches']}), {low['points']} points ({full['points']}), {low['periods']} periods: "
+        f"**{low['periods_per_point']:.1f} periods per point** ({full['periods_per_point']:.1f}); largest stable "
+        f"steady state {low['peak_stable_amplitude_m']:.6g} m at {low['peak_stable_speed_rpm']:.2f} rpm (full "
+        f"{full['peak_stable_amplitude_m']:.6g} m at {full['peak_stable_speed_rpm']:.2f} rpm); DPs: "
+        + _dp_counts(low["dp"])
+        + "; per point by stage: "
+        + _per_point(low)
+    )

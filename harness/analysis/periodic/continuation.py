@@ -8,8 +8,9 @@ with the FMU's sensitivities H_x is exact at every iterate and the speed column 
 point's, Broyden-updated; without them the whole Jacobian is Broyden-updated. Where that fails (a
 kink of the map) Newton with a fresh speed column (or a fresh Jacobian) per iteration. At each
 accepted point: DP (sensitivities, or central differences in the unknowns: max |q| has a kink at
-half-wave symmetric orbits) and a forward difference in speed give the point's Floquet multipliers
-and the next tangent. Step control: ds grows 1.4x
+half-wave symmetric orbits; or the map's own DP where it takes one, `state_jacobian`: the ring's
+low-rank DP) and a forward difference in speed give the point's Floquet multipliers and the next
+tangent. Step control: ds grows 1.4x
 after an easy corrector (<= EASY_CORRECTOR iterations), halves after a failure or when a step
 longer than ds_fold passes a fold (resolving its tip); the branch ends outside the speed range,
 after max_points, when ds falls below ds_min, or when it closes on itself (an isola). Changes of
@@ -332,6 +333,9 @@ class BranchProblem:
                 memo.put(x, n, DP, speed * self.sc / SPEED_SCALE)
             return np.column_stack([DP * self.sc[None, :] / self.sc[:, None] - np.eye(self.m), speed]), DP
         eps = self.pm.s.fd_rel
+        own = self._own_dp(z, x, n, Hz, Px)
+        if own is not None:
+            return own
         Jz = np.empty((self.m, self.m + 1))
         steps: list[tuple[float, bool]] = []  # per column: (h, central)
         zs: list[np.ndarray] = []  # the points, in order (a map with `images` runs them at once)
@@ -355,6 +359,29 @@ class BranchProblem:
         DP = (Jz[:, :-1] + np.eye(self.m)) * self.sc[:, None] / self.sc[None, :]
         if self.memo is not None:
             self.memo.put(x, n, DP, Jz[:, -1] * self.sc / SPEED_SCALE)
+        return Jz, DP
+
+    def _own_dp(
+        self, z: np.ndarray, x: np.ndarray, n: float, Hz: np.ndarray, Px: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray] | None:
+        """(dH/dz, DP) from the map's own DP where it takes one (a method `state_jacobian` returning
+        DP at (x, n, P(x)) and the images of extra points in the same batch: the ring's "low-rank"
+        DP), the speed column a forward difference as `jac`'s; None where it has none."""
+        own = getattr(self.pm, "state_jacobian", None)
+        if own is None:
+            return None
+        eps = self.pm.s.fd_rel
+        h = eps * (1.0 if n * (1 + 2 * eps) <= SPEED_RANGE[1] else -1.0) * max(abs(z[-1]), 1e-3)
+        zp = z.copy()
+        zp[-1] += h
+        got = own(x, n, Px, [self.from_z(zp)])
+        if got is None:
+            return None
+        DP, (Pn,) = got
+        speed = ((Pn - zp[:-1] * self.sc) / self.sc - Hz) / h
+        Jz = np.column_stack([DP * self.sc[None, :] / self.sc[:, None] - np.eye(self.m), speed])
+        if self.memo is not None:
+            self.memo.put(x, n, DP, speed * self.sc / SPEED_SCALE)
         return Jz, DP
 
 

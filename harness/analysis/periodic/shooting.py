@@ -145,7 +145,12 @@ def images(pm: PeriodMap, points: list[tuple[np.ndarray, float]]) -> list[np.nda
 
 
 def jacobian(pm: PeriodMap, x: np.ndarray, speed_rpm: float, Px: np.ndarray, central: bool = False) -> np.ndarray:
-    """DP at x (forward differences from the known P(x), or central ones) in physical units."""
+    """DP at x (forward differences from the known P(x), or central ones) in physical units; the
+    map's own forward DP where it takes one (`state_jacobian`: the ring's "low-rank" DP)."""
+    own = getattr(pm, "state_jacobian", None) if not central else None
+    got = own(x, speed_rpm, Px) if own is not None else None
+    if got is not None:
+        return cast(np.ndarray, got[0])
     sc = pm.scales(x, speed_rpm)
     J = np.empty((pm.dim, pm.dim))
     steps: list[tuple[float, bool]] = []  # per column: (h, central)

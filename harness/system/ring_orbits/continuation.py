@@ -2,7 +2,10 @@
 
 The continuation is the single blade's (harness.analysis.periodic.continuation: pseudo-arclength in
 (x / scale, rpm / 1000), quasi-Newton corrector, step control through folds) on the ring's period
-map, with forward differences for DP (the map's `central_differences`); peaks (of the largest
+map, with forward differences for DP (the map's `central_differences`), or the low-rank DP where
+the map's settings ask for it (`RingShootingSettings.dp`, derivative.py: the continuation's Jacobian,
+the extrema's, the crossings' fresh DPs and the switches' come from the map's `state_jacobian`, the
+speed column a forward difference in the same batch of periods); peaks (of the largest
 blade's max |q|) and folds (speed turning points) are located by the single blade's
 harness.analysis.periodic.extrema where a neighbour is stable (the others stay sampled). A corrector
 that cannot cross a kink of the map (ds below ds_min: a contact opening or closing exactly at the

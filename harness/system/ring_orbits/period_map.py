@@ -65,6 +65,7 @@ from harness.fmu.blade import FMUError
 from harness.fmu.slave import Slave
 from harness.system.ring import Ring, RingDiverged
 from harness.system.ring_c import CRing
+from harness.system.ring_orbits.derivative import DP_MODES, LowRankDP
 from harness.system.ring_sweep import window_amplitude
 
 
@@ -91,12 +92,17 @@ class RingShootingSettings:
     # its own instances; None: min(DEFAULT_WORKERS, the machine's cores). 1 where processes already
     # share the cores (the mistuning study runs one ring per worker process)
     workers: int | None = None
+    # the DP (monodromy matrix, the continuation's Jacobian): "full" forward differences over the state
+    # (dim + 1 periods), or "low-rank" (about 2 m N + 8 periods, checked; derivative.py)
+    dp: str = "full"
 
     def threads(self) -> int:
         """The number of threads `workers` asks for."""
         return self.workers if self.workers is not None else max(1, min(DEFAULT_WORKERS, os.cpu_count() or 1))
 
     def check(self) -> "RingShootingSettings":
+        if self.dp not in DP_MODES:
+            raise ValueError(f"RingShootingSettings.dp = {self.dp!r}: need one of {', '.join(map(repr, DP_MODES))}")
         w = self.workers
         if w is not None and not (isinstance(w, int) and not isinstance(w, bool) and 1 <= w <= MAX_WORKERS):
             raise ValueError(
@@ -208,6 +214,7 @@ class RingPeriodMap:
         self.workers = self.s.threads()
         self._helpers: list[RingPeriodMap] = []  # maps of the same ring on their own instances (images)
         self._pool: ThreadPoolExecutor | None = None
+        self.low_rank = LowRankDP(self) if self.s.dp == "low-rank" else None
 
     def __enter__(self) -> "RingPeriodMap":
         return self
@@ -473,6 +480,16 @@ class RingPeriodMap:
             for f in futures:
                 f.result()
         return done
+
+    def state_jacobian(
+        self, x: np.ndarray, speed: float, Px: np.ndarray, extra: Sequence[tuple[np.ndarray, float]] = ()
+    ) -> tuple[np.ndarray, list[np.ndarray]] | None:
+        """(DP at x in physical units, the images of `extra` run in the same batch) as `settings.dp`
+        says, for Newton's and the continuation's DPs (harness.analysis.periodic); None for "full":
+        the caller takes its own forward differences (the default path, unchanged)."""
+        if self.low_rank is None:
+            return None
+        return self.low_rank(np.asarray(x, dtype=float), float(speed), Px, extra)
 
     def measures(self, x: np.ndarray, speed: float) -> tuple[np.ndarray, float]:
         """(per-blade max |q| over the period [m], scaled period residual) of x at speed (one

@@ -4,7 +4,10 @@ Newton on R(x) = P(x) - x is the single blade's (harness.analysis.periodic.shoot
 quasi-Newton with a forward-difference DP updated by Broyden, scaled by the map's `scales`). The
 monodromy matrix at a converged orbit is DP by forward differences over the state (backward where a
 phi sits in its upper half; the ring's DP from forward and central differences agree to 1e-4, the
-period_map's `central_differences`; its columns' periods on the map's threads, `images`), its eigenvalues the Floquet multipliers; it is kept in the map's
+period_map's `central_differences`; its columns' periods on the map's threads, `images`), or with
+`RingShootingSettings.dp` "low-rank" from directional differences in the row space of a DP taken
+before, checked (derivative.py: about 2 m N + 8 periods instead of dim + 1), its eigenvalues the
+Floquet multipliers; it is kept in the map's
 memo of DPs (`jacobians`, continuation.JacobianMemo), so a continuation from the orbit starts without
 another one. The period residual reported
 is max |P(x) - x| / scale (scales: the largest displacement for every displacement, times omega for
@@ -20,6 +23,7 @@ import numpy as np
 
 from harness.analysis.periodic.continuation import JacobianMemo
 from harness.analysis.periodic.shooting import UNIT_CIRCLE_TOL, classify, multipliers, newton
+from harness.system.ring_orbits.derivative import forward_differences
 from harness.system.ring_orbits.period_map import RingMapFailed, RingPeriodMap
 
 
@@ -71,26 +75,16 @@ def jacobians(pm: RingPeriodMap) -> JacobianMemo:
 
 
 def monodromy(pm: RingPeriodMap, x: np.ndarray, speed: float, Px: np.ndarray | None = None) -> np.ndarray:
-    """DP at x by forward differences (one-sided away from a bound), in physical units; from the
-    map's memo where it was taken before."""
+    """DP at x, by forward differences (one-sided away from a bound) or low-rank as the map's
+    settings say (derivative.py), in physical units; from the map's memo where it was taken before."""
     memo = jacobians(pm)
     known = memo.get(x, speed)
     if known is not None:
         return known[0]
     if Px is None:
         Px = pm(x, speed)[0]
-    sc = pm.scales(x, speed)
-    J = np.zeros((pm.dim, pm.dim))
-    cols: list[tuple[int, float, np.ndarray]] = []  # (column, step, x + step e_j)
-    for j in range(pm.dim):
-        h = pm.s.fd_rel * sc[j] * pm.fd_direction(x, j)
-        xp = x.copy()
-        xp[j] += h
-        if pm.bounded(xp)[j] != xp[j]:
-            continue  # an open contact's phi: it does not act (the column is 0, as the continuation's)
-        cols.append((j, h, xp))
-    for (j, h, _), Pp in zip(cols, pm.images([(xp, speed) for _, _, xp in cols])):
-        J[:, j] = (Pp - Px) / h
+    got = pm.state_jacobian(x, speed, Px)
+    J = got[0] if got is not None else forward_differences(pm, x, speed, Px)[0]
     memo.put(x, speed, J)
     return J
 
