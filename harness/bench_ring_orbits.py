@@ -88,7 +88,7 @@ def six_blades(
     r = ring_branches(Ring(n=6, **STUDY_RING), band, points=seed_points, settings=RingShootingSettings(dp=dp))
     cpu = time.process_time() - cpu
     return {
-        "dp": r.stats["dp"],
+        "dp": r.stats.get("dp", {"mode": dp}),
         "band_rpm": list(band),
         "seed_points": seed_points,
         "wall_s": r.wall_time,
