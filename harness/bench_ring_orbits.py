@@ -88,7 +88,7 @@ def six_blades(
     r = ring_branches(Ring(n=6, **STUDY_RING), band, points=seed_points, settings=RingShootingSettings(dp=dp))
     cpu = time.process_time() - cpu
     return {
-        "dp": r.stats["dp"],
+        "dp": r.stats.get("dp", {"mode": dp}),
         "band_rpm": list(band),
         "seed_points": seed_points,
         "wall_s": r.wall_time,
@@ -262,7 +262,9 @@ def _low_rank_row(full: dict[str, Any], low: dict[str, Any]) -> str:
     return (
         f'- the same band with the low-rank DP (`RingShootingSettings(dp="low-rank")`, run right after the '
         f"full one; load average {low['load_at_start']:.1f} at its start): **{low['wall_s']:.1f} s wall** (full "
-        f"{full['wall_s']:.1f} s), {low['cpu_s']:.1f} s CPU (full {full['cpu_s']:.1f} s), {low['branches']} branches "
+        f"{full['wall_s']:.1f} s), {low['cpu_s']:.1f} s CPU (full {full['cpu_s']:.1f} s; per period "
+        f"{low['cpu_s'] / low['periods'] * 1e3:.2f} ms, full {full['cpu_s'] / full['periods'] * 1e3:.2f} ms), "
+        f"{low['branches']} branches "
         f"({full['branches']}), {low['points']} points ({full['points']}), {low['periods']} periods: "
         f"**{low['periods_per_point']:.1f} periods per point** ({full['periods_per_point']:.1f}); largest stable "
         f"steady state {low['peak_stable_amplitude_m']:.6g} m at {low['peak_stable_speed_rpm']:.2f} rpm (full "

@@ -303,7 +303,8 @@ def ring_branches(
                 "sweep_orbits": sweep_orbits,
                 "steps_per_period": settings.steps_per_period,
                 # the low-rank DPs: how many passed their check, took the acting unknowns, fell back
-                "dp": {"mode": settings.dp, **(pm.low_rank.summary() if pm.low_rank is not None else {})},
+                # (none with the full differences: the study's records as they were)
+                **({"dp": {"mode": settings.dp, **pm.low_rank.summary()}} if pm.low_rank is not None else {}),
                 "evaluations_by_stage": {
                     "seeds": e_seeds,
                     **stage,
