@@ -19,6 +19,7 @@ largest singular value; multipliers: every full multiplier's distance to the nea
   (amplitude within 1e-6, speed within 0.5 rpm: the located peak's tolerance) and the same
   bifurcation kinds, the branch point within 0.5 rpm (measured: 2e-9 relative, 1e-8 rpm, 5e-5 rpm;
   52.6 periods per point instead of 66.4), with low-rank DPs among its DPs;
+- a low-rank DP is kept in the map's memo and found again at its point without a period;
 - invalid `dp` values are refused naming the value and the accepted ones.
 """
 
@@ -27,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from harness.analysis.periodic.continuation import BranchProblem
 from harness.analysis.periodic.shooting import multipliers
 from harness.studies.mistuning import mistuned
 from harness.system.ring import Ring
@@ -35,7 +37,7 @@ from harness.system.ring_orbits.continuation import trace
 from harness.system.ring_orbits.derivative import forward_differences
 from harness.system.ring_orbits.period_map import RingPeriodMap, RingShootingSettings
 from harness.system.ring_orbits.seeds import from_rest, travelling_wave
-from harness.system.ring_orbits.shooting import shoot
+from harness.system.ring_orbits.shooting import jacobians, monodromy, shoot
 
 DP_TOL = 3e-5  # measured max 3.6e-6 (the forward differences' own spread: 1.9e-6 against central ones)
 MU_TOL = 1e-5  # measured max 6.5e-7
@@ -165,6 +167,26 @@ def test_a_branch_traced_low_rank_is_the_full_ones():
     assert [k for k, _ in bl] == [k for k, _ in bf], (bf, bl)
     assert all(abs(a - b) <= 0.5 for (_, a), (_, b) in zip(bf, bl)), (bf, bl)
     assert counts["low-rank"] > 0
+
+
+def test_the_memo_keeps_a_low_rank_dp():
+    """The continuation's Jacobian taken low-rank is found again at its point (no period), by the
+    continuation and by the monodromy alike."""
+    with RingPeriodMap(TUNED, LOW) as pm:
+        o = _orbit(pm, "rest", 6000.0)
+        jacobians(pm).items.clear()  # (the shooting's monodromy is kept there)
+        prob = BranchProblem(pm, pm.scales(o.x, o.speed))
+        z = prob.to_z(o.x, o.speed)
+        Hz, Px, _ = prob.H(z)
+        e0 = pm.evaluations
+        Jz, DP = prob.jac(z, Hz, Px)
+        assert pm.low_rank.outcome == "low-rank" and pm.evaluations > e0
+        e0 = pm.evaluations
+        Jz2, DP2 = prob.jac(z, Hz, Px)
+        x, n = prob.from_z(z)
+        assert pm.evaluations == e0
+        assert np.array_equal(DP2, DP) and np.array_equal(Jz2, Jz)
+        assert np.array_equal(monodromy(pm, x, n), DP) and pm.evaluations == e0
 
 
 @pytest.mark.parametrize("bad", ["lowrank", "", "FULL", None, 1])
