@@ -145,10 +145,10 @@ def study_from(args: argparse.Namespace) -> mistuning.Study:
     return s
 
 
-# the periodic-orbit engine over the study's band: 10-17 CPU-minutes for a 6-blade ring (make run); per
+# the periodic-orbit engine over the study's band: 11-19 CPU-minutes for a 6-blade ring (make run); per
 # continuation point 4x the unknowns (a DP's periods) at 3.5x the cost per period at 24 blades (5.41 against
 # 1.54 ms, bench/RESULTS.md): 14x for 4x the blades, about n^1.9 (as many branches assumed)
-ENGINE_CPU_MIN_6 = 10.0
+ENGINE_CPU_MIN_6 = 11.0
 ENGINE_COST_EXPONENT = 1.9
 
 
@@ -162,7 +162,7 @@ def engine_cost_notice(study: mistuning.Study) -> str | None:
         return None
     return (
         f"note: {rings} rings of {study.n} blades on steady states (--state-patterns {study.state_patterns}, "
-        f"--search {study.search_budget}): about {cpu_h:.0f} CPU-hours (extrapolated from 10 CPU-minutes per "
+        f"--search {study.search_budget}): about {cpu_h:.0f} CPU-hours (extrapolated from {ENGINE_CPU_MIN_6:.0f} CPU-minutes per "
         "6-blade ring); --state-patterns 0 runs the sweeps only"
     )
 
