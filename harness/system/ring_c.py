@@ -175,6 +175,14 @@ class CRing:
             return float(s.baseTime + float(k - s.baseK) * s.exactStep)
         return float(s.baseNs + (k - s.baseK) * s.stepNs) / 1e9
 
+    def times(self, k: np.ndarray) -> np.ndarray:
+        """`time` of every point in k (integers), the same doubles."""
+        s = self.setup
+        if s.exactStep > 0.0:
+            t: np.ndarray = s.baseTime + (k - s.baseK).astype(float) * s.exactStep
+            return t
+        return (s.baseNs + (k - s.baseK).astype(np.int64) * s.stepNs).astype(float) / 1e9
+
     def restart_exact(self, h: float) -> None:
         """Point k = 0 at t = 0 on the exact grid t_k = k h (h [s] any positive double: K steps make
         exactly K h), the extrapolation history restarted. The FMUs are the caller's: it resets and
@@ -271,7 +279,7 @@ class CRing:
         self.k = k0 + steps
         w = self.ring.engine_order * 2.0 * math.pi * self.rpm / 60.0
         self.phase = (self.phase + w * (self.time(self.k) - self.time(k0))) % (2.0 * math.pi)
-        res["time"] = np.array([self.time(k) for k in range(k0, k0 + steps + int(finish), record_every)][:rows])
+        res["time"] = self.times(np.arange(k0, k0 + steps + int(finish), record_every)[:rows])
         return res
 
     def save(self) -> tuple[Any, ...]:
