@@ -75,6 +75,7 @@ class _Setup(C.Structure):
         ("bladeIn", C.c_uint * 2),
         ("exactStep", C.c_double),
         ("baseTime", C.c_double),
+        ("readState", C.c_int),
     ]
 
 
@@ -126,9 +127,11 @@ def _check_step(h: float) -> None:
 
 
 class CRing:
-    """An open ring driven by the C loop; use as a context manager (frees the instances)."""
+    """An open ring driven by the C loop; use as a context manager (frees the instances). read_state
+    False: the records' contact states stay 0 (one fmi2GetInteger less per contact and point, which
+    makes the contact compute its outputs again)."""
 
-    def __init__(self, ring: Ring, time_dosteps: bool = False):
+    def __init__(self, ring: Ring, time_dosteps: bool = False, read_state: bool = True):
         if not 0 <= ring.order <= MAX_ORDER:
             raise ValueError(f"extrapolation order {ring.order} outside [0, {MAX_ORDER}] (the C loop's limit)")
         self.ring, self.k, self.rpm, self.phase = ring, 0, ring.speed, 0.0
@@ -151,6 +154,7 @@ class CRing:
             contact=_api(c0),
             blades=self._handles[0],
             contacts=self._handles[1],
+            readState=int(read_state),
         )
         s.bladeOut[:] = [b0.vr(n) for n in ("tipDisplacement", "tipVelocity", "dissipatedEnergy", "contactWork")]
         s.contactIn[:] = [c0.vr(n) for n in ("displacementA", "velocityA", "displacementB", "velocityB", "rotorSpeed")]

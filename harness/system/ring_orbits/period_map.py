@@ -210,7 +210,7 @@ class RingPeriodMap:
         self.nh = self.p * self.n  # values per history block
         self.dim = 2 * self.m * self.n + self.n + 2 * self.nh
         self.evaluations = 0
-        self._cr = CRing(ring)
+        self._cr = CRing(ring, read_state=False)  # a period's record: q only
         self.blades, self.contacts = self._cr.blades, self._cr.contacts
         c0 = self.contacts[0]
         kn, kd_ratio, mu, gamma, d = c0.get(["kn", "kdRatio", "mu", "gamma", "d"])
