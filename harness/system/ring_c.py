@@ -185,7 +185,8 @@ class CRing:
         if s.exactStep > 0.0:
             t: np.ndarray = s.baseTime + (k - s.baseK).astype(float) * s.exactStep
             return t
-        return (s.baseNs + (k - s.baseK).astype(np.int64) * s.stepNs).astype(float) / 1e9
+        ns: np.ndarray = (s.baseNs + (k - s.baseK).astype(np.int64) * s.stepNs).astype(float)
+        return ns / 1e9
 
     def restart_exact(self, h: float) -> None:
         """Point k = 0 at t = 0 on the exact grid t_k = k h (h [s] any positive double: K steps make

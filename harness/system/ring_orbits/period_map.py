@@ -50,23 +50,22 @@ the period's points wrapped round).
 
 from __future__ import annotations
 
-import ctypes as C
 import math
 import os
 import threading
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
-from typing import Any, Mapping, Sequence
+from typing import Any, Sequence
 
 import numpy as np
 from threadpoolctl import threadpool_limits
 
 from harness.fmu.binding import FmiError
 from harness.fmu.blade import FMUError
-from harness.fmu.slave import Slave
 from harness.system.ring import Ring, RingDiverged
 from harness.system.ring_c import CRing
 from harness.system.ring_orbits.derivative import DP_MODES, LowRankDP
+from harness.system.ring_orbits.restart import Reads, Restarts
 from harness.system.ring_sweep import window_amplitude
 
 
@@ -119,69 +118,6 @@ class RingShootingSettings:
         return self
 
 
-class _Restart:
-    """One instance's fmi2Reset, its parameters and start values, and its initialization at t = 0,
-    through the binary's functions with the value arrays built once (the binding's checked calls
-    cost 2 ms per period of the 6-blade ring, a third of it). `starts` (a numpy view) takes the start
-    values before each restart."""
-
-    def __init__(self, slave: Slave, params: Mapping[str, Any], starts: list[str]):
-        self.slave, self.lib, self.c = slave, slave.s.lib, slave.s.c
-        # type -> (value references, values: floats for Real, ints for Integer and Boolean)
-        groups: dict[str, tuple[list[int], list[Any]]] = {"Real": ([], []), "Integer": ([], []), "Boolean": ([], [])}
-        for k, v in params.items():
-            var = slave.u.vars[k]
-            t = var.type if var.type in groups else "Boolean"
-            groups[t][0].append(var.valueReference)
-            groups[t][1].append(float(v) if t == "Real" else int(v))
-        vr_r = groups["Real"][0] + [slave.vr(n) for n in starts]
-        self.real = ((C.c_uint * len(vr_r))(*vr_r), (C.c_double * len(vr_r))(*groups["Real"][1], *[0.0] * len(starts)))
-        # a view on the ctypes array (a buffer; typeshed's numpy stubs do not say so)
-        self.starts = np.frombuffer(self.real[1], dtype=np.float64)[len(groups["Real"][1]) :]  # type: ignore[call-overload]
-        self.ints = [
-            (f, (C.c_uint * len(vrs))(*vrs), (C.c_int * len(vrs))(*vals))
-            for f, (vrs, vals) in (("fmi2SetInteger", groups["Integer"]), ("fmi2SetBoolean", groups["Boolean"]))
-            if vrs
-        ]
-
-    def _check(self, function: str, status: int) -> None:
-        if status > 1:  # above fmi2Warning
-            raise FmiError(function, status, self.slave.messages[-1] if self.slave.messages else None)
-
-    def __call__(self) -> None:
-        lib, c = self.lib, self.c
-        self._check("fmi2Reset", lib.fmi2Reset(c))
-        self._check("fmi2SetupExperiment", lib.fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0))
-        vr, val = self.real
-        self._check("fmi2SetReal", lib.fmi2SetReal(c, vr, len(vr), val))
-        for f, vr_i, val_i in self.ints:
-            self._check(f, getattr(lib, f)(c, vr_i, len(vr_i), val_i))
-        self._check("fmi2EnterInitializationMode", lib.fmi2EnterInitializationMode(c))
-        self._check("fmi2ExitInitializationMode", lib.fmi2ExitInitializationMode(c))
-
-
-class _Reads:
-    """fmi2GetReal of the same variables from every instance of a group into one (instances, variables)
-    array, through the binaries' functions with the arrays built once (as _Restart)."""
-
-    def __init__(self, slaves: Sequence[Slave], names: list[str]):
-        self.slaves, k = slaves, len(names)
-        self.vr = (C.c_uint * k)(*[slaves[0].vr(n) for n in names])
-        self.out = (C.c_double * (k * len(slaves)))()
-        self.size = C.sizeof(C.c_double) * k
-        # a view on the ctypes array (a buffer; typeshed's numpy stubs do not say so)
-        self.values = np.frombuffer(self.out, dtype=np.float64).reshape(len(slaves), k)  # type: ignore[call-overload]
-
-    def __call__(self) -> np.ndarray:
-        """A copy of the values now, row i instance i's."""
-        k = len(self.vr)
-        for i, s in enumerate(self.slaves):
-            status = s.s.lib.fmi2GetReal(s.s.c, self.vr, k, C.byref(self.out, i * self.size))
-            if status > 1:  # above fmi2Warning
-                raise FmiError("fmi2GetReal", status, s.messages[-1] if s.messages else None)
-        return self.values.copy()
-
-
 class RingPeriodMap:
     """P(x; rpm) of a ring (harness.system.ring.Ring with the built-in load); use as a context
     manager (it keeps the ring's FMU instances open). Duck-types the single blade's PeriodMap for
@@ -222,16 +158,16 @@ class RingPeriodMap:
         names = [f"modalDisplacement[{k}]" for k in range(1, self.m + 1)] + [
             f"modalVelocity[{k}]" for k in range(1, self.m + 1)
         ]
-        self._brestart = [
-            _Restart(b, ring.blade_instance_params(i), names + ["rotorSpeed"]) for i, b in enumerate(self.blades)
-        ]
+        self._brestart = Restarts(
+            [(b, ring.blade_instance_params(i)) for i, b in enumerate(self.blades)], names + ["rotorSpeed"]
+        )
         cpar = {**dict(ring.contact), "engineOrder": ring.engine_order}
-        self._crestart = [
-            _Restart(c, cpar, ["frictionForce", "displacementA", "displacementB", "rotorSpeed"]) for c in self.contacts
-        ]
+        self._crestart = Restarts(
+            [(c, cpar) for c in self.contacts], ["frictionForce", "displacementA", "displacementB", "rotorSpeed"]
+        )
         self._vr_modal = [self.blades[0].vr(n) for n in names]
         self._vr_cout = [c0.vr("frictionForce")]
-        self._own_reads = (_Reads(self.blades, names), _Reads(self.contacts, ["frictionForce"]))
+        self._own_reads = (Reads(self.blades, names), Reads(self.contacts, ["frictionForce"]))
         # (x bytes, rpm) -> (P(x), per-blade max |q| [m], period residual max |P(x) - x| / scales)
         self.seen: dict[tuple[bytes, float], tuple[np.ndarray, np.ndarray, float]] = {}
         self.last: dict[str, np.ndarray] | None = None  # the last evaluation's record (q per point)
@@ -391,13 +327,11 @@ class RingPeriodMap:
         q = self.tips(x)[0]
         u = q - np.roll(q, -1)
         F = np.where(np.abs(u) > self.d, np.clip(self.phi(x), -1.0, 1.0) * self.limits(u), 0.0)  # in the cone
-        for i, r in enumerate(self._brestart):
-            r.starts[:-1] = y[i]
-            r.starts[-1] = rpm
-            r()
-        for j, r in enumerate(self._crestart):
-            r.starts[:] = (F[j], q[j], q[(j + 1) % self.n], rpm)
-            r()
+        self._brestart.starts[:, :-1] = y
+        self._brestart.starts[:, -1] = rpm
+        self._brestart()
+        self._crestart.starts[:] = np.column_stack([F, q, np.roll(q, -1), np.full(self.n, rpm)])
+        self._crestart()
 
     def _args(self, x: np.ndarray, speed: float) -> tuple[np.ndarray, float]:
         x = np.asarray(x, dtype=float)
