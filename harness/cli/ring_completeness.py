@@ -1,7 +1,7 @@
 """Check that the ring's periodic-orbit engine finds every stable steady state: runs from rest and from random starts against its branches.
 
 `python -m harness ring-completeness [--blades 6] [--speeds 5000 7500] [--spacing 10] [--random 3]
-[--seed 1] [--settle 1e-6] [--max-periods 1500] [--branches FILE] [--out DIR]` runs
+[--seed 1] [--settle 1e-6] [--max-periods 1500] [--jobs 1] [--branches FILE] [--out results]` runs
 harness.validation.ring_completeness on the mistuning study's tuned ring: DIR/ring_completeness.csv
 (one row per run), DIR/ring_completeness.json (the summary and the cost) and a short printed summary.
 """
@@ -28,18 +28,37 @@ from harness.validation import ring_completeness as rc
 def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--blades", type=int, default=6, metavar="N", help="blades of the study's tuned ring (default 6)")
     p.add_argument(
-        "--speeds", type=float, nargs=2, default=list(rc.BAND), metavar=("FROM", "TO"), help="the band [rpm]"
+        "--speeds",
+        type=float,
+        nargs=2,
+        default=list(rc.BAND),
+        metavar=("FROM", "TO"),
+        help="the band [rpm] (default 5000 7500)",
     )
     p.add_argument("--spacing", type=float, default=rc.SPACING, metavar="RPM", help="between grid speeds (default 10)")
     p.add_argument("--random", type=int, default=rc.RANDOM, metavar="K", help="random starts per speed (default 3)")
-    p.add_argument("--seed", type=int, default=rc.SEED, help="the random starts' seed (default 1)")
-    p.add_argument("--settle", type=float, default=rc.SETTLE, metavar="TOL", help="settled: scaled residual below")
-    p.add_argument("--max-periods", type=int, default=rc.MAX_PERIODS, metavar="K", help="periods per run at most")
+    p.add_argument("--seed", type=int, default=rc.SEED, metavar="S", help="the random starts' seed (default 1)")
     p.add_argument(
-        "--branches", type=Path, default=None, metavar="FILE", help="the engine's branches cached here (.npz)"
+        "--settle",
+        type=float,
+        default=rc.SETTLE,
+        metavar="TOL",
+        help="settled: scaled period residual below TOL (default 1e-6)",
+    )
+    p.add_argument(
+        "--max-periods", type=int, default=rc.MAX_PERIODS, metavar="K", help="periods per run at most (default 1500)"
+    )
+    p.add_argument(
+        "--branches",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="the engine's branches cached in FILE (.npz; default: none, computed each time)",
     )
     p.add_argument("--jobs", type=int, default=1, metavar="J", help="processes running the starts (default 1)")
-    p.add_argument("--out", type=Path, default=Path("."), metavar="DIR", help="output directory (default .)")
+    p.add_argument(
+        "--out", type=Path, default=Path("results"), metavar="DIR", help="output directory (default results)"
+    )
 
 
 def check(args: argparse.Namespace) -> None:
