@@ -23,6 +23,7 @@ from harness.outputs import check_dir, check_file
 from harness.system.ring_orbits.symmetry import index_maps
 from harness.system.ring_values import max_blades
 from harness.validation import ring_completeness as rc
+from harness.validation.ring_missed import follow
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
@@ -54,6 +55,11 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
         default=None,
         metavar="FILE",
         help="the engine's branches cached in FILE (.npz; default: none, computed each time)",
+    )
+    p.add_argument(
+        "--follow-missed",
+        action="store_true",
+        help="continue every missed state's branch across the band (the engine's continuation) to see where it goes",
     )
     p.add_argument("--jobs", type=int, default=1, metavar="J", help="processes running the starts (default 1)")
     p.add_argument(
@@ -107,6 +113,11 @@ def run(args: argparse.Namespace) -> int:
     settings = {
         k: getattr(args, k) for k in ("blades", "speeds", "spacing", "random", "seed", "settle", "max_periods", "jobs")
     }
+    if args.follow_missed:
+        out["missed_branches"] = [
+            follow(ring, (lo, hi), m["speed_rpm"], m["start"], args.seed, branches, args.settle, args.max_periods)
+            for m in out["missed"]
+        ]
     record = {"settings": settings, "engine": engine, "cost": cost, **out}
     rc.write_csv(args.out / "ring_completeness.csv", runs)
     atomic_write_text(args.out / "ring_completeness.json", json.dumps(record, indent=1) + "\n")
@@ -123,4 +134,6 @@ def run(args: argparse.Namespace) -> int:
     for m in out["missed"]:
         amps = " ".join(f"{a:.4e}" for a in m["amplitudes_m"])
         print(f"  MISSED {m['speed_rpm']:.1f} rpm ({m['start']}): {amps} m, |mu| {m['max_multiplier']:.4f}")
+    for f in out.get("missed_branches", []):
+        print(f"  the branch through {f['speed_rpm']:.1f} rpm ({f['start']}): {json.dumps(f)}")
     return 0
