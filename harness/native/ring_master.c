@@ -9,7 +9,7 @@
  * speed sweep: from a point where the load phase is a multiple of 2 pi / K at each speed):
  *   1. reads every blade's q, v, E, W (the blades make their own load; the speed is the setup's rpm);
  *   2. sets each contact j's inputs (blade j side A, blade j+1 side B) with the velocities'
- *      extrapolated derivatives, reads forceA, forceB, dissipatedEnergy, contactState;
+ *      extrapolated derivatives, reads forceA, forceB, dissipatedEnergy (and contactState: readState);
  *   3. sets blade i's rotorSpeed, contactForce = forceB(i-1) + forceA(i) with the derivatives of
  *      contactForce;
  *   4. steps every FMU from t_k to t_{k+1}.
@@ -61,6 +61,7 @@ typedef struct {
     unsigned int bladeIn[2];      /* rotorSpeed, contactForce */
     double exactStep;             /* > 0: t_k = baseTime + (k - baseK) exactStep [s] (an exact period T = K exactStep), not the ns grid */
     double baseTime;              /* t_baseK [s] on the exact grid */
+    int readState;                /* record contactState (an fmi2GetInteger per contact and point; 0: left 0) */
 } RingSetup;
 
 typedef struct {
@@ -126,9 +127,10 @@ static int readContact(const RingSetup *s, int j, double *fA, double *fB, RingRe
     double out[3];
     fmi2Integer state;
     if (s->contact.getReal(s->contacts[j], s->contactOut, 3, out) > fmi2Warning) return 1;
-    if (s->contact.getInteger(s->contacts[j], &s->contactState, 1, &state) > fmi2Warning) return 1;
     fA[j] = out[0], fB[j] = out[1];
     r->forceA[row + j] = out[0], r->forceB[row + j] = out[1], r->Ec[row + j] = out[2];
+    if (!s->readState) return 0;
+    if (s->contact.getInteger(s->contacts[j], &s->contactState, 1, &state) > fmi2Warning) return 1;
     r->state[row + j] = (double)state;
     return 0;
 }

@@ -75,6 +75,7 @@ class _Setup(C.Structure):
         ("bladeIn", C.c_uint * 2),
         ("exactStep", C.c_double),
         ("baseTime", C.c_double),
+        ("readState", C.c_int),
     ]
 
 
@@ -126,9 +127,11 @@ def _check_step(h: float) -> None:
 
 
 class CRing:
-    """An open ring driven by the C loop; use as a context manager (frees the instances)."""
+    """An open ring driven by the C loop; use as a context manager (frees the instances). read_state
+    False: the records' contact states stay 0 (one fmi2GetInteger less per contact and point, which
+    makes the contact compute its outputs again)."""
 
-    def __init__(self, ring: Ring, time_dosteps: bool = False):
+    def __init__(self, ring: Ring, time_dosteps: bool = False, read_state: bool = True):
         if not 0 <= ring.order <= MAX_ORDER:
             raise ValueError(f"extrapolation order {ring.order} outside [0, {MAX_ORDER}] (the C loop's limit)")
         self.ring, self.k, self.rpm, self.phase = ring, 0, ring.speed, 0.0
@@ -151,6 +154,7 @@ class CRing:
             contact=_api(c0),
             blades=self._handles[0],
             contacts=self._handles[1],
+            readState=int(read_state),
         )
         s.bladeOut[:] = [b0.vr(n) for n in ("tipDisplacement", "tipVelocity", "dissipatedEnergy", "contactWork")]
         s.contactIn[:] = [c0.vr(n) for n in ("displacementA", "velocityA", "displacementB", "velocityB", "rotorSpeed")]
@@ -174,6 +178,15 @@ class CRing:
         if s.exactStep > 0.0:
             return float(s.baseTime + float(k - s.baseK) * s.exactStep)
         return float(s.baseNs + (k - s.baseK) * s.stepNs) / 1e9
+
+    def times(self, k: np.ndarray) -> np.ndarray:
+        """`time` of every point in k (integers), the same doubles."""
+        s = self.setup
+        if s.exactStep > 0.0:
+            t: np.ndarray = s.baseTime + (k - s.baseK).astype(float) * s.exactStep
+            return t
+        ns: np.ndarray = (s.baseNs + (k - s.baseK).astype(np.int64) * s.stepNs).astype(float)
+        return ns / 1e9
 
     def restart_exact(self, h: float) -> None:
         """Point k = 0 at t = 0 on the exact grid t_k = k h (h [s] any positive double: K steps make
@@ -271,7 +284,7 @@ class CRing:
         self.k = k0 + steps
         w = self.ring.engine_order * 2.0 * math.pi * self.rpm / 60.0
         self.phase = (self.phase + w * (self.time(self.k) - self.time(k0))) % (2.0 * math.pi)
-        res["time"] = np.array([self.time(k) for k in range(k0, k0 + steps + int(finish), record_every)][:rows])
+        res["time"] = self.times(np.arange(k0, k0 + steps + int(finish), record_every)[:rows])
         return res
 
     def save(self) -> tuple[Any, ...]:

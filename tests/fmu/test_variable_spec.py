@@ -285,7 +285,12 @@ def _copy_sources(dst: Path) -> None:
     """What the CMake project needs, without build trees or the venv."""
     shutil.copy(REPO / "CMakeLists.txt", dst / "CMakeLists.txt")
     shutil.copytree(REPO / "fmu_src", dst / "fmu_src", ignore=shutil.ignore_patterns("__pycache__"))
-    for rel in ("harness/native/ring_master.c", "tests/c/CMakeLists.txt", "bench/bench_step.c"):
+    for rel in (
+        "harness/native/ring_master.c",
+        "harness/native/ring_restart.c",
+        "tests/c/CMakeLists.txt",
+        "bench/bench_step.c",
+    ):
         (dst / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(REPO / rel, dst / rel)
 

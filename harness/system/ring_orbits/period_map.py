@@ -50,22 +50,22 @@ the period's points wrapped round).
 
 from __future__ import annotations
 
-import ctypes as C
 import math
 import os
 import threading
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
-from typing import Any, Mapping, Sequence
+from typing import Any, Sequence
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from harness.fmu.binding import FmiError
 from harness.fmu.blade import FMUError
-from harness.fmu.slave import Slave
 from harness.system.ring import Ring, RingDiverged
 from harness.system.ring_c import CRing
 from harness.system.ring_orbits.derivative import DP_MODES, LowRankDP
+from harness.system.ring_orbits.restart import Reads, Restarts
 from harness.system.ring_sweep import window_amplitude
 
 
@@ -118,47 +118,6 @@ class RingShootingSettings:
         return self
 
 
-class _Restart:
-    """One instance's fmi2Reset, its parameters and start values, and its initialization at t = 0,
-    through the binary's functions with the value arrays built once (the binding's checked calls
-    cost 2 ms per period of the 6-blade ring, a third of it). `starts` (a numpy view) takes the start
-    values before each restart."""
-
-    def __init__(self, slave: Slave, params: Mapping[str, Any], starts: list[str]):
-        self.slave, self.lib, self.c = slave, slave.s.lib, slave.s.c
-        # type -> (value references, values: floats for Real, ints for Integer and Boolean)
-        groups: dict[str, tuple[list[int], list[Any]]] = {"Real": ([], []), "Integer": ([], []), "Boolean": ([], [])}
-        for k, v in params.items():
-            var = slave.u.vars[k]
-            t = var.type if var.type in groups else "Boolean"
-            groups[t][0].append(var.valueReference)
-            groups[t][1].append(float(v) if t == "Real" else int(v))
-        vr_r = groups["Real"][0] + [slave.vr(n) for n in starts]
-        self.real = ((C.c_uint * len(vr_r))(*vr_r), (C.c_double * len(vr_r))(*groups["Real"][1], *[0.0] * len(starts)))
-        # a view on the ctypes array (a buffer; typeshed's numpy stubs do not say so)
-        self.starts = np.frombuffer(self.real[1], dtype=np.float64)[len(groups["Real"][1]) :]  # type: ignore[call-overload]
-        self.ints = [
-            (f, (C.c_uint * len(vrs))(*vrs), (C.c_int * len(vrs))(*vals))
-            for f, (vrs, vals) in (("fmi2SetInteger", groups["Integer"]), ("fmi2SetBoolean", groups["Boolean"]))
-            if vrs
-        ]
-
-    def _check(self, function: str, status: int) -> None:
-        if status > 1:  # above fmi2Warning
-            raise FmiError(function, status, self.slave.messages[-1] if self.slave.messages else None)
-
-    def __call__(self) -> None:
-        lib, c = self.lib, self.c
-        self._check("fmi2Reset", lib.fmi2Reset(c))
-        self._check("fmi2SetupExperiment", lib.fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0))
-        vr, val = self.real
-        self._check("fmi2SetReal", lib.fmi2SetReal(c, vr, len(vr), val))
-        for f, vr_i, val_i in self.ints:
-            self._check(f, getattr(lib, f)(c, vr_i, len(vr_i), val_i))
-        self._check("fmi2EnterInitializationMode", lib.fmi2EnterInitializationMode(c))
-        self._check("fmi2ExitInitializationMode", lib.fmi2ExitInitializationMode(c))
-
-
 class RingPeriodMap:
     """P(x; rpm) of a ring (harness.system.ring.Ring with the built-in load); use as a context
     manager (it keeps the ring's FMU instances open). Duck-types the single blade's PeriodMap for
@@ -187,7 +146,7 @@ class RingPeriodMap:
         self.nh = self.p * self.n  # values per history block
         self.dim = 2 * self.m * self.n + self.n + 2 * self.nh
         self.evaluations = 0
-        self._cr = CRing(ring)
+        self._cr = CRing(ring, read_state=False)  # a period's record: q only
         self.blades, self.contacts = self._cr.blades, self._cr.contacts
         c0 = self.contacts[0]
         kn, kd_ratio, mu, gamma, d = c0.get(["kn", "kdRatio", "mu", "gamma", "d"])
@@ -199,15 +158,16 @@ class RingPeriodMap:
         names = [f"modalDisplacement[{k}]" for k in range(1, self.m + 1)] + [
             f"modalVelocity[{k}]" for k in range(1, self.m + 1)
         ]
-        self._brestart = [
-            _Restart(b, ring.blade_instance_params(i), names + ["rotorSpeed"]) for i, b in enumerate(self.blades)
-        ]
+        self._brestart = Restarts(
+            [(b, ring.blade_instance_params(i)) for i, b in enumerate(self.blades)], names + ["rotorSpeed"]
+        )
         cpar = {**dict(ring.contact), "engineOrder": ring.engine_order}
-        self._crestart = [
-            _Restart(c, cpar, ["frictionForce", "displacementA", "displacementB", "rotorSpeed"]) for c in self.contacts
-        ]
+        self._crestart = Restarts(
+            [(c, cpar) for c in self.contacts], ["frictionForce", "displacementA", "displacementB", "rotorSpeed"]
+        )
         self._vr_modal = [self.blades[0].vr(n) for n in names]
-        self._vr_cout = [c0.vr(n) for n in ("frictionForce", "relativeDisplacement")]
+        self._vr_cout = [c0.vr("frictionForce")]
+        self._own_reads = (Reads(self.blades, names), Reads(self.contacts, ["frictionForce"]))
         # (x bytes, rpm) -> (P(x), per-blade max |q| [m], period residual max |P(x) - x| / scales)
         self.seen: dict[tuple[bytes, float], tuple[np.ndarray, np.ndarray, float]] = {}
         self.last: dict[str, np.ndarray] | None = None  # the last evaluation's record (q per point)
@@ -215,14 +175,22 @@ class RingPeriodMap:
         self._helpers: list[RingPeriodMap] = []  # maps of the same ring on their own instances (images)
         self._pool: ThreadPoolExecutor | None = None
         self.low_rank = LowRankDP(self) if self.s.dp == "low-rank" else None
+        self._blas: Any = None  # the BLAS thread limit while open as a context manager
 
     def __enter__(self) -> "RingPeriodMap":
+        # BLAS on one thread while the map is open: its DPs, tangents and multipliers are small dense
+        # problems between periods, and BLAS's idle threads spin on the cores the periods run on (6-blade
+        # ring over 5500-7200 rpm on 2 cores: 173 -> 126 s CPU, the same periods and orbits)
+        self._blas = threadpool_limits(limits=1, user_api="blas")
         return self
 
     def __exit__(self, *exc: object) -> None:
         self.close()
 
     def close(self) -> None:
+        if self._blas is not None:
+            self._blas.restore_original_limits()
+            self._blas = None
         if self._pool is not None:
             self._pool.shutdown(wait=True)
             self._pool = None
@@ -299,8 +267,11 @@ class RingPeriodMap:
         stopped with `finish`: this map's own ring or another run of the same ring): blades' modal
         states, contacts' friction forces at their inputs, and the history before that point, the
         C loop's rows 1..p (right on the exact grid h = T / K) unless given (v_past, f_past)."""
-        ym = np.array([b.s.get_real(self._vr_modal) for b in cr.blades])
-        out = np.array([c.s.get_real(self._vr_cout) for c in cr.contacts])
+        if cr is self._cr:
+            ym, out = (r() for r in self._own_reads)
+        else:
+            ym = np.array([b.s.get_real(self._vr_modal) for b in cr.blades])
+            out = np.array([c.s.get_real(self._vr_cout) for c in cr.contacts])
         if v_past is None or f_past is None:
             v, f = cr.history()
             v_past, f_past = v[1:], f[1:]
@@ -356,13 +327,11 @@ class RingPeriodMap:
         q = self.tips(x)[0]
         u = q - np.roll(q, -1)
         F = np.where(np.abs(u) > self.d, np.clip(self.phi(x), -1.0, 1.0) * self.limits(u), 0.0)  # in the cone
-        for i, r in enumerate(self._brestart):
-            r.starts[:-1] = y[i]
-            r.starts[-1] = rpm
-            r()
-        for j, r in enumerate(self._crestart):
-            r.starts[:] = (F[j], q[j], q[(j + 1) % self.n], rpm)
-            r()
+        self._brestart.starts[:, :-1] = y
+        self._brestart.starts[:, -1] = rpm
+        self._brestart()
+        self._crestart.starts[:] = np.column_stack([F, q, np.roll(q, -1), np.full(self.n, rpm)])
+        self._crestart()
 
     def _args(self, x: np.ndarray, speed: float) -> tuple[np.ndarray, float]:
         x = np.asarray(x, dtype=float)
