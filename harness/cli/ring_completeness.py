@@ -105,7 +105,7 @@ def run(args: argparse.Namespace) -> int:
     ring = rc.study_ring(args.blades)
     c0, w0 = time.process_time(), time.perf_counter()
     branches, xs, engine = rc.engine_branches(ring, (lo, hi), args.branches)
-    runs, cost = rc.collect_in(args.jobs, ring, speeds, args.random, args.seed, args.settle, args.max_periods)
+    runs, cost = rc.collect(ring, speeds, args.random, args.seed, args.settle, args.max_periods, args.jobs)
     cost["compare_periods"] = rc.compare(ring, runs, branches, xs)
     cost["cpu_s_main_process"] = time.process_time() - c0  # the engine (if computed) and the comparison
     cost["wall_s"] = time.perf_counter() - w0

@@ -133,14 +133,38 @@ def collect(
     seed: int = SEED,
     settle: float = SETTLE,
     max_periods: int = MAX_PERIODS,
-    settings: RingShootingSettings = RingShootingSettings(workers=1),
+    jobs: int = 1,
     progress: Callable[[Settled], None] | None = None,
 ) -> tuple[list[Settled], dict]:
-    """Every start's run and polished orbit, and the cost (periods run settling and polishing, CPU s)."""
+    """Every start's run and polished orbit, in speed order, and the cost (periods run settling and
+    polishing, CPU s summed over the processes); on `jobs` processes, every jobs-th speed each (a
+    speed's starts do not depend on which process runs it; `progress` only with one)."""
+    if jobs <= 1:
+        return _collect(ring, speeds, random, seed, settle, max_periods, progress)
+    parts = [(ring, [float(v) for v in speeds[j::jobs]], random, seed, settle, max_periods, None) for j in range(jobs)]
+    with ProcessPoolExecutor(max_workers=jobs) as ex:
+        done = list(ex.map(_collect_part, parts))
+    runs = sorted((s for r, _ in done for s in r), key=lambda s: s.speed)  # stable: a speed's starts in order
+    return runs, {k: sum(c[k] for _, c in done) for k in done[0][1]}
+
+
+def _collect_part(job: tuple) -> tuple[list[Settled], dict]:
+    return _collect(*job)
+
+
+def _collect(
+    ring: Ring,
+    speeds: Sequence[float],
+    random: int,
+    seed: int,
+    settle: float,
+    max_periods: int,
+    progress: Callable[[Settled], None] | None,
+) -> tuple[list[Settled], dict]:
     out: list[Settled] = []
     cost = {"settle_periods": 0, "polish_periods": 0}
     c0 = time.process_time()
-    with RingPeriodMap(ring, settings) as pm:
+    with RingPeriodMap(ring, RingShootingSettings(workers=1)) as pm:
         for speed in speeds:
             for label, x0 in starts(pm, float(speed), random, seed):
                 e0 = pm.evaluations
@@ -162,31 +186,6 @@ def collect(
                     progress(s)
     cost["cpu_s"] = time.process_time() - c0
     return out, cost
-
-
-def _collect_part(job: tuple[Ring, list[float], int, int, float, int]) -> tuple[list[Settled], dict]:
-    return collect(*job)
-
-
-def collect_in(
-    jobs: int,
-    ring: Ring,
-    speeds: Sequence[float],
-    random: int = RANDOM,
-    seed: int = SEED,
-    settle: float = SETTLE,
-    max_periods: int = MAX_PERIODS,
-) -> tuple[list[Settled], dict]:
-    """`collect` on `jobs` processes (every jobs-th speed each; a speed's starts do not depend on
-    which process runs it), the runs in speed order and the costs summed (CPU s over the processes)."""
-    if jobs <= 1:
-        return collect(ring, speeds, random, seed, settle, max_periods)
-    parts = [(ring, [float(v) for v in speeds[j::jobs]], random, seed, settle, max_periods) for j in range(jobs)]
-    with ProcessPoolExecutor(max_workers=jobs) as ex:
-        done = list(ex.map(_collect_part, parts))
-    runs = sorted((s for r, _ in done for s in r), key=lambda s: s.speed)  # stable: a speed's starts in order
-    cost = {k: sum(c[k] for _, c in done) for k in done[0][1]}
-    return runs, cost
 
 
 # --- the engine's branches, cached ---------------------------------------------------------------------
