@@ -31,7 +31,7 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Callable, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
@@ -135,7 +135,7 @@ def collect(
     max_periods: int = MAX_PERIODS,
     jobs: int = 1,
     progress: Callable[[Settled], None] | None = None,
-) -> tuple[list[Settled], dict]:
+) -> tuple[list[Settled], dict[str, Any]]:
     """Every start's run and polished orbit, in speed order, and the cost (periods run settling and
     polishing, CPU s summed over the processes); on `jobs` processes, every jobs-th speed each (a
     speed's starts do not depend on which process runs it; `progress` only with one)."""
@@ -148,7 +148,7 @@ def collect(
     return runs, {k: sum(c[k] for _, c in done) for k in done[0][1]}
 
 
-def _collect_part(job: tuple) -> tuple[list[Settled], dict]:
+def _collect_part(job: tuple[Any, ...]) -> tuple[list[Settled], dict[str, Any]]:
     return _collect(*job)
 
 
@@ -160,9 +160,9 @@ def _collect(
     settle: float,
     max_periods: int,
     progress: Callable[[Settled], None] | None,
-) -> tuple[list[Settled], dict]:
+) -> tuple[list[Settled], dict[str, Any]]:
     out: list[Settled] = []
-    cost = {"settle_periods": 0, "polish_periods": 0}
+    cost: dict[str, Any] = {"settle_periods": 0, "polish_periods": 0}
     c0 = time.process_time()
     with RingPeriodMap(ring, RingShootingSettings(workers=1)) as pm:
         for speed in speeds:
@@ -197,7 +197,7 @@ def _key(ring: Ring, band: tuple[float, float]) -> str:
 
 def engine_branches(
     ring: Ring, band: tuple[float, float], cache: Path | None = None
-) -> tuple[list[Branch], list[np.ndarray], dict]:
+) -> tuple[list[Branch], list[np.ndarray], dict[str, Any]]:
     """The engine's branches over the band (ring_branches, default settings) as Branch, their states
     (P, dim) per branch, and the engine's cost; read from `cache` (.npz) if it holds this ring, band
     and engine (ring_engine_digest), else computed and written there."""
@@ -216,7 +216,7 @@ def engine_branches(
     return brs, xs, cost
 
 
-def from_result(r: RingBranches, cpu_s: float) -> tuple[list[Branch], list[np.ndarray], dict]:
+def from_result(r: RingBranches, cpu_s: float) -> tuple[list[Branch], list[np.ndarray], dict[str, Any]]:
     """ring_branches' result as Branch (an untraced orbit: a branch of one point), states, cost."""
     rows = [b.orbits for b in r.branches] + [[o] for _, o in r.untraced]
     brs = [
@@ -237,7 +237,8 @@ def from_result(r: RingBranches, cpu_s: float) -> tuple[list[Branch], list[np.nd
     return brs, xs, cost
 
 
-def save(cache: Path, key: str, brs: list[Branch], xs: list[np.ndarray], cost: dict) -> None:
+def save(cache: Path, key: str, brs: list[Branch], xs: list[np.ndarray], cost: dict[str, Any]) -> None:
+    """The branches, their states and the cost in `cache` (.npz) under `key`."""
     arrays: dict[str, np.ndarray] = {
         "key": np.array(key),
         "count": np.array(len(brs)),
@@ -268,7 +269,7 @@ def second_opinion(
             if sym_distance(a, s.amplitudes, maps) > NEWTON_NEAR:
                 continue
             try:
-                sol = newton(pm, X[k] + f * (X[k + 1] - X[k]), s.speed)
+                sol = newton(pm, X[k] + f * (X[k + 1] - X[k]), s.speed)  # type: ignore[arg-type]  # duck-typed map
             except RingMapFailed:
                 continue
             if sol is not None and sym_distance(pm.measures(sol.x, s.speed)[0], s.amplitudes, maps) <= NEWTON_RTOL:
@@ -326,7 +327,7 @@ def write_csv(path: Path, runs: list[Settled]) -> None:
     atomic_write_text(path, "\n".join(rows) + "\n")
 
 
-def summary(runs: list[Settled], maps: list[np.ndarray]) -> dict:
+def summary(runs: list[Settled], maps: list[np.ndarray]) -> dict[str, Any]:
     """Counts, and every settled stable orbit that is on no branch."""
     stable = [s for s in runs if s.polished and s.stable]
     missed = [s for s in distinct(stable, maps) if s.on_branch is False]

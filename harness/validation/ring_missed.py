@@ -8,6 +8,8 @@ against the engine's seed speeds)."""
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from harness.system.ring import Ring
@@ -29,7 +31,7 @@ def follow(
     branches: list[Branch],
     settle: float = SETTLE,
     max_periods: int = 1500,
-) -> dict:
+) -> dict[str, Any]:
     """The missed state's branch (module docstring): its speed range, stable points, how each end
     ended, its bifurcations, the engine's seed speeds inside it, and the periods it cost."""
     maps = index_maps(ring)
