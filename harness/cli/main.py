@@ -38,6 +38,7 @@ COMMANDS: dict[str, str] = {
     "ring-states": "harness.cli.ring_states",
     "ring-convergence": "harness.cli.ring_convergence",
     "ring-energy": "harness.cli.ring_energy",
+    "ring-completeness": "harness.cli.ring_completeness",
     "mistuning-dask": "harness.cli.mistuning_dask",
 }
 

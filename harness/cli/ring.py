@@ -179,7 +179,8 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
 
 
-def _speed_range() -> tuple[float, float]:
+def speed_range() -> tuple[float, float]:
+    """(min, max) [rpm] of the blade FMU's rotorSpeed."""
     rs = next(v for v in read_model_description(str(build_ring_fmus()[0])).modelVariables if v.name == "rotorSpeed")
     return float(rs.min), float(rs.max)
 
@@ -189,7 +190,7 @@ def check(args: argparse.Namespace) -> None:
     nmax = max_blades()
     if not 2 <= args.blades <= nmax:
         raise ParameterError(f"--blades {args.blades} outside [2, {nmax}] (a ring; the blade FMU's bladeCount)")
-    lo, hi = _speed_range()
+    lo, hi = speed_range()
     speeds = args.speeds if args.speeds is not None else [args.speed]
     for s in speeds:
         if not (math.isfinite(s) and lo < s <= hi):

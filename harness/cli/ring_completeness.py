@@ -1,0 +1,139 @@
+"""Check that the ring's periodic-orbit engine finds every stable steady state: runs from rest and from random starts against its branches.
+
+`python -m harness ring-completeness [--blades 6] [--speeds 5000 7500] [--spacing 10] [--random 3]
+[--seed 1] [--settle 1e-6] [--max-periods 1500] [--jobs 1] [--branches FILE] [--out results]` runs
+harness.validation.ring_completeness on the mistuning study's tuned ring: DIR/ring_completeness.csv
+(one row per run), DIR/ring_completeness.json (the summary and the cost) and a short printed summary.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from harness.files.atomic import atomic_write_text
+from harness.cli.ring import speed_range
+from harness.model.params import ParameterError
+from harness.outputs import check_dir, check_file
+from harness.system.ring_orbits.symmetry import index_maps
+from harness.system.ring_values import max_blades
+from harness.validation import ring_completeness as rc
+from harness.validation.ring_missed import follow
+
+
+def configure_parser(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--blades", type=int, default=6, metavar="N", help="blades of the study's tuned ring (default 6)")
+    p.add_argument(
+        "--speeds",
+        type=float,
+        nargs=2,
+        default=list(rc.BAND),
+        metavar=("FROM", "TO"),
+        help="the band [rpm] (default 5000 7500)",
+    )
+    p.add_argument("--spacing", type=float, default=rc.SPACING, metavar="RPM", help="between grid speeds (default 10)")
+    p.add_argument("--random", type=int, default=rc.RANDOM, metavar="K", help="random starts per speed (default 3)")
+    p.add_argument("--seed", type=int, default=rc.SEED, metavar="S", help="the random starts' seed (default 1)")
+    p.add_argument(
+        "--settle",
+        type=float,
+        default=rc.SETTLE,
+        metavar="TOL",
+        help="settled: scaled period residual below TOL (default 1e-6)",
+    )
+    p.add_argument(
+        "--max-periods", type=int, default=rc.MAX_PERIODS, metavar="K", help="periods per run at most (default 1500)"
+    )
+    p.add_argument(
+        "--branches",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="the engine's branches cached in FILE (.npz; default: none, computed each time)",
+    )
+    p.add_argument(
+        "--follow-missed",
+        action="store_true",
+        help="continue every missed state's branch across the band (the engine's continuation) to see where it goes",
+    )
+    p.add_argument("--jobs", type=int, default=1, metavar="J", help="processes running the starts (default 1)")
+    p.add_argument(
+        "--out", type=Path, default=Path("results"), metavar="DIR", help="output directory (default results)"
+    )
+
+
+def check(args: argparse.Namespace) -> None:
+    """Every argument against its range, before any work."""
+    nmax = max_blades()
+    if not 2 <= args.blades <= nmax:
+        raise ParameterError(f"--blades {args.blades} outside [2, {nmax}] (a ring; the blade FMU's bladeCount)")
+    lo, hi = args.speeds
+    smin, smax = speed_range()
+    for s in (lo, hi):
+        if not (math.isfinite(s) and smin < s <= smax):
+            raise ParameterError(f"--speeds {s!r} rpm outside ({smin:g}, {smax:g}] (BladeExternalContact's rotorSpeed)")
+    if not lo < hi:
+        raise ParameterError(f"--speeds {lo:g} {hi:g}: FROM must be below TO")
+    if not (math.isfinite(args.spacing) and 0.1 <= args.spacing <= hi - lo):
+        raise ParameterError(f"--spacing {args.spacing!r} rpm outside [0.1, TO - FROM = {hi - lo:g}]")
+    if not 0 <= args.random <= 100:
+        raise ParameterError(f"--random {args.random} outside [0, 100] (random starts per speed)")
+    if not 0 <= args.seed < 2**63:
+        raise ParameterError(f"--seed {args.seed} outside [0, 2^63)")
+    if not (math.isfinite(args.settle) and 1e-12 <= args.settle <= 1e-2):
+        raise ParameterError(f"--settle {args.settle!r} outside [1e-12, 1e-2] (scaled period residual)")
+    if not 10 <= args.max_periods <= 10**6:
+        raise ParameterError(f"--max-periods {args.max_periods} outside [10, 1000000]")
+    if not 1 <= args.jobs <= 64:
+        raise ParameterError(f"--jobs {args.jobs} outside [1, 64] (processes)")
+    if args.branches is not None:
+        if args.branches.suffix != ".npz":
+            raise ParameterError(f"--branches {args.branches}: need a file ending in .npz")
+        check_file(args.branches, "--branches")
+    check_dir(args.out, "--out")
+
+
+def run(args: argparse.Namespace) -> int:
+    check(args)
+    lo, hi = args.speeds
+    speeds = lo + args.spacing * np.arange(math.floor((hi - lo) / args.spacing + 1e-9) + 1)
+    ring = rc.study_ring(args.blades)
+    c0, w0 = time.process_time(), time.perf_counter()
+    branches, xs, engine = rc.engine_branches(ring, (lo, hi), args.branches)
+    runs, cost = rc.collect(ring, speeds, args.random, args.seed, args.settle, args.max_periods, args.jobs)
+    cost["compare_periods"] = rc.compare(ring, runs, branches, xs)
+    cost["cpu_s_main_process"] = time.process_time() - c0  # the engine (if computed) and the comparison
+    cost["wall_s"] = time.perf_counter() - w0
+    out = rc.summary(runs, index_maps(ring))
+    settings = {
+        k: getattr(args, k) for k in ("blades", "speeds", "spacing", "random", "seed", "settle", "max_periods", "jobs")
+    }
+    if args.follow_missed:
+        out["missed_branches"] = [
+            follow(ring, (lo, hi), m["speed_rpm"], m["start"], args.seed, branches, args.settle, args.max_periods)
+            for m in out["missed"]
+        ]
+    record = {"settings": settings, "engine": engine, "cost": cost, **out}
+    rc.write_csv(args.out / "ring_completeness.csv", runs)
+    atomic_write_text(args.out / "ring_completeness.json", json.dumps(record, indent=1) + "\n")
+    print(
+        f"{ring.n}-blade ring, {lo:g}..{hi:g} rpm, {len(speeds)} speeds x {1 + args.random} starts: {out['runs']} runs, "
+        f"{len(out['not_settled'])} not settled in {args.max_periods} periods, {out['settled_stable_orbits']} settled"
+        f" stable orbits ({out['distinct_states']} distinct states), {out['on_branches']} on the engine's branches"
+        f" ({out['on_branches_by_newton']} by Newton at the speed), {len(out['unstable_after_settling'])} unstable"
+    )
+    print(
+        f"  engine: {engine['branches']} branches, {engine['points']} points; this check: "
+        f"{cost['settle_periods'] + cost['polish_periods'] + cost['compare_periods']} periods, {cost['cpu_s']:.0f} CPU s"
+    )
+    for m in out["missed"]:
+        amps = " ".join(f"{a:.4e}" for a in m["amplitudes_m"])
+        print(f"  MISSED {m['speed_rpm']:.1f} rpm ({m['start']}): {amps} m, |mu| {m['max_multiplier']:.4f}")
+    for f in out.get("missed_branches", []):
+        print(f"  the branch through {f['speed_rpm']:.1f} rpm ({f['start']}): {json.dumps(f)}")
+    return 0

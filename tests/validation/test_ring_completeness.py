@@ -1,0 +1,23 @@
+"""The ring engine's branches hold every stable steady state the co-simulation settles on from rest
+and from random starts (harness/validation/ring_completeness.py), on a small band of the tuned
+6-blade study ring where the runs settle (near 5800 rpm they do not: no periodic steady state).
+About 13 s (the engine over the band included), so among the default tests; dropping the branch
+the first matched orbit lies on makes it fail."""
+
+from __future__ import annotations
+
+from harness.validation.ring_completeness import collect, compare, engine_branches, study_ring
+
+BAND = (6400.0, 6600.0)  # [rpm]
+SPEEDS = (6400.0, 6500.0, 6600.0)
+
+
+def test_every_settled_stable_orbit_lies_on_the_engines_branches():
+    ring = study_ring(6)
+    branches, xs, _ = engine_branches(ring, BAND)
+    runs, _ = collect(ring, SPEEDS, random=2, seed=1)
+    compare(ring, runs, branches, xs)
+    stable = [s for s in runs if s.polished and s.stable]
+    assert len(stable) >= 6, [(s.speed, s.start, s.residual) for s in runs]  # the check compared something
+    missed = [(s.speed, s.start, s.amplitudes.tolist(), s.distance, s.tolerance) for s in stable if not s.on_branch]
+    assert not missed
