@@ -40,8 +40,8 @@ The truncation's error is the singular values left out and the unchecked rest: b
 orbits: 1e-6..2e-5 of the largest singular value (tests/system/test_ring_low_rank_dp.py).
 The gain (bench/RESULTS.md, the 6-blade study ring over 4000-9000 rpm, both modes in one run): a DP
 27 periods on average (1111 low-rank, 1681 over the acting unknowns, 96 full), 101.1 periods per
-continuation point against 127.8, the same largest stable state; 203 s wall against 250 s on a
-quiet machine (1.23x), while under load with one core free the order reversed (530 s against 457 s). The branches it finds are not the full
+continuation point against 127.8, the same largest stable state; 133 s wall against 191 s on a
+quiet machine (1.43x). The branches it finds are not the full
 differences' list: where a branch meets a kink of the map the corrector crosses it with one DP and
 not with the other (over 5000-7500 rpm it missed 8 of the 314 stable states on a 10 rpm grid
 the full differences found, at 5520-5640 and 6170-6180 rpm): opt-in, not the study's default.
