@@ -1,8 +1,9 @@
 """Check that the ring's periodic-orbit engine finds every stable steady state: runs from rest and from random starts against its branches.
 
-`python -m harness ring-completeness [--blades 6] [--speeds 5000 7500] [--spacing 10] [--random 3]
+`python -m harness ring-completeness [--blades 6] [--pattern SIGMA INDEX] [--speeds 5000 7500] [--spacing 10] [--random 3]
 [--seed 1] [--settle 1e-6] [--max-periods 1500] [--jobs 1] [--branches FILE] [--out results]` runs
-harness.validation.ring_completeness on the mistuning study's tuned ring: DIR/ring_completeness.csv
+harness.validation.ring_completeness on the mistuning study's tuned ring (or one of its stiffness
+patterns): DIR/ring_completeness.csv
 (one row per run), DIR/ring_completeness.json (the summary and the cost) and a short printed summary.
 """
 
@@ -35,6 +36,13 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
         default=list(rc.BAND),
         metavar=("FROM", "TO"),
         help="the band [rpm] (default 5000 7500)",
+    )
+    p.add_argument(
+        "--pattern",
+        nargs=2,
+        default=None,
+        metavar=("SIGMA", "INDEX"),
+        help="the study's blade stiffness pattern INDEX at level SIGMA instead of the tuned ring (default: tuned)",
     )
     p.add_argument("--spacing", type=float, default=rc.SPACING, metavar="RPM", help="between grid speeds (default 10)")
     p.add_argument("--random", type=int, default=rc.RANDOM, metavar="K", help="random starts per speed (default 3)")
@@ -79,6 +87,8 @@ def check(args: argparse.Namespace) -> None:
             raise ParameterError(f"--speeds {s!r} rpm outside ({smin:g}, {smax:g}] (BladeExternalContact's rotorSpeed)")
     if not lo < hi:
         raise ParameterError(f"--speeds {lo:g} {hi:g}: FROM must be below TO")
+    if args.pattern is not None:
+        args.pattern = _pattern(args.pattern)
     if not (math.isfinite(args.spacing) and 0.1 <= args.spacing <= hi - lo):
         raise ParameterError(f"--spacing {args.spacing!r} rpm outside [0.1, TO - FROM = {hi - lo:g}]")
     if not 0 <= args.random <= 100:
@@ -98,11 +108,27 @@ def check(args: argparse.Namespace) -> None:
     check_dir(args.out, "--out")
 
 
+def _pattern(values: list[str]) -> tuple[float, int]:
+    """--pattern SIGMA INDEX checked: sigma in (0, 0.2] as the study's levels, a whole INDEX >= 0."""
+    try:
+        sigma = float(values[0])
+    except ValueError:
+        sigma = math.nan
+    if not (math.isfinite(sigma) and 0.0 < sigma <= 0.2):
+        raise ParameterError(f"--pattern SIGMA {values[0]!r} outside (0, 0.2] (relative standard deviation)")
+    if not (values[1].isdigit() and int(values[1]) < 10**6):
+        raise ParameterError(f"--pattern INDEX {values[1]!r}: need a whole number in [0, 999999]")
+    return sigma, int(values[1])
+
+
 def run(args: argparse.Namespace) -> int:
     check(args)
     lo, hi = args.speeds
     speeds = lo + args.spacing * np.arange(math.floor((hi - lo) / args.spacing + 1e-9) + 1)
-    ring = rc.study_ring(args.blades)
+    try:
+        ring = rc.study_ring(args.blades, args.pattern)
+    except ValueError as e:  # a factor <= 0 (harness.studies.mistuning.factors)
+        raise ParameterError(f"--pattern {args.pattern[0]:g} {args.pattern[1]}: {e}") from None
     c0, w0 = time.process_time(), time.perf_counter()
     branches, xs, engine = rc.engine_branches(ring, (lo, hi), args.branches)
     runs, cost = rc.collect(ring, speeds, args.random, args.seed, args.settle, args.max_periods, args.jobs)
@@ -111,7 +137,8 @@ def run(args: argparse.Namespace) -> int:
     cost["wall_s"] = time.perf_counter() - w0
     out = rc.summary(runs, index_maps(ring))
     settings = {
-        k: getattr(args, k) for k in ("blades", "speeds", "spacing", "random", "seed", "settle", "max_periods", "jobs")
+        k: getattr(args, k)
+        for k in ("blades", "pattern", "speeds", "spacing", "random", "seed", "settle", "max_periods", "jobs")
     }
     if args.follow_missed:
         out["missed_branches"] = [

@@ -37,7 +37,7 @@ import numpy as np
 
 from harness.analysis.periodic.shooting import newton
 from harness.files.atomic import atomic_write_text
-from harness.studies.mistuning import Study, tuned_ring
+from harness.studies.mistuning import Study, factors, mistuned, tuned_ring
 from harness.system.engine_identity import ring_engine_digest
 from harness.system.ring import Ring
 from harness.system.ring_orbits.branches import RingBranches, ring_branches
@@ -60,9 +60,15 @@ NEWTON_RTOL = 1e-5  # the second opinion's orbit is this one (both Newton-conver
 NEWTON_NEAR = 5e-2  # ... and stayed near the segment it started from
 
 
-def study_ring(n: int = 6) -> Ring:
-    """The mistuning study's tuned ring with friction (harness/studies/mistuning.py)."""
-    return tuned_ring(Study(n=n), "friction")
+def study_ring(n: int = 6, pattern: tuple[float, int] | None = None) -> Ring:
+    """The mistuning study's tuned ring with friction (harness/studies/mistuning.py), or with its blade
+    stiffness pattern (sigma, index): EI of blade i times factors(n, sigma, the study's seed, index)."""
+    study = Study(n=n)
+    ring = tuned_ring(study, "friction")
+    if pattern is None:
+        return ring
+    sigma, index = pattern
+    return mistuned(ring, study.parameter, factors(n, sigma, study.seed, index))
 
 
 @dataclass

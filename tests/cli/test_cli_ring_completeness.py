@@ -22,6 +22,8 @@ from harness.cli.main import main
         (["--settle", "0.5"], ["--settle 0.5", "[1e-12, 1e-2]"]),
         (["--max-periods", "5"], ["--max-periods 5", "[10, 1000000]"]),
         (["--jobs", "0"], ["--jobs 0", "[1, 64]"]),
+        (["--pattern", "0", "1"], ["--pattern SIGMA '0'", "(0, 0.2]"]),
+        (["--pattern", "0.05", "x"], ["--pattern INDEX 'x'", "[0, 999999]"]),
         (["--branches", "b.json"], ["--branches b.json", ".npz"]),
         (["--out", "/proc/version/x"], ["--out /proc/version/x", "cannot write there"]),
     ],

@@ -21,3 +21,17 @@ def test_every_settled_stable_orbit_lies_on_the_engines_branches():
     assert len(stable) >= 6, [(s.speed, s.start, s.residual) for s in runs]  # the check compared something
     missed = [(s.speed, s.start, s.amplitudes.tolist(), s.distance, s.tolerance) for s in stable if not s.on_branch]
     assert not missed
+
+
+def test_a_pattern_ring_is_the_studys():
+    """--pattern 0.05 0: blade i's EI is the tuned EI times 1 + 0.05 z_i, z from the study's generator
+    (seed 1, pattern 0), computed here."""
+    import numpy as np
+
+    from harness.studies.mistuning import blade_value
+
+    tuned = study_ring(6)
+    ring = study_ring(6, (0.05, 0))
+    z = np.random.default_rng([1, 0]).standard_normal(6)
+    got = np.array([b["EI"] for b in ring.blade_each])
+    assert np.allclose(got, blade_value(tuned, "EI") * (1 + 0.05 * z), rtol=1e-15, atol=0)
