@@ -28,3 +28,17 @@ def test_the_page_quotes_the_results_counts():
     ]
     missing = [q for q in quoted if q not in page]
     assert not missing, missing
+
+
+def test_the_page_quotes_the_pattern_rings_counts():
+    """The 5 % pattern 0 ring's run (results/ring_completeness_pattern/, `--pattern 0.05 0`)."""
+    d = json.loads((REPO / "results" / "ring_completeness_pattern" / "ring_completeness.json").read_text())
+    page = " ".join((REPO / "docs" / "findings" / "ring-completeness.md").read_text().split())
+    assert d["settings"]["pattern"] == [0.05, 0]
+    quoted = [
+        f"{d['settled_stable_orbits']} settled stable orbits, {d['distinct_states']} distinct states",
+        f"**{len(d['missed'])} lie on none of the engine's {d['engine']['branches']} branches**",
+        f"the {len(d['not_settled'])} runs that do not settle",
+    ]
+    missing = [q for q in quoted if q not in page]
+    assert not missing, missing
