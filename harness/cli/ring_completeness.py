@@ -42,7 +42,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
         nargs=2,
         default=None,
         metavar=("SIGMA", "INDEX"),
-        help="the study's blade stiffness pattern INDEX at level SIGMA instead of the tuned ring (default: tuned)",
+        help="the study's blade stiffness pattern INDEX at level SIGMA (default: the tuned ring)",
     )
     p.add_argument("--spacing", type=float, default=rc.SPACING, metavar="RPM", help="between grid speeds (default 10)")
     p.add_argument("--random", type=int, default=rc.RANDOM, metavar="K", help="random starts per speed (default 3)")
