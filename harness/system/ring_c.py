@@ -177,7 +177,7 @@ class CRing:
         s = self.setup
         if s.exactStep > 0.0:
             return float(s.baseTime + float(k - s.baseK) * s.exactStep)
-        return float(s.baseNs + (k - s.baseK) * s.stepNs) / 1e9
+        return float(s.baseNs + (k - s.baseK) * s.stepNs) / 1e9  # (`times` for many points)
 
     def times(self, k: np.ndarray) -> np.ndarray:
         """`time` of every point in k (integers), the same doubles."""

@@ -165,8 +165,7 @@ class RingPeriodMap:
         self._crestart = Restarts(
             [(c, cpar) for c in self.contacts], ["frictionForce", "displacementA", "displacementB", "rotorSpeed"]
         )
-        self._vr_modal = [self.blades[0].vr(n) for n in names]
-        self._vr_cout = [c0.vr("frictionForce")]
+        self._modal_names = names
         self._own_reads = (Reads(self.blades, names), Reads(self.contacts, ["frictionForce"]))
         # (x bytes, rpm) -> (P(x), per-blade max |q| [m], period residual max |P(x) - x| / scales)
         self.seen: dict[tuple[bytes, float], tuple[np.ndarray, np.ndarray, float]] = {}
@@ -267,11 +266,12 @@ class RingPeriodMap:
         stopped with `finish`: this map's own ring or another run of the same ring): blades' modal
         states, contacts' friction forces at their inputs, and the history before that point, the
         C loop's rows 1..p (right on the exact grid h = T / K) unless given (v_past, f_past)."""
-        if cr is self._cr:
-            ym, out = (r() for r in self._own_reads)
-        else:
-            ym = np.array([b.s.get_real(self._vr_modal) for b in cr.blades])
-            out = np.array([c.s.get_real(self._vr_cout) for c in cr.contacts])
+        reads = (
+            self._own_reads
+            if cr is self._cr
+            else (Reads(cr.blades, self._modal_names), Reads(cr.contacts, ["frictionForce"]))
+        )
+        ym, out = (r() for r in reads)
         if v_past is None or f_past is None:
             v, f = cr.history()
             v_past, f_past = v[1:], f[1:]

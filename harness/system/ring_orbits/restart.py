@@ -45,6 +45,20 @@ class _Instance(C.Structure):
     ]
 
 
+_function: Any = None
+
+
+def _restart_function() -> Any:
+    """ringRestart of the C loop's library, its signature declared once."""
+    global _function
+    if _function is None:
+        f = _library().ringRestart
+        f.argtypes = [C.POINTER(_Api), C.POINTER(_Instance), C.c_int, C.POINTER(C.c_int), C.POINTER(C.c_int)]
+        f.restype = C.c_int
+        _function = f
+    return _function
+
+
 def _typed(slave: Slave, params: Mapping[str, Any]) -> dict[str, tuple[list[int], list[Any]]]:
     """type -> (value references, values: floats for Real, ints for Integer and Boolean)."""
     groups: dict[str, tuple[list[int], list[Any]]] = {"Real": ([], []), "Integer": ([], []), "Boolean": ([], [])}
@@ -91,21 +105,13 @@ class Restarts:
         self._items = (_Instance * len(items))(*items)
         dll = self.slaves[0].s.lib.dll
         self._api = _Api(*(C.cast(getattr(dll, f), C.c_void_p) for f in _FUNCTIONS))
-        self._lib = _library()
-        self._lib.ringRestart.argtypes = [
-            C.POINTER(_Api),
-            C.POINTER(_Instance),
-            C.c_int,
-            C.POINTER(C.c_int),
-            C.POINTER(C.c_int),
-        ]
-        self._lib.ringRestart.restype = C.c_int
+        self._restart = _restart_function()
 
     def __call__(self) -> None:
         """Restarts every instance; raises FmiError naming the call that failed and the instance's
         last message."""
         failed, status = C.c_int(-1), C.c_int(0)
-        rc = self._lib.ringRestart(C.byref(self._api), self._items, len(self.slaves), C.byref(failed), C.byref(status))
+        rc = self._restart(C.byref(self._api), self._items, len(self.slaves), C.byref(failed), C.byref(status))
         if rc:
             slave = self.slaves[failed.value]
             raise FmiError(_FUNCTIONS[rc - 1], status.value, slave.messages[-1] if slave.messages else None)
