@@ -21,6 +21,7 @@ from harness.files.atomic import atomic_write_text
 from harness.cli.ring import speed_range
 from harness.model.params import ParameterError
 from harness.outputs import check_dir, check_file
+from harness.system.ring_orbits.seeds import RANDOM_SEED
 from harness.system.ring_orbits.symmetry import index_maps
 from harness.system.ring_values import max_blades
 from harness.validation import ring_completeness as rc
@@ -46,7 +47,13 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--spacing", type=float, default=rc.SPACING, metavar="RPM", help="between grid speeds (default 10)")
     p.add_argument("--random", type=int, default=rc.RANDOM, metavar="K", help="random starts per speed (default 3)")
-    p.add_argument("--seed", type=int, default=rc.SEED, metavar="S", help="the random starts' seed (default 1)")
+    p.add_argument(
+        "--seed",
+        type=int,
+        default=rc.SEED,
+        metavar="S",
+        help="the random starts' seed, not the engine's own 2 (default 1)",
+    )
     p.add_argument(
         "--settle",
         type=float,
@@ -95,6 +102,10 @@ def check(args: argparse.Namespace) -> None:
         raise ParameterError(f"--random {args.random} outside [0, 100] (random starts per speed)")
     if not 0 <= args.seed < 2**63:
         raise ParameterError(f"--seed {args.seed} outside [0, 2^63)")
+    if args.seed == RANDOM_SEED and args.random > 0:
+        raise ParameterError(
+            f"--seed {args.seed} is the engine's own random starts' seed: the check would start where the engine did"
+        )
     if not (math.isfinite(args.settle) and 1e-12 <= args.settle <= 1e-2):
         raise ParameterError(f"--settle {args.settle!r} outside [1e-12, 1e-2] (scaled period residual)")
     if not 10 <= args.max_periods <= 10**6:

@@ -4,10 +4,11 @@ for every settled orbit on the engine's branches.
 
 Starts, at every speed of a grid across the band: rest with blade 0 kicked by KICK (an exact rest
 keeps the tuned ring on its travelling wave, stable or not), and `random` random states per speed:
-blade i displaced by a_i cos(phi_i) with velocity -a_i omega sin(phi_i), a_i uniform in
-AMPLITUDES x SCALE (the tuned study ring's response is about 5e-5 m), phi_i uniform in [0, 2 pi),
-the contacts' friction forces zero and the master's history zero (as a run from rest), drawn from
-numpy's default_rng([seed, round(100 rpm)]) (so a speed's starts do not depend on the grid). Each
+the engine's random start (ring_orbits.seeds.random_state: blade i displaced by a_i cos(phi_i) with
+velocity -a_i omega sin(phi_i), the contacts' forces and the master's history zero), a_i uniform in
+AMPLITUDES x SCALE (the tuned study ring's response is about 5e-5 m), phi_i uniform in [0, 2 pi), drawn
+from numpy's default_rng([seed, round(100 rpm)]) (a speed's starts do not depend on the grid; the
+engine draws its own from another seed). Each
 run is the period map iterated at fixed speed, x <- P(x) (the co-simulation run period by period),
 until its scaled period residual max |P(x) - x| / scale is below `settle` (or `max_periods`: not
 settled, reported, not polished), then polished by the engine's Newton (ring_orbits.shooting.shoot)
@@ -42,6 +43,7 @@ from harness.system.engine_identity import ring_engine_digest
 from harness.system.ring import Ring
 from harness.system.ring_orbits.branches import RingBranches, ring_branches
 from harness.system.ring_orbits.period_map import RingMapFailed, RingPeriodMap, RingShootingSettings
+from harness.system.ring_orbits.seeds import random_state
 from harness.system.ring_orbits.shooting import shoot
 from harness.system.ring_orbits.symmetry import index_maps
 from harness.validation.branch_match import Branch, match, sym_distance
@@ -93,17 +95,6 @@ class Settled:
     newton_on_branch: bool = False  # on a branch by the second opinion only
 
 
-def random_state(pm: RingPeriodMap, speed: float, rng: np.random.Generator) -> np.ndarray:
-    """A random start (module docstring)."""
-    a = SCALE * rng.uniform(*AMPLITUDES, pm.n)
-    phi = rng.uniform(0.0, 2.0 * math.pi, pm.n)
-    w = pm.omega(speed)
-    q = np.zeros((pm.n, pm.m))
-    v = np.zeros((pm.n, pm.m))
-    q[:, 0], v[:, 0] = a * np.cos(phi), -a * w * np.sin(phi)
-    return pm.state(q, v, np.zeros(pm.n))
-
-
 def rest_state(pm: RingPeriodMap) -> np.ndarray:
     x = np.zeros(pm.dim)
     x[0] = KICK
@@ -129,7 +120,9 @@ def run_to_steady(
 
 def starts(pm: RingPeriodMap, speed: float, random: int, seed: int) -> list[tuple[str, np.ndarray]]:
     rng = np.random.default_rng([seed, round(100 * speed)])
-    return [("rest", rest_state(pm))] + [(f"random {k}", random_state(pm, speed, rng)) for k in range(random)]
+    return [("rest", rest_state(pm))] + [
+        (f"random {k}", random_state(pm, speed, rng, SCALE, AMPLITUDES)) for k in range(random)
+    ]
 
 
 def collect(

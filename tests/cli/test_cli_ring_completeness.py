@@ -19,6 +19,7 @@ from harness.cli.main import main
         (["--spacing", "3000"], ["--spacing 3000", "[0.1, TO - FROM = 2500]"]),
         (["--random", "-1"], ["--random -1", "[0, 100]"]),
         (["--seed", "-3"], ["--seed -3", "[0, 2^63)"]),
+        (["--seed", "2"], ["--seed 2", "engine's own"]),
         (["--settle", "0.5"], ["--settle 0.5", "[1e-12, 1e-2]"]),
         (["--max-periods", "5"], ["--max-periods 5", "[10, 1000000]"]),
         (["--jobs", "0"], ["--jobs 0", "[1, 64]"]),

@@ -34,7 +34,15 @@ from harness.analysis.periodic.shooting import newton
 from harness.system.ring import Ring
 from harness.system.ring_orbits.continuation import RingBranch, switch, trace
 from harness.system.ring_orbits.period_map import RingPeriodMap, RingShootingSettings
-from harness.system.ring_orbits.seeds import SweepPath, from_rest, settled_states, sweep, travelling_wave
+from harness.system.ring_orbits.seeds import (
+    Seed,
+    SweepPath,
+    from_rest,
+    random_starts,
+    settled_states,
+    sweep,
+    travelling_wave,
+)
 from harness.system.ring_orbits.shooting import RingOrbit, shoot
 from harness.system.ring_orbits.symmetry import distance, index_maps, tuned
 
@@ -150,7 +158,10 @@ MAX_BRANCHES = 200
 
 
 SWEEP_SPACING = 100.0  # [rpm] between the C-loop sweep's speeds by default (the spacing a sweep is run at)
-SEED_KINDS = ("travelling wave", "rest", "map sweep", "C-loop sweep")
+# [rpm] between the random starts' speeds: at 300 rpm (3 per speed) the tuned study ring's stable family at
+# 6760-7240 rpm was reached in one draw and not in another (docs/findings/ring-completeness.md)
+RANDOM_SPACING = 100.0
+SEED_KINDS = ("travelling wave", "rest", "map sweep", "C-loop sweep", "random")
 
 
 def default_seed_points(band: tuple[float, float], spacing: float = SEED_SPACING) -> int:
@@ -196,6 +207,7 @@ def ring_branches(
     own_sweep = "C-loop sweep" in seed_kinds and len(sweep_speeds) > 0  # none: only the given `sweeps`
     t0 = time.perf_counter()
     grid = np.linspace(lo, hi, points)
+    random_grid = np.linspace(lo, hi, default_seed_points((lo, hi), RANDOM_SPACING))
     branches: list[RingBranch] = []
     maps = index_maps(ring)
     symmetric = tuned(ring)
@@ -213,9 +225,17 @@ def ring_branches(
             + (sweep(pm, grid, settle, max_periods) if "map sweep" in seed_kinds else [])
             + (settled_states(pm, ring, SweepPath(tuple(sweep_speeds))) if own_sweep else [])
         )
+
+        def largest(sd: Seed) -> float:
+            return float(pm.measures(sd.x, sd.speed)[0].max())
+
+        # random starts on the scale of the largest response the other seeds reached
+        scale = max(map(largest, given + own), default=0.0)
+        if "random" in seed_kinds and scale > 0.0:
+            own += random_starts(pm, random_grid, scale, settle, max_periods)
         # the given sweeps' states first (max_branches must not cut off a study's located peak), then
         # the largest first: should max_branches be reached, the branches traced are those of the largest seeds
-        seeds = given + sorted(own, key=lambda sd: -float(pm.measures(sd.x, sd.speed)[0].max()))
+        seeds = given + sorted(own, key=lambda sd: -largest(sd))
         e_seeds = pm.evaluations
         todo: list = []  # orbits to continue (from seeds, then from branch points)
         untraced: list[tuple[str, RingOrbit]] = []  # orbits found once max_branches were traced
