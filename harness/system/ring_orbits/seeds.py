@@ -53,8 +53,9 @@ class Seed:
 
 
 KICK = 1e-7  # [m] blade 0's start displacement in the asymmetric starts (1/300 of the gap d)
-RANDOM_STARTS = 3  # per seed speed: on the tuned study ring over 5000-7500 rpm the engine's missed
-# stable states 49 -> 31 (of 263, docs/findings/ring-completeness.md) for 16 % more periods
+RANDOM_STARTS = 3  # per speed, 100 rpm apart (branches.RANDOM_SPACING): on the tuned study ring over
+# 5000-7500 rpm the engine's missed stable states 49 -> 30 of 263 for 23 % more periods
+# (docs/findings/ring-completeness.md)
 RANDOM_AMPLITUDES = (0.2, 1.5)  # a random start's blade amplitudes, multiples of the scale
 RANDOM_SEED = 2  # the completeness check draws its starts from another generator (seed 1)
 
