@@ -145,11 +145,11 @@ def study_from(args: argparse.Namespace) -> mistuning.Study:
     return s
 
 
-# the periodic-orbit engine over the study's band: 8-13 CPU-minutes for a 6-blade ring (the tuned ring measured:
-# 241155 periods, 8.0 CPU-minutes; make run's others 241000-386000 periods at the same 2.0 ms each); per
-# continuation point 4x the unknowns (a DP's periods) at 3.4x the cost per period at 24 blades (4.62 against
-# 1.34 ms, bench/RESULTS.md): 14x for 4x the blades, about n^1.9 (as many branches assumed)
-ENGINE_CPU_MIN_6 = 8.0
+# the periodic-orbit engine over the study's band: 8.5-17.5 CPU-minutes for a 6-blade ring, 14 on average (make
+# run's three rings: 315595-628678 periods at 1.6-1.7 ms each); per continuation point 4x the unknowns (a DP's
+# periods) at 3.4x the cost per period at 24 blades (4.62 against 1.34 ms, bench/RESULTS.md): 14x for 4x the
+# blades, about n^1.9 (as many branches assumed)
+ENGINE_CPU_MIN_6 = 14.0
 ENGINE_COST_EXPONENT = 1.9
 
 

@@ -154,7 +154,7 @@ def test_defaults_resolved_in_code(capsys: pytest.CaptureFixture) -> None:
 
 
 def test_a_long_steady_state_study_is_announced():
-    """24 blades with the engine on: the extrapolated cost (rings x 8 CPU-min x 4^1.9 = 1.85 CPU-h per
+    """24 blades with the engine on: the extrapolated cost (rings x 14 CPU-min x 4^1.9 = 3.2 CPU-h per
     ring, computed here) is announced with the way out; the make-run size is not."""
     from harness.cli.mistuning import engine_cost_notice, study_from
 
@@ -163,7 +163,7 @@ def test_a_long_steady_state_study_is_announced():
     rings = 1 + len(big.levels)
     note = engine_cost_notice(big)
     assert note is not None and "--state-patterns 0" in note
-    assert f"about {rings * 8 * 4**1.9 / 60:.0f} CPU-hours" in note, note
+    assert f"about {rings * 14 * 4**1.9 / 60:.0f} CPU-hours" in note, note
     assert (
         engine_cost_notice(study_from(_parser("mistuning").parse_args(["--blades", "24", "--state-patterns", "0"])))
         is None
