@@ -47,13 +47,7 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--spacing", type=float, default=rc.SPACING, metavar="RPM", help="between grid speeds (default 10)")
     p.add_argument("--random", type=int, default=rc.RANDOM, metavar="K", help="random starts per speed (default 3)")
-    p.add_argument(
-        "--seed",
-        type=int,
-        default=rc.SEED,
-        metavar="S",
-        help="the random starts' seed, not the engine's own 2 (default 1)",
-    )
+    p.add_argument("--seed", type=int, default=rc.SEED, metavar="S", help="their seed, not the engine's 2 (default 1)")
     p.add_argument(
         "--settle",
         type=float,
