@@ -152,7 +152,7 @@ SEED_SPACING = 300.0  # [rpm] between seed speeds by default: 6 seeds over 4000-
 # ring's largest stable state (a run from rest near 5800 rpm reaches its branch; from 5000 or 6000 none does)
 
 
-# a safety bound, not a budget: the 2 % ring of the mistuning study has 49 branches over its band; cut at
+# a safety bound, not a budget: the 2 % ring of the mistuning study has 75 branches over its band; cut at
 # 24, its largest stable state (5.0210e-5 m at 5795.5 rpm, on the branch of a seed the cut left untried) was missed
 MAX_BRANCHES = 200
 
