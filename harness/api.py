@@ -342,8 +342,9 @@ def ring_branches(
     Every branch of periodic orbits of the co-simulation the sweeps run (the C loop, h = T /
     steps_per_period), traced by shooting and pseudo-arclength continuation in speed from every seed
     (the travelling wave of a tuned ring, runs from rest and a sweep of the period map up and down at
-    `seed_points` speeds, and the states of a C-loop sweep up and down at most 100 rpm apart where
-    it leaves each speed), with branch switching at branch points and branches merged up to the ring's symmetries.
+    `seed_points` speeds, the states of a C-loop sweep up and down at most 100 rpm apart where
+    it leaves each speed, and 3 random starts per speed at most 100 rpm apart, seeded, so a run is
+    repeatable), with branch switching at branch points and branches merged up to the ring's symmetries.
 
     Parameters
     ----------
