@@ -2,7 +2,8 @@
 stable steady state among them.
 
 Seeds (harness/system/ring_orbits/seeds.py): the travelling wave (tuned ring), a run from rest at
-each grid speed, a sweep of the period map up and back down the grid, and every state where a C-loop
+each grid speed, a sweep of the period map up and back down the grid, random starts at speeds at most
+RANDOM_SPACING apart, and every state where a C-loop
 sweep up and back down (harness/system/ring_sweep.py, the sweeps' own path and settle rule) leaves a
 speed, at most SWEEP_SPACING apart (and of any further C-loop sweep given, its peak's refinement
 included: a study passes its own sweep, whose located peak is then a seed): the states the sweeps
@@ -229,10 +230,9 @@ def ring_branches(
         def largest(sd: Seed) -> float:
             return float(pm.measures(sd.x, sd.speed)[0].max())
 
-        # random starts on the scale of the largest response the other seeds reached
-        scale = max(map(largest, given + own), default=0.0)
-        if "random" in seed_kinds and scale > 0.0:
-            own += random_starts(pm, random_grid, scale, settle, max_periods)
+        if "random" in seed_kinds:  # on the scale of the largest response the other seeds reached
+            scale = max(map(largest, given + own), default=0.0)
+            own += random_starts(pm, random_grid, scale, settle, max_periods) if scale > 0.0 else []
         # the given sweeps' states first (max_branches must not cut off a study's located peak), then
         # the largest first: should max_branches be reached, the branches traced are those of the largest seeds
         seeds = given + sorted(own, key=lambda sd: -largest(sd))
