@@ -1,7 +1,7 @@
 """Check that the ring's periodic-orbit engine finds every stable steady state: runs from rest and from random starts against its branches.
 
 `python -m harness ring-completeness [--blades 6] [--pattern SIGMA INDEX] [--speeds 5000 7500] [--spacing 10] [--random 3]
-[--seed 1] [--settle 1e-6] [--max-periods 1500] [--jobs 1] [--branches FILE] [--out results]` runs
+[--seed 1] [--settle 1e-6] [--max-periods 1500] [--steps-per-period 160] [--jobs 1] [--branches FILE] [--out results]` runs
 harness.validation.ring_completeness on the mistuning study's tuned ring (or one of its stiffness
 patterns): DIR/ring_completeness.csv
 (one row per run), DIR/ring_completeness.json (the summary and the cost) and a short printed summary.
@@ -59,6 +59,13 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
         "--max-periods", type=int, default=rc.MAX_PERIODS, metavar="K", help="periods per run at most (default 1500)"
     )
     p.add_argument(
+        "--steps-per-period",
+        type=int,
+        default=rc.STEPS,
+        metavar="K",
+        help="communication steps per excitation period, h = T / K, for the runs and the engine (default 160)",
+    )
+    p.add_argument(
         "--branches",
         type=Path,
         default=None,
@@ -104,6 +111,8 @@ def check(args: argparse.Namespace) -> None:
         raise ParameterError(f"--settle {args.settle!r} outside [1e-12, 1e-2] (scaled period residual)")
     if not 10 <= args.max_periods <= 10**6:
         raise ParameterError(f"--max-periods {args.max_periods} outside [10, 1000000]")
+    if not 8 <= args.steps_per_period <= 100000:
+        raise ParameterError(f"--steps-per-period {args.steps_per_period} outside [8, 100000]")
     if not 1 <= args.jobs <= 64:
         raise ParameterError(f"--jobs {args.jobs} outside [1, 64] (processes)")
     if args.branches is not None:
@@ -135,19 +144,33 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as e:  # a factor <= 0 (harness.studies.mistuning.factors)
         raise ParameterError(f"--pattern {args.pattern[0]:g} {args.pattern[1]}: {e}") from None
     c0, w0 = time.process_time(), time.perf_counter()
-    branches, xs, engine = rc.engine_branches(ring, (lo, hi), args.branches)
-    runs, cost = rc.collect(ring, speeds, args.random, args.seed, args.settle, args.max_periods, args.jobs)
-    cost["compare_periods"] = rc.compare(ring, runs, branches, xs)
+    steps = args.steps_per_period
+    branches, xs, engine = rc.engine_branches(ring, (lo, hi), args.branches, steps)
+    runs, cost = rc.collect(ring, speeds, args.random, args.seed, args.settle, args.max_periods, args.jobs, steps=steps)
+    cost["compare_periods"] = rc.compare(ring, runs, branches, xs, steps)
     cost["cpu_s_main_process"] = time.process_time() - c0  # the engine (if computed) and the comparison
     cost["wall_s"] = time.perf_counter() - w0
     out = rc.summary(runs, index_maps(ring))
     settings = {
         k: getattr(args, k)
-        for k in ("blades", "pattern", "speeds", "spacing", "random", "seed", "settle", "max_periods", "jobs")
+        for k in (
+            "blades",
+            "pattern",
+            "speeds",
+            "spacing",
+            "random",
+            "seed",
+            "settle",
+            "max_periods",
+            "steps_per_period",
+            "jobs",
+        )
     }
     if args.follow_missed:
         out["missed_branches"] = [
-            follow(ring, (lo, hi), m["speed_rpm"], m["start"], args.seed, branches, args.settle, args.max_periods)
+            follow(
+                ring, (lo, hi), m["speed_rpm"], m["start"], args.seed, branches, args.settle, args.max_periods, steps
+            )
             for m in out["missed"]
         ]
     record = {"settings": settings, "engine": engine, "cost": cost, **out}

@@ -57,6 +57,7 @@ AMPLITUDES = (0.2, 1.5)  # random start amplitudes, multiples of SCALE
 KICK = 1e-9  # [m] blade 0's start displacement in the run from rest
 SETTLE = 1e-6  # settled: scaled period residual below this
 MAX_PERIODS = 1500
+STEPS = 160  # communication steps per period: the study's h = T / 160 (a finer h shows what the step makes)
 WINDOW = 100  # periods over which an unsettled run's range of amplitudes is reported
 NEWTON_RTOL = 1e-5  # the second opinion's orbit is this one (both Newton-converged: about 1e-8 apart)
 NEWTON_NEAR = 5e-2  # ... and stayed near the segment it started from
@@ -134,13 +135,16 @@ def collect(
     max_periods: int = MAX_PERIODS,
     jobs: int = 1,
     progress: Callable[[Settled], None] | None = None,
+    steps: int = STEPS,
 ) -> tuple[list[Settled], dict[str, Any]]:
     """Every start's run and polished orbit, in speed order, and the cost (periods run settling and
     polishing, CPU s summed over the processes); on `jobs` processes, every jobs-th speed each (a
     speed's starts do not depend on which process runs it; `progress` only with one)."""
     if jobs <= 1:
-        return _collect(ring, speeds, random, seed, settle, max_periods, progress)
-    parts = [(ring, [float(v) for v in speeds[j::jobs]], random, seed, settle, max_periods, None) for j in range(jobs)]
+        return _collect(ring, speeds, random, seed, settle, max_periods, progress, steps)
+    parts = [
+        (ring, [float(v) for v in speeds[j::jobs]], random, seed, settle, max_periods, None, steps) for j in range(jobs)
+    ]
     with ProcessPoolExecutor(max_workers=jobs) as ex:
         done = list(ex.map(_collect_part, parts))
     runs = sorted((s for r, _ in done for s in r), key=lambda s: s.speed)  # stable: a speed's starts in order
@@ -159,11 +163,12 @@ def _collect(
     settle: float,
     max_periods: int,
     progress: Callable[[Settled], None] | None,
+    steps: int,
 ) -> tuple[list[Settled], dict[str, Any]]:
     out: list[Settled] = []
     cost: dict[str, Any] = {"settle_periods": 0, "polish_periods": 0}
     c0 = time.process_time()
-    with RingPeriodMap(ring, RingShootingSettings(workers=1)) as pm:
+    with RingPeriodMap(ring, map_settings(steps)) as pm:
         for speed in speeds:
             for label, x0 in starts(pm, float(speed), random, seed):
                 e0 = pm.evaluations
@@ -190,17 +195,26 @@ def _collect(
 # --- the engine's branches, cached ---------------------------------------------------------------------
 
 
-def _key(ring: Ring, band: tuple[float, float]) -> str:
-    return json.dumps({"ring": asdict(ring), "band": list(band), "engine": ring_engine_digest()}, sort_keys=True)
+def _key(ring: Ring, band: tuple[float, float], steps: int) -> str:
+    key = {"ring": asdict(ring), "band": list(band), "engine": ring_engine_digest()}
+    if steps != STEPS:  # (the key of a cache written at the study's step is unchanged)
+        key["steps_per_period"] = steps
+    return json.dumps(key, sort_keys=True)
+
+
+def map_settings(steps: int = STEPS, workers: int = 1) -> RingShootingSettings:
+    """The period map's settings of the check: the engine's defaults at `steps` steps per period."""
+    return RingShootingSettings(steps_per_period=steps, workers=workers)
 
 
 def engine_branches(
-    ring: Ring, band: tuple[float, float], cache: Path | None = None
+    ring: Ring, band: tuple[float, float], cache: Path | None = None, steps: int = STEPS
 ) -> tuple[list[Branch], list[np.ndarray], dict[str, Any]]:
-    """The engine's branches over the band (ring_branches, default settings) as Branch, their states
-    (P, dim) per branch, and the engine's cost; read from `cache` (.npz) if it holds this ring, band
-    and engine (ring_engine_digest), else computed and written there."""
-    key = _key(ring, band)
+    """The engine's branches over the band (ring_branches, default settings at `steps` steps per
+    period) as Branch, their states (P, dim) per branch, and the engine's cost; read from `cache`
+    (.npz) if it holds this ring, band, step and engine (ring_engine_digest), else computed and
+    written there."""
+    key = _key(ring, band, steps)
     if cache is not None and cache.exists():
         with np.load(cache) as z:
             if str(z["key"]) == key:
@@ -208,7 +222,7 @@ def engine_branches(
                 brs = [Branch(z[f"s{b}"], z[f"a{b}"], z[f"st{b}"]) for b in range(nb)]
                 return brs, [z[f"x{b}"] for b in range(nb)], json.loads(str(z["cost"]))
     c0 = time.process_time()
-    r = ring_branches(ring, band)
+    r = ring_branches(ring, band, settings=map_settings(steps, RingShootingSettings().workers))
     brs, xs, cost = from_result(r, time.process_time() - c0)
     if cache is not None:
         save(cache, key, brs, xs, cost)
@@ -276,11 +290,13 @@ def second_opinion(
     return -1
 
 
-def compare(ring: Ring, runs: list[Settled], branches: list[Branch], xs: list[np.ndarray]) -> int:
+def compare(
+    ring: Ring, runs: list[Settled], branches: list[Branch], xs: list[np.ndarray], steps: int = STEPS
+) -> int:
     """Fills every settled stable orbit's on_branch, distance, tolerance, branch; the periods the
     second opinions ran."""
     maps = index_maps(ring)
-    with RingPeriodMap(ring, RingShootingSettings(workers=1)) as pm:
+    with RingPeriodMap(ring, map_settings(steps)) as pm:
         for s in runs:
             if not (s.polished and s.stable):
                 continue

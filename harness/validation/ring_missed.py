@@ -15,11 +15,11 @@ import numpy as np
 from harness.system.ring import Ring
 from harness.system.ring_orbits.branches import default_seed_points
 from harness.system.ring_orbits.continuation import trace
-from harness.system.ring_orbits.period_map import RingPeriodMap, RingShootingSettings
+from harness.system.ring_orbits.period_map import RingPeriodMap
 from harness.system.ring_orbits.shooting import shoot
 from harness.system.ring_orbits.symmetry import index_maps
 from harness.validation.branch_match import RTOL, Branch, match
-from harness.validation.ring_completeness import SETTLE, run_to_steady, starts
+from harness.validation.ring_completeness import SETTLE, STEPS, map_settings, run_to_steady, starts
 
 
 def follow(
@@ -31,11 +31,12 @@ def follow(
     branches: list[Branch],
     settle: float = SETTLE,
     max_periods: int = 1500,
+    steps: int = STEPS,
 ) -> dict[str, Any]:
     """The missed state's branch (module docstring): its speed range, stable points, how each end
     ended, its bifurcations, the engine's seed speeds inside it, and the periods it cost."""
     maps = index_maps(ring)
-    with RingPeriodMap(ring, RingShootingSettings(workers=1)) as pm:
+    with RingPeriodMap(ring, map_settings(steps)) as pm:
         x0 = dict(starts(pm, speed, int(start.split()[-1]) + 1 if start != "rest" else 0, seed))[start]
         x, res, _, _ = run_to_steady(pm, x0, speed, settle, max_periods)
         orb = shoot(pm, x, speed)

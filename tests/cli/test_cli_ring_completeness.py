@@ -22,6 +22,7 @@ from harness.cli.main import main
         (["--seed", "2"], ["--seed 2", "engine's own"]),
         (["--settle", "0.5"], ["--settle 0.5", "[1e-12, 1e-2]"]),
         (["--max-periods", "5"], ["--max-periods 5", "[10, 1000000]"]),
+        (["--steps-per-period", "7"], ["--steps-per-period 7", "[8, 100000]"]),
         (["--jobs", "0"], ["--jobs 0", "[1, 64]"]),
         (["--pattern", "0", "1"], ["--pattern SIGMA '0'", "(0, 0.2]"]),
         (["--pattern", "0.05", "x"], ["--pattern INDEX 'x'", "[0, 999999]"]),

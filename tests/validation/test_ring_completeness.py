@@ -57,3 +57,23 @@ def test_a_pattern_ring_is_the_studys():
     z = np.random.default_rng([1, 0]).standard_normal(6)
     got = np.array([b["EI"] for b in ring.blade_each])
     assert np.allclose(got, blade_value(tuned, "EI") * (1 + 0.05 * z), rtol=1e-15, atol=0)
+
+
+def test_the_step_reaches_the_engine_and_keys_its_cache(tmp_path, monkeypatch):
+    """--steps-per-period K: the engine runs at h = T / K, and its cached branches are read back only
+    at the K they were computed at (a cache of another step is computed again, not reused)."""
+    from types import SimpleNamespace
+
+    import harness.validation.ring_completeness as rc
+
+    asked: list[int] = []
+
+    def fake_engine(ring, band, settings):
+        asked.append(settings.steps_per_period)
+        return SimpleNamespace(branches=[], untraced=[], evaluations=0, wall_time=0.0, points=0)
+
+    monkeypatch.setattr(rc, "ring_branches", fake_engine)
+    ring, cache = study_ring(6), tmp_path / "b.npz"
+    for k in (160, 160, 320, 320, 160):
+        rc.engine_branches(ring, BAND, cache, k)
+    assert asked == [160, 320, 160]
