@@ -58,13 +58,8 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--max-periods", type=int, default=rc.MAX_PERIODS, metavar="K", help="periods per run at most (default 1500)"
     )
-    p.add_argument(
-        "--steps-per-period",
-        type=int,
-        default=rc.STEPS,
-        metavar="K",
-        help="communication steps per excitation period, h = T / K, for the runs and the engine (default 160)",
-    )
+    steps = "steps per excitation period, h = T / K, for the runs and the engine (default 160)"
+    p.add_argument("--steps-per-period", type=int, default=rc.STEPS, metavar="K", help=steps)
     p.add_argument(
         "--branches",
         type=Path,
