@@ -290,9 +290,7 @@ def second_opinion(
     return -1
 
 
-def compare(
-    ring: Ring, runs: list[Settled], branches: list[Branch], xs: list[np.ndarray], steps: int = STEPS
-) -> int:
+def compare(ring: Ring, runs: list[Settled], branches: list[Branch], xs: list[np.ndarray], steps: int = STEPS) -> int:
     """Fills every settled stable orbit's on_branch, distance, tolerance, branch; the periods the
     second opinions ran."""
     maps = index_maps(ring)
