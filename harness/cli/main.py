@@ -39,6 +39,7 @@ COMMANDS: dict[str, str] = {
     "ring-convergence": "harness.cli.ring_convergence",
     "ring-energy": "harness.cli.ring_energy",
     "ring-completeness": "harness.cli.ring_completeness",
+    "ring-step-check": "harness.cli.ring_step_check",
     "mistuning-dask": "harness.cli.mistuning_dask",
 }
 

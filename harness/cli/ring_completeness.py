@@ -13,38 +13,20 @@ import argparse
 import json
 import math
 import time
-from pathlib import Path
 
 import numpy as np
 
 from harness.files.atomic import atomic_write_text
-from harness.cli.ring import speed_range
+from harness.cli.ring_check_options import check_ring, ring_options, the_ring
 from harness.model.params import ParameterError
-from harness.outputs import check_dir, check_file
 from harness.system.ring_orbits.seeds import RANDOM_SEED
 from harness.system.ring_orbits.symmetry import index_maps
-from harness.system.ring_values import max_blades
 from harness.validation import ring_completeness as rc
 from harness.validation.ring_missed import follow
 
 
 def configure_parser(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--blades", type=int, default=6, metavar="N", help="blades of the study's tuned ring (default 6)")
-    p.add_argument(
-        "--speeds",
-        type=float,
-        nargs=2,
-        default=list(rc.BAND),
-        metavar=("FROM", "TO"),
-        help="the band [rpm] (default 5000 7500)",
-    )
-    p.add_argument(
-        "--pattern",
-        nargs=2,
-        default=None,
-        metavar=("SIGMA", "INDEX"),
-        help="the study's blade stiffness pattern INDEX at level SIGMA (default: the tuned ring)",
-    )
+    ring_options(p)
     p.add_argument("--spacing", type=float, default=rc.SPACING, metavar="RPM", help="between grid speeds (default 10)")
     p.add_argument("--random", type=int, default=rc.RANDOM, metavar="K", help="random starts per speed (default 3)")
     p.add_argument("--seed", type=int, default=rc.SEED, metavar="S", help="their seed, not the engine's 2 (default 1)")
@@ -58,40 +40,18 @@ def configure_parser(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--max-periods", type=int, default=rc.MAX_PERIODS, metavar="K", help="periods per run at most (default 1500)"
     )
-    steps = "steps per excitation period, h = T / K, for the runs and the engine (default 160)"
-    p.add_argument("--steps-per-period", type=int, default=rc.STEPS, metavar="K", help=steps)
-    p.add_argument(
-        "--branches",
-        type=Path,
-        default=None,
-        metavar="FILE",
-        help="the engine's branches cached in FILE (.npz; default: none, computed each time)",
-    )
     p.add_argument(
         "--follow-missed",
         action="store_true",
         help="continue every missed state's branch across the band (the engine's continuation) to see where it goes",
     )
     p.add_argument("--jobs", type=int, default=1, metavar="J", help="processes running the starts (default 1)")
-    p.add_argument(
-        "--out", type=Path, default=Path("results"), metavar="DIR", help="output directory (default results)"
-    )
 
 
 def check(args: argparse.Namespace) -> None:
     """Every argument against its range, before any work."""
-    nmax = max_blades()
-    if not 2 <= args.blades <= nmax:
-        raise ParameterError(f"--blades {args.blades} outside [2, {nmax}] (a ring; the blade FMU's bladeCount)")
+    check_ring(args)
     lo, hi = args.speeds
-    smin, smax = speed_range()
-    for s in (lo, hi):
-        if not (math.isfinite(s) and smin < s <= smax):
-            raise ParameterError(f"--speeds {s!r} rpm outside ({smin:g}, {smax:g}] (BladeExternalContact's rotorSpeed)")
-    if not lo < hi:
-        raise ParameterError(f"--speeds {lo:g} {hi:g}: FROM must be below TO")
-    if args.pattern is not None:
-        args.pattern = _pattern(args.pattern)
     if not (math.isfinite(args.spacing) and 0.1 <= args.spacing <= hi - lo):
         raise ParameterError(f"--spacing {args.spacing!r} rpm outside [0.1, TO - FROM = {hi - lo:g}]")
     if not 0 <= args.random <= 100:
@@ -106,38 +66,15 @@ def check(args: argparse.Namespace) -> None:
         raise ParameterError(f"--settle {args.settle!r} outside [1e-12, 1e-2] (scaled period residual)")
     if not 10 <= args.max_periods <= 10**6:
         raise ParameterError(f"--max-periods {args.max_periods} outside [10, 1000000]")
-    if not 8 <= args.steps_per_period <= 100000:
-        raise ParameterError(f"--steps-per-period {args.steps_per_period} outside [8, 100000]")
     if not 1 <= args.jobs <= 64:
         raise ParameterError(f"--jobs {args.jobs} outside [1, 64] (processes)")
-    if args.branches is not None:
-        if args.branches.suffix != ".npz":
-            raise ParameterError(f"--branches {args.branches}: need a file ending in .npz")
-        check_file(args.branches, "--branches")
-    check_dir(args.out, "--out")
-
-
-def _pattern(values: list[str]) -> tuple[float, int]:
-    """--pattern SIGMA INDEX checked: sigma in (0, 0.2] as the study's levels, a whole INDEX >= 0."""
-    try:
-        sigma = float(values[0])
-    except ValueError:
-        sigma = math.nan
-    if not (math.isfinite(sigma) and 0.0 < sigma <= 0.2):
-        raise ParameterError(f"--pattern SIGMA {values[0]!r} outside (0, 0.2] (relative standard deviation)")
-    if not (values[1].isdigit() and int(values[1]) < 10**6):
-        raise ParameterError(f"--pattern INDEX {values[1]!r}: need a whole number in [0, 999999]")
-    return sigma, int(values[1])
 
 
 def run(args: argparse.Namespace) -> int:
     check(args)
     lo, hi = args.speeds
     speeds = lo + args.spacing * np.arange(math.floor((hi - lo) / args.spacing + 1e-9) + 1)
-    try:
-        ring = rc.study_ring(args.blades, args.pattern)
-    except ValueError as e:  # a factor <= 0 (harness.studies.mistuning.factors)
-        raise ParameterError(f"--pattern {args.pattern[0]:g} {args.pattern[1]}: {e}") from None
+    ring = the_ring(args)
     c0, w0 = time.process_time(), time.perf_counter()
     steps = args.steps_per_period
     branches, xs, engine = rc.engine_branches(ring, (lo, hi), args.branches, steps)
