@@ -196,14 +196,15 @@ def _collect(
 
 
 def _key(ring: Ring, band: tuple[float, float], steps: int) -> str:
-    key = {"ring": asdict(ring), "band": list(band), "engine": ring_engine_digest()}
+    key: dict[str, Any] = {"ring": asdict(ring), "band": list(band), "engine": ring_engine_digest()}
     if steps != STEPS:  # (the key of a cache written at the study's step is unchanged)
         key["steps_per_period"] = steps
     return json.dumps(key, sort_keys=True)
 
 
-def map_settings(steps: int = STEPS, workers: int = 1) -> RingShootingSettings:
-    """The period map's settings of the check: the engine's defaults at `steps` steps per period."""
+def map_settings(steps: int = STEPS, workers: int | None = 1) -> RingShootingSettings:
+    """The period map's settings of the check: the engine's defaults at `steps` steps per period, on
+    `workers` threads (None: the engine's default)."""
     return RingShootingSettings(steps_per_period=steps, workers=workers)
 
 
@@ -222,7 +223,7 @@ def engine_branches(
                 brs = [Branch(z[f"s{b}"], z[f"a{b}"], z[f"st{b}"]) for b in range(nb)]
                 return brs, [z[f"x{b}"] for b in range(nb)], json.loads(str(z["cost"]))
     c0 = time.process_time()
-    r = ring_branches(ring, band, settings=map_settings(steps, RingShootingSettings().workers))
+    r = ring_branches(ring, band, settings=map_settings(steps, None))
     brs, xs, cost = from_result(r, time.process_time() - c0)
     if cache is not None:
         save(cache, key, brs, xs, cost)

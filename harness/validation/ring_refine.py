@@ -61,7 +61,7 @@ def refine(
     steps: Sequence[int],
     every: int = 1,
     above: float = 0.0,
-    workers: int = 2,
+    workers: int | None = None,
 ) -> list[Refined]:
     """The sampled orbits (`sample`) at every step of `steps` (the first: the branches' own)."""
     rows: list[Refined] = []
