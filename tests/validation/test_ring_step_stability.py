@@ -16,7 +16,10 @@ does not have (docs/findings/ring-completeness.md).
 Checked here, through harness/validation/ring_refine.py (the `ring-step-check` command): the orbit is
 followed to T/640 and is stable there, and the reference, started on it and from rest, stays on it
 and settles on it within three times the orbit's own step difference |x(T/320) - x(T/640)| (scaled
-as in test_ring_orbit_reference). About 90 s, so slow.
+as in test_ring_orbit_reference). Measured: step difference 7.4e-4 (tolerance 2.2e-3); the reference
+stays within 1.6e-4 of the T/640 orbit over 60 periods and ends 9.7e-5 from it after 300 periods
+from rest. Broken on purpose: at T/160 alone (no finer step) the orbit is unstable and the test
+fails. About 40 s, so slow.
 """
 
 from __future__ import annotations
