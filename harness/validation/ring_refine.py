@@ -3,8 +3,9 @@ again at finer steps h = T/K: each orbit by the engine's Newton (ring_orbits.sho
 every K in turn, started from the orbit at the step before, with its Floquet multipliers.
 
 The co-simulation's coupling error moves the multipliers, not only the orbit: near a kink of the
-period map (a contact event changing its communication step) a multiplier of the monolithic ring
-near 0.93 is 1.21 at T/160 (tests/validation/test_ring_step_stability.py). An orbit whose verdict
+period map (a contact event changing its communication step) an orbit that the monolithic reference
+settles on has largest multiplier 1.21 at T/160 and 0.93 at T/640
+(tests/validation/test_ring_step_stability.py). An orbit whose verdict
 differs between the first and the finest step is listed; one Newton does not follow (it did not
 converge, or it converged on an orbit more than FOLLOW_RTOL away in amplitude, a neighbour across a
 kink) is counted apart.
