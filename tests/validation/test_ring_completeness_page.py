@@ -72,7 +72,8 @@ def test_the_page_and_readme_quote_the_whole_band_run():
         f" {d['engine']['branches']} branches",
         f"| settled stable orbits | {d['settled_stable_orbits']}: {d['distinct_states']} distinct states |",
         f"| not settled in 1500 periods | {len(d['not_settled'])}, at",
-        f"at most {_m(unsettled, '.3g')} m)",
+        f"at most {_m(unsettled, '.4g')} m)",
+        f"no unsettled run {_m(unsettled, '.4g')} m.",
         f"| on none of the engine's {d['engine']['branches']} branches | {len(d['missed'])} distinct states |",
         f"| the largest settled stable orbit | {_m(max(stable), '.5g')} m",
         f"{cost['settle_periods'] + cost['polish_periods'] + cost['compare_periods']} periods and"
@@ -118,3 +119,25 @@ def test_the_page_and_readme_quote_the_step_checks():
     readme = _flat(REPO / "README.md")
     assert f"{d['changed']} of {d['followed']} orbits change verdict at T/640" in readme
     assert f"(all below {_m(d['changed_largest_m'], '.3g')} m)" in readme
+
+
+def test_the_page_quotes_the_pattern_rings_whole_band():
+    """The 5 % pattern 0 ring over the whole band (results/ring_completeness_pattern_band/)."""
+    import csv
+
+    d = _json("ring_completeness_pattern_band")
+    assert d["settings"]["pattern"] == [0.05, 0]
+    page = _flat(REPO / "docs" / "findings" / "ring-completeness.md")
+    csv_path = REPO / "results" / "ring_completeness_pattern_band" / "ring_completeness.csv"
+    rows = list(csv.DictReader(csv_path.open()))
+    stable = [max(float(r[f"amplitude{i}_m"]) for i in range(6)) for r in rows if r["stable"] == "yes"]
+    quoted = [
+        f"{d['settled_stable_orbits']} settled stable orbits, {d['distinct_states']} distinct states,"
+        f" {len(d['missed'])} on none of the engine's {d['engine']['branches']} branches",
+        f"the largest {_m(max(max(m['amplitudes_m']) for m in d['missed']), '.3g')} m",
+        f"The largest settled stable orbit is {_m(max(stable), '.5g')} m",
+        f"the {len(d['not_settled'])} unsettled runs stay at or below"
+        f" {_m(max(r['largest_range_m'][1] for r in d['not_settled']), '.4g')} m",
+    ]
+    missing = [q for q in quoted if q not in page]
+    assert not missing, missing
