@@ -69,7 +69,10 @@ def run(args: argparse.Namespace) -> int:
         f"{ring.n}-blade ring, {args.speeds[0]:g}..{args.speeds[1]:g} rpm: {out['orbits']} of the engine's orbits at"
         f" h = T/{' T/'.join(str(k) for k in steps)}; {out['followed']} followed to T/{steps[-1]},"
         f" {out['changed']} changed their stability ({out['stable_to_unstable']} stable -> unstable,"
-        f" {out['unstable_to_stable']} unstable -> stable), the largest of them {out['changed_largest_m']:.4e} m"
+        f" {out['unstable_to_stable']} unstable -> stable)"
+        + (f", the largest of them {out['changed_largest_m']:.4e} m at" if out["changed"] else "")
+        + "".join(f" {v:g}" for v in out["changed_speeds_rpm"])
+        + (" rpm" if out["changed"] else "")
     )
     print(
         f"  largest stable among the followed: {out['largest_stable_first_m']:.5e} m at T/{steps[0]},"
