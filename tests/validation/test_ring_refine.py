@@ -46,3 +46,25 @@ def test_sample_takes_every_nth_orbit_above_the_amplitude():
     assert sample([b0, b1], 1, 1.5e-5) == [(0, 0), (0, 1), (0, 3), (1, 0)]
     assert sample([b0, b1], 2, 1.5e-5) == [(0, 0), (0, 3)]
     assert sample([b0, b1], 1, 0.0) == [(0, 0), (0, 1), (0, 2), (0, 3), (1, 0)]
+
+
+def test_the_command_writes_what_it_counts(tmp_path):
+    """`ring-step-check` on a small band of the tuned study ring: the JSON's counts are the CSV's rows
+    (counted here), and each followed orbit's amplitude at T/320 is within 2 % of its T/160 one."""
+    import csv
+    import json
+
+    from harness.cli.main import main
+
+    assert (
+        main(["ring-step-check", "--speeds", "6400", "6500", "--every", "2", "--finer", "320", "--out", str(tmp_path)])
+        == 0
+    )
+    d = json.loads((tmp_path / "ring_step_check.json").read_text())
+    rows = list(csv.DictReader((tmp_path / "ring_step_check.csv").open()))
+    followed = [r for r in rows if r["stable_320"]]
+    assert d["orbits"] == len(rows) >= 2 and d["followed"] == len(followed) >= 1
+    assert d["changed"] == sum(r["stable_160"] != r["stable_320"] for r in followed)
+    for r in followed:
+        a, b = float(r["amplitude_m_160"]), float(r["amplitude_m_320"])
+        assert abs(b - a) <= 0.02 * a, r
