@@ -7,6 +7,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pytest
+
 REPO = Path(__file__).resolve().parents[2]
 
 
@@ -121,14 +123,17 @@ def test_the_page_and_readme_quote_the_step_checks():
     assert f"(all below {_m(d['changed_largest_m'], '.3g')} m)" in readme
 
 
-def test_the_page_quotes_the_pattern_rings_whole_band():
-    """The 5 % pattern 0 ring over the whole band (results/ring_completeness_pattern_band/)."""
+@pytest.mark.parametrize(
+    "name, sigma", [("ring_completeness_pattern_band", 0.05), ("ring_completeness_pattern2_band", 0.02)]
+)
+def test_the_page_quotes_the_pattern_rings_whole_band(name, sigma):
+    """The 5 % and 2 % pattern 0 rings over the whole band (results/<name>/)."""
     import csv
 
-    d = _json("ring_completeness_pattern_band")
-    assert d["settings"]["pattern"] == [0.05, 0]
+    d = _json(name)
+    assert d["settings"]["pattern"] == [sigma, 0]
     page = _flat(REPO / "docs" / "findings" / "ring-completeness.md")
-    csv_path = REPO / "results" / "ring_completeness_pattern_band" / "ring_completeness.csv"
+    csv_path = REPO / "results" / name / "ring_completeness.csv"
     rows = list(csv.DictReader(csv_path.open()))
     stable = [max(float(r[f"amplitude{i}_m"]) for i in range(6)) for r in rows if r["stable"] == "yes"]
     quoted = [
