@@ -76,7 +76,9 @@ FmiInstance *fmiEnter(void *handle, const char *fn, int mask, int logCall)
 {
     FmiInstance *inst = (FmiInstance *)handle;
     if (inst == NULL || inst->magic != FMI_INSTANCE_MAGIC) return NULL;
-    if (logCall) fmiLog(inst, FmiOK, LogCalls, "%s (state: %s)", fn, inst->face->stateName(inst->fsm));
+    /* (the state's name only when the call is logged: every get, set and step comes through here) */
+    if (logCall && fmiLogEnabled(inst, LogCalls))
+        fmiLog(inst, FmiOK, LogCalls, "%s (state: %s)", fn, inst->face->stateName(inst->fsm));
     if ((inst->fsm & mask) == 0) {
         fmiLogStatus(inst, FmiError, "%s: Illegal call sequence (state: %s)", fn, inst->face->stateName(inst->fsm));
         return NULL;

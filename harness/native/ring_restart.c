@@ -1,8 +1,10 @@
 /* The ring's period map restarts every instance at t = 0 before each period
  * (harness/system/ring_orbits/restart.py): fmi2Reset, fmi2SetupExperiment at t = 0, its parameters
  * and start values (fmi2SetReal, fmi2SetInteger, fmi2SetBoolean), fmi2EnterInitializationMode and
- * fmi2ExitInitializationMode, in this order, per instance in turn. The same calls as the binding's,
- * without ctypes between them (72 calls per period of the 6-blade ring). */
+ * fmi2ExitInitializationMode, in this order, per instance in turn; after the period it reads the
+ * state back (fmi2GetReal of the same variables from every instance of a binary). The same calls as
+ * the binding's, without ctypes between them (72 calls per period of the 6-blade ring to restart,
+ * 12 to read). */
 #include <stddef.h>
 
 #include "fmi2Functions.h"
@@ -47,6 +49,17 @@ int ringRestart(const RestartApi *api, const RestartInstance *in, int count, int
         if (r->nBool) CALL(RESTART_BOOLEAN, api->setBoolean(r->c, r->boolVr, r->nBool, r->bools));
         CALL(RESTART_ENTER, api->enterInitializationMode(r->c));
         CALL(RESTART_EXIT, api->exitInitializationMode(r->c));
+    }
+    return 0;
+}
+
+/* fmi2GetReal of the same k variables vr from instances c[0..count-1] into out (row i instance i's, k
+ * values); 0, or 1 with the failed instance in *failed and its status in *status. */
+int ringReads(fmi2GetRealTYPE *getReal, void *const *c, int count, const unsigned int *vr, size_t k, double *out,
+              int *failed, int *status) {
+    for (int i = 0; i < count; i++) {
+        *failed = i;
+        if ((*status = (int)getReal(c[i], vr, k, out + (size_t)i * k)) > fmi2Warning) return 1;
     }
     return 0;
 }

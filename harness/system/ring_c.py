@@ -80,7 +80,7 @@ class _Setup(C.Structure):
 
 
 class _Record(C.Structure):
-    _fields_ = [(k, C.POINTER(C.c_double)) for k in _RECORDS]
+    _fields_ = [(k, C.c_void_p) for k in _RECORDS]  # double * (an address: cheaper to set than a POINTER)
 
 
 _lib: C.CDLL | None = None
@@ -163,7 +163,9 @@ class CRing:
         s.bladeIn[:] = [b0.vr(n) for n in ("rotorSpeed", "contactForce")]
         # the C loop's histories (of v, then of the contact force) and scratch; filled: their lengths
         self._work = np.zeros(2 * (p + 1) * N + 2 * p * N + 18 * N)
+        self._work_ptr = _ptr(self._work)  # (the buffer is only ever written in place)
         self._filled = (C.c_int * 2)(0, 0)
+        self._spare = np.zeros(0)  # where the C loop writes the records `advance` is not asked for
         self.inside = 0.0  # time inside fmi2DoStep so far [s] (with time_dosteps)
 
     def __enter__(self) -> "CRing":
@@ -247,24 +249,34 @@ class CRing:
         self._filled[:] = [0, 0]
 
     def advance(
-        self, steps: int, rpm: float | None = None, record_every: int = 1, finish: bool = False
+        self,
+        steps: int,
+        rpm: float | None = None,
+        record_every: int = 1,
+        finish: bool = False,
+        records: tuple[str, ...] = _RECORDS,
     ) -> dict[str, np.ndarray]:
         """Runs points k..k+steps-1 with their steps (and point k+steps, not stepped, with finish)
-        at rotor speed rpm (default: the last one); returns the records of the kept
+        at rotor speed rpm (default: the last one); returns the `records` (default all) of the kept
         points (every record_every-th from k) and their times; raises RingDiverged or RuntimeError."""
         if rpm is not None and rpm != self.rpm:
             self.rpm = float(rpm)
         if record_every < 1 or steps % record_every:
             raise ValueError(f"record_every {record_every}: must be >= 1 and divide the {steps} steps")
+        unknown = sorted(set(records) - set(_RECORDS))
+        if unknown or "q" not in records:
+            raise ValueError(f"records {records!r}: need 'q' and names from {', '.join(_RECORDS)}")
         N, k0 = self.ring.n, self.k
         rows = steps // record_every + int(finish)
-        res = {k: np.zeros((rows, N)) for k in _RECORDS}
+        res = {k: np.zeros((rows, N)) for k in records}
+        if len(records) < len(_RECORDS) and self._spare.size < rows * N:
+            self._spare = np.zeros(rows * N)
         s = self.setup
         s.first, s.last, s.finish, s.recordEvery, s.rpm = k0, k0 + steps, int(finish), record_every, self.rpm
-        rec = _Record(*(_ptr(res[k]) for k in _RECORDS))
+        rec = _Record(*((res[k] if k in res else self._spare).ctypes.data for k in _RECORDS))
         step, fmu, inside = C.c_int(0), C.c_int(-1), C.c_double(0.0)
         rc = self._lib.ringRun(
-            C.byref(s), C.byref(rec), _ptr(self._work), self._filled, C.byref(step), C.byref(fmu), C.byref(inside)
+            C.byref(s), C.byref(rec), self._work_ptr, self._filled, C.byref(step), C.byref(fmu), C.byref(inside)
         )
         self.inside += inside.value
         if rc == _DIVERGED:

@@ -76,9 +76,9 @@ def window_amplitude(q: np.ndarray) -> np.ndarray:
     cols = np.arange(a.shape[1])
     y0, y1, y2 = a[j - 1, cols], a[j, cols], a[j + 1, cols]
     curv = y0 - 2 * y1 + y2
-    with np.errstate(divide="ignore", invalid="ignore"):
-        vertex = y1 - (y0 - y2) ** 2 / (8 * curv)
-    return np.where(curv < 0, vertex, y1)
+    cap = curv < 0  # a vertex only under a cap (elsewhere the divisor is a stand-in: no 0 / 0)
+    vertex = y1 - (y0 - y2) ** 2 / (8 * np.where(cap, curv, -1.0))
+    return np.where(cap, vertex, y1)
 
 
 @dataclass
@@ -144,7 +144,7 @@ def align(cr: CRing, rpm: float, steps_per_period: int) -> None:
     rest = (-cr.phase) % slot  # phase to the next multiple of 2 pi / K
     if 1e-9 * slot < rest < (1.0 - 1e-9) * slot:
         cr.exact_grid(h * rest / slot)
-        cr.advance(1, rpm)
+        cr.advance(1, rpm, records=("q",))
     cr.exact_grid(h)
 
 
@@ -175,7 +175,7 @@ class _Sweeper:
         st = Settling(self.rtol, self.periods)
         prev = None  # the last two rows of the previous chunk (neighbours for the next window)
         while True:
-            q = cr.advance(m, rpm)["q"]
+            q = cr.advance(m, rpm, records=("q",))["q"]
             buf = q if prev is None else np.vstack([prev, q])
             if len(buf) >= m + 2:
                 st.add(window_amplitude(buf[-m - 2 :]))  # window: rows -m-1 .. -2

@@ -119,3 +119,21 @@ def test_timed_run_is_the_same_run():
     wall = time.perf_counter() - t0
     assert all(np.array_equal(a[k], b[k]) for k in a)
     assert 0 < float(b["inside_doStep"]) < wall
+
+
+def test_records_asked_for_are_the_full_runs():
+    """advance(records=...) keeps only those (the others go to a spare buffer): the same numbers as
+    the run that keeps every record; a name it does not know, or no q, is refused."""
+    ring = Ring(n=4, stop_time=0.01, step=2.5e-5, order=2, **CLOSING)
+    with ring_c.CRing(ring) as a, ring_c.CRing(ring) as b:
+        full = a.advance(200, finish=True)
+        some = b.advance(200, finish=True, records=("q", "forceA"))
+        more = b.advance(50, records=("q",))  # the spare buffer grown or not: the run goes on the same
+        rest = a.advance(50)
+    assert set(some) == {"q", "forceA", "time"} and set(more) == {"q", "time"}
+    assert all(np.array_equal(full[k], some[k]) for k in some)
+    assert np.array_equal(rest["q"], more["q"])
+    with ring_c.CRing(ring) as c:
+        for bad in (("q", "speed"), ("v",)):
+            with pytest.raises(ValueError, match="records"):
+                c.advance(10, records=bad)

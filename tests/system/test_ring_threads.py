@@ -1,8 +1,9 @@
 """The ring's period map on several threads (RingPeriodMap.images, `workers`): the columns of a
 finite-difference DP run on two threads, each on its own FMU instances, give the serial DP bit for
 bit (tolerance 0: an image is a function of x alone, whichever instances run it), with the same
-evaluation count and the same cache; a failing point raises as the serial path does; a bad
-`workers` is refused. The 4-blade tuned ring at 6000 rpm (EO 3, c = 298 N s/m2, Fw0 = 300 N/m,
+evaluation count and the same cache; a failing point raises as the serial path does; runs settled
+side by side on the threads (seeds.settle_all) end where `settle` alone ends each, a failing one
+left out; a bad `workers` is refused. The 4-blade tuned ring at 6000 rpm (EO 3, c = 298 N s/m2, Fw0 = 300 N/m,
 extrapolation order 2), at a state reached from rest.
 
 The reference is the serial path (workers = 1: one period after another on one set of instances),
@@ -21,7 +22,7 @@ from harness.analysis.periodic.shooting import jacobian
 from harness.system.ring import Ring
 from harness.system.ring_orbits.crossings import estimator
 from harness.system.ring_orbits.period_map import RingMapFailed, RingPeriodMap, RingShootingSettings
-from harness.system.ring_orbits.seeds import from_rest
+from harness.system.ring_orbits.seeds import from_rest, kicked, settle, settle_all
 from harness.system.ring_orbits.shooting import monodromy
 
 SMALL = Ring(n=4, engine_order=3, fw0=300.0, blade={"c": 298.0}, order=2)
@@ -92,6 +93,31 @@ def test_a_failing_point_raises_as_in_serial(start):
             kept.append(list(pm.seen))
             assert pm.evaluations >= 4
     assert kept[0] == kept[1] and len(kept[0]) == 3
+
+
+def test_runs_settled_side_by_side_are_each_run_alone(start):
+    """Four runs (from rest at two speeds, from the settled state, one that diverges) settled side by
+    side on two threads, and each by `settle` on one: the same states and changes bit for bit, the
+    same number of periods each (one stops on its change, the others at max_periods or min_periods),
+    the diverging one None."""
+    with RingPeriodMap(SMALL, RingShootingSettings(workers=2)) as pm:
+        k = kicked(pm)
+        runs = [(k, 5800.0), (k, 6200.0), (start, RPM), (start * 1e4, RPM)]
+        both = settle_all(pm, runs, settle_tol=1e-3, max_periods=8, min_periods=3)
+        threaded = pm.evaluations
+    alone = []
+    with RingPeriodMap(SMALL, RingShootingSettings(workers=1)) as pm:
+        for x0, rpm in runs:
+            try:
+                alone.append(settle(pm, x0, rpm, 1e-3, 8, 3))
+            except RingMapFailed:
+                alone.append(None)
+        # a batch that fails drops the image a thread ran past the failure: at most one period more
+        assert pm.evaluations <= threaded <= pm.evaluations + 1
+    assert alone[3] is None and both[3] is None
+    for a, b in zip(alone[:3], both[:3]):
+        assert b is not None and np.array_equal(a[0], b[0]) and a[1] == b[1]
+    assert min(a[1] for a in alone[:3]) < 1e-3 < max(a[1] for a in alone[:3])  # both kinds of ending
 
 
 @pytest.mark.parametrize("bad", [0, -1, 65, 1.5, True, "2"])

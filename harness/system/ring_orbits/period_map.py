@@ -145,6 +145,10 @@ class RingPeriodMap:
         self.p = ring.order
         self.nh = self.p * self.n  # values per history block
         self.dim = 2 * self.m * self.n + self.n + 2 * self.nh
+        self._next = (np.arange(self.n) + 1) % self.n  # blade j + 1 of contact j (np.roll(q, -1) as an index)
+        # each unknown's scale (`scales`): 0 a displacement, 1 a rate, 2 a phi, 3 a history force
+        blade = [0] * self.m + [1] * self.m
+        self._kinds = np.array(blade * self.n + [2] * self.n + [1] * self.nh + [3] * self.nh)
         self.evaluations = 0
         self._cr = CRing(ring, read_state=False)  # a period's record: q only
         self.blades, self.contacts = self._cr.blades, self._cr.contacts
@@ -222,14 +226,14 @@ class RingPeriodMap:
     def gaps(self, x: np.ndarray) -> np.ndarray:
         """u_j = q_j - q_{j+1} at the tips."""
         q = self.tips(x)[0]
-        u: np.ndarray = q - np.roll(q, -1)
+        u: np.ndarray = q - q[self._next]
         return u
 
     def touching(self, x: np.ndarray) -> np.ndarray:
         """phi_j of every contact as it would touch (see the module docstring): sigma r closing,
         -sigma opening (only used while the contact is open)."""
         q, v = self.tips(x)
-        u, du = q - np.roll(q, -1), v - np.roll(v, -1)
+        u, du = q - q[self._next], v - v[self._next]
         sigma = np.where(u >= 0.0, 1.0, -1.0)
         return np.where(sigma * du > 0.0, sigma * self.arrival, -sigma)
 
@@ -252,7 +256,10 @@ class RingPeriodMap:
             [np.asarray(q_modal, float).reshape(self.n, self.m), np.asarray(v_modal, float).reshape(self.n, self.m)]
         )
         past = [np.zeros(self.nh) if a is None else np.asarray(a, float).reshape(self.nh) for a in (v_past, f_past)]
-        x = np.concatenate([y.ravel(), np.zeros(self.n), *past])
+        return self._with_phi(np.concatenate([y.ravel(), np.zeros(self.n), *past]), friction)
+
+    def _with_phi(self, x: np.ndarray, friction: np.ndarray) -> np.ndarray:
+        """x with its phi from the contacts' friction forces [N] (the touching value where open)."""
         u = self.gaps(x)
         L = self.limits(u)
         k = 2 * self.m * self.n
@@ -275,7 +282,10 @@ class RingPeriodMap:
         if v_past is None or f_past is None:
             v, f = cr.history()
             v_past, f_past = v[1:], f[1:]
-        return self.state(ym[:, : self.m], ym[:, self.m :], out[:, 0], v_past, f_past)
+        # ym's rows are the blades' modal states in x's order (`state` without its reshaping)
+        past = [np.asarray(a, float).reshape(self.nh) for a in (v_past, f_past)]
+        x = np.concatenate([ym.ravel(), np.zeros(self.n), *past])
+        return self._with_phi(x, out[:, 0])
 
     def bounded(self, x: np.ndarray) -> np.ndarray:
         """x moved into the domain: |phi_j| <= 1, phi_j its touching value while contact j is open."""
@@ -305,32 +315,36 @@ class RingPeriodMap:
         the largest force there if above); S the largest tip or modal displacement (or rate /
         omega), at least the gap d."""
         w = self.omega(speed)
-        y = self.modal(x)
         q, v = self.tips(x)
-        vp, fp = self.history(x)
+        a = np.abs(x)  # (one abs, then the maxima of its parts)
+        k, m = 2 * self.m * self.n, self.m
+        y = a[:k].reshape(self.n, 2 * m)
+        vp, fp = a[k + self.n : k + self.n + self.nh], a[k + self.n + self.nh :]
         S = max(
-            float(np.max(np.abs(q))),
-            float(np.max(np.abs(v))) / w,
-            float(np.max(np.abs(y[:, : self.m]))),
-            float(np.max(np.abs(y[:, self.m :]))) / w,
-            float(np.max(np.abs(vp), initial=0.0)) / w,
+            float(np.abs(q).max()),
+            float(np.abs(v).max()) / w,
+            float(y[:, :m].max()),
+            float(y[:, m:].max()) / w,
+            float(vp.max(initial=0.0)) / w,
             self.d,
             1e-9,
         )
-        F = max(self.kn * S, float(np.max(np.abs(fp), initial=0.0)))
-        per_blade = [S] * self.m + [S * w] * self.m
-        return np.array(per_blade * self.n + [1.0] * self.n + [S * w] * self.nh + [F] * self.nh)
+        F = max(self.kn * S, float(fp.max(initial=0.0)))
+        out: np.ndarray = np.array([S, S * w, 1.0, F])[self._kinds]
+        return out
 
     # --- one period ---------------------------------------------------------------------------
     def _start(self, x: np.ndarray, rpm: float) -> None:
         y = self.modal(x)
         q = self.tips(x)[0]
-        u = q - np.roll(q, -1)
+        qn = q[self._next]
+        u = q - qn
         F = np.where(np.abs(u) > self.d, np.clip(self.phi(x), -1.0, 1.0) * self.limits(u), 0.0)  # in the cone
         self._brestart.starts[:, :-1] = y
         self._brestart.starts[:, -1] = rpm
         self._brestart()
-        self._crestart.starts[:] = np.column_stack([F, q, np.roll(q, -1), np.full(self.n, rpm)])
+        starts = self._crestart.starts
+        starts[:, 0], starts[:, 1], starts[:, 2], starts[:, 3] = F, q, qn, rpm
         self._crestart()
 
     def _args(self, x: np.ndarray, speed: float) -> tuple[np.ndarray, float]:
@@ -350,7 +364,7 @@ class RingPeriodMap:
             self._cr.rpm = rpm
             self._cr.restart_exact(T / K)
             self._cr.set_history(*self.history(x))
-            rec = self._cr.advance(K, rpm, finish=True)
+            rec = self._cr.advance(K, rpm, finish=True, records=("q",))
         except (FmiError, RingDiverged, RuntimeError) as e:
             raise RingMapFailed(f"period map at {rpm:.6g} rpm: {e}") from e
         Px = self.read(self._cr)

@@ -1,6 +1,6 @@
 """The period map's calls on the ring's instances around each period: every instance restarted at
-t = 0 with its parameters and start values (`Restarts`, one call into the C loop's library,
-harness/native/ring_restart.c), and the state read back (`Reads`). The value arrays are built once;
+t = 0 with its parameters and start values (`Restarts`), and the state read back (`Reads`), each
+one call into the C loop's library (harness/native/ring_restart.c). The value arrays are built once;
 only the start values change between periods (the binding's checked calls, one ctypes call each,
 cost a tenth of a 6-blade period)."""
 
@@ -46,6 +46,7 @@ class _Instance(C.Structure):
 
 
 _function: Any = None
+_reads: Any = None
 
 
 def _restart_function() -> Any:
@@ -57,6 +58,26 @@ def _restart_function() -> Any:
         f.restype = C.c_int
         _function = f
     return _function
+
+
+def _reads_function() -> Any:
+    """ringReads of the C loop's library, its signature declared once."""
+    global _reads
+    if _reads is None:
+        f = _library().ringReads
+        f.argtypes = [
+            C.c_void_p,
+            C.POINTER(C.c_void_p),
+            C.c_int,
+            C.POINTER(C.c_uint),
+            C.c_size_t,
+            C.POINTER(C.c_double),
+            C.POINTER(C.c_int),
+            C.POINTER(C.c_int),
+        ]
+        f.restype = C.c_int
+        _reads = f
+    return _reads
 
 
 def _typed(slave: Slave, params: Mapping[str, Any]) -> dict[str, tuple[list[int], list[Any]]]:
@@ -119,22 +140,32 @@ class Restarts:
 
 class Reads:
     """fmi2GetReal of the same variables from every instance of a group into one (instances, variables)
-    array, through the binary's functions with the arrays built once."""
+    array: one call into the C loop's library (ringReads) with the arrays built once."""
 
     def __init__(self, slaves: Sequence[Slave], names: list[str]):
         self.slaves, k = slaves, len(names)
         self.vr = (C.c_uint * k)(*[slaves[0].vr(n) for n in names])
         self.out = (C.c_double * (k * len(slaves)))()
-        self.size = C.sizeof(C.c_double) * k
+        self._handles = (C.c_void_p * len(slaves))(*(s.s.c for s in slaves))
+        self._get = C.cast(slaves[0].s.lib.dll.fmi2GetReal, C.c_void_p)
+        self._reads = _reads_function()
         # a view on the ctypes array (a buffer; typeshed's numpy stubs do not say so)
         self.values = np.frombuffer(self.out, dtype=np.float64).reshape(len(slaves), k)  # type: ignore[call-overload]
 
     def __call__(self) -> np.ndarray:
         """A copy of the values now, row i instance i's."""
-        k = len(self.vr)
-        for i, s in enumerate(self.slaves):
-            status = s.s.lib.fmi2GetReal(s.s.c, self.vr, k, C.byref(self.out, i * self.size))
-            if status > 1:  # above fmi2Warning
-                raise FmiError("fmi2GetReal", status, s.messages[-1] if s.messages else None)
+        failed, status = C.c_int(-1), C.c_int(0)
+        if self._reads(
+            self._get,
+            self._handles,
+            len(self.slaves),
+            self.vr,
+            len(self.vr),
+            self.out,
+            C.byref(failed),
+            C.byref(status),
+        ):
+            s = self.slaves[failed.value]
+            raise FmiError("fmi2GetReal", status.value, s.messages[-1] if s.messages else None)
         out: np.ndarray = self.values.copy()
         return out

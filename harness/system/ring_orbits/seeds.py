@@ -81,6 +81,53 @@ def kicked(pm: RingPeriodMap, kick: float = KICK) -> np.ndarray:
     return x
 
 
+def settle_all(
+    pm: RingPeriodMap,
+    starts: Sequence[tuple[np.ndarray, float]],
+    settle_tol: float,
+    max_periods: int,
+    min_periods: int = 0,
+) -> list[tuple[np.ndarray, float] | None]:
+    """`settle` of every (x0, rpm) in `starts`, run side by side: each period of the runs not yet
+    settled is one batch of the map's images (its threads). Each run's numbers are those of `settle`
+    alone (an image is a function of x only); None for a run whose map fails."""
+    x = [np.asarray(x0, dtype=float) for x0, _ in starts]
+    done: list[tuple[np.ndarray, float] | None] = [(xi, np.inf) for xi in x] if max_periods < 1 else [None] * len(x)
+    live = list(range(len(starts)))
+    for k in range(max_periods):
+        if not live:
+            break
+        images = _images(pm, [(x[i], float(starts[i][1])) for i in live])
+        still = []
+        for i, Px in zip(live, images):
+            if Px is None:  # failed: left out, as `_settled_from` leaves it
+                continue
+            rpm = float(starts[i][1])
+            change = float(np.max(np.abs(Px - x[i]) / pm.scales(Px, rpm)))
+            x[i] = Px
+            if (change < settle_tol and k + 1 >= min_periods) or k + 1 == max_periods:
+                done[i] = (Px, change)
+            else:
+                still.append(i)
+        live = still
+    return done
+
+
+def _images(pm: RingPeriodMap, points: list[tuple[np.ndarray, float]]) -> list[np.ndarray | None]:
+    """pm.images of the points; where one fails, each in turn (the images before it are known: no
+    period twice), None for those that fail."""
+    try:
+        return list(pm.images(points))
+    except RingMapFailed:
+        out: list[np.ndarray | None] = []
+        for x, rpm in points:
+            try:
+                out.append(pm(x, rpm)[0])
+            except RingMapFailed:
+                out.append(None)
+        return out
+
+
 def travelling_wave(
     pm: RingPeriodMap, speeds: Sequence[float], settle_tol: float = 1e-3, max_periods: int = 300
 ) -> list[Seed]:
@@ -117,13 +164,12 @@ def random_starts(
     per_speed: int = RANDOM_STARTS,
 ) -> list[Seed]:
     """`per_speed` random starts per speed (module docstring), each settled as a run from rest."""
-    out = []
+    runs = []
     for s in speeds:
         rng = np.random.default_rng([RANDOM_SEED, round(100 * float(s))])
-        for k in range(per_speed):
-            x0 = random_state(pm, float(s), rng, scale, RANDOM_AMPLITUDES)
-            out += _settled_from(pm, x0, f"random {k}", [s], settle_tol, max_periods, min_periods)
-    return out
+        runs += [(random_state(pm, float(s), rng, scale, RANDOM_AMPLITUDES), float(s)) for _ in range(per_speed)]
+    labels = [f"random {k}" for _ in speeds for k in range(per_speed)]
+    return _seeds(labels, runs, settle_all(pm, runs, settle_tol, max_periods, min_periods))
 
 
 def _settled_from(
@@ -135,15 +181,16 @@ def _settled_from(
     max_periods: int,
     *min_periods: int,
 ) -> list[Seed]:
-    """A seed per speed: the map iterated from x0 until it settles (speeds where the map fails are left out)."""
-    out = []
-    for s in speeds:
-        try:
-            x, ch = settle(pm, x0, float(s), settle_tol, max_periods, *min_periods)
-        except RingMapFailed:
-            continue
-        out.append(Seed(label, float(s), x, ch))
-    return out
+    """A seed per speed: the map iterated from x0 until it settles (speeds where the map fails are left
+    out), the speeds' runs side by side (`settle_all`)."""
+    runs = [(x0, float(s)) for s in speeds]
+    return _seeds([label] * len(runs), runs, settle_all(pm, runs, settle_tol, max_periods, *min_periods))
+
+
+def _seeds(
+    labels: list[str], runs: list[tuple[np.ndarray, float]], settled: list[tuple[np.ndarray, float] | None]
+) -> list[Seed]:
+    return [Seed(lb, s, r[0], r[1]) for lb, (_, s), r in zip(labels, runs, settled) if r is not None]
 
 
 def sweep(
@@ -178,7 +225,7 @@ class _AtPhaseZero:
         if cr.setup.exactStep <= 0.0 or abs(ahead - round(ahead)) > 1e-6:
             raise RuntimeError(f"the sweep at {rpm:g} rpm is off the load-aligned grid ({ahead:.9g} steps to phase 0)")
         saved = cr.save()
-        cr.advance(steps, rpm, finish=True)  # point k + steps pushed, not stepped: the state there
+        cr.advance(steps, rpm, finish=True, records=("q",))  # point k + steps pushed, not stepped: the state there
         self.states.append((direction, rpm, self.pm.read(cr)))
         cr.restore(saved)
 
