@@ -145,12 +145,16 @@ def study_from(args: argparse.Namespace) -> mistuning.Study:
     return s
 
 
-# the periodic-orbit engine over the study's band: 8.5-17.5 CPU-minutes for a 6-blade ring, 14 on average (make
-# run's three rings: 315595-628678 periods at 1.6-1.7 ms each); per continuation point 4x the unknowns (a DP's
-# periods) at 3.4x the cost per period at 24 blades (4.62 against 1.34 ms, bench/RESULTS.md): 14x for 4x the
-# blades, about n^1.9 (as many branches assumed)
-ENGINE_CPU_MIN_6 = 14.0
-ENGINE_COST_EXPONENT = 1.9
+# the periodic-orbit engine over the study's band, CPU-minutes per ring (one thread): 6 blades 8.5-17.5, 14 on
+# average (make run's three rings, 39-80 branches each); 24 blades 17.8-23.0, 20.5 on average (the 24-blade study's five rings,
+# 3-6 branches each: fewer branches offset the dearer periods). A power law through the two for other sizes.
+ENGINE_CPU_MIN = ((6, 14.0), (24, 20.5))
+
+
+def engine_cpu_minutes(n: int) -> float:
+    """The engine's CPU-minutes for one ring of n blades over the study's band (ENGINE_CPU_MIN)."""
+    (n0, c0), (n1, c1) = ENGINE_CPU_MIN
+    return float(c0 * (n / n0) ** (math.log(c1 / c0) / math.log(n1 / n0)))
 
 
 def engine_cost_notice(study: mistuning.Study) -> str | None:
@@ -158,13 +162,13 @@ def engine_cost_notice(study: mistuning.Study) -> str | None:
     rings = (1 + len(study.levels) * study.state_patterns) * len(study.variants) + study.search_budget
     if study.state_patterns == 0 and study.search_budget == 0:
         return None
-    cpu_h = rings * ENGINE_CPU_MIN_6 * (study.n / 6) ** ENGINE_COST_EXPONENT / 60
+    cpu_h = rings * engine_cpu_minutes(study.n) / 60
     if cpu_h < 1.0:
         return None
     return (
         f"note: {rings} rings of {study.n} blades on steady states (--state-patterns {study.state_patterns}, "
-        f"--search {study.search_budget}): about {cpu_h:.0f} CPU-hours (extrapolated from {ENGINE_CPU_MIN_6:.0f} CPU-minutes per "
-        "6-blade ring); --state-patterns 0 runs the sweeps only"
+        f"--search {study.search_budget}): about {cpu_h:.1f} CPU-hours ({engine_cpu_minutes(study.n):.1f} CPU-minutes per "
+        f"{study.n}-blade ring, from the engine's cost measured at 6 and 24 blades); --state-patterns 0 runs the sweeps only"
     )
 
 

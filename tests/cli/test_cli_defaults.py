@@ -154,16 +154,19 @@ def test_defaults_resolved_in_code(capsys: pytest.CaptureFixture) -> None:
 
 
 def test_a_long_steady_state_study_is_announced():
-    """24 blades with the engine on: the extrapolated cost (rings x 14 CPU-min x 4^1.9 = 3.2 CPU-h per
-    ring, computed here) is announced with the way out; the make-run size is not."""
-    from harness.cli.mistuning import engine_cost_notice, study_from
+    """24 blades with the engine on: the cost (rings x the measured CPU-minutes of a 24-blade ring) is
+    announced with the way out; the make-run size is not. Between the two measured sizes the power law
+    gives the geometric mean at 12 blades (the midpoint of 6 and 24 on a log scale)."""
+    from harness.cli.mistuning import ENGINE_CPU_MIN, engine_cost_notice, engine_cpu_minutes, study_from
 
     assert engine_cost_notice(study_from(_parser("mistuning").parse_args([]))) is None
     big = study_from(_parser("mistuning").parse_args(["--blades", "24", "--patterns", "2", "--state-patterns", "1"]))
     rings = 1 + len(big.levels)
     note = engine_cost_notice(big)
     assert note is not None and "--state-patterns 0" in note
-    assert f"about {rings * 14 * 4**1.9 / 60:.0f} CPU-hours" in note, note
+    per_ring = dict(ENGINE_CPU_MIN)
+    assert f"about {rings * per_ring[24] / 60:.1f} CPU-hours" in note, note
+    assert abs(engine_cpu_minutes(12) - (per_ring[6] * per_ring[24]) ** 0.5) < 1e-9 * per_ring[24]
     assert (
         engine_cost_notice(study_from(_parser("mistuning").parse_args(["--blades", "24", "--state-patterns", "0"])))
         is None
